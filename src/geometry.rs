@@ -1,0 +1,192 @@
+//! Plane geometry in the world frame: points, poses, projections and angles.
+//!
+//! Angles are stored in radians; degrees appear only at the edges (files, UI).
+
+use nalgebra::{Point2, Rotation2, Vector2};
+use serde::{Deserialize, Serialize};
+
+/// A point in the plane (metres unless a name says otherwise).
+pub type Point = Point2<f64>;
+/// A displacement in the plane.
+pub type Vec2 = Vector2<f64>;
+
+/// A robot pose in the world frame: position and the heading of the robot's x axis.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Pose {
+    /// World x of the robot centre.
+    pub x: f64,
+    /// World y of the robot centre.
+    pub y: f64,
+    /// Heading of the robot's x axis against the world x axis, radians.
+    pub heading_rad: f64,
+}
+
+impl Pose {
+    /// A pose from position and heading in radians.
+    pub fn new(x: f64, y: f64, heading_rad: f64) -> Self {
+        Self { x, y, heading_rad }
+    }
+
+    /// The robot centre as a point.
+    pub fn position(&self) -> Point {
+        Point::new(self.x, self.y)
+    }
+
+    /// Maps a point given in the robot frame into the world frame.
+    pub fn world_from_robot(&self, point_in_robot: &Point) -> Point {
+        self.position() + Rotation2::new(self.heading_rad) * point_in_robot.coords
+    }
+
+    /// Distance between the positions of two poses.
+    pub fn distance_to(&self, other: &Pose) -> f64 {
+        (self.position() - other.position()).norm()
+    }
+}
+
+/// Unit vector at `angle_rad` from the x axis.
+pub fn unit(angle_rad: f64) -> Vec2 {
+    Vec2::new(angle_rad.cos(), angle_rad.sin())
+}
+
+/// Parameter `t` of the orthogonal projection of `p` on the line `a + t (b - a)`.
+/// `a == b` gives `t = 0`.
+pub fn projection_param(p: &Point, a: &Point, b: &Point) -> f64 {
+    let ab = b - a;
+    let len2 = ab.norm_squared();
+    if len2 <= f64::MIN_POSITIVE {
+        0.0
+    } else {
+        (p - a).dot(&ab) / len2
+    }
+}
+
+/// Point at parameter `t` on `a + t (b - a)`.
+pub fn lerp(a: &Point, b: &Point, t: f64) -> Point {
+    a + (b - a) * t
+}
+
+/// Distance from `p` to the infinite line through `a` and `b` (to `a` when they coincide).
+pub fn distance_to_line(p: &Point, a: &Point, b: &Point) -> f64 {
+    let ab = b - a;
+    let len = ab.norm();
+    if len <= f64::MIN_POSITIVE {
+        (p - a).norm()
+    } else {
+        (ab.x * (p.y - a.y) - ab.y * (p.x - a.x)).abs() / len
+    }
+}
+
+/// Distance from `p` to the closed segment `[a, b]`.
+pub fn distance_to_segment(p: &Point, a: &Point, b: &Point) -> f64 {
+    let t = projection_param(p, a, b).clamp(0.0, 1.0);
+    (p - lerp(a, b, t)).norm()
+}
+
+/// Angle between two undirected lines with directions `u` and `v`, in `[0, π/2]`.
+/// Directions that differ by 180° are the same line (§3.3.1 orientation test, modulo 180°).
+pub fn line_angle_between(u: &Vec2, v: &Vec2) -> f64 {
+    let a = u.y.atan2(u.x) - v.y.atan2(v.x);
+    let m = a.rem_euclid(std::f64::consts::PI);
+    m.min(std::f64::consts::PI - m)
+}
+
+/// Intersection of the infinite lines `a1 b1` and `a2 b2`; `None` when (nearly) parallel.
+pub fn line_intersection(a1: &Point, b1: &Point, a2: &Point, b2: &Point) -> Option<Point> {
+    let d1 = b1 - a1;
+    let d2 = b2 - a2;
+    let denom = d1.x * d2.y - d1.y * d2.x;
+    let scale = d1.norm() * d2.norm();
+    if scale <= f64::MIN_POSITIVE || denom.abs() <= 1e-12 * scale {
+        return None;
+    }
+    let w = a2 - a1;
+    let t = (w.x * d2.y - w.y * d2.x) / denom;
+    Some(a1 + d1 * t)
+}
+
+/// Normalises an angle to `[0, 2π)`.
+pub fn normalize_angle_positive(angle_rad: f64) -> f64 {
+    let r = angle_rad.rem_euclid(std::f64::consts::TAU);
+    if r >= std::f64::consts::TAU {
+        0.0
+    } else {
+        r
+    }
+}
+
+/// Total-least-squares line through `points`: centroid and unit direction.
+/// Returns `None` for fewer than two distinct points.
+pub fn fit_line_tls(points: &[Point]) -> Option<(Point, Vec2)> {
+    if points.len() < 2 {
+        return None;
+    }
+    let n = points.len() as f64;
+    let cx = points.iter().map(|p| p.x).sum::<f64>() / n;
+    let cy = points.iter().map(|p| p.y).sum::<f64>() / n;
+    let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
+    for p in points {
+        let dx = p.x - cx;
+        let dy = p.y - cy;
+        sxx += dx * dx;
+        sxy += dx * dy;
+        syy += dy * dy;
+    }
+    if sxx + syy <= f64::MIN_POSITIVE {
+        return None;
+    }
+    let angle = 0.5 * (2.0 * sxy).atan2(sxx - syy);
+    Some((Point::new(cx, cy), unit(angle)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    #[test]
+    fn line_angle_wraps_at_180_degrees() {
+        let a = unit(179f64.to_radians());
+        let b = unit(1f64.to_radians());
+        assert!((line_angle_between(&a, &b) - 2f64.to_radians()).abs() < 1e-12);
+        let c = unit(-PI + 0.1);
+        let d = unit(0.05);
+        assert!((line_angle_between(&c, &d) - 0.05).abs() < 1e-12);
+        assert!((line_angle_between(&unit(0.0), &unit(PI / 2.0)) - PI / 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn projection_and_distances() {
+        let a = Point::new(0.0, 0.0);
+        let b = Point::new(10.0, 0.0);
+        let p = Point::new(12.0, 3.0);
+        assert!((projection_param(&p, &a, &b) - 1.2).abs() < 1e-12);
+        assert!((distance_to_line(&p, &a, &b) - 3.0).abs() < 1e-12);
+        assert!((distance_to_segment(&p, &a, &b) - 13f64.sqrt()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn intersection_of_perpendicular_lines() {
+        let p = line_intersection(
+            &Point::new(0.0, 1.0),
+            &Point::new(2.0, 1.0),
+            &Point::new(5.0, 0.0),
+            &Point::new(5.0, 3.0),
+        )
+        .unwrap();
+        assert!((p - Point::new(5.0, 1.0)).norm() < 1e-12);
+        assert!(line_intersection(
+            &Point::new(0.0, 0.0),
+            &Point::new(1.0, 0.0),
+            &Point::new(0.0, 1.0),
+            &Point::new(1.0, 1.0)
+        )
+        .is_none());
+    }
+
+    #[test]
+    fn pose_maps_robot_frame_to_world() {
+        let pose = Pose::new(1.0, 2.0, PI / 2.0);
+        let w = pose.world_from_robot(&Point::new(1.0, 0.0));
+        assert!((w - Point::new(1.0, 3.0)).norm() < 1e-12);
+    }
+}

@@ -1,0 +1,15 @@
+//! # sonarmap
+//!
+//! An inspector for "Sonar Resolution-Based Environment Mapping" (Cahut, Valavanis, Deliç).
+//! The core (everything but `app`) is pure: no window, no file system; it is used by the
+//! command line and the desktop app alike.
+//!
+//! Bird's-eye view: run log → [`replay`] → [`mapping::Mapper`] (the paper) → map + step trace →
+//! scene → map view or SVG.
+#![warn(missing_docs)]
+
+pub mod geometry;
+pub mod mapping;
+pub mod run;
+pub mod sonar;
+pub mod units;

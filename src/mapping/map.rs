@@ -1,0 +1,193 @@
+//! The map: line segments with their end-point ranges, faces and objects (paper §3.3).
+//! A `Map` is a plain value; cloning it is how the replay checkpoints.
+
+use crate::geometry::{distance_to_segment, Point};
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// Identifies a map segment for the whole run (ids are never reused).
+pub type SegmentId = u32;
+/// Identifies a face (the segments fitted from one cluster chain).
+pub type FaceId = u32;
+/// Identifies an object (faces joined by correlation).
+pub type ObjectId = u32;
+
+/// A reading of a run: snapshot index and sensor index.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub struct ReadingRef {
+    /// Snapshot index.
+    pub snapshot: usize,
+    /// Sensor index.
+    pub sensor: usize,
+}
+
+/// A point that supports a segment, with the range that produced it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SupportPoint {
+    /// World point, metres.
+    pub point: Point,
+    /// Range of the reading, metres (confidence is 1/range).
+    pub range_m: f64,
+    /// The reading it came from.
+    pub reading: ReadingRef,
+}
+
+/// A segment end-point and the range that gives its confidence.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EndPoint {
+    /// World point, metres.
+    pub point: Point,
+    /// Range of the reading that produced it (kept through projections), metres.
+    pub range_m: f64,
+}
+
+/// Fitted from readings, or a link made by correlation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SegmentKind {
+    /// Fitted from readings (§3.2).
+    Fitted,
+    /// A connecting segment made by correlation (§3.3.3).
+    Interpolated,
+}
+
+/// A line segment of the map.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Segment {
+    /// Stable id.
+    pub id: SegmentId,
+    /// Fitted or interpolated.
+    pub kind: SegmentKind,
+    /// First end-point.
+    pub a: EndPoint,
+    /// Second end-point.
+    pub b: EndPoint,
+    /// The face it belongs to.
+    pub face: FaceId,
+    /// The object it belongs to.
+    pub object: ObjectId,
+    /// Snapshot that created it.
+    pub created: usize,
+    /// Snapshots that updated it, in order.
+    pub updated: Vec<usize>,
+    /// Supporting readings (shared between checkpoints until changed).
+    pub points: Arc<Vec<SupportPoint>>,
+}
+
+impl Segment {
+    /// Mid-point.
+    pub fn mid(&self) -> Point {
+        nalgebra::center(&self.a.point, &self.b.point)
+    }
+
+    /// Length, metres.
+    pub fn length(&self) -> f64 {
+        (self.b.point - self.a.point).norm()
+    }
+
+    /// Distance from `p` to the segment.
+    pub fn distance_to(&self, p: &Point) -> f64 {
+        distance_to_segment(p, &self.a.point, &self.b.point)
+    }
+}
+
+/// A face: its segments in order along the cluster chain.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Face {
+    /// Face id.
+    pub id: FaceId,
+    /// Segment ids in chain order; the first and last hold the face's outermost end-points.
+    pub segments: Vec<SegmentId>,
+}
+
+/// A reading kept by point memory (ALGORITHM.md §8).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MemoryPoint {
+    /// The reading, its point and range.
+    pub support: SupportPoint,
+}
+
+/// The map after some snapshots.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Map {
+    /// Segments ordered by id.
+    pub segments: Vec<Segment>,
+    /// Faces ordered by id.
+    pub faces: Vec<Face>,
+    /// Readings held by point memory.
+    pub memory: Vec<MemoryPoint>,
+    /// Next unused segment id.
+    pub next_segment_id: SegmentId,
+    /// Next unused face id.
+    pub next_face_id: FaceId,
+    /// Next unused object id.
+    pub next_object_id: ObjectId,
+}
+
+impl Map {
+    /// The segment with `id`.
+    pub fn segment(&self, id: SegmentId) -> Option<&Segment> {
+        self.segments
+            .binary_search_by_key(&id, |s| s.id)
+            .ok()
+            .map(|i| &self.segments[i])
+    }
+
+    /// The segment with `id`, mutable.
+    pub fn segment_mut(&mut self, id: SegmentId) -> Option<&mut Segment> {
+        self.segments
+            .binary_search_by_key(&id, |s| s.id)
+            .ok()
+            .map(move |i| &mut self.segments[i])
+    }
+
+    /// The face with `id`.
+    pub fn face(&self, id: FaceId) -> Option<&Face> {
+        self.faces.binary_search_by_key(&id, |f| f.id).ok().map(|i| &self.faces[i])
+    }
+
+    /// The face with `id`, mutable.
+    pub fn face_mut(&mut self, id: FaceId) -> Option<&mut Face> {
+        self.faces
+            .binary_search_by_key(&id, |f| f.id)
+            .ok()
+            .map(move |i| &mut self.faces[i])
+    }
+
+    /// True when segment `id` holds an outermost end-point of its face (first or last in it).
+    pub fn is_outermost(&self, id: SegmentId) -> bool {
+        let Some(seg) = self.segment(id) else { return false };
+        match self.face(seg.face) {
+            Some(face) => face.segments.first() == Some(&id) || face.segments.last() == Some(&id),
+            None => true,
+        }
+    }
+
+    /// Allocates a segment id.
+    pub(crate) fn allocate_segment_id(&mut self) -> SegmentId {
+        let id = self.next_segment_id;
+        self.next_segment_id += 1;
+        id
+    }
+
+    /// Allocates a face id (and registers the empty face).
+    pub(crate) fn new_face(&mut self) -> FaceId {
+        let id = self.next_face_id;
+        self.next_face_id += 1;
+        self.faces.push(Face { id, segments: Vec::new() });
+        id
+    }
+
+    /// Allocates an object id.
+    pub(crate) fn allocate_object_id(&mut self) -> ObjectId {
+        let id = self.next_object_id;
+        self.next_object_id += 1;
+        id
+    }
+
+    /// Inserts a segment (its id must be the newest).
+    pub(crate) fn push_segment(&mut self, segment: Segment) {
+        debug_assert!(self.segments.last().is_none_or(|s| s.id < segment.id));
+        self.segments.push(segment);
+    }
+}

@@ -1,0 +1,381 @@
+//! Mapping parameters (ALGORITHM.md §7, §8) and the `--params` file (FORMATS.md).
+//! Lengths are metres; defaults are the paper's inches converted.
+
+use crate::units::{inches, Units};
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// How the recursive fit decides to split (ALGORITHM.md §3).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum SplitMode {
+    /// Split when the farthest point is farther than its own ball radius `ξ·D/100`.
+    Resolution,
+    /// Split when the farthest point is farther than this length, metres.
+    Fixed(f64),
+}
+
+/// How a piece's line is placed (ALGORITHM.md §3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FitMode {
+    /// The line through the first and last readings (Crowley's end-point fit).
+    EndPoints,
+    /// Total least squares through all readings; the end readings projected onto it.
+    TotalLeastSquares,
+}
+
+/// A named parameter set.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Preset {
+    /// The paper alone.
+    Paper,
+    /// The paper with both extensions of ALGORITHM.md §8.
+    Extended,
+}
+
+impl Preset {
+    /// Parses `paper` or `extended`.
+    pub fn parse(name: &str) -> Option<Preset> {
+        match name {
+            "paper" => Some(Preset::Paper),
+            "extended" => Some(Preset::Extended),
+            _ => None,
+        }
+    }
+}
+
+/// Every parameter of the mapper. Lengths in metres, angles in radians.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Params {
+    /// Accuracy `ξ`, percent of range (§2).
+    pub accuracy_pct: f64,
+    /// Readings beyond this are discarded (§3.1).
+    pub d_max_m: f64,
+    /// Readings below this are discarded (blind zone).
+    pub min_range_m: f64,
+    /// Cluster gap threshold (§3.1, §4).
+    pub t_gap_m: f64,
+    /// Orientation threshold `θ_o` (§3.3.1).
+    pub orientation_rad: f64,
+    /// Split rule of the recursive fit.
+    pub split: SplitMode,
+    /// Line placement of the recursive fit.
+    pub fit: FitMode,
+    /// Largest step between snapshots before a warning (§3.3.1).
+    pub max_step_m: f64,
+    /// Correlation of new faces (§3.3.3) on or off.
+    pub correlate: bool,
+    /// Point memory length in snapshots; 0 is off (ALGORITHM.md §8).
+    pub memory_snapshots: usize,
+    /// Link distance of remembered points.
+    pub memory_gap_m: f64,
+    /// Fewest points of a memory segment.
+    pub memory_min_points: usize,
+    /// Constant-depth groups on or off (ALGORITHM.md §8).
+    pub constant_depth: bool,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Self::paper()
+    }
+}
+
+impl Params {
+    /// The paper's values (ALGORITHM.md §7).
+    pub fn paper() -> Self {
+        Self {
+            accuracy_pct: 3.0,
+            d_max_m: inches(255.0),
+            min_range_m: inches(6.0),
+            t_gap_m: inches(42.0),
+            orientation_rad: 15f64.to_radians(),
+            split: SplitMode::Resolution,
+            fit: FitMode::EndPoints,
+            max_step_m: inches(10.0),
+            correlate: true,
+            memory_snapshots: 0,
+            memory_gap_m: inches(12.0),
+            memory_min_points: 3,
+            constant_depth: false,
+        }
+    }
+
+    /// The paper plus both extensions of ALGORITHM.md §8.
+    pub fn extended() -> Self {
+        Self {
+            memory_snapshots: 10,
+            constant_depth: true,
+            ..Self::paper()
+        }
+    }
+
+    /// The values of a preset.
+    pub fn preset(preset: Preset) -> Self {
+        match preset {
+            Preset::Paper => Self::paper(),
+            Preset::Extended => Self::extended(),
+        }
+    }
+
+    /// Checks every value; the first problem found is returned.
+    pub fn validate(&self) -> Result<(), ParamsError> {
+        let positive = |name: &'static str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(ParamsError::NotPositive { name, value: v })
+            }
+        };
+        let non_negative = |name: &'static str, v: f64| {
+            if v.is_finite() && v >= 0.0 {
+                Ok(())
+            } else {
+                Err(ParamsError::Negative { name, value: v })
+            }
+        };
+        positive("accuracy_pct", self.accuracy_pct)?;
+        positive("d_max", self.d_max_m)?;
+        non_negative("min_range", self.min_range_m)?;
+        non_negative("t_gap", self.t_gap_m)?;
+        non_negative("max_step", self.max_step_m)?;
+        non_negative("memory_gap", self.memory_gap_m)?;
+        if !(self.orientation_rad.is_finite()
+            && (0.0..=std::f64::consts::FRAC_PI_2).contains(&self.orientation_rad))
+        {
+            return Err(ParamsError::OutOfRange {
+                name: "orientation_deg",
+                value: self.orientation_rad.to_degrees(),
+                expected: "between 0 and 90 degrees",
+            });
+        }
+        if let SplitMode::Fixed(t) = self.split {
+            non_negative("split.fixed", t)?;
+        }
+        if self.memory_min_points < 2 {
+            return Err(ParamsError::OutOfRange {
+                name: "memory_min_points",
+                value: self.memory_min_points as f64,
+                expected: "at least 2",
+            });
+        }
+        if self.min_range_m > self.d_max_m {
+            return Err(ParamsError::OutOfRange {
+                name: "min_range",
+                value: self.min_range_m,
+                expected: "no larger than d_max",
+            });
+        }
+        Ok(())
+    }
+
+    /// Applies a `--params` file on top of `self` (the file's preset first, then its fields),
+    /// and validates the result. Nothing changes on error.
+    pub fn with_file(&self, file: &ParamsFile) -> Result<Params, ParamsError> {
+        let mut p = match file.preset {
+            Some(preset) => Params::preset(preset),
+            None => self.clone(),
+        };
+        let units = match &file.units {
+            None => Units::Inches,
+            Some(name) => Units::parse(name).ok_or_else(|| ParamsError::UnknownUnits(name.clone()))?,
+        };
+        let len = |v: f64| units.to_m(v);
+        if let Some(v) = file.accuracy_pct {
+            p.accuracy_pct = v;
+        }
+        if let Some(v) = file.d_max {
+            p.d_max_m = len(v);
+        }
+        if let Some(v) = file.min_range {
+            p.min_range_m = len(v);
+        }
+        if let Some(v) = file.t_gap {
+            p.t_gap_m = len(v);
+        }
+        if let Some(v) = file.orientation_deg {
+            p.orientation_rad = v.to_radians();
+        }
+        if let Some(split) = &file.split {
+            p.split = match split {
+                SplitFile::Resolution {} => SplitMode::Resolution,
+                SplitFile::Fixed(v) => SplitMode::Fixed(len(*v)),
+            };
+        }
+        if let Some(fit) = file.fit {
+            p.fit = fit;
+        }
+        if let Some(v) = file.max_step {
+            p.max_step_m = len(v);
+        }
+        if let Some(v) = file.correlate {
+            p.correlate = v;
+        }
+        if let Some(v) = file.memory_snapshots {
+            p.memory_snapshots = v;
+        }
+        if let Some(v) = file.memory_gap {
+            p.memory_gap_m = len(v);
+        }
+        if let Some(v) = file.memory_min_points {
+            p.memory_min_points = v;
+        }
+        if let Some(v) = file.constant_depth {
+            p.constant_depth = v;
+        }
+        p.validate()?;
+        Ok(p)
+    }
+
+    /// The complete parameter set as a `--params` file in `units`.
+    pub fn to_file(&self, units: Units) -> ParamsFile {
+        let len = |v: f64| units.from_m(v);
+        ParamsFile {
+            preset: None,
+            units: Some(units.symbol().to_string()),
+            accuracy_pct: Some(self.accuracy_pct),
+            d_max: Some(len(self.d_max_m)),
+            min_range: Some(len(self.min_range_m)),
+            t_gap: Some(len(self.t_gap_m)),
+            orientation_deg: Some(self.orientation_rad.to_degrees()),
+            split: Some(match self.split {
+                SplitMode::Resolution => SplitFile::Resolution {},
+                SplitMode::Fixed(v) => SplitFile::Fixed(len(v)),
+            }),
+            fit: Some(self.fit),
+            max_step: Some(len(self.max_step_m)),
+            correlate: Some(self.correlate),
+            memory_snapshots: Some(self.memory_snapshots),
+            memory_gap: Some(len(self.memory_gap_m)),
+            memory_min_points: Some(self.memory_min_points),
+            constant_depth: Some(self.constant_depth),
+        }
+    }
+}
+
+/// A parameter value that cannot be used.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum ParamsError {
+    /// Must be greater than zero.
+    #[error("parameter `{name}` must be a finite number greater than 0, got {value}")]
+    NotPositive {
+        /// Parameter name as in files.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// Must not be negative.
+    #[error("parameter `{name}` must be a finite number of at least 0, got {value}")]
+    Negative {
+        /// Parameter name as in files.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// Outside its range.
+    #[error("parameter `{name}` = {value} is out of range: expected {expected}")]
+    OutOfRange {
+        /// Parameter name as in files.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// What is allowed.
+        expected: &'static str,
+    },
+    /// Units not known.
+    #[error("unknown units `{0}`: expected \"in\", \"mm\", \"cm\" or \"m\"")]
+    UnknownUnits(String),
+}
+
+/// `split` in a params file: `{"resolution": {}}` or `{"fixed": 2.0}`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SplitFile {
+    /// The ball radius of the farthest point.
+    Resolution {},
+    /// A fixed length in the file's units.
+    Fixed(f64),
+}
+
+/// The `--params` file of FORMATS.md. Every field is optional.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(missing_docs)]
+pub struct ParamsFile {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub preset: Option<Preset>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub units: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub accuracy_pct: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub d_max: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_range: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub t_gap: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub orientation_deg: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub split: Option<SplitFile>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fit: Option<FitMode>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_step: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub correlate: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub memory_snapshots: Option<usize>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub memory_gap: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub memory_min_points: Option<usize>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub constant_depth: Option<bool>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn paper_defaults_are_the_papers_inches() {
+        let p = Params::paper();
+        assert!((Units::Inches.from_m(p.t_gap_m) - 42.0).abs() < 1e-9);
+        assert!((Units::Inches.from_m(p.d_max_m) - 255.0).abs() < 1e-9);
+        assert!((p.orientation_rad.to_degrees() - 15.0).abs() < 1e-9);
+        assert_eq!(p.memory_snapshots, 0);
+        assert!(!p.constant_depth);
+        let e = Params::extended();
+        assert_eq!(e.memory_snapshots, 10);
+        assert!(e.constant_depth);
+        assert!(p.validate().is_ok() && e.validate().is_ok());
+    }
+
+    #[test]
+    fn negative_t_gap_and_zero_accuracy_are_errors() {
+        let p = Params { t_gap_m: -1.0, ..Params::paper() };
+        assert!(matches!(p.validate(), Err(ParamsError::Negative { name: "t_gap", .. })));
+        let p = Params { accuracy_pct: 0.0, ..Params::paper() };
+        assert!(matches!(p.validate(), Err(ParamsError::NotPositive { name: "accuracy_pct", .. })));
+        let p = Params { accuracy_pct: f64::NAN, ..Params::paper() };
+        assert!(p.validate().is_err());
+    }
+
+    #[test]
+    fn params_file_applies_preset_then_fields_in_its_units() {
+        let file: ParamsFile = serde_json::from_str(
+            r#"{"preset": "extended", "t_gap": 100, "units": "cm", "split": {"fixed": 2.0}, "fit": "total_least_squares"}"#,
+        )
+        .unwrap();
+        let p = Params::paper().with_file(&file).unwrap();
+        assert!((p.t_gap_m - 1.0).abs() < 1e-12);
+        assert_eq!(p.split, SplitMode::Fixed(0.02));
+        assert_eq!(p.fit, FitMode::TotalLeastSquares);
+        assert_eq!(p.memory_snapshots, 10);
+        let back = Params::paper().with_file(&p.to_file(Units::Millimetres)).unwrap();
+        assert!((back.t_gap_m - p.t_gap_m).abs() < 1e-12);
+        assert_eq!(back.memory_snapshots, 10);
+    }
+}

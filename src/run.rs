@@ -1,0 +1,66 @@
+//! A run in memory: the robot, its sonars, optional ground truth and the snapshots.
+//! Every length is in metres; `units` remembers the file's unit for output.
+
+use crate::geometry::{Point, Pose};
+use crate::sonar::{SensorLayout, SensorSpec};
+use crate::units::Units;
+use serde::{Deserialize, Serialize};
+
+/// One firing of the ring: when, where, and what each sensor read.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Snapshot {
+    /// Time, seconds.
+    pub t: f64,
+    /// Robot pose in the world.
+    pub pose: Pose,
+    /// `ranges_m[k]` belongs to sensor `k`; `None` is no echo. Metres.
+    pub ranges_m: Vec<Option<f64>>,
+}
+
+/// A wall of the ground truth.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Wall {
+    /// First end-point, metres.
+    pub a: Point,
+    /// Second end-point, metres.
+    pub b: Point,
+    /// Largest incidence angle that still echoes, radians; `None` uses the plan's.
+    pub roughness_rad: Option<f64>,
+}
+
+/// A round pillar of the ground truth.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Circle {
+    /// Centre, metres.
+    pub centre: Point,
+    /// Radius, metres.
+    pub radius_m: f64,
+}
+
+/// Ground truth: walls and pillars.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct FloorPlan {
+    /// Straight walls.
+    pub walls: Vec<Wall>,
+    /// Round pillars.
+    pub circles: Vec<Circle>,
+}
+
+/// A run: everything needed to replay the mapper and draw it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Run {
+    /// Human-readable name.
+    pub name: String,
+    /// The unit of the file the run came from (for output and display).
+    pub units: Units,
+    /// Robot body radius for drawing, metres.
+    pub robot_radius_m: Option<f64>,
+    /// Sonar mounts.
+    pub layout: SensorLayout,
+    /// Sonar hardware.
+    pub sensor: SensorSpec,
+    /// Ground truth, when known.
+    pub floor_plan: Option<FloorPlan>,
+    /// The snapshots, in time order.
+    pub snapshots: Vec<Snapshot>,
+}
