@@ -333,6 +333,8 @@ pub enum EndRole {
     Middle,
     /// Projected onto `l_u` (lower confidence).
     Projected,
+    /// An inner end-point of an extension with less confidence than `M`: not used.
+    Dropped,
 }
 
 /// The fate of one end-point in an update.
