@@ -11,13 +11,26 @@ use super::trace::GapTrace;
 /// exceeds `t_gap_m` (strictly). With a wrapping layout the chain is circular: when it has at
 /// least one break, clusters start just after a break, so a face across sensor 0 stays whole.
 /// Returns the clusters (indices into `kept`, in chain order) and every neighbour gap.
-pub fn cluster_points(kept: &[SupportPoint], order: &[usize], wraps: bool, t_gap_m: f64) -> (Vec<Vec<usize>>, Vec<GapTrace>) {
+pub fn cluster_points(
+    kept: &[SupportPoint],
+    order: &[usize],
+    wraps: bool,
+    t_gap_m: f64,
+) -> (Vec<Vec<usize>>, Vec<GapTrace>) {
     let mut position_of_sensor = vec![usize::MAX; order.iter().copied().max().map_or(0, |m| m + 1)];
     for (pos, &sensor) in order.iter().enumerate() {
         position_of_sensor[sensor] = pos;
     }
     let mut chain: Vec<usize> = (0..kept.len()).collect();
-    chain.sort_by_key(|&i| (position_of_sensor.get(kept[i].reading.sensor).copied().unwrap_or(usize::MAX), kept[i].reading.sensor));
+    chain.sort_by_key(|&i| {
+        (
+            position_of_sensor
+                .get(kept[i].reading.sensor)
+                .copied()
+                .unwrap_or(usize::MAX),
+            kept[i].reading.sensor,
+        )
+    });
     let n = chain.len();
     if n == 0 {
         return (Vec::new(), Vec::new());
@@ -63,7 +76,14 @@ mod tests {
     use crate::mapping::map::ReadingRef;
 
     fn pt(sensor: usize, x: f64, y: f64) -> SupportPoint {
-        SupportPoint { point: Point::new(x, y), range_m: 1.0, reading: ReadingRef { snapshot: 0, sensor } }
+        SupportPoint {
+            point: Point::new(x, y),
+            range_m: 1.0,
+            reading: ReadingRef {
+                snapshot: 0,
+                sensor,
+            },
+        }
     }
 
     #[test]
@@ -78,7 +98,12 @@ mod tests {
     #[test]
     fn circular_chain_keeps_the_face_across_sensor_zero() {
         // Sensors 0, 1 and 15 see one wall; 7 sees another far away.
-        let kept = vec![pt(0, 1.0, 0.0), pt(1, 1.0, 0.4), pt(7, -5.0, 0.0), pt(15, 1.0, -0.4)];
+        let kept = vec![
+            pt(0, 1.0, 0.0),
+            pt(1, 1.0, 0.4),
+            pt(7, -5.0, 0.0),
+            pt(15, 1.0, -0.4),
+        ];
         let order: Vec<usize> = (0..16).collect();
         let (clusters, gaps) = cluster_points(&kept, &order, true, 1.0);
         assert_eq!(gaps.len(), 4);

@@ -15,13 +15,20 @@ fn same_depth(accuracy_pct: f64, d1: f64, d2: f64) -> bool {
 /// cluster, each maximal run (scanning in chain order) of three or more consecutive readings
 /// whose ranges pass the ball test pairwise is replaced by its middle reading (the lower
 /// middle for an even run). Returns the reduced points and what was replaced.
-pub fn reduce_constant_depth(points: &[SupportPoint], accuracy_pct: f64) -> (Vec<SupportPoint>, Vec<ConstantDepthTrace>) {
+pub fn reduce_constant_depth(
+    points: &[SupportPoint],
+    accuracy_pct: f64,
+) -> (Vec<SupportPoint>, Vec<ConstantDepthTrace>) {
     let mut out = Vec::with_capacity(points.len());
     let mut traces = Vec::new();
     let mut i = 0;
     while i < points.len() {
         let mut j = i + 1;
-        while j < points.len() && points[i..j].iter().all(|q| same_depth(accuracy_pct, q.range_m, points[j].range_m)) {
+        while j < points.len()
+            && points[i..j]
+                .iter()
+                .all(|q| same_depth(accuracy_pct, q.range_m, points[j].range_m))
+        {
             j += 1;
         }
         if j - i >= 3 {
@@ -53,7 +60,12 @@ pub struct MemoryPiece {
 /// `memory_gap` into groups (single linkage), orders each group along its principal axis, fits
 /// it by §3, and returns the pieces of at least `memory_min_points` points (their readings leave
 /// the memory).
-pub fn memory_step(memory: &mut Vec<MemoryPoint>, singles: &[SupportPoint], snapshot: usize, params: &Params) -> (MemoryTrace, Vec<MemoryPiece>) {
+pub fn memory_step(
+    memory: &mut Vec<MemoryPoint>,
+    singles: &[SupportPoint],
+    snapshot: usize,
+    params: &Params,
+) -> (MemoryTrace, Vec<MemoryPiece>) {
     let mut trace = MemoryTrace::default();
     let horizon = params.memory_snapshots;
     memory.retain(|m| {
@@ -82,7 +94,9 @@ pub fn memory_step(memory: &mut Vec<MemoryPoint>, singles: &[SupportPoint], snap
         while k < members.len() {
             let p = memory[members[k]].support.point;
             for other in 0..n {
-                if group_of[other] == usize::MAX && (memory[other].support.point - p).norm() <= params.memory_gap_m {
+                if group_of[other] == usize::MAX
+                    && (memory[other].support.point - p).norm() <= params.memory_gap_m
+                {
                     group_of[other] = g;
                     members.push(other);
                 }
@@ -94,7 +108,10 @@ pub fn memory_step(memory: &mut Vec<MemoryPoint>, singles: &[SupportPoint], snap
     }
     let mut used = vec![false; n];
     let mut pieces_out = Vec::new();
-    for members in groups.iter().filter(|m| m.len() >= params.memory_min_points) {
+    for members in groups
+        .iter()
+        .filter(|m| m.len() >= params.memory_min_points)
+    {
         let mut points: Vec<SupportPoint> = members.iter().map(|&i| memory[i].support).collect();
         let coords: Vec<Point> = points.iter().map(|q| q.point).collect();
         if let Some((centre, dir)) = fit_line_tls(&coords) {
@@ -112,9 +129,16 @@ pub fn memory_step(memory: &mut Vec<MemoryPoint>, singles: &[SupportPoint], snap
         for &[first, last] in &pieces {
             if last + 1 - first >= params.memory_min_points {
                 piece_segments.push(Some(pieces_out.len()));
-                pieces_out.push(MemoryPiece { group: group_index, points: points[first..=last].to_vec() });
+                pieces_out.push(MemoryPiece {
+                    group: group_index,
+                    points: points[first..=last].to_vec(),
+                });
                 for q in &points[first..=last] {
-                    if let Some(i) = members.iter().copied().find(|&i| memory[i].support.reading == q.reading) {
+                    if let Some(i) = members
+                        .iter()
+                        .copied()
+                        .find(|&i| memory[i].support.reading == q.reading)
+                    {
                         used[i] = true;
                     }
                 }
@@ -122,7 +146,12 @@ pub fn memory_step(memory: &mut Vec<MemoryPoint>, singles: &[SupportPoint], snap
                 piece_segments.push(None);
             }
         }
-        trace.groups.push(MemoryGroupTrace { points, splits, pieces, piece_segments });
+        trace.groups.push(MemoryGroupTrace {
+            points,
+            splits,
+            pieces,
+            piece_segments,
+        });
     }
     let mut i = 0;
     memory.retain(|m| {
@@ -143,7 +172,11 @@ mod tests {
     use crate::mapping::map::ReadingRef;
 
     fn sp(snapshot: usize, sensor: usize, x: f64, y: f64, d: f64) -> SupportPoint {
-        SupportPoint { point: Point::new(x, y), range_m: d, reading: ReadingRef { snapshot, sensor } }
+        SupportPoint {
+            point: Point::new(x, y),
+            range_m: d,
+            reading: ReadingRef { snapshot, sensor },
+        }
     }
 
     #[test]
@@ -157,8 +190,17 @@ mod tests {
             sp(0, 4, 4.0, 0.0, 150.0),
         ];
         let (out, traces) = reduce_constant_depth(&pts, 3.0);
-        assert_eq!(out.iter().map(|q| q.reading.sensor).collect::<Vec<_>>(), vec![1, 4]);
-        assert_eq!(traces, vec![ConstantDepthTrace { sensors: vec![0, 1, 2, 3], kept_sensor: 1 }]);
+        assert_eq!(
+            out.iter().map(|q| q.reading.sensor).collect::<Vec<_>>(),
+            vec![1, 4]
+        );
+        assert_eq!(
+            traces,
+            vec![ConstantDepthTrace {
+                sensors: vec![0, 1, 2, 3],
+                kept_sensor: 1
+            }]
+        );
         // Two equal readings are not a group.
         let (out, traces) = reduce_constant_depth(&pts[3..], 3.0);
         assert_eq!(out.len(), 2);
@@ -167,7 +209,12 @@ mod tests {
 
     #[test]
     fn memory_fits_remembered_singles_and_expires_old_ones() {
-        let p = Params { memory_snapshots: 3, memory_gap_m: 1.5, memory_min_points: 3, ..Params::paper() };
+        let p = Params {
+            memory_snapshots: 3,
+            memory_gap_m: 1.5,
+            memory_min_points: 3,
+            ..Params::paper()
+        };
         let mut memory = Vec::new();
         let (t, pieces) = memory_step(&mut memory, &[sp(0, 2, 0.0, 5.0, 50.0)], 0, &p);
         assert!(pieces.is_empty() && t.held_after == 1);
@@ -181,6 +228,12 @@ mod tests {
         // A lone reading expires after memory_snapshots.
         memory_step(&mut memory, &[sp(3, 0, 50.0, 50.0, 50.0)], 3, &p);
         let (t, _) = memory_step(&mut memory, &[], 6, &p);
-        assert_eq!(t.expired, vec![ReadingRef { snapshot: 3, sensor: 0 }]);
+        assert_eq!(
+            t.expired,
+            vec![ReadingRef {
+                snapshot: 3,
+                sensor: 0
+            }]
+        );
     }
 }

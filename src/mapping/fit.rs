@@ -22,7 +22,11 @@ pub fn split_tolerance(params: &Params, range_m: f64) -> f64 {
 
 /// Splits `points` recursively; returns the pieces as `[first, last]` index pairs in order and
 /// appends every test to `splits`.
-pub fn split_recursive(points: &[SupportPoint], params: &Params, splits: &mut Vec<SplitTrace>) -> Vec<[usize; 2]> {
+pub fn split_recursive(
+    points: &[SupportPoint],
+    params: &Params,
+    splits: &mut Vec<SplitTrace>,
+) -> Vec<[usize; 2]> {
     let mut pieces = Vec::new();
     if points.len() >= 2 {
         split_range(points, 0, points.len() - 1, params, splits, &mut pieces);
@@ -47,13 +51,29 @@ fn split_range(
         }
     }
     let Some((j, deviation_m)) = farthest else {
-        splits.push(SplitTrace { first, last, farthest: None, point: None, deviation_m: 0.0, tolerance_m: 0.0, split: false });
+        splits.push(SplitTrace {
+            first,
+            last,
+            farthest: None,
+            point: None,
+            deviation_m: 0.0,
+            tolerance_m: 0.0,
+            split: false,
+        });
         pieces.push([first, last]);
         return;
     };
     let tolerance_m = split_tolerance(params, points[j].range_m);
     let split = deviation_m > tolerance_m;
-    splits.push(SplitTrace { first, last, farthest: Some(j), point: Some(points[j].point), deviation_m, tolerance_m, split });
+    splits.push(SplitTrace {
+        first,
+        last,
+        farthest: Some(j),
+        point: Some(points[j].point),
+        deviation_m,
+        tolerance_m,
+        split,
+    });
     if split {
         split_range(points, first, j, params, splits, pieces);
         split_range(points, j, last, params, splits, pieces);
@@ -65,10 +85,21 @@ fn split_range(
 /// The end-points of the piece `points[first..=last]` (ALGORITHM.md §3): its first and last
 /// readings, or with total least squares those readings projected on the fitted line. Each
 /// end-point keeps the range of the reading that produced it.
-pub fn piece_end_points(points: &[SupportPoint], first: usize, last: usize, fit: FitMode) -> (EndPoint, EndPoint) {
+pub fn piece_end_points(
+    points: &[SupportPoint],
+    first: usize,
+    last: usize,
+    fit: FitMode,
+) -> (EndPoint, EndPoint) {
     let (qa, qb) = (&points[first], &points[last]);
-    let mut a = EndPoint { point: qa.point, range_m: qa.range_m };
-    let mut b = EndPoint { point: qb.point, range_m: qb.range_m };
+    let mut a = EndPoint {
+        point: qa.point,
+        range_m: qa.range_m,
+    };
+    let mut b = EndPoint {
+        point: qb.point,
+        range_m: qb.range_m,
+    };
     if fit == FitMode::TotalLeastSquares && last > first + 1 {
         let coords: Vec<Point> = points[first..=last].iter().map(|q| q.point).collect();
         if let Some((centre, dir)) = fit_line_tls(&coords) {
@@ -89,7 +120,14 @@ mod tests {
         coords
             .iter()
             .enumerate()
-            .map(|(i, &(x, y, d))| SupportPoint { point: Point::new(x, y), range_m: d, reading: ReadingRef { snapshot: 0, sensor: i } })
+            .map(|(i, &(x, y, d))| SupportPoint {
+                point: Point::new(x, y),
+                range_m: d,
+                reading: ReadingRef {
+                    snapshot: 0,
+                    sensor: i,
+                },
+            })
             .collect()
     }
 
@@ -106,15 +144,26 @@ mod tests {
         assert_eq!(split_recursive(&at, &p, &mut Vec::new()), vec![[0, 2]]);
         let above = pts(&[(0.0, 0.0, 50.0), (5.0, 3.0 + eps, 100.0), (10.0, 0.0, 50.0)]);
         let mut splits = Vec::new();
-        assert_eq!(split_recursive(&above, &p, &mut splits), vec![[0, 1], [1, 2]]);
+        assert_eq!(
+            split_recursive(&above, &p, &mut splits),
+            vec![[0, 1], [1, 2]]
+        );
         assert!(splits[0].split && splits[0].farthest == Some(1));
         assert_eq!(splits.len(), 3);
     }
 
     #[test]
     fn fixed_tolerance_and_first_of_equal_deviations() {
-        let p = Params { split: SplitMode::Fixed(0.4), ..Params::paper() };
-        let corner = pts(&[(0.0, 0.0, 1.0), (1.0, 1.0, 1.0), (2.0, 1.0, 1.0), (3.0, 0.0, 1.0)]);
+        let p = Params {
+            split: SplitMode::Fixed(0.4),
+            ..Params::paper()
+        };
+        let corner = pts(&[
+            (0.0, 0.0, 1.0),
+            (1.0, 1.0, 1.0),
+            (2.0, 1.0, 1.0),
+            (3.0, 0.0, 1.0),
+        ]);
         let mut splits = Vec::new();
         let pieces = split_recursive(&corner, &p, &mut splits);
         assert_eq!(splits[0].farthest, Some(1), "ties go to the first");
@@ -124,7 +173,12 @@ mod tests {
     #[test]
     fn total_least_squares_projects_the_end_readings() {
         // Symmetric about y = 0: the fitted line is the x axis.
-        let q = pts(&[(0.0, 1.0, 10.0), (1.0, -1.0, 11.0), (2.0, -1.0, 12.0), (3.0, 1.0, 13.0)]);
+        let q = pts(&[
+            (0.0, 1.0, 10.0),
+            (1.0, -1.0, 11.0),
+            (2.0, -1.0, 12.0),
+            (3.0, 1.0, 13.0),
+        ]);
         let (a, b) = piece_end_points(&q, 0, 3, FitMode::TotalLeastSquares);
         assert!((a.point - Point::new(0.0, 0.0)).norm() < 1e-12);
         assert!((b.point - Point::new(3.0, 0.0)).norm() < 1e-12);

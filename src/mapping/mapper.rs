@@ -9,7 +9,8 @@ use super::matching::{decide, Candidate, SegmentEnds};
 use super::params::Params;
 use super::readings::convert_readings;
 use super::trace::{
-    ClusterTrace, NewSegmentTrace, Outcome, RefitTrace, SegmentSource, Side, StepTrace, Test, UpdateTrace, Warning,
+    ClusterTrace, NewSegmentTrace, Outcome, RefitTrace, SegmentSource, Side, StepTrace, Test,
+    UpdateTrace, Warning,
 };
 use super::update::{update_extension, update_match, UpdateGeometry};
 use crate::geometry::{distance_to_line, projection_param, Pose};
@@ -44,7 +45,15 @@ impl Mapper {
     /// A mapper with an empty map. `params` should be valid (see [`Params::validate`]).
     pub fn new(params: Params, layout: SensorLayout, sensor: SensorSpec) -> Self {
         let bearing_order = layout.bearing_order();
-        Self { params, layout, sensor, bearing_order, map: Map::default(), last_pose: None, next_snapshot: 0 }
+        Self {
+            params,
+            layout,
+            sensor,
+            bearing_order,
+            map: Map::default(),
+            last_pose: None,
+            next_snapshot: 0,
+        }
     }
 
     /// The map as it stands.
@@ -64,7 +73,11 @@ impl Mapper {
 
     /// A copy of the state (for checkpoints).
     pub fn state(&self) -> MapperState {
-        MapperState { map: self.map.clone(), last_pose: self.last_pose, next_snapshot: self.next_snapshot }
+        MapperState {
+            map: self.map.clone(),
+            last_pose: self.last_pose,
+            next_snapshot: self.next_snapshot,
+        }
     }
 
     /// Resumes from a checkpoint.
@@ -80,23 +93,40 @@ impl Mapper {
         self.next_snapshot += 1;
         let params_owned = self.params.clone();
         let params = &params_owned;
-        let mut trace = StepTrace { snapshot: index, t: snapshot.t, pose: Some(snapshot.pose), ..Default::default() };
+        let mut trace = StepTrace {
+            snapshot: index,
+            t: snapshot.t,
+            pose: Some(snapshot.pose),
+            ..Default::default()
+        };
 
         // §3.3.1: matching is valid only below max_step.
         if let Some(last) = self.last_pose {
             let step_m = last.distance_to(&snapshot.pose);
             if step_m > params.max_step_m {
-                trace.warnings.push(Warning::MaxStep { step_m, max_step_m: params.max_step_m });
+                trace.warnings.push(Warning::MaxStep {
+                    step_m,
+                    max_step_m: params.max_step_m,
+                });
             }
         }
         self.last_pose = Some(snapshot.pose);
         if snapshot.ranges_m.len() != self.layout.len() {
-            trace.warnings.push(Warning::RangeCount { given: snapshot.ranges_m.len(), expected: self.layout.len() });
+            trace.warnings.push(Warning::RangeCount {
+                given: snapshot.ranges_m.len(),
+                expected: self.layout.len(),
+            });
         }
 
         // §1 readings → points; §2 clusters.
-        let (readings, kept) =
-            convert_readings(index, &snapshot.pose, &snapshot.ranges_m, &self.layout, self.sensor.max_range_m, params);
+        let (readings, kept) = convert_readings(
+            index,
+            &snapshot.pose,
+            &snapshot.ranges_m,
+            &self.layout,
+            self.sensor.max_range_m,
+            params,
+        );
         trace.readings = readings;
         let (order, wraps) = (&self.bearing_order.0, self.bearing_order.1);
         let (clusters, gaps) = cluster_points(&kept, order, wraps, params.t_gap_m);
@@ -110,8 +140,19 @@ impl Mapper {
             for q in &chain {
                 trace.readings[q.reading.sensor].cluster = Some(ci);
             }
-            let (fitted, constant_depth) =
-                if params.constant_depth { reduce_constant_depth(&chain, params.accuracy_pct) } else { (chain.clone(), Vec::new()) };
+            let (mut fitted, constant_depth) = if params.constant_depth {
+                reduce_constant_depth(&chain, params.accuracy_pct)
+            } else {
+                (chain.clone(), Vec::new())
+            };
+            // Beyond ALGORITHM.md §2: a chain that wraps all round without a break is a closed
+            // loop (its last point neighbours its first), so the fit closes it by repeating the
+            // first point at the end; the reading itself is still traced once.
+            let closed_loop =
+                wraps && clusters.len() == 1 && !trace.gaps.iter().any(|g| g.is_break);
+            if closed_loop && fitted.len() >= 3 {
+                fitted.push(fitted[0]);
+            }
             let mut splits = Vec::new();
             let pieces = split_recursive(&fitted, params, &mut splits);
             let mut indices = Vec::with_capacity(pieces.len());
@@ -125,7 +166,7 @@ impl Mapper {
                     points: fitted[first..=last].to_vec(),
                 });
             }
-            if fitted.len() == 1 {
+            if chain.len() == 1 {
                 singles.push(fitted[0]);
             }
             trace.clusters.push(ClusterTrace {
@@ -143,7 +184,12 @@ impl Mapper {
             for piece in pieces {
                 let last = piece.points.len() - 1;
                 let (a, b) = piece_end_points(&piece.points, 0, last, params.fit);
-                new_segments.push(NewSegmentTrace { source: SegmentSource::Memory(piece.group), a, b, points: piece.points });
+                new_segments.push(NewSegmentTrace {
+                    source: SegmentSource::Memory(piece.group),
+                    a,
+                    b,
+                    points: piece.points,
+                });
             }
             trace.memory = Some(memory_trace);
         }
@@ -154,7 +200,11 @@ impl Mapper {
             .segments
             .iter()
             .filter(|s| s.kind == SegmentKind::Fitted)
-            .map(|s| Candidate { id: s.id, ends: SegmentEnds { a: s.a, b: s.b }, outermost: self.map.is_outermost(s.id) })
+            .map(|s| Candidate {
+                id: s.id,
+                ends: SegmentEnds { a: s.a, b: s.b },
+                outermost: self.map.is_outermost(s.id),
+            })
             .collect();
         let mut face_of_source: Vec<(SegmentSource, FaceId)> = Vec::new();
         let mut new_faces: Vec<FaceId> = Vec::new();
@@ -165,10 +215,21 @@ impl Mapper {
             match decision.outcome {
                 Outcome::Match | Outcome::Extension => {
                     let target = decision.existing.expect("a match names its segment");
-                    let evaluation = &decision.mpc_stage.iter().find(|c| c.evaluation.existing == target).expect("tested").evaluation;
-                    let inside = if decision.outcome == Outcome::Extension { evaluation.overlap.epc_end } else { None };
+                    let evaluation = &decision
+                        .mpc_stage
+                        .iter()
+                        .find(|c| c.evaluation.existing == target)
+                        .expect("tested")
+                        .evaluation;
+                    let inside = if decision.outcome == Outcome::Extension {
+                        evaluation.overlap.epc_end
+                    } else {
+                        None
+                    };
                     let (nl, nr) = (evaluation.new_left, evaluation.new_right);
-                    if let Some(update) = self.apply_update(target, ni, seg, nl, nr, decision.outcome, inside, index) {
+                    if let Some(update) =
+                        self.apply_update(target, ni, seg, nl, nr, decision.outcome, inside, index)
+                    {
                         trace.updates.push(update);
                     }
                     decision.result = Some(target);
@@ -184,12 +245,21 @@ impl Mapper {
                             f
                         }
                     };
-                    let object = match self.map.face(face).and_then(|f| f.segments.first()).and_then(|&id| self.map.segment(id)) {
+                    let object = match self
+                        .map
+                        .face(face)
+                        .and_then(|f| f.segments.first())
+                        .and_then(|&id| self.map.segment(id))
+                    {
                         Some(s) => s.object,
                         None => self.map.allocate_object_id(),
                     };
                     let id = self.map.allocate_segment_id();
-                    self.map.face_mut(face).expect("face exists").segments.push(id);
+                    self.map
+                        .face_mut(face)
+                        .expect("face exists")
+                        .segments
+                        .push(id);
                     self.map.push_segment(Segment {
                         id,
                         kind: SegmentKind::Fitted,
@@ -211,7 +281,9 @@ impl Mapper {
         // §6 correlation of the new faces, in cluster order.
         if params.correlate {
             for face in new_faces {
-                trace.correlations.push(correlate_face(&mut self.map, face, params, index));
+                trace
+                    .correlations
+                    .push(correlate_face(&mut self.map, face, params, index));
             }
         }
         trace
@@ -247,7 +319,12 @@ impl Mapper {
         };
         let [a, b] = geometry.ends;
         // Supporting points, old and new, ordered along l_u.
-        let mut points: Vec<SupportPoint> = seg.points.iter().chain(new.points.iter()).copied().collect();
+        let mut points: Vec<SupportPoint> = seg
+            .points
+            .iter()
+            .chain(new.points.iter())
+            .copied()
+            .collect();
         points.sort_by(|x, y| {
             projection_param(&x.point, &a.point, &b.point)
                 .total_cmp(&projection_param(&y.point, &a.point, &b.point))
@@ -261,7 +338,9 @@ impl Mapper {
             })
             .fold(None::<Test>, |acc, t| match acc {
                 Some(w) if !w.pass && t.pass => Some(w),
-                Some(w) if w.pass == t.pass && w.value - w.threshold >= t.value - t.threshold => Some(w),
+                Some(w) if w.pass == t.pass && w.value - w.threshold >= t.value - t.threshold => {
+                    Some(w)
+                }
                 _ => Some(t),
             });
         let mut update = UpdateTrace {
@@ -290,7 +369,8 @@ impl Mapper {
         // keeps the id, the others are inserted after it in the face.
         let mut splits = Vec::new();
         let pieces = split_recursive(&points, &params, &mut splits);
-        let (face, object, created, updated) = (seg.face, seg.object, seg.created, seg.updated.clone());
+        let (face, object, created, updated) =
+            (seg.face, seg.object, seg.created, seg.updated.clone());
         let mut piece_ids = Vec::with_capacity(pieces.len());
         for (k, &[first, last]) in pieces.iter().enumerate() {
             let (pa, pb) = piece_end_points(&points, first, last, params.fit);
@@ -318,10 +398,18 @@ impl Mapper {
             }
         }
         if let Some(f) = self.map.face_mut(face) {
-            let at = f.segments.iter().position(|&s| s == target).map_or(f.segments.len(), |p| p + 1);
+            let at = f
+                .segments
+                .iter()
+                .position(|&s| s == target)
+                .map_or(f.segments.len(), |p| p + 1);
             f.segments.splice(at..at, piece_ids[1..].iter().copied());
         }
-        update.refit = Some(RefitTrace { worst: worst.expect("failed test exists"), splits, pieces: piece_ids });
+        update.refit = Some(RefitTrace {
+            worst: worst.expect("failed test exists"),
+            splits,
+            pieces: piece_ids,
+        });
         Some(update)
     }
 }

@@ -2,8 +2,13 @@
 
 use super::map::{EndPoint, SegmentId};
 use super::params::Params;
-use super::trace::{CandidateTrace, ColinearityTest, DecisionTrace, OverlapTest, Outcome, PairEvaluation, Rule, Side, Test};
-use crate::geometry::{distance_to_line, distance_to_segment, line_angle_between, projection_param};
+use super::trace::{
+    CandidateTrace, ColinearityTest, DecisionTrace, Outcome, OverlapTest, PairEvaluation, Rule,
+    Side, Test,
+};
+use crate::geometry::{
+    distance_to_line, distance_to_segment, line_angle_between, projection_param,
+};
 
 /// A segment's end-points as the tests see them.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -45,12 +50,21 @@ fn inside(t: f64) -> bool {
 /// the foot (clamped to the segment). Overlap: MPC (mid-point projects into `l_e`, closed
 /// interval), EPC (an end-point of `l_n` does), containment (both of `l_e`'s end-points project
 /// into `l_n`; counts as MPC).
-pub fn evaluate_pair(params: &Params, new: &SegmentEnds, existing_id: SegmentId, existing: &SegmentEnds) -> PairEvaluation {
+pub fn evaluate_pair(
+    params: &Params,
+    new: &SegmentEnds,
+    existing_id: SegmentId,
+    existing: &SegmentEnds,
+) -> PairEvaluation {
     let (ea, eb) = (existing.a.point, existing.b.point);
     let ta = projection_param(&new.a.point, &ea, &eb);
     let tb = projection_param(&new.b.point, &ea, &eb);
     let new_reversed = tb < ta;
-    let (left, right) = if new_reversed { (new.b, new.a) } else { (new.a, new.b) };
+    let (left, right) = if new_reversed {
+        (new.b, new.a)
+    } else {
+        (new.a, new.b)
+    };
     let (left_param, right_param) = if new_reversed { (tb, ta) } else { (ta, tb) };
 
     let angle = line_angle_between(&(right.point - left.point), &(eb - ea));
@@ -63,7 +77,13 @@ pub fn evaluate_pair(params: &Params, new: &SegmentEnds, existing_id: SegmentId,
     let d1_m = existing.a.range_m + foot_param * (existing.b.range_m - existing.a.range_m);
     let (d2_m, d3_m) = (left.range_m, right.range_m);
     let threshold = params.accuracy_pct / 100.0 * (d1_m + (d2_m + d3_m) / 2.0);
-    let colinearity = ColinearityTest { test: Test::at_most(d, threshold), d1_m, d2_m, d3_m, foot_param };
+    let colinearity = ColinearityTest {
+        test: Test::at_most(d, threshold),
+        d1_m,
+        d2_m,
+        d3_m,
+        foot_param,
+    };
 
     let existing_on_new_params = [
         projection_param(&ea, &left.point, &right.point),
@@ -85,7 +105,15 @@ pub fn evaluate_pair(params: &Params, new: &SegmentEnds, existing_id: SegmentId,
         epc: left_in || right_in,
         epc_end,
     };
-    PairEvaluation { existing: existing_id, new_reversed, new_left: left, new_right: right, orientation, colinearity, overlap }
+    PairEvaluation {
+        existing: existing_id,
+        new_reversed,
+        new_left: left,
+        new_right: right,
+        orientation,
+        colinearity,
+        overlap,
+    }
 }
 
 /// Orders candidates as §4 asks: by distance from `l_n`'s mid-point to the segment, ties by id.
@@ -93,7 +121,12 @@ pub fn order_candidates(new: &SegmentEnds, candidates: &mut [Candidate]) -> Vec<
     let mid = new.mid();
     let mut keyed: Vec<(f64, Candidate)> = candidates
         .iter()
-        .map(|c| (distance_to_segment(&mid, &c.ends.a.point, &c.ends.b.point), *c))
+        .map(|c| {
+            (
+                distance_to_segment(&mid, &c.ends.a.point, &c.ends.b.point),
+                *c,
+            )
+        })
         .collect();
     keyed.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.id.cmp(&y.1.id)));
     for (slot, (_, c)) in candidates.iter_mut().zip(&keyed) {
@@ -109,22 +142,39 @@ pub fn order_candidates(new: &SegmentEnds, candidates: &mut [Candidate]) -> Vec<
 /// order: the first pass is an EXTENSION. Otherwise, when some candidate fails only the
 /// orientation test (colinearity and MPC or EPC pass; containment does not count), the new
 /// segment is DISMISSED. Otherwise it is a NEW FACE.
-pub fn decide(params: &Params, new_index: usize, new: &SegmentEnds, candidates: &mut [Candidate]) -> DecisionTrace {
+pub fn decide(
+    params: &Params,
+    new_index: usize,
+    new: &SegmentEnds,
+    candidates: &mut [Candidate],
+) -> DecisionTrace {
     let distances = order_candidates(new, candidates);
     let mut decision = DecisionTrace {
         new_segment: new_index,
         mpc_stage: Vec::with_capacity(candidates.len()),
         epc_stage: Vec::new(),
         outcome: Outcome::NewFace,
-        rule: if candidates.is_empty() { Rule::NoCandidates } else { Rule::NoCandidatePassed },
+        rule: if candidates.is_empty() {
+            Rule::NoCandidates
+        } else {
+            Rule::NoCandidatePassed
+        },
         existing: None,
         result: None,
     };
     for (c, &distance_m) in candidates.iter().zip(&distances) {
         let evaluation = evaluate_pair(params, new, c.id, &c.ends);
         let is_match = evaluation.is_match();
-        let rule = if evaluation.overlap.mpc { Rule::MidPointOverlap } else { Rule::Containment };
-        decision.mpc_stage.push(CandidateTrace { distance_m, outermost: c.outermost, evaluation });
+        let rule = if evaluation.overlap.mpc {
+            Rule::MidPointOverlap
+        } else {
+            Rule::Containment
+        };
+        decision.mpc_stage.push(CandidateTrace {
+            distance_m,
+            outermost: c.outermost,
+            evaluation,
+        });
         if is_match {
             decision.outcome = Outcome::Match;
             decision.rule = rule;
@@ -144,7 +194,11 @@ pub fn decide(params: &Params, new_index: usize, new: &SegmentEnds, candidates: 
             return decision;
         }
     }
-    if let Some(c) = decision.mpc_stage.iter().find(|c| c.evaluation.fails_only_orientation()) {
+    if let Some(c) = decision
+        .mpc_stage
+        .iter()
+        .find(|c| c.evaluation.fails_only_orientation())
+    {
         decision.outcome = Outcome::Dismissed;
         decision.rule = Rule::OrientationOnlyFailure;
         decision.existing = Some(c.evaluation.existing);
@@ -159,8 +213,14 @@ mod tests {
 
     fn ends(ax: f64, ay: f64, da: f64, bx: f64, by: f64, db: f64) -> SegmentEnds {
         SegmentEnds {
-            a: EndPoint { point: Point::new(ax, ay), range_m: da },
-            b: EndPoint { point: Point::new(bx, by), range_m: db },
+            a: EndPoint {
+                point: Point::new(ax, ay),
+                range_m: da,
+            },
+            b: EndPoint {
+                point: Point::new(bx, by),
+                range_m: db,
+            },
         }
     }
 
@@ -189,14 +249,28 @@ mod tests {
         let e = ends(0.0, 0.0, 50.0, 100.0, 0.0, 50.0);
         // Drawn right-to-left at 174° (6° off the line): passes, and is reversed.
         let dir = 174f64.to_radians();
-        let n = ends(60.0, 0.0, 50.0, 60.0 + 20.0 * dir.cos(), 20.0 * dir.sin(), 50.0);
+        let n = ends(
+            60.0,
+            0.0,
+            50.0,
+            60.0 + 20.0 * dir.cos(),
+            20.0 * dir.sin(),
+            50.0,
+        );
         let ev = evaluate_pair(&p, &n, 1, &e);
         assert!(ev.new_reversed);
         assert!((ev.orientation.value.to_degrees() - 6.0).abs() < 1e-9);
         assert!(ev.orientation.pass);
         assert!(ev.new_left.point.x < ev.new_right.point.x);
         let dir = 164f64.to_radians();
-        let n = ends(60.0, 0.0, 50.0, 60.0 + 20.0 * dir.cos(), 20.0 * dir.sin(), 50.0);
+        let n = ends(
+            60.0,
+            0.0,
+            50.0,
+            60.0 + 20.0 * dir.cos(),
+            20.0 * dir.sin(),
+            50.0,
+        );
         assert!(!evaluate_pair(&p, &n, 1, &e).orientation.pass);
     }
 
@@ -219,7 +293,11 @@ mod tests {
     }
 
     fn cand(id: SegmentId, e: SegmentEnds, outermost: bool) -> Candidate {
-        Candidate { id, ends: e, outermost }
+        Candidate {
+            id,
+            ends: e,
+            outermost,
+        }
     }
 
     #[test]
@@ -229,7 +307,10 @@ mod tests {
         let far = cand(1, ends(-5.0, 1.0, 50.0, 15.0, 1.0, 50.0), true);
         let near = cand(2, ends(-5.0, 0.1, 50.0, 15.0, 0.1, 50.0), true);
         let d = decide(&p, 0, &n, &mut [far, near]);
-        assert_eq!((d.outcome, d.rule, d.existing), (Outcome::Match, Rule::MidPointOverlap, Some(2)));
+        assert_eq!(
+            (d.outcome, d.rule, d.existing),
+            (Outcome::Match, Rule::MidPointOverlap, Some(2))
+        );
         assert_eq!(d.mpc_stage.len(), 1, "the first pass ends the search");
 
         let partial = ends(8.0, 0.0, 50.0, 30.0, 0.0, 50.0);
@@ -238,7 +319,10 @@ mod tests {
         assert_eq!(d.outcome, Outcome::NewFace);
         let outer = cand(3, partial, true);
         let d = decide(&p, 0, &n, &mut [outer]);
-        assert_eq!((d.outcome, d.rule, d.existing), (Outcome::Extension, Rule::EndPointOverlap, Some(3)));
+        assert_eq!(
+            (d.outcome, d.rule, d.existing),
+            (Outcome::Extension, Rule::EndPointOverlap, Some(3))
+        );
         assert_eq!(d.epc_stage, vec![0]);
     }
 
@@ -248,16 +332,36 @@ mod tests {
         let e = ends(0.0, 0.0, 50.0, 10.0, 0.0, 50.0);
         // 30° off, crossing l_e's mid-point: colinearity and MPC pass, orientation fails.
         let dir = 30f64.to_radians();
-        let n = ends(5.0 - 2.0 * dir.cos(), -2.0 * dir.sin(), 50.0, 5.0 + 2.0 * dir.cos(), 2.0 * dir.sin(), 50.0);
+        let n = ends(
+            5.0 - 2.0 * dir.cos(),
+            -2.0 * dir.sin(),
+            50.0,
+            5.0 + 2.0 * dir.cos(),
+            2.0 * dir.sin(),
+            50.0,
+        );
         let d = decide(&p, 0, &n, &mut [cand(7, e, true)]);
-        assert_eq!((d.outcome, d.rule, d.existing), (Outcome::Dismissed, Rule::OrientationOnlyFailure, Some(7)));
+        assert_eq!(
+            (d.outcome, d.rule, d.existing),
+            (Outcome::Dismissed, Rule::OrientationOnlyFailure, Some(7))
+        );
         // A long crossing segment that contains l_e but has neither MPC nor EPC does not dismiss.
-        let n = ends(30.0 - 40.0 * dir.cos(), -40.0 * dir.sin(), 50.0, 30.0 + 40.0 * dir.cos(), 40.0 * dir.sin(), 50.0);
+        let n = ends(
+            30.0 - 40.0 * dir.cos(),
+            -40.0 * dir.sin(),
+            50.0,
+            30.0 + 40.0 * dir.cos(),
+            40.0 * dir.sin(),
+            50.0,
+        );
         let ev = evaluate_pair(&p, &n, 7, &e);
         assert!(!ev.overlap.mpc && !ev.overlap.epc && ev.overlap.containment);
         assert!(ev.colinearity.test.pass && !ev.orientation.pass);
         let d = decide(&p, 0, &n, &mut [cand(7, e, true)]);
-        assert_eq!((d.outcome, d.rule), (Outcome::NewFace, Rule::NoCandidatePassed));
+        assert_eq!(
+            (d.outcome, d.rule),
+            (Outcome::NewFace, Rule::NoCandidatePassed)
+        );
         let d = decide(&p, 0, &n, &mut []);
         assert_eq!(d.rule, Rule::NoCandidates);
     }

@@ -8,7 +8,11 @@ use crate::sonar::{ball_radius, SensorLayout};
 
 /// Why a reading with range `range_m` is discarded, if it is (ALGORITHM.md §1):
 /// no echo, at or beyond the sensor's maximum range, beyond `d_max`, below `min_range`.
-pub fn discard_reason(range_m: Option<f64>, sensor_max_range_m: f64, params: &Params) -> Option<DiscardReason> {
+pub fn discard_reason(
+    range_m: Option<f64>,
+    sensor_max_range_m: f64,
+    params: &Params,
+) -> Option<DiscardReason> {
     match range_m {
         None => Some(DiscardReason::NoEcho),
         Some(d) if !d.is_finite() || d >= sensor_max_range_m => Some(DiscardReason::AtMaxRange),
@@ -37,9 +41,20 @@ pub fn convert_readings(
         let point = finite.map(|d| layout.point_in_world(pose, sensor, d));
         let ball_radius_m = finite.map_or(0.0, |d| ball_radius(params.accuracy_pct, d));
         if let (None, Some(point), Some(range_m)) = (discarded, point, finite) {
-            kept.push(SupportPoint { point, range_m, reading: ReadingRef { snapshot, sensor } });
+            kept.push(SupportPoint {
+                point,
+                range_m,
+                reading: ReadingRef { snapshot, sensor },
+            });
         }
-        traces.push(ReadingTrace { sensor, range_m, point, ball_radius_m, discarded, cluster: None });
+        traces.push(ReadingTrace {
+            sensor,
+            range_m,
+            point,
+            ball_radius_m,
+            discarded,
+            cluster: None,
+        });
     }
     (traces, kept)
 }
@@ -54,11 +69,23 @@ mod tests {
         let p = Params::paper();
         let max = inches(255.0);
         assert_eq!(discard_reason(None, max, &p), Some(DiscardReason::NoEcho));
-        assert_eq!(discard_reason(Some(max), max, &p), Some(DiscardReason::AtMaxRange));
-        let tight = Params { d_max_m: inches(100.0), ..Params::paper() };
-        assert_eq!(discard_reason(Some(inches(100.5)), max, &tight), Some(DiscardReason::BeyondDMax));
+        assert_eq!(
+            discard_reason(Some(max), max, &p),
+            Some(DiscardReason::AtMaxRange)
+        );
+        let tight = Params {
+            d_max_m: inches(100.0),
+            ..Params::paper()
+        };
+        assert_eq!(
+            discard_reason(Some(inches(100.5)), max, &tight),
+            Some(DiscardReason::BeyondDMax)
+        );
         assert_eq!(discard_reason(Some(inches(100.0)), max, &tight), None);
-        assert_eq!(discard_reason(Some(inches(5.9)), max, &p), Some(DiscardReason::BelowMinRange));
+        assert_eq!(
+            discard_reason(Some(inches(5.9)), max, &p),
+            Some(DiscardReason::BelowMinRange)
+        );
         assert_eq!(discard_reason(Some(inches(6.0)), max, &p), None);
     }
 
@@ -69,12 +96,19 @@ mod tests {
         let mut ranges = vec![None; 16];
         ranges[0] = Some(inches(100.0));
         ranges[4] = Some(inches(3.0));
-        let (traces, kept) = convert_readings(7, &pose, &ranges, &layout, inches(255.0), &Params::paper());
+        let (traces, kept) =
+            convert_readings(7, &pose, &ranges, &layout, inches(255.0), &Params::paper());
         assert_eq!(traces.len(), 16);
         assert_eq!(kept.len(), 1);
         assert!((kept[0].point.x - inches(109.0)).abs() < 1e-12);
         assert!((traces[0].ball_radius_m - inches(3.0)).abs() < 1e-12);
         assert_eq!(traces[4].discarded, Some(DiscardReason::BelowMinRange));
-        assert_eq!(kept[0].reading, ReadingRef { snapshot: 7, sensor: 0 });
+        assert_eq!(
+            kept[0].reading,
+            ReadingRef {
+                snapshot: 7,
+                sensor: 0
+            }
+        );
     }
 }

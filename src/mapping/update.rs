@@ -51,17 +51,36 @@ fn defining_line(p: Point, q: Point, all: &[Point]) -> ([Point; 2], bool) {
 }
 
 fn fate(l: &Labelled, role: EndRole, compared_with: EndOrigin) -> EndPointFate {
-    EndPointFate { origin: l.origin, before: l.end, role, compared_with, projection: None, is_end_after: false }
+    EndPointFate {
+        origin: l.origin,
+        before: l.end,
+        role,
+        compared_with,
+        projection: None,
+        is_end_after: false,
+    }
 }
 
 /// MATCH (MPC) update, Figure 1: `u_L`, `u_R` are the more confident of `{e_L, n_L}` and
 /// `{e_R, n_R}`; `l_u` runs through them; the two others are projected on `l_u` and the result
 /// is the longest segment on `l_u` covering all four projections.
 pub fn update_match(e: [EndPoint; 2], n_left: EndPoint, n_right: EndPoint) -> UpdateGeometry {
-    let el = Labelled { origin: EndOrigin::ExistingLeft, end: e[0] };
-    let er = Labelled { origin: EndOrigin::ExistingRight, end: e[1] };
-    let nl = Labelled { origin: EndOrigin::NewLeft, end: n_left };
-    let nr = Labelled { origin: EndOrigin::NewRight, end: n_right };
+    let el = Labelled {
+        origin: EndOrigin::ExistingLeft,
+        end: e[0],
+    };
+    let er = Labelled {
+        origin: EndOrigin::ExistingRight,
+        end: e[1],
+    };
+    let nl = Labelled {
+        origin: EndOrigin::NewLeft,
+        end: n_left,
+    };
+    let nr = Labelled {
+        origin: EndOrigin::NewRight,
+        end: n_right,
+    };
     let (ul, low_l) = more_confident(&el, &nl);
     let (ur, low_r) = more_confident(&er, &nr);
     let all = [e[0].point, e[1].point, n_left.point, n_right.point];
@@ -73,7 +92,10 @@ pub fn update_match(e: [EndPoint; 2], n_left: EndPoint, n_right: EndPoint) -> Up
         fate(low_r, EndRole::Projected, ur.origin),
     ];
     // Parameter of each end-point on l_u; kept ones sit on the line unless the fallback is used.
-    let params: Vec<f64> = fates.iter().map(|f| projection_param(&f.before.point, &line[0], &line[1])).collect();
+    let params: Vec<f64> = fates
+        .iter()
+        .map(|f| projection_param(&f.before.point, &line[0], &line[1]))
+        .collect();
     for (f, &t) in fates.iter_mut().zip(&params) {
         if f.role == EndRole::Projected || fallback_tls {
             f.projection = Some(lerp(&line[0], &line[1], t));
@@ -83,7 +105,11 @@ pub fn update_match(e: [EndPoint; 2], n_left: EndPoint, n_right: EndPoint) -> Up
     let pick = |want_min: bool| -> usize {
         let mut best = if want_min { 0 } else { 1 };
         for i in 0..4 {
-            let better = if want_min { params[i] < params[best] } else { params[i] > params[best] };
+            let better = if want_min {
+                params[i] < params[best]
+            } else {
+                params[i] > params[best]
+            };
             if better {
                 best = i;
             }
@@ -92,23 +118,49 @@ pub fn update_match(e: [EndPoint; 2], n_left: EndPoint, n_right: EndPoint) -> Up
     };
     let (lo, hi) = (pick(true), pick(false));
     // Keep the existing segment's direction: `a` is the end nearer e_L along l_u.
-    let e_dir_positive = projection_param(&e[1].point, &line[0], &line[1]) >= projection_param(&e[0].point, &line[0], &line[1]);
+    let e_dir_positive = projection_param(&e[1].point, &line[0], &line[1])
+        >= projection_param(&e[0].point, &line[0], &line[1]);
     let (first, second) = if e_dir_positive { (lo, hi) } else { (hi, lo) };
     fates[first].is_end_after = true;
     fates[second].is_end_after = true;
-    let end_of = |f: &EndPointFate| EndPoint { point: f.projection.unwrap_or(f.before.point), range_m: f.before.range_m };
-    UpdateGeometry { ends: [end_of(&fates[first]), end_of(&fates[second])], line, fates, fallback_tls }
+    let end_of = |f: &EndPointFate| EndPoint {
+        point: f.projection.unwrap_or(f.before.point),
+        range_m: f.before.range_m,
+    };
+    UpdateGeometry {
+        ends: [end_of(&fates[first]), end_of(&fates[second])],
+        line,
+        fates,
+        fallback_tls,
+    }
 }
 
 /// EXTENSION (EPC) update, Figure 2. With `inside = Left` (`n_L` projects into `l_e`): the
 /// middle point `M` is the more confident of `{e_R, n_L}`; of the outer points `e_L` and `n_R`,
 /// the more confident stays and `l_u` runs through it and `M`; the other is projected on `l_u`.
 /// Symmetric for `inside = Right`. The less confident inner point is dropped.
-pub fn update_extension(e: [EndPoint; 2], n_left: EndPoint, n_right: EndPoint, inside: Side) -> UpdateGeometry {
-    let el = Labelled { origin: EndOrigin::ExistingLeft, end: e[0] };
-    let er = Labelled { origin: EndOrigin::ExistingRight, end: e[1] };
-    let nl = Labelled { origin: EndOrigin::NewLeft, end: n_left };
-    let nr = Labelled { origin: EndOrigin::NewRight, end: n_right };
+pub fn update_extension(
+    e: [EndPoint; 2],
+    n_left: EndPoint,
+    n_right: EndPoint,
+    inside: Side,
+) -> UpdateGeometry {
+    let el = Labelled {
+        origin: EndOrigin::ExistingLeft,
+        end: e[0],
+    };
+    let er = Labelled {
+        origin: EndOrigin::ExistingRight,
+        end: e[1],
+    };
+    let nl = Labelled {
+        origin: EndOrigin::NewLeft,
+        end: n_left,
+    };
+    let nr = Labelled {
+        origin: EndOrigin::NewRight,
+        end: n_right,
+    };
     // (existing inner, new inner, existing outer, new outer)
     let (e_in, n_in, e_out, n_out) = match inside {
         Side::Left => (&er, &nl, &el, &nr),
@@ -130,14 +182,26 @@ pub fn update_extension(e: [EndPoint; 2], n_left: EndPoint, n_right: EndPoint, i
     }
     kept_fate.is_end_after = true;
     projected_fate.is_end_after = true;
-    let end_of = |f: &EndPointFate| EndPoint { point: f.projection.unwrap_or(f.before.point), range_m: f.before.range_m };
+    let end_of = |f: &EndPointFate| EndPoint {
+        point: f.projection.unwrap_or(f.before.point),
+        range_m: f.before.range_m,
+    };
     // The existing outer end stays on its side of the segment.
-    let (e_side, n_side) = if kept.origin == e_out.origin { (&kept_fate, &projected_fate) } else { (&projected_fate, &kept_fate) };
+    let (e_side, n_side) = if kept.origin == e_out.origin {
+        (&kept_fate, &projected_fate)
+    } else {
+        (&projected_fate, &kept_fate)
+    };
     let ends = match inside {
         Side::Left => [end_of(e_side), end_of(n_side)],
         Side::Right => [end_of(n_side), end_of(e_side)],
     };
-    UpdateGeometry { ends, line, fates: vec![kept_fate, middle_fate, projected_fate, dropped_fate], fallback_tls }
+    UpdateGeometry {
+        ends,
+        line,
+        fates: vec![kept_fate, middle_fate, projected_fate, dropped_fate],
+        fallback_tls,
+    }
 }
 
 #[cfg(test)]
@@ -145,7 +209,10 @@ mod tests {
     use super::*;
 
     fn ep(x: f64, y: f64, d: f64) -> EndPoint {
-        EndPoint { point: Point::new(x, y), range_m: d }
+        EndPoint {
+            point: Point::new(x, y),
+            range_m: d,
+        }
     }
 
     fn role(g: &UpdateGeometry, o: EndOrigin) -> EndRole {
@@ -175,8 +242,15 @@ mod tests {
         let t = (Point::new(-10.0, 0.0) - Point::new(-4.0, 1.0)).dot(&dir) / dir.norm_squared();
         let expect = Point::new(-4.0, 1.0) + dir * t;
         assert!((g.ends[0].point - expect).norm() < 1e-12);
-        assert_eq!(g.ends[0].range_m, 80.0, "a projected end keeps its reading's range");
-        let f = g.fates.iter().find(|f| f.origin == EndOrigin::ExistingLeft).unwrap();
+        assert_eq!(
+            g.ends[0].range_m, 80.0,
+            "a projected end keeps its reading's range"
+        );
+        let f = g
+            .fates
+            .iter()
+            .find(|f| f.origin == EndOrigin::ExistingLeft)
+            .unwrap();
         assert!(f.is_end_after && f.role == EndRole::Projected);
     }
 
@@ -221,6 +295,9 @@ mod tests {
         let e = [ep(0.0, 0.0, 40.0), ep(10.0, 0.0, 40.0)];
         let g = update_extension(e, ep(0.0, 0.0, 30.0), ep(0.0, 0.0, 30.0), Side::Left);
         assert!(g.fallback_tls);
-        assert!(g.ends.iter().all(|e| e.point.x.is_finite() && e.point.y.is_finite()));
+        assert!(g
+            .ends
+            .iter()
+            .all(|e| e.point.x.is_finite() && e.point.y.is_finite()));
     }
 }
