@@ -10,6 +10,7 @@
 
 pub mod geometry;
 pub mod mapping;
+pub mod replay;
 pub mod run;
 pub mod sonar;
 pub mod units;

@@ -1,0 +1,290 @@
+//! A run through the mapper, with checkpoints so that any snapshot can be shown directly.
+//!
+//! The state at snapshot `k` is the mapper's state after steps `0..=k`. Building a replay runs
+//! the whole log once, keeping a [`MapperState`] every `interval` snapshots and a small summary
+//! of every step (for timeline marks); [`Replay::view`] then replays at most `interval + 1`
+//! steps from the nearest checkpoint.
+
+use crate::mapping::trace::{Outcome, StepTrace};
+use crate::mapping::{Map, Mapper, MapperState, Params};
+use crate::run::Run;
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// Snapshots between checkpoints unless told otherwise.
+pub const DEFAULT_CHECKPOINT_INTERVAL: usize = 64;
+
+/// Counts of what one step did (the timeline's marks and the command line's summary).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct StepSummary {
+    /// Readings kept.
+    pub kept: u32,
+    /// Readings discarded.
+    pub discarded: u32,
+    /// New segments that matched.
+    pub matches: u32,
+    /// New segments that extended a segment.
+    pub extensions: u32,
+    /// New segments dismissed.
+    pub dismissals: u32,
+    /// New segments kept as new faces.
+    pub new_faces: u32,
+    /// Correlations that made a corner or a link.
+    pub correlations: u32,
+    /// Warnings (max_step and others).
+    pub warnings: u32,
+    /// Map segments after the step.
+    pub segments: u32,
+}
+
+impl StepSummary {
+    /// Summarises a step's trace; `segments` is the map's size after it.
+    pub fn of(trace: &StepTrace, segments: usize) -> Self {
+        let count = |o: Outcome| trace.decisions.iter().filter(|d| d.outcome == o).count() as u32;
+        let discarded = trace
+            .readings
+            .iter()
+            .filter(|r| r.discarded.is_some())
+            .count() as u32;
+        Self {
+            kept: trace.readings.len() as u32 - discarded,
+            discarded,
+            matches: count(Outcome::Match),
+            extensions: count(Outcome::Extension),
+            dismissals: count(Outcome::Dismissed),
+            new_faces: count(Outcome::NewFace),
+            correlations: trace
+                .correlations
+                .iter()
+                .filter(|c| !matches!(c.result, crate::mapping::trace::CorrelationKind::None))
+                .count() as u32,
+            warnings: trace.warnings.len() as u32,
+            segments: segments as u32,
+        }
+    }
+
+    /// True when the step deserves a timeline mark: a dismissal, an extension, a warning or a
+    /// correlation.
+    pub fn is_notable(&self) -> bool {
+        self.dismissals > 0 || self.extensions > 0 || self.warnings > 0 || self.correlations > 0
+    }
+}
+
+/// Everything needed to draw snapshot `k`.
+#[derive(Clone, Debug)]
+pub struct StepView {
+    /// The snapshot index.
+    pub index: usize,
+    /// The trace of step `k`.
+    pub trace: StepTrace,
+    /// The trace of step `k - 1` (its points are drawn as the previous snapshot's).
+    pub previous: Option<StepTrace>,
+    /// The map before step `k`.
+    pub map_before: Map,
+    /// The map after step `k`.
+    pub map_after: Map,
+}
+
+/// A run replayed under one parameter set.
+#[derive(Clone, Debug)]
+pub struct Replay {
+    run: Arc<Run>,
+    params: Params,
+    interval: usize,
+    checkpoints: Vec<MapperState>,
+    summaries: Vec<StepSummary>,
+    final_map: Map,
+}
+
+/// The build was cancelled by its progress callback.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Cancelled;
+
+impl Replay {
+    /// Replays `run` under `params` with the default checkpoint interval.
+    pub fn new(run: Arc<Run>, params: Params) -> Self {
+        Self::build(run, params, DEFAULT_CHECKPOINT_INTERVAL, &mut |_| true)
+            .expect("never cancelled")
+    }
+
+    /// Replays `run`, calling `progress(done)` after every step; returning `false` cancels.
+    pub fn build(
+        run: Arc<Run>,
+        params: Params,
+        interval: usize,
+        progress: &mut dyn FnMut(usize) -> bool,
+    ) -> Result<Self, Cancelled> {
+        let interval = interval.max(1);
+        let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor);
+        let mut checkpoints = Vec::with_capacity(run.snapshots.len() / interval + 1);
+        let mut summaries = Vec::with_capacity(run.snapshots.len());
+        for (k, snapshot) in run.snapshots.iter().enumerate() {
+            if k % interval == 0 {
+                checkpoints.push(mapper.state());
+            }
+            let trace = mapper.step(snapshot);
+            summaries.push(StepSummary::of(&trace, mapper.map().segments.len()));
+            if !progress(k + 1) {
+                return Err(Cancelled);
+            }
+        }
+        let final_map = mapper.map().clone();
+        Ok(Self {
+            run,
+            params,
+            interval,
+            checkpoints,
+            summaries,
+            final_map,
+        })
+    }
+
+    /// The run.
+    pub fn run(&self) -> &Arc<Run> {
+        &self.run
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &Params {
+        &self.params
+    }
+
+    /// Number of snapshots.
+    pub fn len(&self) -> usize {
+        self.summaries.len()
+    }
+
+    /// True when the run has no snapshot.
+    pub fn is_empty(&self) -> bool {
+        self.summaries.is_empty()
+    }
+
+    /// Per-step summaries, in order.
+    pub fn summaries(&self) -> &[StepSummary] {
+        &self.summaries
+    }
+
+    /// The map after the last snapshot.
+    pub fn final_map(&self) -> &Map {
+        &self.final_map
+    }
+
+    /// Snapshots between checkpoints.
+    pub fn checkpoint_interval(&self) -> usize {
+        self.interval
+    }
+
+    /// A mapper positioned just before snapshot `k` (from the nearest checkpoint).
+    fn mapper_before(&self, k: usize) -> Mapper {
+        let c = (k / self.interval).min(self.checkpoints.len().saturating_sub(1));
+        let mut mapper = Mapper::new(
+            self.params.clone(),
+            self.run.layout.clone(),
+            self.run.sensor,
+        );
+        if let Some(state) = self.checkpoints.get(c) {
+            mapper.restore(state.clone());
+        }
+        while mapper.next_snapshot() < k {
+            let i = mapper.next_snapshot();
+            mapper.step(&self.run.snapshots[i]);
+        }
+        mapper
+    }
+
+    /// The state at snapshot `k` (clamped to the run), with the previous step's trace.
+    pub fn view(&self, k: usize) -> Option<StepView> {
+        if self.is_empty() {
+            return None;
+        }
+        let k = k.min(self.len() - 1);
+        let (mut mapper, previous) = if k == 0 {
+            (self.mapper_before(0), None)
+        } else {
+            let mut m = self.mapper_before(k - 1);
+            let prev = m.step(&self.run.snapshots[k - 1]);
+            (m, Some(prev))
+        };
+        let map_before = mapper.map().clone();
+        let trace = mapper.step(&self.run.snapshots[k]);
+        Some(StepView {
+            index: k,
+            trace,
+            previous,
+            map_before,
+            map_after: mapper.map().clone(),
+        })
+    }
+
+    /// The map after snapshot `k`.
+    pub fn map_at(&self, k: usize) -> Map {
+        let mut mapper = self.mapper_before(k.min(self.len()));
+        if k < self.len() {
+            mapper.step(&self.run.snapshots[k]);
+        }
+        mapper.map().clone()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Pose;
+    use crate::run::Snapshot;
+    use crate::sonar::{SensorLayout, SensorSpec};
+    use crate::units::{inches, Units};
+
+    fn wall_run(n: usize) -> Run {
+        // A wall at y = 40 in seen by the three sonars facing it while the robot drives.
+        let layout = SensorLayout::nomad_ring(inches(9.0));
+        let snapshots = (0..n)
+            .map(|i| {
+                let mut ranges_m = vec![None; 16];
+                ranges_m[3] = Some(inches(31.0) / 67.5f64.to_radians().sin());
+                ranges_m[4] = Some(inches(31.0));
+                ranges_m[5] = Some(inches(31.0) / 112.5f64.to_radians().sin());
+                Snapshot {
+                    t: i as f64,
+                    pose: Pose::new(inches(3.0 * i as f64), 0.0, 0.0),
+                    ranges_m,
+                }
+            })
+            .collect();
+        Run {
+            name: "wall".into(),
+            units: Units::Inches,
+            robot_radius_m: Some(inches(9.0)),
+            layout,
+            sensor: SensorSpec::default(),
+            floor_plan: None,
+            snapshots,
+        }
+    }
+
+    #[test]
+    fn view_from_a_checkpoint_equals_a_replay_from_zero() {
+        let run = Arc::new(wall_run(40));
+        let replay = Replay::build(run.clone(), Params::paper(), 7, &mut |_| true).unwrap();
+        let mut mapper = Mapper::new(Params::paper(), run.layout.clone(), run.sensor);
+        let mut previous = None;
+        for k in 0..run.snapshots.len() {
+            let before = mapper.map().clone();
+            let trace = mapper.step(&run.snapshots[k]);
+            let view = replay.view(k).unwrap();
+            assert_eq!(view.trace, trace, "trace {k}");
+            assert_eq!(view.map_before, before, "map before {k}");
+            assert_eq!(&view.map_after, mapper.map(), "map after {k}");
+            assert_eq!(view.previous, previous, "previous {k}");
+            previous = Some(trace);
+        }
+        assert_eq!(replay.final_map(), mapper.map());
+        assert_eq!(replay.map_at(39), *mapper.map());
+    }
+
+    #[test]
+    fn build_can_be_cancelled() {
+        let run = Arc::new(wall_run(10));
+        let r = Replay::build(run, Params::paper(), 4, &mut |done| done < 5);
+        assert_eq!(r.err(), Some(Cancelled));
+    }
+}
