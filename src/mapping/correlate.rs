@@ -8,7 +8,8 @@ use std::sync::Arc;
 
 /// Correlates new face `face` with the rest of the map.
 ///
-/// `d_min` is the smallest distance from an end-point of the face's segments to an end-point of
+/// Only end-points within `t_gap` are searched (through the spatial index), so when none is,
+/// the trace has no `d_min`. `d_min` is the smallest distance from an end-point of the face's segments to an end-point of
 /// a fitted segment of another face (ties: first new segment, then its end `a` before `b`, then
 /// the existing segment's id and end). When `d_min ≤ t_gap`: if the two lines are not parallel
 /// (angle `> θ_o`) and their intersection lies within `t_gap` of both closest end-points, both
@@ -39,7 +40,15 @@ pub fn correlate_face(
             continue;
         };
         let n = &map.segments[ni];
-        for (ei, e) in map.segments.iter().enumerate() {
+        // Only end-points within t_gap can correlate: look there (the index is a superset).
+        let near: Vec<usize> = [n.a.point, n.b.point]
+            .iter()
+            .flat_map(|p| map.segments_near(p, params.t_gap_m))
+            .filter_map(|id| map.segments.binary_search_by_key(&id, |s| s.id).ok())
+            .collect::<std::collections::BTreeSet<_>>()
+            .into_iter()
+            .collect();
+        for (ei, e) in near.into_iter().map(|i| (i, &map.segments[i])) {
             if e.face == face || e.kind != SegmentKind::Fitted {
                 continue;
             }
@@ -88,12 +97,14 @@ pub fn correlate_face(
     match corner {
         Some(x) => {
             for (idx, end) in [(ni, nend), (ei, eend)] {
-                let s = &mut map.segments[idx];
+                let s = &map.segments[idx];
+                let (mut a, mut b) = (s.a, s.b);
                 if end == 0 {
-                    s.a.point = x;
+                    a.point = x;
                 } else {
-                    s.b.point = x;
+                    b.point = x;
                 }
+                map.set_ends(s.id, a, b);
             }
             trace.result = CorrelationKind::Corner { point: x };
         }
@@ -235,6 +246,6 @@ mod tests {
         let far = add(&mut map, (40.0, 0.0), (50.0, 0.0));
         let t = correlate_face(&mut map, far, &p, 1);
         assert_eq!(t.result, CorrelationKind::None);
-        assert!(!t.d_min.unwrap().pass);
+        assert!(t.d_min.is_none_or(|d| !d.pass));
     }
 }

@@ -1,6 +1,7 @@
 //! The map: line segments with their end-point ranges, faces and objects (paper §3.3).
 //! A `Map` is a plain value; cloning it is how the replay checkpoints.
 
+use super::index::SegmentGrid;
 use crate::geometry::{distance_to_segment, Point};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -122,6 +123,11 @@ pub struct Map {
     pub next_face_id: FaceId,
     /// Next unused object id.
     pub next_object_id: ObjectId,
+    /// Largest end-point range of any segment so far, metres (bounds the matching thresholds).
+    pub max_end_range_m: f64,
+    /// Spatial index of the segments (rebuilt by [`Map::rebuild_index`] after deserialising).
+    #[serde(skip)]
+    index: SegmentGrid,
 }
 
 impl Map {
@@ -196,6 +202,45 @@ impl Map {
     /// Inserts a segment (its id must be the newest).
     pub(crate) fn push_segment(&mut self, segment: Segment) {
         debug_assert!(self.segments.last().is_none_or(|s| s.id < segment.id));
+        self.note_ends(&segment.a, &segment.b);
+        self.index
+            .insert(segment.id, &segment.a.point, &segment.b.point);
         self.segments.push(segment);
+    }
+
+    /// Moves the end-points of segment `id` (keeping the index current).
+    pub(crate) fn set_ends(&mut self, id: SegmentId, a: EndPoint, b: EndPoint) {
+        self.note_ends(&a, &b);
+        if let Some(s) = self.segment_mut(id) {
+            s.a = a;
+            s.b = b;
+            self.index.insert(id, &a.point, &b.point);
+        }
+    }
+
+    fn note_ends(&mut self, a: &EndPoint, b: &EndPoint) {
+        for r in [a.range_m, b.range_m] {
+            if r.is_finite() && r > self.max_end_range_m {
+                self.max_end_range_m = r;
+            }
+        }
+    }
+
+    /// Ids of the segments that may lie within `radius_m` of `p` (a superset), sorted.
+    /// A non-finite radius returns every segment.
+    pub fn segments_near(&self, p: &Point, radius_m: f64) -> Vec<SegmentId> {
+        if !radius_m.is_finite() {
+            return self.segments.iter().map(|s| s.id).collect();
+        }
+        let r = nalgebra::Vector2::new(radius_m, radius_m);
+        self.index.query(&(p - r), &(p + r))
+    }
+
+    /// Files every segment in the spatial index afresh.
+    pub fn rebuild_index(&mut self) {
+        self.index = SegmentGrid::default();
+        for s in &self.segments {
+            self.index.insert(s.id, &s.a.point, &s.b.point);
+        }
     }
 }

@@ -28,6 +28,7 @@ pub struct Mapper {
     map: Map,
     last_pose: Option<Pose>,
     next_snapshot: usize,
+    brute_force: bool,
 }
 
 /// The mutable state a checkpoint needs to resume a [`Mapper`].
@@ -53,7 +54,56 @@ impl Mapper {
             map: Map::default(),
             last_pose: None,
             next_snapshot: 0,
+            brute_force: false,
         }
+    }
+
+    /// Tests every map segment as a candidate instead of searching the spatial index (the
+    /// reference the pruning is checked against; same decisions, longer traces).
+    pub fn with_brute_force_search(mut self, on: bool) -> Self {
+        self.brute_force = on;
+        self
+    }
+
+    /// The map segments that could pass a test against `new` (ALGORITHM.md §4 pruning).
+    ///
+    /// Every passing case needs colinearity (`|d| ≤ thr`, `thr ≤ ξ/100·(D_max + (D2+D3)/2)`
+    /// with `D_max` the largest end-point range in the map) and an overlap, which bounds the
+    /// distance from `l_n`'s mid-point `m` to `l_e` (`h` = half `l_n`'s length):
+    /// MPC: `≤ thr`; EPC: `≤ thr + 2h`; containment (only with orientation, angle ≤ θ_o):
+    /// `≤ h·(1 + tan θ_o) + thr / cos θ_o`. Segments farther than the largest bound cannot
+    /// pass, fail only orientation, or match, so they are not tested.
+    fn candidates_for(&self, new: &SegmentEnds) -> Vec<Candidate> {
+        let mid = new.mid();
+        let radius_m = if self.brute_force {
+            f64::INFINITY
+        } else {
+            let h = (new.b.point - new.a.point).norm() / 2.0;
+            let thr = self.params.accuracy_pct / 100.0
+                * (self.map.max_end_range_m + (new.a.range_m + new.b.range_m) / 2.0);
+            let theta = self.params.orientation_rad;
+            let containment = if theta < 89f64.to_radians() {
+                h * (1.0 + theta.tan()) + thr / theta.cos()
+            } else {
+                f64::INFINITY
+            };
+            // A little slack for rounding: pruning must never drop a candidate that passes.
+            (thr + 2.0 * h).max(containment) * (1.0 + 1e-9) + 1e-9
+        };
+        self.map
+            .segments_near(&mid, radius_m)
+            .into_iter()
+            .filter_map(|id| self.map.segment(id))
+            .filter(|s| {
+                s.kind == SegmentKind::Fitted
+                    && (radius_m.is_infinite() || s.distance_to(&mid) <= radius_m)
+            })
+            .map(|s| Candidate {
+                id: s.id,
+                ends: SegmentEnds { a: s.a, b: s.b },
+                outermost: self.map.is_outermost(s.id),
+            })
+            .collect()
     }
 
     /// The map as it stands.
@@ -195,22 +245,14 @@ impl Mapper {
         }
 
         // §4 matching against the map as it stood before this snapshot, §5 updates.
-        let candidates: Vec<Candidate> = self
-            .map
-            .segments
+        let candidate_sets: Vec<Vec<Candidate>> = new_segments
             .iter()
-            .filter(|s| s.kind == SegmentKind::Fitted)
-            .map(|s| Candidate {
-                id: s.id,
-                ends: SegmentEnds { a: s.a, b: s.b },
-                outermost: self.map.is_outermost(s.id),
-            })
+            .map(|seg| self.candidates_for(&SegmentEnds { a: seg.a, b: seg.b }))
             .collect();
         let mut face_of_source: Vec<(SegmentSource, FaceId)> = Vec::new();
         let mut new_faces: Vec<FaceId> = Vec::new();
-        for (ni, seg) in new_segments.iter().enumerate() {
+        for ((ni, seg), mut cands) in new_segments.iter().enumerate().zip(candidate_sets) {
             let ends = SegmentEnds { a: seg.a, b: seg.b };
-            let mut cands = candidates.clone();
             let mut decision = decide(params, ni, &ends, &mut cands);
             match decision.outcome {
                 Outcome::Match | Outcome::Extension => {
@@ -360,9 +402,8 @@ impl Mapper {
         }
         let stands = worst.is_none_or(|w| w.pass);
         if stands {
-            seg.a = a;
-            seg.b = b;
             seg.points = Arc::new(points);
+            self.map.set_ends(target, a, b);
             return Some(update);
         }
         // The update's line does not explain its points: fit them afresh (§3); the first piece
@@ -376,10 +417,8 @@ impl Mapper {
             let (pa, pb) = piece_end_points(&points, first, last, params.fit);
             let piece_points = Arc::new(points[first..=last].to_vec());
             if k == 0 {
-                let seg = self.map.segment_mut(target)?;
-                seg.a = pa;
-                seg.b = pb;
-                seg.points = piece_points;
+                self.map.segment_mut(target)?.points = piece_points;
+                self.map.set_ends(target, pa, pb);
                 piece_ids.push(target);
             } else {
                 let id = self.map.allocate_segment_id();

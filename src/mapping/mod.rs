@@ -4,6 +4,7 @@ pub mod cluster;
 pub mod correlate;
 pub mod extensions;
 pub mod fit;
+pub mod index;
 pub mod map;
 mod mapper;
 pub mod matching;

@@ -293,7 +293,7 @@ pub enum Rule {
     OrientationOnlyFailure,
     /// Candidates were tested and none passed.
     NoCandidatePassed,
-    /// The map had no candidate.
+    /// No map segment was near enough to be tested (an empty map, or every segment pruned).
     NoCandidates,
 }
 

@@ -1,0 +1,137 @@
+//! A uniform grid over map segments for candidate search (ALGORITHM.md §4 allows pruning by a
+//! bound that provably fails a test). Segments are filed under every cell their bounding box
+//! touches; a query returns every segment filed under a cell the query box touches, so it never
+//! misses a segment whose bounding box meets the box.
+
+use super::map::SegmentId;
+use crate::geometry::Point;
+use std::collections::HashMap;
+
+/// Cell edge, metres.
+const CELL_M: f64 = 1.0;
+/// A segment spanning more cells than this a side is kept in a list every query returns.
+const MAX_SPAN_CELLS: i64 = 256;
+
+type Cell = (i64, i64);
+
+/// Segments filed by grid cell.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SegmentGrid {
+    cells: HashMap<Cell, Vec<SegmentId>>,
+    boxes: HashMap<SegmentId, [i64; 4]>,
+    oversize: Vec<SegmentId>,
+}
+
+fn cell_of(v: f64) -> i64 {
+    let c = (v / CELL_M).floor();
+    if c.is_finite() {
+        c.clamp(i64::MIN as f64 / 4.0, i64::MAX as f64 / 4.0) as i64
+    } else {
+        0
+    }
+}
+
+fn cell_box(min: &Point, max: &Point) -> Option<[i64; 4]> {
+    let b = [
+        cell_of(min.x),
+        cell_of(min.y),
+        cell_of(max.x),
+        cell_of(max.y),
+    ];
+    let finite = [min.x, min.y, max.x, max.y].iter().all(|v| v.is_finite());
+    (finite && b[2] - b[0] <= MAX_SPAN_CELLS && b[3] - b[1] <= MAX_SPAN_CELLS).then_some(b)
+}
+
+impl SegmentGrid {
+    /// Files segment `id` running from `a` to `b` (replacing any earlier filing).
+    pub fn insert(&mut self, id: SegmentId, a: &Point, b: &Point) {
+        self.remove(id);
+        let min = Point::new(a.x.min(b.x), a.y.min(b.y));
+        let max = Point::new(a.x.max(b.x), a.y.max(b.y));
+        let finite = [a.x, a.y, b.x, b.y].iter().all(|v| v.is_finite());
+        match cell_box(&min, &max).filter(|_| finite) {
+            Some(bx) => {
+                for cx in bx[0]..=bx[2] {
+                    for cy in bx[1]..=bx[3] {
+                        self.cells.entry((cx, cy)).or_default().push(id);
+                    }
+                }
+                self.boxes.insert(id, bx);
+            }
+            None => self.oversize.push(id),
+        }
+    }
+
+    /// Removes segment `id`.
+    pub fn remove(&mut self, id: SegmentId) {
+        if let Some(bx) = self.boxes.remove(&id) {
+            for cx in bx[0]..=bx[2] {
+                for cy in bx[1]..=bx[3] {
+                    if let Some(list) = self.cells.get_mut(&(cx, cy)) {
+                        list.retain(|&s| s != id);
+                        if list.is_empty() {
+                            self.cells.remove(&(cx, cy));
+                        }
+                    }
+                }
+            }
+        } else {
+            self.oversize.retain(|&s| s != id);
+        }
+    }
+
+    /// Every segment whose bounding box may meet the box `[min, max]`, sorted by id, no repeats.
+    pub fn query(&self, min: &Point, max: &Point) -> Vec<SegmentId> {
+        let mut out = self.oversize.clone();
+        match cell_box(min, max) {
+            Some(bx)
+                if ((bx[2] - bx[0] + 1) * (bx[3] - bx[1] + 1)) as usize <= self.cells.len() =>
+            {
+                for cx in bx[0]..=bx[2] {
+                    for cy in bx[1]..=bx[3] {
+                        if let Some(list) = self.cells.get(&(cx, cy)) {
+                            out.extend_from_slice(list);
+                        }
+                    }
+                }
+            }
+            // A query box larger than the filled grid: walk the cells instead.
+            _ => out.extend(self.boxes.keys().copied()),
+        }
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn query_finds_segments_through_the_box_and_forgets_removed_ones() {
+        let mut g = SegmentGrid::default();
+        g.insert(1, &Point::new(0.5, 0.5), &Point::new(3.5, 0.5));
+        g.insert(2, &Point::new(10.0, 10.0), &Point::new(11.0, 10.0));
+        g.insert(3, &Point::new(f64::NAN, 0.0), &Point::new(1.0, 1.0));
+        assert_eq!(
+            g.query(&Point::new(2.0, 0.0), &Point::new(2.2, 0.2)),
+            vec![1, 3]
+        );
+        assert_eq!(
+            g.query(&Point::new(-100.0, -100.0), &Point::new(100.0, 100.0)),
+            vec![1, 2, 3]
+        );
+        g.insert(1, &Point::new(20.0, 20.0), &Point::new(21.0, 20.0));
+        assert_eq!(
+            g.query(&Point::new(2.0, 0.0), &Point::new(2.2, 0.2)),
+            vec![3]
+        );
+        g.remove(3);
+        g.remove(2);
+        assert_eq!(
+            g.query(&Point::new(9.0, 9.0), &Point::new(30.0, 30.0)),
+            vec![1]
+        );
+    }
+}
