@@ -182,6 +182,57 @@ mod tests {
         assert!((ball_radius(3.0, 50.0) - 1.5).abs() < 1e-12);
     }
 
+    /// The Pioneer's 8 front and 8 rear sonars (mounts in metres, headings in degrees).
+    fn pioneer_8_8() -> SensorLayout {
+        let m = [
+            (0.069, 0.136, 90.0),
+            (0.114, 0.119, 50.0),
+            (0.148, 0.078, 30.0),
+            (0.166, 0.027, 10.0),
+            (0.166, -0.027, -10.0),
+            (0.148, -0.078, -30.0),
+            (0.114, -0.119, -50.0),
+            (0.069, -0.136, -90.0),
+            (-0.157, -0.136, -90.0),
+            (-0.203, -0.119, -130.0),
+            (-0.237, -0.078, -150.0),
+            (-0.255, -0.027, -170.0),
+            (-0.255, 0.027, 170.0),
+            (-0.237, 0.078, 150.0),
+            (-0.203, 0.119, 130.0),
+            (-0.157, 0.136, 90.0),
+        ];
+        SensorLayout {
+            mounts: m
+                .iter()
+                .map(|&(x_m, y_m, h): &(f64, f64, f64)| SensorMount {
+                    x_m,
+                    y_m,
+                    heading_rad: h.to_radians(),
+                })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn pioneer_8_8_and_a_24_ring_are_expressible() {
+        let pioneer = pioneer_8_8();
+        let (order, wraps) = pioneer.bearing_order();
+        assert!(
+            wraps,
+            "front and rear arcs cover the circle (largest gap 40°)"
+        );
+        assert_eq!(order.len(), 16);
+        // Sonar 3 (10°) at 1 m from a robot at the origin facing +x.
+        let p = pioneer.point_in_world(&Pose::new(0.0, 0.0, 0.0), 3, 1.0);
+        assert!((p.x - (0.166 + 10f64.to_radians().cos())).abs() < 1e-12);
+        assert!((p.y - (0.027 + 10f64.to_radians().sin())).abs() < 1e-12);
+        let ring24 = SensorLayout::ring(24, 15f64.to_radians(), 7.5f64.to_radians(), 0.25);
+        assert_eq!(ring24.len(), 24);
+        assert!(ring24.bearing_order().1);
+        assert!((ring24.mounts[23].heading_rad.to_degrees() - 352.5).abs() < 1e-9);
+    }
+
     #[test]
     fn full_ring_wraps_and_a_front_arc_starts_after_the_largest_gap() {
         let (order, wraps) = SensorLayout::nomad_ring(0.2).bearing_order();

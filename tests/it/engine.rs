@@ -295,3 +295,45 @@ fn segments_cross(p1: &Point, p2: &Point, q1: &Point, q2: &Point) -> bool {
     let (d3, d4) = (cross(p1, p2, q1), cross(p1, p2, q2));
     d1 * d2 <= 0.0 && d3 * d4 <= 0.0
 }
+
+#[test]
+fn traces_serialise_with_stable_names_and_round_trip() {
+    let walls = rect(0.0, 0.0, 305.0, 154.0);
+    let (_, traces) = run(
+        &walls,
+        &[pose_in(120.0, 77.0), pose_in(125.0, 77.0)],
+        Params::paper(),
+    );
+    let json = serde_json::to_string(&traces).unwrap();
+    for name in [
+        "\"readings\"",
+        "\"discarded\"",
+        "\"ball_radius_m\"",
+        "\"gaps\"",
+        "\"clusters\"",
+        "\"splits\"",
+        "\"decisions\"",
+        "\"mpc_stage\"",
+        "\"orientation\"",
+        "\"colinearity\"",
+        "\"overlap\"",
+        "\"outcome\":\"match\"",
+        "\"rule\":\"mid_point_overlap\"",
+        "\"updates\"",
+        "\"fates\"",
+        "\"role\":\"kept\"",
+        "\"correlations\"",
+        "\"warnings\"",
+    ] {
+        assert!(json.contains(name), "trace JSON lacks {name}");
+    }
+    let back: Vec<StepTrace> = serde_json::from_str(&json).unwrap();
+    assert_eq!(back, traces);
+    // Deterministic: the same input gives the same bytes.
+    let (_, again) = run(
+        &walls,
+        &[pose_in(120.0, 77.0), pose_in(125.0, 77.0)],
+        Params::paper(),
+    );
+    assert_eq!(serde_json::to_string(&again).unwrap(), json);
+}
