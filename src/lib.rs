@@ -8,6 +8,7 @@
 //! scene → map view or SVG.
 #![warn(missing_docs)]
 
+pub mod diff;
 pub mod geometry;
 pub mod mapping;
 pub mod replay;
