@@ -13,3 +13,4 @@ pub mod mapping;
 pub mod run;
 pub mod sonar;
 pub mod units;
+pub mod log;
