@@ -14,3 +14,5 @@ pub mod run;
 pub mod sonar;
 pub mod units;
 pub mod log;
+pub mod sim;
+pub mod eval;

@@ -24,4 +24,3 @@ pub use map_file::{map_to_file, save_map, MapFile, MapSegmentFile, MAP_FORMAT};
 pub use save::{ring_parameters, run_to_file, save_run};
 
 pub(crate) use load::{check_header, floor_plan_from_file, layout_from_robot, parse_units, sensor_from_file};
-pub(crate) use save::{floor_plan_to_file, robot_to_file, tidy};
