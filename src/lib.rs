@@ -16,3 +16,4 @@ pub mod units;
 pub mod log;
 pub mod sim;
 pub mod eval;
+pub mod assets;
