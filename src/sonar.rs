@@ -154,7 +154,10 @@ mod tests {
             let x = d * (alpha + gamma).cos() + r * (alpha + gamma).cos() + 120.0;
             let y = d * (alpha + gamma).sin() + r * (alpha + gamma).sin() + 77.0;
             let p = layout.point_in_world(&pose, k, d);
-            assert!((p.x - x).abs() < 1e-9 && (p.y - y).abs() < 1e-9, "sensor {k}");
+            assert!(
+                (p.x - x).abs() < 1e-9 && (p.y - y).abs() < 1e-9,
+                "sensor {k}"
+            );
         }
     }
 
@@ -162,8 +165,20 @@ mod tests {
     fn ball_test_is_inclusive() {
         // ξ = 3, D1 = 100, D2 = 100: radius sum 6.
         let a = Point::new(0.0, 0.0);
-        assert!(balls_intersect(3.0, &a, 100.0, &Point::new(6.0, 0.0), 100.0));
-        assert!(!balls_intersect(3.0, &a, 100.0, &Point::new(6.0001, 0.0), 100.0));
+        assert!(balls_intersect(
+            3.0,
+            &a,
+            100.0,
+            &Point::new(6.0, 0.0),
+            100.0
+        ));
+        assert!(!balls_intersect(
+            3.0,
+            &a,
+            100.0,
+            &Point::new(6.0001, 0.0),
+            100.0
+        ));
         assert!((ball_radius(3.0, 50.0) - 1.5).abs() < 1e-12);
     }
 
@@ -177,7 +192,11 @@ mod tests {
         let layout = SensorLayout {
             mounts: angles
                 .iter()
-                .map(|a: &f64| SensorMount { x_m: 0.0, y_m: 0.0, heading_rad: a.to_radians() })
+                .map(|a: &f64| SensorMount {
+                    x_m: 0.0,
+                    y_m: 0.0,
+                    heading_rad: a.to_radians(),
+                })
                 .collect(),
         };
         let (order, wraps) = layout.bearing_order();

@@ -77,7 +77,12 @@ mod tests {
 
     #[test]
     fn conversions_round_trip() {
-        for u in [Units::Inches, Units::Millimetres, Units::Centimetres, Units::Metres] {
+        for u in [
+            Units::Inches,
+            Units::Millimetres,
+            Units::Centimetres,
+            Units::Metres,
+        ] {
             assert!((u.from_m(u.to_m(42.0)) - 42.0).abs() < 1e-12);
             assert_eq!(Units::parse(u.symbol()), Some(u));
         }

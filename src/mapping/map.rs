@@ -143,7 +143,10 @@ impl Map {
 
     /// The face with `id`.
     pub fn face(&self, id: FaceId) -> Option<&Face> {
-        self.faces.binary_search_by_key(&id, |f| f.id).ok().map(|i| &self.faces[i])
+        self.faces
+            .binary_search_by_key(&id, |f| f.id)
+            .ok()
+            .map(|i| &self.faces[i])
     }
 
     /// The face with `id`, mutable.
@@ -156,7 +159,9 @@ impl Map {
 
     /// True when segment `id` holds an outermost end-point of its face (first or last in it).
     pub fn is_outermost(&self, id: SegmentId) -> bool {
-        let Some(seg) = self.segment(id) else { return false };
+        let Some(seg) = self.segment(id) else {
+            return false;
+        };
         match self.face(seg.face) {
             Some(face) => face.segments.first() == Some(&id) || face.segments.last() == Some(&id),
             None => true,
@@ -174,7 +179,10 @@ impl Map {
     pub(crate) fn new_face(&mut self) -> FaceId {
         let id = self.next_face_id;
         self.next_face_id += 1;
-        self.faces.push(Face { id, segments: Vec::new() });
+        self.faces.push(Face {
+            id,
+            segments: Vec::new(),
+        });
         id
     }
 

@@ -1,11 +1,22 @@
-//! The mapper: one snapshot in, the map updated and the step's trace out.
+//! The mapper: one snapshot in, the map updated and the step's trace out (paper §3).
 
-use super::map::Map;
+use super::cluster::cluster_points;
+use super::correlate::correlate_face;
+use super::extensions::{memory_step, reduce_constant_depth};
+use super::fit::{piece_end_points, split_recursive, split_tolerance};
+use super::map::{EndPoint, FaceId, Map, Segment, SegmentId, SegmentKind, SupportPoint};
+use super::matching::{decide, Candidate, SegmentEnds};
 use super::params::Params;
-use super::trace::StepTrace;
-use crate::geometry::Pose;
+use super::readings::convert_readings;
+use super::trace::{
+    ClusterTrace, NewSegmentTrace, Outcome, RefitTrace, SegmentSource, Side, StepTrace, Test,
+    UpdateTrace, Warning,
+};
+use super::update::{update_extension, update_match, UpdateGeometry};
+use crate::geometry::{distance_to_line, projection_param, Pose};
 use crate::run::Snapshot;
 use crate::sonar::{SensorLayout, SensorSpec};
+use std::sync::Arc;
 
 /// Runs the paper's algorithm snapshot by snapshot.
 #[derive(Clone, Debug)]
@@ -13,15 +24,36 @@ pub struct Mapper {
     params: Params,
     layout: SensorLayout,
     sensor: SensorSpec,
+    bearing_order: (Vec<usize>, bool),
     map: Map,
     last_pose: Option<Pose>,
     next_snapshot: usize,
 }
 
+/// The mutable state a checkpoint needs to resume a [`Mapper`].
+#[derive(Clone, Debug)]
+pub struct MapperState {
+    /// The map.
+    pub map: Map,
+    /// Pose of the last snapshot applied.
+    pub last_pose: Option<Pose>,
+    /// Index of the next snapshot.
+    pub next_snapshot: usize,
+}
+
 impl Mapper {
-    /// A mapper with an empty map. `params` must be valid (see [`Params::validate`]).
+    /// A mapper with an empty map. `params` should be valid (see [`Params::validate`]).
     pub fn new(params: Params, layout: SensorLayout, sensor: SensorSpec) -> Self {
-        Self { params, layout, sensor, map: Map::default(), last_pose: None, next_snapshot: 0 }
+        let bearing_order = layout.bearing_order();
+        Self {
+            params,
+            layout,
+            sensor,
+            bearing_order,
+            map: Map::default(),
+            last_pose: None,
+            next_snapshot: 0,
+        }
     }
 
     /// The map as it stands.
@@ -39,11 +71,345 @@ impl Mapper {
         self.next_snapshot
     }
 
+    /// A copy of the state (for checkpoints).
+    pub fn state(&self) -> MapperState {
+        MapperState {
+            map: self.map.clone(),
+            last_pose: self.last_pose,
+            next_snapshot: self.next_snapshot,
+        }
+    }
+
+    /// Resumes from a checkpoint.
+    pub fn restore(&mut self, state: MapperState) {
+        self.map = state.map;
+        self.last_pose = state.last_pose;
+        self.next_snapshot = state.next_snapshot;
+    }
+
     /// Applies one snapshot and returns what happened.
     pub fn step(&mut self, snapshot: &Snapshot) -> StepTrace {
-        let _ = (&self.layout, &self.sensor, &self.last_pose, snapshot);
-        let trace = StepTrace { snapshot: self.next_snapshot, ..Default::default() };
+        let index = self.next_snapshot;
         self.next_snapshot += 1;
+        let params_owned = self.params.clone();
+        let params = &params_owned;
+        let mut trace = StepTrace {
+            snapshot: index,
+            t: snapshot.t,
+            pose: Some(snapshot.pose),
+            ..Default::default()
+        };
+
+        // §3.3.1: matching is valid only below max_step.
+        if let Some(last) = self.last_pose {
+            let step_m = last.distance_to(&snapshot.pose);
+            if step_m > params.max_step_m {
+                trace.warnings.push(Warning::MaxStep {
+                    step_m,
+                    max_step_m: params.max_step_m,
+                });
+            }
+        }
+        self.last_pose = Some(snapshot.pose);
+        if snapshot.ranges_m.len() != self.layout.len() {
+            trace.warnings.push(Warning::RangeCount {
+                given: snapshot.ranges_m.len(),
+                expected: self.layout.len(),
+            });
+        }
+
+        // §1 readings → points; §2 clusters.
+        let (readings, kept) = convert_readings(
+            index,
+            &snapshot.pose,
+            &snapshot.ranges_m,
+            &self.layout,
+            self.sensor.max_range_m,
+            params,
+        );
+        trace.readings = readings;
+        let (order, wraps) = (&self.bearing_order.0, self.bearing_order.1);
+        let (clusters, gaps) = cluster_points(&kept, order, wraps, params.t_gap_m);
+        trace.gaps = gaps;
+
+        // §3 fitting of each cluster (with constant-depth groups when on).
+        let mut new_segments: Vec<NewSegmentTrace> = Vec::new();
+        let mut singles: Vec<SupportPoint> = Vec::new();
+        for (ci, members) in clusters.iter().enumerate() {
+            let chain: Vec<SupportPoint> = members.iter().map(|&i| kept[i]).collect();
+            for q in &chain {
+                trace.readings[q.reading.sensor].cluster = Some(ci);
+            }
+            let (mut fitted, constant_depth) = if params.constant_depth {
+                reduce_constant_depth(&chain, params.accuracy_pct)
+            } else {
+                (chain.clone(), Vec::new())
+            };
+            // Beyond ALGORITHM.md §2: a chain that wraps all round without a break is a closed
+            // loop (its last point neighbours its first), so the fit closes it by repeating the
+            // first point at the end; the reading itself is still traced once.
+            let closed_loop =
+                wraps && clusters.len() == 1 && !trace.gaps.iter().any(|g| g.is_break);
+            if closed_loop && fitted.len() >= 3 {
+                fitted.push(fitted[0]);
+            }
+            let mut splits = Vec::new();
+            let pieces = split_recursive(&fitted, params, &mut splits);
+            let mut indices = Vec::with_capacity(pieces.len());
+            for &[first, last] in &pieces {
+                let (a, b) = piece_end_points(&fitted, first, last, params.fit);
+                indices.push(new_segments.len());
+                new_segments.push(NewSegmentTrace {
+                    source: SegmentSource::Cluster(ci),
+                    a,
+                    b,
+                    points: fitted[first..=last].to_vec(),
+                });
+            }
+            if chain.len() == 1 {
+                singles.push(fitted[0]);
+            }
+            trace.clusters.push(ClusterTrace {
+                sensors: chain.iter().map(|q| q.reading.sensor).collect(),
+                constant_depth,
+                fitted,
+                splits,
+                new_segments: indices,
+            });
+        }
+
+        // §8 point memory.
+        if params.memory_snapshots > 0 {
+            let (memory_trace, pieces) = memory_step(&mut self.map.memory, &singles, index, params);
+            for piece in pieces {
+                let last = piece.points.len() - 1;
+                let (a, b) = piece_end_points(&piece.points, 0, last, params.fit);
+                new_segments.push(NewSegmentTrace {
+                    source: SegmentSource::Memory(piece.group),
+                    a,
+                    b,
+                    points: piece.points,
+                });
+            }
+            trace.memory = Some(memory_trace);
+        }
+
+        // §4 matching against the map as it stood before this snapshot, §5 updates.
+        let candidates: Vec<Candidate> = self
+            .map
+            .segments
+            .iter()
+            .filter(|s| s.kind == SegmentKind::Fitted)
+            .map(|s| Candidate {
+                id: s.id,
+                ends: SegmentEnds { a: s.a, b: s.b },
+                outermost: self.map.is_outermost(s.id),
+            })
+            .collect();
+        let mut face_of_source: Vec<(SegmentSource, FaceId)> = Vec::new();
+        let mut new_faces: Vec<FaceId> = Vec::new();
+        for (ni, seg) in new_segments.iter().enumerate() {
+            let ends = SegmentEnds { a: seg.a, b: seg.b };
+            let mut cands = candidates.clone();
+            let mut decision = decide(params, ni, &ends, &mut cands);
+            match decision.outcome {
+                Outcome::Match | Outcome::Extension => {
+                    let target = decision.existing.expect("a match names its segment");
+                    let evaluation = &decision
+                        .mpc_stage
+                        .iter()
+                        .find(|c| c.evaluation.existing == target)
+                        .expect("tested")
+                        .evaluation;
+                    let inside = if decision.outcome == Outcome::Extension {
+                        evaluation.overlap.epc_end
+                    } else {
+                        None
+                    };
+                    let (nl, nr) = (evaluation.new_left, evaluation.new_right);
+                    if let Some(update) =
+                        self.apply_update(target, ni, seg, nl, nr, decision.outcome, inside, index)
+                    {
+                        trace.updates.push(update);
+                    }
+                    decision.result = Some(target);
+                }
+                Outcome::Dismissed => {}
+                Outcome::NewFace => {
+                    let face = match face_of_source.iter().find(|(s, _)| *s == seg.source) {
+                        Some(&(_, f)) => f,
+                        None => {
+                            let f = self.map.new_face();
+                            face_of_source.push((seg.source, f));
+                            new_faces.push(f);
+                            f
+                        }
+                    };
+                    let object = match self
+                        .map
+                        .face(face)
+                        .and_then(|f| f.segments.first())
+                        .and_then(|&id| self.map.segment(id))
+                    {
+                        Some(s) => s.object,
+                        None => self.map.allocate_object_id(),
+                    };
+                    let id = self.map.allocate_segment_id();
+                    self.map
+                        .face_mut(face)
+                        .expect("face exists")
+                        .segments
+                        .push(id);
+                    self.map.push_segment(Segment {
+                        id,
+                        kind: SegmentKind::Fitted,
+                        a: seg.a,
+                        b: seg.b,
+                        face,
+                        object,
+                        created: index,
+                        updated: Vec::new(),
+                        points: Arc::new(seg.points.clone()),
+                    });
+                    decision.result = Some(id);
+                }
+            }
+            trace.decisions.push(decision);
+        }
+        trace.new_segments = new_segments;
+
+        // §6 correlation of the new faces, in cluster order.
+        if params.correlate {
+            for face in new_faces {
+                trace
+                    .correlations
+                    .push(correlate_face(&mut self.map, face, params, index));
+            }
+        }
         trace
+    }
+
+    /// Applies a MATCH or EXTENSION to segment `target` and runs the post-update split test.
+    #[allow(clippy::too_many_arguments)]
+    fn apply_update(
+        &mut self,
+        target: SegmentId,
+        new_index: usize,
+        new: &NewSegmentTrace,
+        new_left: EndPoint,
+        new_right: EndPoint,
+        outcome: Outcome,
+        inside: Option<Side>,
+        snapshot: usize,
+    ) -> Option<UpdateTrace> {
+        let params = self.params.clone();
+        let seg = self.map.segment(target)?;
+        let before = [seg.a, seg.b];
+        // Orient the new segment along the live geometry (it may have moved this snapshot).
+        let (nl, nr) = if projection_param(&new_left.point, &seg.a.point, &seg.b.point)
+            <= projection_param(&new_right.point, &seg.a.point, &seg.b.point)
+        {
+            (new_left, new_right)
+        } else {
+            (new_right, new_left)
+        };
+        let geometry: UpdateGeometry = match inside {
+            Some(side) => update_extension(before, nl, nr, side),
+            None => update_match(before, nl, nr),
+        };
+        let [a, b] = geometry.ends;
+        // Supporting points, old and new, ordered along l_u.
+        let mut points: Vec<SupportPoint> = seg
+            .points
+            .iter()
+            .chain(new.points.iter())
+            .copied()
+            .collect();
+        points.sort_by(|x, y| {
+            projection_param(&x.point, &a.point, &b.point)
+                .total_cmp(&projection_param(&y.point, &a.point, &b.point))
+                .then(x.reading.cmp(&y.reading))
+        });
+        let worst = points
+            .iter()
+            .map(|q| {
+                let d = distance_to_line(&q.point, &geometry.line[0], &geometry.line[1]);
+                Test::at_most(d, split_tolerance(&params, q.range_m))
+            })
+            .fold(None::<Test>, |acc, t| match acc {
+                Some(w) if !w.pass && t.pass => Some(w),
+                Some(w) if w.pass == t.pass && w.value - w.threshold >= t.value - t.threshold => {
+                    Some(w)
+                }
+                _ => Some(t),
+            });
+        let mut update = UpdateTrace {
+            segment: target,
+            new_segment: new_index,
+            outcome,
+            before,
+            after: geometry.ends,
+            line: geometry.line,
+            fates: geometry.fates,
+            fallback_tls: geometry.fallback_tls,
+            refit: None,
+        };
+        let seg = self.map.segment_mut(target)?;
+        if seg.updated.last() != Some(&snapshot) {
+            seg.updated.push(snapshot);
+        }
+        let stands = worst.is_none_or(|w| w.pass);
+        if stands {
+            seg.a = a;
+            seg.b = b;
+            seg.points = Arc::new(points);
+            return Some(update);
+        }
+        // The update's line does not explain its points: fit them afresh (§3); the first piece
+        // keeps the id, the others are inserted after it in the face.
+        let mut splits = Vec::new();
+        let pieces = split_recursive(&points, &params, &mut splits);
+        let (face, object, created, updated) =
+            (seg.face, seg.object, seg.created, seg.updated.clone());
+        let mut piece_ids = Vec::with_capacity(pieces.len());
+        for (k, &[first, last]) in pieces.iter().enumerate() {
+            let (pa, pb) = piece_end_points(&points, first, last, params.fit);
+            let piece_points = Arc::new(points[first..=last].to_vec());
+            if k == 0 {
+                let seg = self.map.segment_mut(target)?;
+                seg.a = pa;
+                seg.b = pb;
+                seg.points = piece_points;
+                piece_ids.push(target);
+            } else {
+                let id = self.map.allocate_segment_id();
+                self.map.push_segment(Segment {
+                    id,
+                    kind: SegmentKind::Fitted,
+                    a: pa,
+                    b: pb,
+                    face,
+                    object,
+                    created,
+                    updated: updated.clone(),
+                    points: piece_points,
+                });
+                piece_ids.push(id);
+            }
+        }
+        if let Some(f) = self.map.face_mut(face) {
+            let at = f
+                .segments
+                .iter()
+                .position(|&s| s == target)
+                .map_or(f.segments.len(), |p| p + 1);
+            f.segments.splice(at..at, piece_ids[1..].iter().copied());
+        }
+        update.refit = Some(RefitTrace {
+            worst: worst.expect("failed test exists"),
+            splits,
+            pieces: piece_ids,
+        });
+        Some(update)
     }
 }

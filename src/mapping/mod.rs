@@ -1,11 +1,18 @@
 //! The paper's mapping algorithm (ALGORITHM.md §1–§8), one rule a file.
 
+pub mod cluster;
+pub mod correlate;
+pub mod extensions;
+pub mod fit;
 pub mod map;
 mod mapper;
+pub mod matching;
 pub mod params;
+pub mod readings;
 pub mod trace;
+pub mod update;
 
 pub use map::{EndPoint, Map, Segment, SegmentId, SegmentKind, SupportPoint};
-pub use mapper::Mapper;
+pub use mapper::{Mapper, MapperState};
 pub use params::{FitMode, Params, ParamsError, ParamsFile, Preset, SplitMode};
 pub use trace::{Outcome, Rule, StepTrace};

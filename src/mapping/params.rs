@@ -179,7 +179,9 @@ impl Params {
         };
         let units = match &file.units {
             None => Units::Inches,
-            Some(name) => Units::parse(name).ok_or_else(|| ParamsError::UnknownUnits(name.clone()))?,
+            Some(name) => {
+                Units::parse(name).ok_or_else(|| ParamsError::UnknownUnits(name.clone()))?
+            }
         };
         let len = |v: f64| units.to_m(v);
         if let Some(v) = file.accuracy_pct {
@@ -355,11 +357,29 @@ mod tests {
 
     #[test]
     fn negative_t_gap_and_zero_accuracy_are_errors() {
-        let p = Params { t_gap_m: -1.0, ..Params::paper() };
-        assert!(matches!(p.validate(), Err(ParamsError::Negative { name: "t_gap", .. })));
-        let p = Params { accuracy_pct: 0.0, ..Params::paper() };
-        assert!(matches!(p.validate(), Err(ParamsError::NotPositive { name: "accuracy_pct", .. })));
-        let p = Params { accuracy_pct: f64::NAN, ..Params::paper() };
+        let p = Params {
+            t_gap_m: -1.0,
+            ..Params::paper()
+        };
+        assert!(matches!(
+            p.validate(),
+            Err(ParamsError::Negative { name: "t_gap", .. })
+        ));
+        let p = Params {
+            accuracy_pct: 0.0,
+            ..Params::paper()
+        };
+        assert!(matches!(
+            p.validate(),
+            Err(ParamsError::NotPositive {
+                name: "accuracy_pct",
+                ..
+            })
+        ));
+        let p = Params {
+            accuracy_pct: f64::NAN,
+            ..Params::paper()
+        };
         assert!(p.validate().is_err());
     }
 
@@ -374,7 +394,9 @@ mod tests {
         assert_eq!(p.split, SplitMode::Fixed(0.02));
         assert_eq!(p.fit, FitMode::TotalLeastSquares);
         assert_eq!(p.memory_snapshots, 10);
-        let back = Params::paper().with_file(&p.to_file(Units::Millimetres)).unwrap();
+        let back = Params::paper()
+            .with_file(&p.to_file(Units::Millimetres))
+            .unwrap();
         assert!((back.t_gap_m - p.t_gap_m).abs() < 1e-12);
         assert_eq!(back.memory_snapshots, 10);
     }

@@ -160,7 +160,11 @@ pub struct Test {
 impl Test {
     /// Compares `value ≤ threshold`.
     pub fn at_most(value: f64, threshold: f64) -> Self {
-        Self { value, threshold, pass: value <= threshold }
+        Self {
+            value,
+            threshold,
+            pass: value <= threshold,
+        }
     }
 }
 
@@ -232,7 +236,9 @@ pub struct PairEvaluation {
 impl PairEvaluation {
     /// Orientation, colinearity and MPC (or containment) pass: a MATCH.
     pub fn is_match(&self) -> bool {
-        self.orientation.pass && self.colinearity.test.pass && (self.overlap.mpc || self.overlap.containment)
+        self.orientation.pass
+            && self.colinearity.test.pass
+            && (self.overlap.mpc || self.overlap.containment)
     }
 
     /// Orientation, colinearity and EPC pass: an EXTENSION (when the candidate is outermost).
@@ -242,7 +248,9 @@ impl PairEvaluation {
 
     /// Fails only the orientation test (colinearity passes, and MPC or EPC, not containment).
     pub fn fails_only_orientation(&self) -> bool {
-        !self.orientation.pass && self.colinearity.test.pass && (self.overlap.mpc || self.overlap.epc)
+        !self.orientation.pass
+            && self.colinearity.test.pass
+            && (self.overlap.mpc || self.overlap.epc)
     }
 }
 
@@ -333,6 +341,8 @@ pub enum EndRole {
     Middle,
     /// Projected onto `l_u` (lower confidence).
     Projected,
+    /// An inner end-point of an extension with less confidence than `M`: not used.
+    Dropped,
 }
 
 /// The fate of one end-point in an update.
@@ -394,6 +404,9 @@ pub enum InterpolationReason {
     NearlyParallel,
     /// The intersection is farther than `t_gap` from a closest end-point.
     IntersectionTooFar,
+    /// Moving an end-point to the intersection would reverse a segment or shrink it to less
+    /// than half its length (a choice beyond ALGORITHM.md §6).
+    CornerWouldCollapse,
 }
 
 /// What correlation made of one new face.

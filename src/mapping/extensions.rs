@@ -1,0 +1,239 @@
+//! The two extensions beyond the paper (ALGORITHM.md §8), each off in the `paper` preset.
+
+use super::fit::split_recursive;
+use super::map::{MemoryPoint, SupportPoint};
+use super::params::Params;
+use super::trace::{ConstantDepthTrace, MemoryGroupTrace, MemoryTrace};
+use crate::geometry::{fit_line_tls, projection_param, Point};
+
+/// True when two ranges pass the ball test of §1 as ranges: `|D1 − D2| ≤ ξ·(D1 + D2)/100`.
+fn same_depth(accuracy_pct: f64, d1: f64, d2: f64) -> bool {
+    (d1 - d2).abs() <= accuracy_pct * (d1 + d2) / 100.0
+}
+
+/// Constant-depth groups (Leonard and Durrant-Whyte's "regions of constant depth"): within a
+/// cluster, each maximal run (scanning in chain order) of three or more consecutive readings
+/// whose ranges pass the ball test pairwise is replaced by its middle reading (the lower
+/// middle for an even run). Returns the reduced points and what was replaced.
+pub fn reduce_constant_depth(
+    points: &[SupportPoint],
+    accuracy_pct: f64,
+) -> (Vec<SupportPoint>, Vec<ConstantDepthTrace>) {
+    let mut out = Vec::with_capacity(points.len());
+    let mut traces = Vec::new();
+    let mut i = 0;
+    while i < points.len() {
+        let mut j = i + 1;
+        while j < points.len()
+            && points[i..j]
+                .iter()
+                .all(|q| same_depth(accuracy_pct, q.range_m, points[j].range_m))
+        {
+            j += 1;
+        }
+        if j - i >= 3 {
+            let middle = points[i + (j - i - 1) / 2];
+            out.push(middle);
+            traces.push(ConstantDepthTrace {
+                sensors: points[i..j].iter().map(|q| q.reading.sensor).collect(),
+                kept_sensor: middle.reading.sensor,
+            });
+            i = j;
+        } else {
+            out.push(points[i]);
+            i += 1;
+        }
+    }
+    (out, traces)
+}
+
+/// One fitted memory piece that became a new segment.
+pub struct MemoryPiece {
+    /// Index of its group in `MemoryTrace::groups`.
+    pub group: usize,
+    /// Its points in order.
+    pub points: Vec<SupportPoint>,
+}
+
+/// Point memory for one snapshot (ALGORITHM.md §8): expires readings older than
+/// `memory_snapshots`, adds this snapshot's one-point clusters, links readings within
+/// `memory_gap` into groups (single linkage), orders each group along its principal axis, fits
+/// it by §3, and returns the pieces of at least `memory_min_points` points (their readings leave
+/// the memory).
+pub fn memory_step(
+    memory: &mut Vec<MemoryPoint>,
+    singles: &[SupportPoint],
+    snapshot: usize,
+    params: &Params,
+) -> (MemoryTrace, Vec<MemoryPiece>) {
+    let mut trace = MemoryTrace::default();
+    let horizon = params.memory_snapshots;
+    memory.retain(|m| {
+        let keep = snapshot - m.support.reading.snapshot.min(snapshot) < horizon;
+        if !keep {
+            trace.expired.push(m.support.reading);
+        }
+        keep
+    });
+    for s in singles {
+        memory.push(MemoryPoint { support: *s });
+        trace.added.push(s.reading);
+    }
+    let n = memory.len();
+    // Single-linkage groups by flood fill, in memory order.
+    let mut group_of = vec![usize::MAX; n];
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    for seed in 0..n {
+        if group_of[seed] != usize::MAX {
+            continue;
+        }
+        let g = groups.len();
+        group_of[seed] = g;
+        let mut members = vec![seed];
+        let mut k = 0;
+        while k < members.len() {
+            let p = memory[members[k]].support.point;
+            for other in 0..n {
+                if group_of[other] == usize::MAX
+                    && (memory[other].support.point - p).norm() <= params.memory_gap_m
+                {
+                    group_of[other] = g;
+                    members.push(other);
+                }
+            }
+            k += 1;
+        }
+        members.sort_unstable();
+        groups.push(members);
+    }
+    let mut used = vec![false; n];
+    let mut pieces_out = Vec::new();
+    for members in groups
+        .iter()
+        .filter(|m| m.len() >= params.memory_min_points)
+    {
+        let mut points: Vec<SupportPoint> = members.iter().map(|&i| memory[i].support).collect();
+        let coords: Vec<Point> = points.iter().map(|q| q.point).collect();
+        if let Some((centre, dir)) = fit_line_tls(&coords) {
+            let far = centre + dir;
+            points.sort_by(|x, y| {
+                projection_param(&x.point, &centre, &far)
+                    .total_cmp(&projection_param(&y.point, &centre, &far))
+                    .then(x.reading.cmp(&y.reading))
+            });
+        }
+        let mut splits = Vec::new();
+        let pieces = split_recursive(&points, params, &mut splits);
+        let group_index = trace.groups.len();
+        let mut piece_segments = Vec::with_capacity(pieces.len());
+        for &[first, last] in &pieces {
+            if last + 1 - first >= params.memory_min_points {
+                piece_segments.push(Some(pieces_out.len()));
+                pieces_out.push(MemoryPiece {
+                    group: group_index,
+                    points: points[first..=last].to_vec(),
+                });
+                for q in &points[first..=last] {
+                    if let Some(i) = members
+                        .iter()
+                        .copied()
+                        .find(|&i| memory[i].support.reading == q.reading)
+                    {
+                        used[i] = true;
+                    }
+                }
+            } else {
+                piece_segments.push(None);
+            }
+        }
+        trace.groups.push(MemoryGroupTrace {
+            points,
+            splits,
+            pieces,
+            piece_segments,
+        });
+    }
+    let mut i = 0;
+    memory.retain(|m| {
+        let keep = !used[i];
+        if !keep {
+            trace.used.push(m.support.reading);
+        }
+        i += 1;
+        keep
+    });
+    trace.held_after = memory.len();
+    (trace, pieces_out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mapping::map::ReadingRef;
+
+    fn sp(snapshot: usize, sensor: usize, x: f64, y: f64, d: f64) -> SupportPoint {
+        SupportPoint {
+            point: Point::new(x, y),
+            range_m: d,
+            reading: ReadingRef { snapshot, sensor },
+        }
+    }
+
+    #[test]
+    fn a_run_of_equal_depths_becomes_its_middle_reading() {
+        // Ranges 100, 101, 99, 100 pass pairwise at ξ = 3; then 150 does not.
+        let pts = vec![
+            sp(0, 0, 0.0, 0.0, 100.0),
+            sp(0, 1, 1.0, 0.0, 101.0),
+            sp(0, 2, 2.0, 0.0, 99.0),
+            sp(0, 3, 3.0, 0.0, 100.0),
+            sp(0, 4, 4.0, 0.0, 150.0),
+        ];
+        let (out, traces) = reduce_constant_depth(&pts, 3.0);
+        assert_eq!(
+            out.iter().map(|q| q.reading.sensor).collect::<Vec<_>>(),
+            vec![1, 4]
+        );
+        assert_eq!(
+            traces,
+            vec![ConstantDepthTrace {
+                sensors: vec![0, 1, 2, 3],
+                kept_sensor: 1
+            }]
+        );
+        // Two equal readings are not a group.
+        let (out, traces) = reduce_constant_depth(&pts[3..], 3.0);
+        assert_eq!(out.len(), 2);
+        assert!(traces.is_empty());
+    }
+
+    #[test]
+    fn memory_fits_remembered_singles_and_expires_old_ones() {
+        let p = Params {
+            memory_snapshots: 3,
+            memory_gap_m: 1.5,
+            memory_min_points: 3,
+            ..Params::paper()
+        };
+        let mut memory = Vec::new();
+        let (t, pieces) = memory_step(&mut memory, &[sp(0, 2, 0.0, 5.0, 50.0)], 0, &p);
+        assert!(pieces.is_empty() && t.held_after == 1);
+        let (_, pieces) = memory_step(&mut memory, &[sp(1, 2, 1.0, 5.0, 50.0)], 1, &p);
+        assert!(pieces.is_empty());
+        let (t, pieces) = memory_step(&mut memory, &[sp(2, 2, 2.0, 5.0, 50.0)], 2, &p);
+        assert_eq!(pieces.len(), 1);
+        assert_eq!(pieces[0].points.len(), 3);
+        assert_eq!(t.used.len(), 3);
+        assert_eq!(t.held_after, 0);
+        // A lone reading expires after memory_snapshots.
+        memory_step(&mut memory, &[sp(3, 0, 50.0, 50.0, 50.0)], 3, &p);
+        let (t, _) = memory_step(&mut memory, &[], 6, &p);
+        assert_eq!(
+            t.expired,
+            vec![ReadingRef {
+                snapshot: 3,
+                sensor: 0
+            }]
+        );
+    }
+}

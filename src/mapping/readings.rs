@@ -1,0 +1,114 @@
+//! Readings to points (paper §2, §3.1; ALGORITHM.md §1).
+
+use super::map::{ReadingRef, SupportPoint};
+use super::params::Params;
+use super::trace::{DiscardReason, ReadingTrace};
+use crate::geometry::Pose;
+use crate::sonar::{ball_radius, SensorLayout};
+
+/// Why a reading with range `range_m` is discarded, if it is (ALGORITHM.md §1):
+/// no echo, at or beyond the sensor's maximum range, beyond `d_max`, below `min_range`.
+pub fn discard_reason(
+    range_m: Option<f64>,
+    sensor_max_range_m: f64,
+    params: &Params,
+) -> Option<DiscardReason> {
+    match range_m {
+        None => Some(DiscardReason::NoEcho),
+        Some(d) if !d.is_finite() || d >= sensor_max_range_m => Some(DiscardReason::AtMaxRange),
+        Some(d) if d > params.d_max_m => Some(DiscardReason::BeyondDMax),
+        Some(d) if d < params.min_range_m => Some(DiscardReason::BelowMinRange),
+        Some(_) => None,
+    }
+}
+
+/// Converts one snapshot's ranges: a trace record per sensor and the kept points in sensor order.
+/// Ranges beyond the layout's sensor count are ignored; missing ones count as no echo.
+pub fn convert_readings(
+    snapshot: usize,
+    pose: &Pose,
+    ranges_m: &[Option<f64>],
+    layout: &SensorLayout,
+    sensor_max_range_m: f64,
+    params: &Params,
+) -> (Vec<ReadingTrace>, Vec<SupportPoint>) {
+    let mut traces = Vec::with_capacity(layout.len());
+    let mut kept = Vec::with_capacity(layout.len());
+    for sensor in 0..layout.len() {
+        let range_m = ranges_m.get(sensor).copied().flatten();
+        let discarded = discard_reason(range_m, sensor_max_range_m, params);
+        let finite = range_m.filter(|d| d.is_finite());
+        let point = finite.map(|d| layout.point_in_world(pose, sensor, d));
+        let ball_radius_m = finite.map_or(0.0, |d| ball_radius(params.accuracy_pct, d));
+        if let (None, Some(point), Some(range_m)) = (discarded, point, finite) {
+            kept.push(SupportPoint {
+                point,
+                range_m,
+                reading: ReadingRef { snapshot, sensor },
+            });
+        }
+        traces.push(ReadingTrace {
+            sensor,
+            range_m,
+            point,
+            ball_radius_m,
+            discarded,
+            cluster: None,
+        });
+    }
+    (traces, kept)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::units::inches;
+
+    #[test]
+    fn discard_reasons_follow_algorithm_section_1() {
+        let p = Params::paper();
+        let max = inches(255.0);
+        assert_eq!(discard_reason(None, max, &p), Some(DiscardReason::NoEcho));
+        assert_eq!(
+            discard_reason(Some(max), max, &p),
+            Some(DiscardReason::AtMaxRange)
+        );
+        let tight = Params {
+            d_max_m: inches(100.0),
+            ..Params::paper()
+        };
+        assert_eq!(
+            discard_reason(Some(inches(100.5)), max, &tight),
+            Some(DiscardReason::BeyondDMax)
+        );
+        assert_eq!(discard_reason(Some(inches(100.0)), max, &tight), None);
+        assert_eq!(
+            discard_reason(Some(inches(5.9)), max, &p),
+            Some(DiscardReason::BelowMinRange)
+        );
+        assert_eq!(discard_reason(Some(inches(6.0)), max, &p), None);
+    }
+
+    #[test]
+    fn kept_points_carry_their_range_and_ball() {
+        let layout = SensorLayout::nomad_ring(inches(9.0));
+        let pose = Pose::new(0.0, 0.0, 0.0);
+        let mut ranges = vec![None; 16];
+        ranges[0] = Some(inches(100.0));
+        ranges[4] = Some(inches(3.0));
+        let (traces, kept) =
+            convert_readings(7, &pose, &ranges, &layout, inches(255.0), &Params::paper());
+        assert_eq!(traces.len(), 16);
+        assert_eq!(kept.len(), 1);
+        assert!((kept[0].point.x - inches(109.0)).abs() < 1e-12);
+        assert!((traces[0].ball_radius_m - inches(3.0)).abs() < 1e-12);
+        assert_eq!(traces[4].discarded, Some(DiscardReason::BelowMinRange));
+        assert_eq!(
+            kept[0].reading,
+            ReadingRef {
+                snapshot: 7,
+                sensor: 0
+            }
+        );
+    }
+}

@@ -1,0 +1,303 @@
+//! Updating a matched map segment (paper §3.3.2, Figures 1 and 2; ALGORITHM.md §5).
+//!
+//! End-points are compared by range: the smaller `D` is the higher confidence; on a tie the
+//! existing end-point wins. A projected end-point keeps the range of the reading it came from.
+
+use super::map::EndPoint;
+use super::trace::{EndOrigin, EndPointFate, EndRole, Side};
+use crate::geometry::{fit_line_tls, lerp, projection_param, Point};
+
+/// Defining points closer than this (metres) are "nearly coinciding" (§5 fallback).
+const COINCIDENT_M: f64 = 1e-6;
+
+/// The result of the update rule, before the post-update split test.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UpdateGeometry {
+    /// New end-points, in the existing segment's direction.
+    pub ends: [EndPoint; 2],
+    /// The two points that define `l_u`.
+    pub line: [Point; 2],
+    /// What became of each of the four end-points.
+    pub fates: Vec<EndPointFate>,
+    /// `l_u` is the total-least-squares line of the four end-points.
+    pub fallback_tls: bool,
+}
+
+struct Labelled {
+    origin: EndOrigin,
+    end: EndPoint,
+}
+
+/// The higher-confidence of `existing` and `new` (smaller range; a tie keeps the existing).
+fn more_confident<'a>(existing: &'a Labelled, new: &'a Labelled) -> (&'a Labelled, &'a Labelled) {
+    if new.end.range_m < existing.end.range_m {
+        (new, existing)
+    } else {
+        (existing, new)
+    }
+}
+
+/// A line through `p` and `q`, or, when they nearly coincide, the total-least-squares line of
+/// `all`. Returns two points on it and whether the fallback was used.
+fn defining_line(p: Point, q: Point, all: &[Point]) -> ([Point; 2], bool) {
+    if (q - p).norm() > COINCIDENT_M {
+        return ([p, q], false);
+    }
+    match fit_line_tls(all) {
+        Some((centre, dir)) => ([centre, centre + dir], true),
+        // All four coincide: a degenerate segment at that point.
+        None => ([p, p + nalgebra::Vector2::new(1.0, 0.0)], true),
+    }
+}
+
+fn fate(l: &Labelled, role: EndRole, compared_with: EndOrigin) -> EndPointFate {
+    EndPointFate {
+        origin: l.origin,
+        before: l.end,
+        role,
+        compared_with,
+        projection: None,
+        is_end_after: false,
+    }
+}
+
+/// MATCH (MPC) update, Figure 1: `u_L`, `u_R` are the more confident of `{e_L, n_L}` and
+/// `{e_R, n_R}`; `l_u` runs through them; the two others are projected on `l_u` and the result
+/// is the longest segment on `l_u` covering all four projections.
+pub fn update_match(e: [EndPoint; 2], n_left: EndPoint, n_right: EndPoint) -> UpdateGeometry {
+    let el = Labelled {
+        origin: EndOrigin::ExistingLeft,
+        end: e[0],
+    };
+    let er = Labelled {
+        origin: EndOrigin::ExistingRight,
+        end: e[1],
+    };
+    let nl = Labelled {
+        origin: EndOrigin::NewLeft,
+        end: n_left,
+    };
+    let nr = Labelled {
+        origin: EndOrigin::NewRight,
+        end: n_right,
+    };
+    let (ul, low_l) = more_confident(&el, &nl);
+    let (ur, low_r) = more_confident(&er, &nr);
+    let all = [e[0].point, e[1].point, n_left.point, n_right.point];
+    let (line, fallback_tls) = defining_line(ul.end.point, ur.end.point, &all);
+    let mut fates = vec![
+        fate(ul, EndRole::Kept, low_l.origin),
+        fate(ur, EndRole::Kept, low_r.origin),
+        fate(low_l, EndRole::Projected, ul.origin),
+        fate(low_r, EndRole::Projected, ur.origin),
+    ];
+    // Parameter of each end-point on l_u; kept ones sit on the line unless the fallback is used.
+    let params: Vec<f64> = fates
+        .iter()
+        .map(|f| projection_param(&f.before.point, &line[0], &line[1]))
+        .collect();
+    for (f, &t) in fates.iter_mut().zip(&params) {
+        if f.role == EndRole::Projected || fallback_tls {
+            f.projection = Some(lerp(&line[0], &line[1], t));
+        }
+    }
+    // Ends: the kept points unless a projection falls strictly outside them.
+    let pick = |want_min: bool| -> usize {
+        let mut best = if want_min { 0 } else { 1 };
+        for i in 0..4 {
+            let better = if want_min {
+                params[i] < params[best]
+            } else {
+                params[i] > params[best]
+            };
+            if better {
+                best = i;
+            }
+        }
+        best
+    };
+    let (lo, hi) = (pick(true), pick(false));
+    // Keep the existing segment's direction: `a` is the end nearer e_L along l_u.
+    let e_dir_positive = projection_param(&e[1].point, &line[0], &line[1])
+        >= projection_param(&e[0].point, &line[0], &line[1]);
+    let (first, second) = if e_dir_positive { (lo, hi) } else { (hi, lo) };
+    fates[first].is_end_after = true;
+    fates[second].is_end_after = true;
+    let end_of = |f: &EndPointFate| EndPoint {
+        point: f.projection.unwrap_or(f.before.point),
+        range_m: f.before.range_m,
+    };
+    UpdateGeometry {
+        ends: [end_of(&fates[first]), end_of(&fates[second])],
+        line,
+        fates,
+        fallback_tls,
+    }
+}
+
+/// EXTENSION (EPC) update, Figure 2. With `inside = Left` (`n_L` projects into `l_e`): the
+/// middle point `M` is the more confident of `{e_R, n_L}`; of the outer points `e_L` and `n_R`,
+/// the more confident stays and `l_u` runs through it and `M`; the other is projected on `l_u`.
+/// Symmetric for `inside = Right`. The less confident inner point is dropped.
+pub fn update_extension(
+    e: [EndPoint; 2],
+    n_left: EndPoint,
+    n_right: EndPoint,
+    inside: Side,
+) -> UpdateGeometry {
+    let el = Labelled {
+        origin: EndOrigin::ExistingLeft,
+        end: e[0],
+    };
+    let er = Labelled {
+        origin: EndOrigin::ExistingRight,
+        end: e[1],
+    };
+    let nl = Labelled {
+        origin: EndOrigin::NewLeft,
+        end: n_left,
+    };
+    let nr = Labelled {
+        origin: EndOrigin::NewRight,
+        end: n_right,
+    };
+    // (existing inner, new inner, existing outer, new outer)
+    let (e_in, n_in, e_out, n_out) = match inside {
+        Side::Left => (&er, &nl, &el, &nr),
+        Side::Right => (&el, &nr, &er, &nl),
+    };
+    let (middle, dropped) = more_confident(e_in, n_in);
+    let (kept, projected) = more_confident(e_out, n_out);
+    let all = [e[0].point, e[1].point, n_left.point, n_right.point];
+    let (line, fallback_tls) = defining_line(kept.end.point, middle.end.point, &all);
+    let on_line = |p: &Point| lerp(&line[0], &line[1], projection_param(p, &line[0], &line[1]));
+    let mut kept_fate = fate(kept, EndRole::Kept, projected.origin);
+    let mut projected_fate = fate(projected, EndRole::Projected, kept.origin);
+    let mut middle_fate = fate(middle, EndRole::Middle, dropped.origin);
+    let dropped_fate = fate(dropped, EndRole::Dropped, middle.origin);
+    projected_fate.projection = Some(on_line(&projected.end.point));
+    if fallback_tls {
+        kept_fate.projection = Some(on_line(&kept.end.point));
+        middle_fate.projection = Some(on_line(&middle.end.point));
+    }
+    kept_fate.is_end_after = true;
+    projected_fate.is_end_after = true;
+    let end_of = |f: &EndPointFate| EndPoint {
+        point: f.projection.unwrap_or(f.before.point),
+        range_m: f.before.range_m,
+    };
+    // The existing outer end stays on its side of the segment.
+    let (e_side, n_side) = if kept.origin == e_out.origin {
+        (&kept_fate, &projected_fate)
+    } else {
+        (&projected_fate, &kept_fate)
+    };
+    let ends = match inside {
+        Side::Left => [end_of(e_side), end_of(n_side)],
+        Side::Right => [end_of(n_side), end_of(e_side)],
+    };
+    UpdateGeometry {
+        ends,
+        line,
+        fates: vec![kept_fate, middle_fate, projected_fate, dropped_fate],
+        fallback_tls,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ep(x: f64, y: f64, d: f64) -> EndPoint {
+        EndPoint {
+            point: Point::new(x, y),
+            range_m: d,
+        }
+    }
+
+    fn role(g: &UpdateGeometry, o: EndOrigin) -> EndRole {
+        g.fates.iter().find(|f| f.origin == o).unwrap().role
+    }
+
+    #[test]
+    fn figure_1_match_keeps_the_closer_ends_and_extends_to_a_projection() {
+        // Existing (0,0)-(10,0) read at 60/40; new (-4,1)-(8,0.2) read at 50/45.
+        // u_L = n_L? D(n_L)=50 vs D(e_L)=60 → n_L. u_R: D(e_R)=40 vs D(n_R)=45 → e_R.
+        let e = [ep(0.0, 0.0, 60.0), ep(10.0, 0.0, 40.0)];
+        let g = update_match(e, ep(-4.0, 1.0, 50.0), ep(8.0, 0.2, 45.0));
+        assert_eq!(role(&g, EndOrigin::NewLeft), EndRole::Kept);
+        assert_eq!(role(&g, EndOrigin::ExistingRight), EndRole::Kept);
+        assert_eq!(role(&g, EndOrigin::ExistingLeft), EndRole::Projected);
+        assert_eq!(role(&g, EndOrigin::NewRight), EndRole::Projected);
+        assert!(!g.fallback_tls);
+        // Both projections fall inside [u_L, u_R]: the result is u_L–u_R.
+        assert_eq!(g.ends[0], ep(-4.0, 1.0, 50.0));
+        assert_eq!(g.ends[1], ep(10.0, 0.0, 40.0));
+
+        // Now e_L is far left but less confident: its projection extends the segment (Figure 1).
+        let e = [ep(-10.0, 0.0, 80.0), ep(10.0, 0.0, 40.0)];
+        let g = update_match(e, ep(-4.0, 1.0, 50.0), ep(8.0, 0.2, 45.0));
+        // l_u: y = 1 - (x + 4)/14. Projection of (-10, 0) onto it.
+        let dir = Point::new(10.0, 0.0) - Point::new(-4.0, 1.0);
+        let t = (Point::new(-10.0, 0.0) - Point::new(-4.0, 1.0)).dot(&dir) / dir.norm_squared();
+        let expect = Point::new(-4.0, 1.0) + dir * t;
+        assert!((g.ends[0].point - expect).norm() < 1e-12);
+        assert_eq!(
+            g.ends[0].range_m, 80.0,
+            "a projected end keeps its reading's range"
+        );
+        let f = g
+            .fates
+            .iter()
+            .find(|f| f.origin == EndOrigin::ExistingLeft)
+            .unwrap();
+        assert!(f.is_end_after && f.role == EndRole::Projected);
+    }
+
+    #[test]
+    fn ties_keep_the_existing_end_point() {
+        let e = [ep(0.0, 0.0, 50.0), ep(10.0, 0.0, 50.0)];
+        let g = update_match(e, ep(1.0, 0.5, 50.0), ep(9.0, 0.5, 50.0));
+        assert_eq!(role(&g, EndOrigin::ExistingLeft), EndRole::Kept);
+        assert_eq!(role(&g, EndOrigin::ExistingRight), EndRole::Kept);
+        assert_eq!(g.ends, e);
+    }
+
+    #[test]
+    fn figure_2_extension_keeps_the_middle_and_projects_the_weaker_outer_end() {
+        // Existing (0,0)-(10,0) at 40/60; new (8,0.3)-(20,1) at 50/70; n_L inside l_e.
+        // M = n_L (50 < 60). Outer: e_L 40 vs n_R 70 → e_L kept, n_R projected on e_L–M.
+        let e = [ep(0.0, 0.0, 40.0), ep(10.0, 0.0, 60.0)];
+        let g = update_extension(e, ep(8.0, 0.3, 50.0), ep(20.0, 1.0, 70.0), Side::Left);
+        assert_eq!(role(&g, EndOrigin::NewLeft), EndRole::Middle);
+        assert_eq!(role(&g, EndOrigin::ExistingRight), EndRole::Dropped);
+        assert_eq!(role(&g, EndOrigin::ExistingLeft), EndRole::Kept);
+        assert_eq!(role(&g, EndOrigin::NewRight), EndRole::Projected);
+        assert_eq!(g.ends[0], ep(0.0, 0.0, 40.0));
+        // Projection of (20, 1) on the line through (0,0) and (8, 0.3).
+        let dir = Point::new(8.0, 0.3) - Point::new(0.0, 0.0);
+        let t = Point::new(20.0, 1.0).coords.dot(&dir) / dir.norm_squared();
+        assert!((g.ends[1].point - Point::from(dir * t)).norm() < 1e-12);
+        assert_eq!(g.ends[1].range_m, 70.0);
+
+        // Symmetric: n_R inside, the new outer end more confident than e_R.
+        let g = update_extension(e, ep(-12.0, 0.5, 30.0), ep(2.0, 0.1, 45.0), Side::Right);
+        // M = e_L (40 < 45); outer n_L (30) beats e_R (60): l_u through n_L and e_L.
+        assert_eq!(role(&g, EndOrigin::ExistingLeft), EndRole::Middle);
+        assert_eq!(role(&g, EndOrigin::NewLeft), EndRole::Kept);
+        assert_eq!(role(&g, EndOrigin::ExistingRight), EndRole::Projected);
+        assert_eq!(g.ends[0], ep(-12.0, 0.5, 30.0));
+        assert_eq!(g.ends[1].range_m, 60.0);
+    }
+
+    #[test]
+    fn coinciding_defining_points_fall_back_to_total_least_squares() {
+        let e = [ep(0.0, 0.0, 40.0), ep(10.0, 0.0, 40.0)];
+        let g = update_extension(e, ep(0.0, 0.0, 30.0), ep(0.0, 0.0, 30.0), Side::Left);
+        assert!(g.fallback_tls);
+        assert!(g
+            .ends
+            .iter()
+            .all(|e| e.point.x.is_finite() && e.point.y.is_finite()));
+    }
+}
