@@ -2,3 +2,7 @@
 
 mod engine;
 mod engine_properties;
+mod cli;
+mod eval;
+mod log;
+mod sim;
