@@ -8,12 +8,12 @@
 //! scene → map view or SVG.
 #![warn(missing_docs)]
 
+pub mod assets;
+pub mod eval;
 pub mod geometry;
+pub mod log;
 pub mod mapping;
 pub mod run;
+pub mod sim;
 pub mod sonar;
 pub mod units;
-pub mod log;
-pub mod sim;
-pub mod eval;
-pub mod assets;

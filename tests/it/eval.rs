@@ -12,8 +12,14 @@ fn segment(id: u32, kind: SegmentKind, a: (f64, f64), b: (f64, f64), range_m: f6
     Segment {
         id,
         kind,
-        a: EndPoint { point: Point::new(a.0, a.1), range_m },
-        b: EndPoint { point: Point::new(b.0, b.1), range_m },
+        a: EndPoint {
+            point: Point::new(a.0, a.1),
+            range_m,
+        },
+        b: EndPoint {
+            point: Point::new(b.0, b.1),
+            range_m,
+        },
         face: id,
         object: id,
         created: 0,
@@ -25,20 +31,55 @@ fn segment(id: u32, kind: SegmentKind, a: (f64, f64), b: (f64, f64), range_m: f6
 #[test]
 fn eval_figures_of_a_hand_made_map() {
     // One 100 m wall along the x axis; units metres, ξ = 3 %: tolerance at D = 1 m is 0.03 m.
-    let plan = FloorPlan { walls: vec![Wall { a: Point::new(0.0, 0.0), b: Point::new(100.0, 0.0), roughness_rad: None }], circles: vec![] };
+    let plan = FloorPlan {
+        walls: vec![Wall {
+            a: Point::new(0.0, 0.0),
+            b: Point::new(100.0, 0.0),
+            roughness_rad: None,
+        }],
+        circles: vec![],
+    };
     let mut map = Map::default();
     // On the wall, end-points 0.01 m off: true; covers x 10..50.
-    map.segments.push(segment(0, SegmentKind::Fitted, (10.0, 0.01), (50.0, -0.01), 1.0));
+    map.segments.push(segment(
+        0,
+        SegmentKind::Fitted,
+        (10.0, 0.01),
+        (50.0, -0.01),
+        1.0,
+    ));
     // Half a metre off: spurious.
-    map.segments.push(segment(1, SegmentKind::Fitted, (60.0, 0.5), (80.0, 0.5), 1.0));
+    map.segments.push(segment(
+        1,
+        SegmentKind::Fitted,
+        (60.0, 0.5),
+        (80.0, 0.5),
+        1.0,
+    ));
     // Interpolated links do not count.
-    map.segments.push(segment(2, SegmentKind::Interpolated, (50.0, 0.0), (60.0, 0.5), 1.0));
+    map.segments.push(segment(
+        2,
+        SegmentKind::Interpolated,
+        (50.0, 0.0),
+        (60.0, 0.5),
+        1.0,
+    ));
     // One downward sonar; readings of 1 m from y = 1 hit the wall at x = 30, 45 and 90.
-    let layout = SensorLayout { mounts: vec![SensorMount { x_m: 0.0, y_m: 0.0, heading_rad: -std::f64::consts::FRAC_PI_2 }] };
+    let layout = SensorLayout {
+        mounts: vec![SensorMount {
+            x_m: 0.0,
+            y_m: 0.0,
+            heading_rad: -std::f64::consts::FRAC_PI_2,
+        }],
+    };
     let snapshots = [30.0, 45.0, 90.0]
         .iter()
         .enumerate()
-        .map(|(i, x)| Snapshot { t: i as f64, pose: Pose::new(*x, 1.0, 0.0), ranges_m: vec![Some(1.0)] })
+        .map(|(i, x)| Snapshot {
+            t: i as f64,
+            pose: Pose::new(*x, 1.0, 0.0),
+            ranges_m: vec![Some(1.0)],
+        })
         .collect();
     let run = Run {
         name: "hand".into(),
@@ -58,16 +99,30 @@ fn eval_figures_of_a_hand_made_map() {
     assert!((r.mean_angle_error_deg.unwrap() - angle_deg).abs() < 1e-9);
     assert!((r.coverage - 0.4).abs() < 1e-9);
     // Visible: three marks of ± 0.03 m (15 m apart > t_gap), two inside the covered span.
-    assert!((r.visible_length - 0.18).abs() < 1e-9, "{}", r.visible_length);
+    assert!(
+        (r.visible_length - 0.18).abs() < 1e-9,
+        "{}",
+        r.visible_length
+    );
     assert!((r.coverage_visible.unwrap() - 2.0 / 3.0).abs() < 1e-9);
     assert_eq!(r.units, "m");
 }
 
 #[test]
 fn an_empty_map_scores_zero() {
-    let plan = FloorPlan { walls: vec![Wall { a: Point::new(0.0, 0.0), b: Point::new(1.0, 0.0), roughness_rad: None }], circles: vec![] };
+    let plan = FloorPlan {
+        walls: vec![Wall {
+            a: Point::new(0.0, 0.0),
+            b: Point::new(1.0, 0.0),
+            roughness_rad: None,
+        }],
+        circles: vec![],
+    };
     let run = sonarmap::assets::default_run().unwrap();
     let r = evaluate(&Map::default(), &run, &plan, &Params::paper());
-    assert_eq!((r.segments, r.true_segments, r.coverage, r.spurious_fraction), (0, 0, 0.0, 0.0));
+    assert_eq!(
+        (r.segments, r.true_segments, r.coverage, r.spurious_fraction),
+        (0, 0, 0.0, 0.0)
+    );
     assert_eq!(r.mean_endpoint_error, None);
 }

@@ -1,8 +1,8 @@
 //! The integration tests: one binary, one module per area.
 
+mod cli;
 mod engine;
 mod engine_properties;
-mod cli;
 mod eval;
 mod log;
 mod sim;
