@@ -8,10 +8,14 @@
 //! scene → map view or SVG.
 #![warn(missing_docs)]
 
+pub mod assets;
 pub mod diff;
+pub mod eval;
 pub mod geometry;
+pub mod log;
 pub mod mapping;
 pub mod replay;
 pub mod run;
+pub mod sim;
 pub mod sonar;
 pub mod units;

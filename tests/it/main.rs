@@ -1,4 +1,8 @@
 //! The integration tests: one binary, one module per area.
 
+mod cli;
 mod engine;
 mod engine_properties;
+mod eval;
+mod log;
+mod sim;
