@@ -8,8 +8,10 @@
 //! scene → map view or SVG.
 #![warn(missing_docs)]
 
+pub mod export;
 pub mod geometry;
 pub mod mapping;
 pub mod run;
+pub mod scene;
 pub mod sonar;
 pub mod units;
