@@ -56,3 +56,6 @@ pub fn format_length(length_m: f64, units: crate::units::Units) -> String {
         format!("{:.1} {}", v, units.symbol())
     }
 }
+
+#[cfg(test)]
+mod tests;
