@@ -8,7 +8,7 @@
 use super::primitive::{MarkerShape, Primitive, Shape, TextAlign};
 use super::query::ViewRect;
 use super::style::{Glyph, Rgba, Style};
-use super::{format_length, Layer, Scene};
+use super::{format_length, Layer, LayerSet, Scene};
 use crate::geometry::{unit, Point};
 use crate::units::Units;
 use std::fmt::Write;
@@ -25,10 +25,14 @@ const LEGEND_WIDTH_PX: f64 = 190.0;
 const LEGEND_ROW_PX: f64 = 17.0;
 const FONT: &str = "DejaVu Sans, Verdana, Arial, sans-serif";
 
-/// The scene's bounds grown by 5 % on every side (a unit square around the origin when the
-/// scene is empty): a good default view.
+/// The bounds of the scene's content grown by 5 % on every side: a good default view. Beams
+/// and discarded readings are left out when anything else is drawn (a reading at maximum
+/// range would dwarf the map); a unit square around the origin for an empty scene.
 pub fn default_view(scene: &Scene) -> ViewRect {
-    match scene.bounds() {
+    let content = LayerSet::all()
+        .with(Layer::Beams, false)
+        .with(Layer::Discarded, false);
+    match scene.bounds_of(content).or_else(|| scene.bounds()) {
         Some(b) => {
             let margin_m = 0.05 * b.width_m().max(b.height_m()).max(1e-3);
             b.expanded(margin_m)
