@@ -11,11 +11,16 @@
 pub mod assets;
 pub mod diff;
 pub mod eval;
+pub mod export;
 pub mod geometry;
 pub mod log;
 pub mod mapping;
 pub mod replay;
 pub mod run;
+<<<<<<< HEAD
 pub mod sim;
+=======
+pub mod scene;
+>>>>>>> scene
 pub mod sonar;
 pub mod units;

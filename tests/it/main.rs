@@ -5,4 +5,5 @@ mod engine;
 mod engine_properties;
 mod eval;
 mod log;
+mod scene;
 mod sim;
