@@ -17,10 +17,7 @@ pub mod log;
 pub mod mapping;
 pub mod replay;
 pub mod run;
-<<<<<<< HEAD
-pub mod sim;
-=======
 pub mod scene;
->>>>>>> scene
+pub mod sim;
 pub mod sonar;
 pub mod units;
