@@ -131,6 +131,29 @@ pub struct Map {
 }
 
 impl Map {
+    /// A map holding `segments` (sorted by id), one face and one object per segment, indexed.
+    pub fn from_segments(mut segments: Vec<Segment>) -> Self {
+        segments.sort_by_key(|s| s.id);
+        let mut map = Map::default();
+        for s in segments {
+            map.next_segment_id = map.next_segment_id.max(s.id + 1);
+            map.next_face_id = map.next_face_id.max(s.face + 1);
+            map.next_object_id = map.next_object_id.max(s.object + 1);
+            match map.faces.binary_search_by_key(&s.face, |f| f.id) {
+                Ok(i) => map.faces[i].segments.push(s.id),
+                Err(i) => map.faces.insert(
+                    i,
+                    Face {
+                        id: s.face,
+                        segments: vec![s.id],
+                    },
+                ),
+            }
+            map.push_segment(s);
+        }
+        map
+    }
+
     /// The segment with `id`.
     pub fn segment(&self, id: SegmentId) -> Option<&Segment> {
         self.segments

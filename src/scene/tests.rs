@@ -186,17 +186,11 @@ fn fixture() -> Fixture {
             result: Some(1),
         },
     ];
-    let before = Map {
-        segments: vec![seg(0, (1.45, -0.3), (1.45, 0.3))],
-        ..Default::default()
-    };
-    let after = Map {
-        segments: vec![
-            seg(0, (1.5, -0.4), (1.5, 0.4)),
-            seg(1, (0.0, 1.5), (0.5, 1.5)),
-        ],
-        ..Default::default()
-    };
+    let before = Map::from_segments(vec![seg(0, (1.45, -0.3), (1.45, 0.3))]);
+    let after = Map::from_segments(vec![
+        seg(0, (1.5, -0.4), (1.5, 0.4)),
+        seg(1, (0.0, 1.5), (0.5, 1.5)),
+    ]);
     step.updates = vec![UpdateTrace {
         segment: 0,
         new_segment: 0,
