@@ -34,6 +34,24 @@ pub enum Command {
     /// Compare the map of a log with its floor plan; prints one JSON object.
     #[command(long_about = EVAL_HELP)]
     Eval(EvalArgs),
+    /// Measure the engine, loading, seeking and scene building; prints one JSON object.
+    Bench(BenchArgs),
+}
+
+/// `bench` options.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// The run log to measure (default: a generated building floor, driven back and forth).
+    pub log: Option<PathBuf>,
+    /// Snapshots of the generated run.
+    #[arg(long, default_value_t = 100_000)]
+    pub snapshots: usize,
+    /// Runs of each measurement (the median is printed).
+    #[arg(long, default_value_t = 3)]
+    pub repeats: usize,
+    /// Mapping parameters.
+    #[command(flatten)]
+    pub params: ParamArgs,
 }
 
 const EVAL_HELP: &str = "Compare the map of a log with its floor plan; prints one JSON object.
@@ -351,5 +369,20 @@ pub fn execute(command: &Command) -> Result<()> {
         Command::Run(a) => run_command(a),
         Command::Simulate(a) => simulate_command(a),
         Command::Eval(a) => eval_command(a),
+        Command::Bench(a) => bench_command(a),
     }
+}
+
+fn bench_command(args: &BenchArgs) -> Result<()> {
+    let run = match &args.log {
+        Some(path) => read_run(path)?,
+        None => sonarmap::bench::building_run(args.snapshots, 1),
+    };
+    if run.snapshots.is_empty() {
+        bail!("the run has no snapshot to measure");
+    }
+    let params = read_params(&args.params)?;
+    let report = sonarmap::bench::bench(&run, &params, args.repeats);
+    println!("{}", serde_json::to_string_pretty(&report)?);
+    Ok(())
 }

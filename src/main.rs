@@ -6,6 +6,10 @@ use clap::Parser;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+#[global_allocator]
+static ALLOCATOR: sonarmap::alloc_count::CountingAllocator =
+    sonarmap::alloc_count::CountingAllocator;
+
 /// Opens the inspector on `log` (the built-in Blue Room when `None`).
 fn open_app(log: Option<PathBuf>) -> anyhow::Result<()> {
     let _ = log;

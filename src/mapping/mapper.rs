@@ -29,6 +29,7 @@ pub struct Mapper {
     last_pose: Option<Pose>,
     next_snapshot: usize,
     brute_force: bool,
+    record_trace: bool,
 }
 
 /// The mutable state a checkpoint needs to resume a [`Mapper`].
@@ -55,7 +56,16 @@ impl Mapper {
             last_pose: None,
             next_snapshot: 0,
             brute_force: false,
+            record_trace: true,
         }
+    }
+
+    /// With `false`, steps return a slim trace: readings, decisions (without their candidate
+    /// lists), updates, correlations and warnings; no gaps, clusters, splits or new-segment
+    /// geometry. The map is the same either way.
+    pub fn with_trace(mut self, on: bool) -> Self {
+        self.record_trace = on;
+        self
     }
 
     /// Tests every map segment as a candidate instead of searching the spatial index (the
@@ -180,7 +190,10 @@ impl Mapper {
         trace.readings = readings;
         let (order, wraps) = (&self.bearing_order.0, self.bearing_order.1);
         let (clusters, gaps) = cluster_points(&kept, order, wraps, params.t_gap_m);
-        trace.gaps = gaps;
+        let chain_has_break = gaps.iter().any(|g| g.is_break);
+        if self.record_trace {
+            trace.gaps = gaps;
+        }
 
         // §3 fitting of each cluster (with constant-depth groups when on).
         let mut new_segments: Vec<NewSegmentTrace> = Vec::new();
@@ -198,8 +211,7 @@ impl Mapper {
             // Beyond ALGORITHM.md §2: a chain that wraps all round without a break is a closed
             // loop (its last point neighbours its first), so the fit closes it by repeating the
             // first point at the end; the reading itself is still traced once.
-            let closed_loop =
-                wraps && clusters.len() == 1 && !trace.gaps.iter().any(|g| g.is_break);
+            let closed_loop = wraps && clusters.len() == 1 && !chain_has_break;
             if closed_loop && fitted.len() >= 3 {
                 fitted.push(fitted[0]);
             }
@@ -219,13 +231,15 @@ impl Mapper {
             if chain.len() == 1 {
                 singles.push(fitted[0]);
             }
-            trace.clusters.push(ClusterTrace {
-                sensors: chain.iter().map(|q| q.reading.sensor).collect(),
-                constant_depth,
-                fitted,
-                splits,
-                new_segments: indices,
-            });
+            if self.record_trace {
+                trace.clusters.push(ClusterTrace {
+                    sensors: chain.iter().map(|q| q.reading.sensor).collect(),
+                    constant_depth,
+                    fitted,
+                    splits,
+                    new_segments: indices,
+                });
+            }
         }
 
         // §8 point memory.
@@ -318,7 +332,14 @@ impl Mapper {
             }
             trace.decisions.push(decision);
         }
-        trace.new_segments = new_segments;
+        if self.record_trace {
+            trace.new_segments = new_segments;
+        } else {
+            for d in &mut trace.decisions {
+                d.mpc_stage = Vec::new();
+                d.epc_stage = Vec::new();
+            }
+        }
 
         // §6 correlation of the new faces, in cluster order.
         if params.correlate {
