@@ -18,6 +18,9 @@ use crate::run::Snapshot;
 use crate::sonar::{SensorLayout, SensorSpec};
 use std::sync::Arc;
 
+/// Supporting readings a segment keeps (the most recent ones).
+pub const MAX_SUPPORT_POINTS: usize = 64;
+
 /// Runs the paper's algorithm snapshot by snapshot.
 #[derive(Clone, Debug)]
 pub struct Mapper {
@@ -131,10 +134,10 @@ impl Mapper {
         self.next_snapshot
     }
 
-    /// A copy of the state (for checkpoints).
+    /// A copy of the state (for checkpoints): segments are shared, the index is left out.
     pub fn state(&self) -> MapperState {
         MapperState {
-            map: self.map.clone(),
+            map: self.map.without_index(),
             last_pose: self.last_pose,
             next_snapshot: self.next_snapshot,
         }
@@ -143,6 +146,7 @@ impl Mapper {
     /// Resumes from a checkpoint.
     pub fn restore(&mut self, state: MapperState) {
         self.map = state.map;
+        self.map.rebuild_index();
         self.last_pose = state.last_pose;
         self.next_snapshot = state.next_snapshot;
     }
@@ -388,6 +392,12 @@ impl Mapper {
             .chain(new.points.iter())
             .copied()
             .collect();
+        // Beyond ALGORITHM.md §5: a segment keeps its most recent MAX_SUPPORT_POINTS readings,
+        // so an update costs the same after an hour of driving as after a minute.
+        if points.len() > MAX_SUPPORT_POINTS {
+            points.sort_by(|x, y| y.reading.cmp(&x.reading));
+            points.truncate(MAX_SUPPORT_POINTS);
+        }
         points.sort_by(|x, y| {
             projection_param(&x.point, &a.point, &b.point)
                 .total_cmp(&projection_param(&y.point, &a.point, &b.point))
