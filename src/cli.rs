@@ -46,6 +46,9 @@ pub struct BenchArgs {
     /// Snapshots of the generated run.
     #[arg(long, default_value_t = 100_000)]
     pub snapshots: usize,
+    /// Also write the generated run to this log file (to open it in the inspector).
+    #[arg(long)]
+    pub write_log: Option<PathBuf>,
     /// Runs of each measurement (the median is printed).
     #[arg(long, default_value_t = 3)]
     pub repeats: usize,
@@ -380,6 +383,9 @@ fn bench_command(args: &BenchArgs) -> Result<()> {
     };
     if run.snapshots.is_empty() {
         bail!("the run has no snapshot to measure");
+    }
+    if let Some(path) = &args.write_log {
+        write_atomic(path, &save_run(&run))?;
     }
     let params = read_params(&args.params)?;
     let report = sonarmap::bench::bench(&run, &params, args.repeats);

@@ -143,7 +143,7 @@ pub fn building_plan(spec: &BuildingSpec, seed: u64) -> Plan {
         ),
         units: Units::Metres,
         floor_plan: FloorPlan { walls, circles },
-        roughness_rad: 15f64.to_radians(),
+        roughness_rad: 8f64.to_radians(),
         robot_radius_m: Some(inches(9.0)),
         layout: SensorLayout::nomad_ring(inches(9.0)),
         sensor: SensorSpec::default(),
