@@ -6,10 +6,14 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use sonarmap::eval::{evaluate, EvalReport};
 use sonarmap::log::{load_run, parse_json, save_map, save_run};
 use sonarmap::mapping::{Mapper, Outcome, Params, ParamsFile, Preset, StepTrace};
+use sonarmap::replay::Replay;
 use sonarmap::run::Run;
+use sonarmap::scene::svg::{default_view, to_svg};
+use sonarmap::scene::{build_scene, Layer, LayerSet, SceneInput, ViewOptions};
 use sonarmap::sim::{load_plan, simulate, Model};
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Sonar resolution-based environment mapping (Cahut, Valavanis, Deliç): an inspector and
 /// headless tools. With no subcommand, opens the inspector on LOG (default: the built-in
@@ -287,11 +291,9 @@ impl std::fmt::Display for Summary {
 }
 
 fn run_command(args: &RunArgs) -> Result<()> {
-    if args.svg.is_some() {
-        bail!("--svg: SVG export is not yet available in this build");
-    }
     let run = read_run(&args.log)?;
     let params = read_params(&args.params)?;
+    let params_for_svg = params.clone();
     let (mapper, traces, summary) = map_run(&run, params, args.until, args.out_trace.is_some())?;
     if let Some(path) = &args.out_map {
         write_atomic(
@@ -315,8 +317,46 @@ fn run_command(args: &RunArgs) -> Result<()> {
         };
         write_atomic(path, &serde_json::to_string(&file)?)?;
     }
+    if let Some(path) = &args.svg {
+        write_atomic(
+            path,
+            &paper_figure_svg(&run, &params_for_svg, summary.snapshots - 1),
+        )?;
+    }
     println!("{summary}");
     Ok(())
+}
+
+/// The layers of a paper figure: ground truth, both snapshots' points, balls, fitted and map
+/// segments, updates, decisions, correlations, the robot and labels; no beams or discarded
+/// readings (they would dwarf the room).
+pub fn paper_figure_layers() -> LayerSet {
+    LayerSet::all()
+        .with(Layer::Beams, false)
+        .with(Layer::Discarded, false)
+        .with(Layer::MapBefore, false)
+        .with(Layer::Clusters, false)
+}
+
+/// The SVG of snapshot `k` of `run` as a paper figure (the whole content in view).
+pub fn paper_figure_svg(run: &Run, params: &Params, k: usize) -> String {
+    let replay = Replay::new(Arc::new(run.clone()), params.clone());
+    let view = replay.view(k).expect("k is within the run");
+    let input = SceneInput {
+        run,
+        snapshot: k,
+        step: &view.trace,
+        previous_step: view.previous.as_ref(),
+        map_before: &view.map_before,
+        map_after: &view.map_after,
+    };
+    let options = ViewOptions {
+        layers: paper_figure_layers(),
+        world_per_px: 0.0,
+    };
+    let scene = build_scene(&input, &options);
+    let title = format!("{} — snapshot {k}", run.name);
+    to_svg(&scene, default_view(&scene), (1000, 700), &title, run.units)
 }
 
 fn simulate_command(args: &SimulateArgs) -> Result<()> {

@@ -88,12 +88,41 @@ fn run_until_stops_early_and_rejects_a_snapshot_past_the_end() {
 }
 
 #[test]
-fn svg_is_not_available_yet() {
+fn run_svg_writes_the_snapshot_as_a_paper_figure() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("blue.svg");
     let log = assets("blue_room.log.json");
-    check_fails(
-        &["run", log.to_str().unwrap(), "--svg", "x.svg"],
-        &["not yet available"],
+    let o = sonarmap(&[
+        "run",
+        log.to_str().unwrap(),
+        "--until",
+        "1",
+        "--svg",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let svg = std::fs::read_to_string(&out).unwrap();
+    let tree = usvg::Tree::from_str(&svg, &usvg::Options::default()).expect("valid SVG");
+    assert!(tree.size().width() > 100.0);
+    for id in [
+        "floor-plan",
+        "map",
+        "current-points",
+        "previous-snapshot",
+        "balls",
+    ] {
+        assert!(
+            svg.contains(&format!("<g id=\"{id}\"")),
+            "layer {id} missing"
+        );
+    }
+    assert!(
+        !svg.contains("<g id=\"beams\""),
+        "beams are not part of a paper figure"
     );
+    assert!(svg.contains("snapshot 1"));
+    // Nothing is left behind but the file itself.
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
 }
 
 #[test]

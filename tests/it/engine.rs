@@ -350,6 +350,9 @@ fn simulated_blue_room_asset_maps_its_near_walls_without_spurious_segments() {
         let report = sonarmap::eval::evaluate(mapper.map(), &run, plan, &params);
         assert!(report.true_segments >= 2, "{report:?}");
         assert_eq!(report.spurious_fraction, 0.0, "{report:?}");
-        assert!(report.coverage_visible.is_some_and(|c| c > 0.4), "{report:?}");
+        assert!(
+            report.coverage_visible.is_some_and(|c| c > 0.4),
+            "{report:?}"
+        );
     }
 }
