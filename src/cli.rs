@@ -40,6 +40,29 @@ pub enum Command {
     Eval(EvalArgs),
     /// Measure the engine, loading, seeking and scene building; prints one JSON object.
     Bench(BenchArgs),
+    /// Compare the decisions of two parameter sets (A and B) on one log; prints one JSON object.
+    #[command(long_about = DIFF_HELP)]
+    Diff(DiffArgs),
+}
+
+const DIFF_HELP: &str = "Compare the decisions of two parameter sets on one log; prints one JSON object.
+
+New segments of A and B are paired by their supporting readings. A decision differs when the outcome differs (kind \"outcome\"), when the same outcome names another existing segment (\"existing_segment\"), or when only one parameter set fitted the segment (\"only_in_a\", \"only_in_b\"). Output: snapshots (where any decision differs), decisions (each with both sides: outcome, rule, existing segment), and eval_a / eval_b (the figures of `sonarmap eval`) when the log has a floor plan.";
+
+/// `sonarmap diff`.
+#[derive(Debug, Args)]
+pub struct DiffArgs {
+    /// The run log.
+    pub log: PathBuf,
+    /// Parameter set A.
+    #[command(flatten)]
+    pub a: ParamArgs,
+    /// A parameters file for B (FORMATS.md), applied on top of B's preset.
+    #[arg(long = "params-b", value_name = "B.json")]
+    pub params_b: Option<PathBuf>,
+    /// B's preset.
+    #[arg(long = "preset-b", value_enum, default_value = "paper")]
+    pub preset_b: PresetArg,
 }
 
 /// `bench` options.
@@ -323,7 +346,7 @@ fn run_command(args: &RunArgs) -> Result<()> {
             &paper_figure_svg(&run, &params_for_svg, summary.snapshots - 1),
         )?;
     }
-    println!("{summary}");
+    emit(&summary.to_string())?;
     Ok(())
 }
 
@@ -402,7 +425,7 @@ fn eval_command(args: &EvalArgs) -> Result<()> {
         snapshots: summary.snapshots,
         report,
     };
-    println!("{}", serde_json::to_string_pretty(&out)?);
+    emit(&serde_json::to_string_pretty(&out)?)?;
     Ok(())
 }
 
@@ -413,6 +436,7 @@ pub fn execute(command: &Command) -> Result<()> {
         Command::Simulate(a) => simulate_command(a),
         Command::Eval(a) => eval_command(a),
         Command::Bench(a) => bench_command(a),
+        Command::Diff(a) => diff_command(a),
     }
 }
 
@@ -429,6 +453,50 @@ fn bench_command(args: &BenchArgs) -> Result<()> {
     }
     let params = read_params(&args.params)?;
     let report = sonarmap::bench::bench(&run, &params, args.repeats);
-    println!("{}", serde_json::to_string_pretty(&report)?);
+    emit(&serde_json::to_string_pretty(&report)?)?;
     Ok(())
+}
+
+fn diff_command(args: &DiffArgs) -> Result<()> {
+    let run = read_run(&args.log)?;
+    let a = read_params(&args.a)?;
+    let b = read_params(&ParamArgs {
+        params: args.params_b.clone(),
+        preset: args.preset_b,
+    })?;
+    let diff = sonarmap::diff::diff_run(&run, &a, &b, &mut |_| true);
+    let eval = |params: &Params| -> Result<Option<EvalReport>> {
+        let Some(plan) = &run.floor_plan else {
+            return Ok(None);
+        };
+        let (mapper, _, _) = map_run(&run, params.clone(), None, false)?;
+        Ok(Some(evaluate(mapper.map(), &run, plan, params)))
+    };
+    #[derive(serde::Serialize)]
+    struct DiffOutput {
+        log: String,
+        snapshots_compared: usize,
+        #[serde(flatten)]
+        diff: sonarmap::diff::RunDiff,
+        eval_a: Option<EvalReport>,
+        eval_b: Option<EvalReport>,
+    }
+    let out = DiffOutput {
+        log: args.log.display().to_string(),
+        snapshots_compared: run.snapshots.len(),
+        eval_a: eval(&a)?,
+        eval_b: eval(&b)?,
+        diff,
+    };
+    emit(&serde_json::to_string_pretty(&out)?)?;
+    Ok(())
+}
+
+/// Prints a line on stdout; a closed pipe (`| head`) is not an error.
+fn emit(text: &str) -> Result<()> {
+    let mut out = std::io::stdout().lock();
+    match writeln!(out, "{text}").and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
+        _ => Ok(()),
+    }
 }

@@ -289,3 +289,36 @@ fn no_subcommand_opens_the_inspector_hook() {
     assert_eq!(help.status.code(), Some(0));
     assert!(text(&help.stdout).contains("coverage_visible"));
 }
+
+#[test]
+fn diff_reports_a_match_that_becomes_a_new_face() {
+    // ALGORITHM.md §4: colinearity passes when |d| ≤ ξ/100·(D1 + (D2+D3)/2). The Blue Room's
+    // upper wall moves by a few tenths of an inch between the snapshots, so shrinking ξ to
+    // 0.05 % turns its match into a new face.
+    let dir = tempfile::tempdir().unwrap();
+    let b = dir.path().join("b.json");
+    std::fs::write(&b, r#"{"accuracy_pct": 0.05}"#).unwrap();
+    let log = assets("blue_room.log.json");
+    let o = sonarmap(&[
+        "diff",
+        log.to_str().unwrap(),
+        "--params-b",
+        b.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["snapshots"], serde_json::json!([1]));
+    let decisions = v["decisions"].as_array().unwrap();
+    assert!(!decisions.is_empty());
+    for d in decisions {
+        assert_eq!(d["kind"], "outcome");
+        assert_eq!(d["a"]["outcome"], "match");
+        assert_eq!(d["b"]["outcome"], "new_face");
+        assert_eq!(d["b"]["rule"], "no_candidate_passed");
+    }
+    assert!(v["eval_a"]["segments"].is_number() && v["eval_b"]["segments"].is_number());
+    // The same parameters on both sides differ nowhere.
+    let o = sonarmap(&["diff", log.to_str().unwrap()]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["decisions"], serde_json::json!([]));
+}
