@@ -8,9 +8,11 @@
 //! scene → map view or SVG.
 #![warn(missing_docs)]
 
+pub mod export;
 pub mod geometry;
 pub mod mapping;
 pub mod replay;
 pub mod run;
+pub mod scene;
 pub mod sonar;
 pub mod units;

@@ -1,0 +1,628 @@
+//! `build_scene`: one step of a replay → a display list. Pure and allocation-light: it runs
+//! every frame in the app. Each layer is built only when it is switched on, and in drawing
+//! order, so the output needs no sorting.
+
+use super::layer::{Layer, LayerSet};
+use super::primitive::{MarkerShape, Primitive, SceneId, Shape, TextAlign};
+use super::style::{decision_marker, palette, Role};
+use super::{format_length, Scene};
+use crate::geometry::{lerp, projection_param, unit, Point, Pose};
+use crate::mapping::trace::{CorrelationKind, ReadingTrace};
+use crate::mapping::{Map, Outcome, SegmentKind, StepTrace};
+use crate::run::Run;
+use crate::units::inches;
+
+/// Everything a scene is built from: borrowed, never copied.
+#[derive(Clone, Copy, Debug)]
+pub struct SceneInput<'a> {
+    /// The run (layout, sensor, floor plan, poses; the path so far is
+    /// `run.snapshots[..=snapshot]`).
+    pub run: &'a Run,
+    /// Index `k` of the snapshot shown.
+    pub snapshot: usize,
+    /// The trace of step `k`.
+    pub step: &'a StepTrace,
+    /// The trace of step `k − 1`, for the previous snapshot's points.
+    pub previous_step: Option<&'a StepTrace>,
+    /// The map before step `k`.
+    pub map_before: &'a Map,
+    /// The map after step `k`.
+    pub map_after: &'a Map,
+}
+
+/// What to draw and at what level of detail.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ViewOptions {
+    /// The layers switched on.
+    pub layers: LayerSet,
+    /// World metres per screen pixel of the view the scene is for; `0` disables
+    /// level-of-detail culling. With it, balls smaller than a pixel, end-point dots of
+    /// segments shorter than a few pixels and labels of very short segments are skipped.
+    pub world_per_px: f64,
+}
+
+impl Default for ViewOptions {
+    fn default() -> Self {
+        ViewOptions {
+            layers: LayerSet::all(),
+            world_per_px: 0.0,
+        }
+    }
+}
+
+impl ViewOptions {
+    /// Every layer, no culling.
+    pub fn all() -> Self {
+        Self::default()
+    }
+
+    /// The options with `layer` switched `on` or off.
+    pub fn with_layer(mut self, layer: Layer, on: bool) -> Self {
+        self.layers.set(layer, on);
+        self
+    }
+}
+
+/// Builds the display list of step `input.snapshot` (see the module docs).
+pub fn build_scene(input: &SceneInput, options: &ViewOptions) -> Scene {
+    let mut b = Builder {
+        input,
+        options,
+        out: Vec::with_capacity(estimate(input)),
+        pose: input
+            .step
+            .pose
+            .or_else(|| input.run.snapshots.get(input.snapshot).map(|s| s.pose)),
+    };
+    for layer in options.layers.iter() {
+        match layer {
+            Layer::FloorPlan => b.floor_plan(),
+            Layer::MapBefore => b.map_before(),
+            Layer::Beams => b.beams(),
+            Layer::Balls => b.balls(),
+            Layer::Clusters => b.clusters(),
+            Layer::Updates => b.updates(),
+            Layer::Map => b.map_after(),
+            Layer::NewSegments => b.new_segments(),
+            Layer::PreviousSnapshot => b.previous_snapshot(),
+            Layer::CurrentPoints => b.current_points(),
+            Layer::Discarded => b.discarded(),
+            Layer::Decisions => b.decisions(),
+            Layer::Correlations => b.correlations(),
+            Layer::Robot => b.robot(),
+            Layer::Labels => b.labels(),
+        }
+    }
+    Scene {
+        title: format!("{} — snapshot {}", input.run.name, input.snapshot),
+        primitives: b.out,
+    }
+}
+
+fn estimate(input: &SceneInput) -> usize {
+    let segs = input.map_before.segments.len() + 3 * input.map_after.segments.len();
+    let readings = 4 * input.step.readings.len();
+    let decisions: usize = input
+        .step
+        .decisions
+        .iter()
+        .map(|d| 2 * d.mpc_stage.len() + 1)
+        .sum();
+    segs + readings + decisions + input.step.new_segments.len() * 2 + 16
+}
+
+struct Builder<'a, 'b> {
+    input: &'b SceneInput<'a>,
+    options: &'b ViewOptions,
+    out: Vec<Primitive>,
+    pose: Option<Pose>,
+}
+
+/// The reading of `sensor` (readings are stored in sensor order; fall back to a search).
+fn reading(step: &StepTrace, sensor: usize) -> Option<&ReadingTrace> {
+    match step.readings.get(sensor) {
+        Some(r) if r.sensor == sensor => Some(r),
+        _ => step.readings.iter().find(|r| r.sensor == sensor),
+    }
+}
+
+fn mid(a: &Point, b: &Point) -> Point {
+    nalgebra::center(a, b)
+}
+
+impl Builder<'_, '_> {
+    fn push(&mut self, layer: Layer, role: Role, id: SceneId, shape: Shape) {
+        self.out.push(Primitive {
+            layer,
+            role,
+            style: role.style(),
+            id,
+            shape,
+        });
+    }
+
+    fn px(&self, n: f64) -> f64 {
+        self.options.world_per_px * n
+    }
+
+    fn floor_plan(&mut self) {
+        let Some(plan) = &self.input.run.floor_plan else {
+            return;
+        };
+        for w in &plan.walls {
+            self.push(
+                Layer::FloorPlan,
+                Role::FloorPlan,
+                SceneId::FloorPlan,
+                Shape::Segment { a: w.a, b: w.b },
+            );
+        }
+        for c in &plan.circles {
+            let shape = Shape::Circle {
+                centre: c.centre,
+                radius_m: c.radius_m,
+            };
+            self.push(Layer::FloorPlan, Role::FloorPlan, SceneId::FloorPlan, shape);
+        }
+    }
+
+    fn map_before(&mut self) {
+        for s in &self.input.map_before.segments {
+            let shape = Shape::Segment {
+                a: s.a.point,
+                b: s.b.point,
+            };
+            self.push(
+                Layer::MapBefore,
+                Role::MapBefore,
+                SceneId::MapSegment(s.id),
+                shape,
+            );
+        }
+    }
+
+    fn beams(&mut self) {
+        let Some(pose) = self.pose else { return };
+        let run = self.input.run;
+        let half_angle_rad = 0.5 * run.sensor.beam_width_rad;
+        let k = self.input.snapshot;
+        for r in &self.input.step.readings {
+            let (Some(range_m), true) = (r.range_m, r.sensor < run.layout.len()) else {
+                continue;
+            };
+            let sensor = run.layout.sensor_pose_in_world(&pose, r.sensor);
+            let apex = sensor.position();
+            let id = SceneId::Reading {
+                snapshot: k,
+                sensor: r.sensor,
+            };
+            let radius_m = range_m.min(run.sensor.max_range_m);
+            let shape = Shape::Wedge {
+                apex,
+                heading_rad: sensor.heading_rad,
+                half_angle_rad,
+                radius_m,
+            };
+            self.push(Layer::Beams, Role::Beam, id, shape);
+            let end = apex + unit(sensor.heading_rad) * radius_m;
+            self.push(
+                Layer::Beams,
+                Role::Ray,
+                id,
+                Shape::Segment {
+                    a: apex,
+                    b: r.point.unwrap_or(end),
+                },
+            );
+        }
+    }
+
+    fn balls(&mut self) {
+        let min_radius_m = self.px(0.5);
+        let k = self.input.snapshot;
+        for r in &self.input.step.readings {
+            let (None, Some(centre)) = (r.discarded, r.point) else {
+                continue;
+            };
+            if r.ball_radius_m <= 0.0 || r.ball_radius_m < min_radius_m {
+                continue;
+            }
+            let id = SceneId::Reading {
+                snapshot: k,
+                sensor: r.sensor,
+            };
+            self.push(
+                Layer::Balls,
+                Role::Ball,
+                id,
+                Shape::Circle {
+                    centre,
+                    radius_m: r.ball_radius_m,
+                },
+            );
+        }
+    }
+
+    fn clusters(&mut self) {
+        let step = self.input.step;
+        for (i, c) in step.clusters.iter().enumerate() {
+            let points: Vec<Point> = c
+                .sensors
+                .iter()
+                .filter_map(|&s| reading(step, s).and_then(|r| r.point))
+                .collect();
+            let colour = palette::CLUSTERS[i % palette::CLUSTERS.len()];
+            let mut style = Role::Cluster.style();
+            style.stroke = Some(colour);
+            let id = SceneId::Cluster(i);
+            let shape = match points.len() {
+                0 => continue,
+                1 => {
+                    style.marker_size_px = 14.0;
+                    style.stroke_width_px = 3.0;
+                    Shape::Marker {
+                        at: points[0],
+                        shape: MarkerShape::Ring,
+                    }
+                }
+                _ => Shape::Polyline {
+                    points,
+                    closed: false,
+                },
+            };
+            self.out.push(Primitive {
+                layer: Layer::Clusters,
+                role: Role::Cluster,
+                style,
+                id,
+                shape,
+            });
+        }
+        let units = self.input.run.units;
+        for g in step.gaps.iter().filter(|g| g.is_break) {
+            let from = reading(step, g.from_sensor).and_then(|r| r.point);
+            let to = reading(step, g.to_sensor).and_then(|r| r.point);
+            let (Some(from), Some(to)) = (from, to) else {
+                continue;
+            };
+            let at = mid(&from, &to);
+            self.push(
+                Layer::Clusters,
+                Role::ClusterBreak,
+                SceneId::None,
+                Shape::Marker {
+                    at,
+                    shape: MarkerShape::Plus,
+                },
+            );
+            let text = format!("gap {}", format_length(g.distance_m, units));
+            let shape = Shape::Text {
+                anchor: at,
+                text,
+                offset_px: [0.0, 8.0],
+                align: TextAlign::Middle,
+            };
+            self.push(Layer::Clusters, Role::Label, SceneId::None, shape);
+        }
+    }
+
+    fn updates(&mut self) {
+        for u in &self.input.step.updates {
+            let id = SceneId::Update(u.segment);
+            let after = Shape::Segment {
+                a: u.after[0].point,
+                b: u.after[1].point,
+            };
+            self.push(Layer::Updates, Role::UpdateAfter, id, after);
+            let before = Shape::Segment {
+                a: u.before[0].point,
+                b: u.before[1].point,
+            };
+            self.push(Layer::Updates, Role::UpdateBefore, id, before);
+            for f in &u.fates {
+                if let Some(p) = f.projection {
+                    let shape = Shape::Segment {
+                        a: f.before.point,
+                        b: p,
+                    };
+                    self.push(Layer::Updates, Role::UpdateProjection, id, shape);
+                }
+            }
+        }
+    }
+
+    fn map_after(&mut self) {
+        let min_len_m = self.px(6.0);
+        for s in &self.input.map_after.segments {
+            let id = SceneId::MapSegment(s.id);
+            let role = match s.kind {
+                SegmentKind::Fitted => Role::MapFitted,
+                SegmentKind::Interpolated => Role::MapInterpolated,
+            };
+            self.push(
+                Layer::Map,
+                role,
+                id,
+                Shape::Segment {
+                    a: s.a.point,
+                    b: s.b.point,
+                },
+            );
+            if s.kind == SegmentKind::Fitted && s.length() >= min_len_m {
+                for at in [s.a.point, s.b.point] {
+                    self.push(
+                        Layer::Map,
+                        Role::MapEndPoint,
+                        id,
+                        Shape::Marker {
+                            at,
+                            shape: MarkerShape::Dot,
+                        },
+                    );
+                }
+            }
+        }
+    }
+
+    fn new_segments(&mut self) {
+        for (i, n) in self.input.step.new_segments.iter().enumerate() {
+            let shape = Shape::Segment {
+                a: n.a.point,
+                b: n.b.point,
+            };
+            self.push(
+                Layer::NewSegments,
+                Role::NewSegment,
+                SceneId::NewSegment(i),
+                shape,
+            );
+        }
+    }
+
+    fn previous_snapshot(&mut self) {
+        let Some(prev) = self.input.previous_step else {
+            return;
+        };
+        for n in &prev.new_segments {
+            let shape = Shape::Segment {
+                a: n.a.point,
+                b: n.b.point,
+            };
+            self.push(
+                Layer::PreviousSnapshot,
+                Role::PreviousSegment,
+                SceneId::None,
+                shape,
+            );
+        }
+        for r in &prev.readings {
+            let (None, Some(at)) = (r.discarded, r.point) else {
+                continue;
+            };
+            let id = SceneId::Reading {
+                snapshot: prev.snapshot,
+                sensor: r.sensor,
+            };
+            let shape = Shape::Marker {
+                at,
+                shape: MarkerShape::Dot,
+            };
+            self.push(Layer::PreviousSnapshot, Role::PreviousPoint, id, shape);
+        }
+    }
+
+    fn current_points(&mut self) {
+        let k = self.input.snapshot;
+        for r in &self.input.step.readings {
+            let (None, Some(at)) = (r.discarded, r.point) else {
+                continue;
+            };
+            let id = SceneId::Reading {
+                snapshot: k,
+                sensor: r.sensor,
+            };
+            self.push(
+                Layer::CurrentPoints,
+                Role::CurrentPoint,
+                id,
+                Shape::Marker {
+                    at,
+                    shape: MarkerShape::Dot,
+                },
+            );
+        }
+    }
+
+    fn discarded(&mut self) {
+        let k = self.input.snapshot;
+        for r in &self.input.step.readings {
+            let (Some(_), Some(at)) = (r.discarded, r.point) else {
+                continue;
+            };
+            let id = SceneId::Reading {
+                snapshot: k,
+                sensor: r.sensor,
+            };
+            self.push(
+                Layer::Discarded,
+                Role::Discarded,
+                id,
+                Shape::Marker {
+                    at,
+                    shape: MarkerShape::Cross,
+                },
+            );
+        }
+    }
+
+    fn decisions(&mut self) {
+        let step = self.input.step;
+        for d in &step.decisions {
+            let Some(n) = step.new_segments.get(d.new_segment) else {
+                continue;
+            };
+            let from = mid(&n.a.point, &n.b.point);
+            let decided = outcome_role(d.outcome);
+            for c in &d.mpc_stage {
+                let existing = c.evaluation.existing;
+                let seg = self
+                    .input
+                    .map_before
+                    .segment(existing)
+                    .or_else(|| self.input.map_after.segment(existing));
+                let Some(seg) = seg else { continue };
+                let t = projection_param(&from, &seg.a.point, &seg.b.point).clamp(0.0, 1.0);
+                let to = lerp(&seg.a.point, &seg.b.point, t);
+                let role = match d.outcome {
+                    Outcome::Match | Outcome::Extension | Outcome::Dismissed
+                        if d.existing == Some(existing) =>
+                    {
+                        decided
+                    }
+                    _ => Role::DecisionFailed,
+                };
+                let id = SceneId::Decision {
+                    new_segment: d.new_segment,
+                    existing: Some(existing),
+                };
+                self.push(
+                    Layer::Decisions,
+                    role,
+                    id,
+                    Shape::Segment { a: from, b: to },
+                );
+                self.push(
+                    Layer::Decisions,
+                    role,
+                    id,
+                    Shape::Marker {
+                        at: to,
+                        shape: decision_marker(role),
+                    },
+                );
+            }
+            let id = SceneId::Decision {
+                new_segment: d.new_segment,
+                existing: None,
+            };
+            self.push(
+                Layer::Decisions,
+                decided,
+                id,
+                Shape::Marker {
+                    at: from,
+                    shape: decision_marker(decided),
+                },
+            );
+        }
+    }
+
+    fn correlations(&mut self) {
+        for (i, c) in self.input.step.correlations.iter().enumerate() {
+            let id = SceneId::Correlation(i);
+            match c.result {
+                CorrelationKind::Corner { point } => {
+                    self.push(
+                        Layer::Correlations,
+                        Role::Corner,
+                        id,
+                        Shape::Marker {
+                            at: point,
+                            shape: MarkerShape::Square,
+                        },
+                    );
+                }
+                CorrelationKind::Interpolated { link, .. } => {
+                    let Some(s) = self.input.map_after.segment(link) else {
+                        continue;
+                    };
+                    let shape = Shape::Segment {
+                        a: s.a.point,
+                        b: s.b.point,
+                    };
+                    self.push(Layer::Correlations, Role::MapInterpolated, id, shape);
+                }
+                CorrelationKind::None => {}
+            }
+        }
+    }
+
+    fn robot(&mut self) {
+        let run = self.input.run;
+        let k = self.input.snapshot;
+        let radius_m = run.robot_radius_m.unwrap_or(inches(9.0));
+        let path = &run.snapshots[..(k + 1).min(run.snapshots.len())];
+        if path.len() >= 2 {
+            let points = path.iter().map(|s| s.pose.position()).collect();
+            self.push(
+                Layer::Robot,
+                Role::RobotPath,
+                SceneId::Robot,
+                Shape::Polyline {
+                    points,
+                    closed: false,
+                },
+            );
+            let prev = path[path.len() - 2].pose.position();
+            self.push(
+                Layer::Robot,
+                Role::RobotPrevious,
+                SceneId::Robot,
+                Shape::Circle {
+                    centre: prev,
+                    radius_m,
+                },
+            );
+        }
+        let Some(pose) = self.pose else { return };
+        let centre = pose.position();
+        self.push(
+            Layer::Robot,
+            Role::Robot,
+            SceneId::Robot,
+            Shape::Circle { centre, radius_m },
+        );
+        let nose = centre + unit(pose.heading_rad) * radius_m;
+        self.push(
+            Layer::Robot,
+            Role::Robot,
+            SceneId::Robot,
+            Shape::Segment { a: centre, b: nose },
+        );
+    }
+
+    fn labels(&mut self) {
+        let min_len_m = self.px(12.0);
+        for s in &self.input.map_after.segments {
+            if s.length() < min_len_m {
+                continue;
+            }
+            let shape = Shape::Text {
+                anchor: s.mid(),
+                text: format!("s{}", s.id),
+                offset_px: [4.0, 4.0],
+                align: TextAlign::Start,
+            };
+            self.push(Layer::Labels, Role::Label, SceneId::MapSegment(s.id), shape);
+        }
+        for (i, n) in self.input.step.new_segments.iter().enumerate() {
+            let shape = Shape::Text {
+                anchor: mid(&n.a.point, &n.b.point),
+                text: format!("n{i}"),
+                offset_px: [-4.0, -14.0],
+                align: TextAlign::End,
+            };
+            self.push(Layer::Labels, Role::Label, SceneId::NewSegment(i), shape);
+        }
+    }
+}
+
+/// The decision role of an outcome.
+fn outcome_role(outcome: Outcome) -> Role {
+    match outcome {
+        Outcome::Match => Role::DecisionMatch,
+        Outcome::Extension => Role::DecisionExtension,
+        Outcome::Dismissed => Role::DecisionDismissed,
+        Outcome::NewFace => Role::DecisionNewFace,
+    }
+}
