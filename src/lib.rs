@@ -16,3 +16,7 @@ pub mod run;
 pub mod scene;
 pub mod sonar;
 pub mod units;
+pub mod log;
+pub mod sim;
+pub mod eval;
+pub mod assets;

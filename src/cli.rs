@@ -1,0 +1,332 @@
+//! The command line (FORMATS.md): `run`, `simulate`, `eval`. Reads and writes files; every
+//! write goes to a temporary file in the target's directory and is renamed into place.
+
+use anyhow::{anyhow, bail, Context, Result};
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use sonarmap::eval::{evaluate, EvalReport};
+use sonarmap::log::{load_run, parse_json, save_map, save_run};
+use sonarmap::mapping::{Mapper, Outcome, Params, ParamsFile, Preset, StepTrace};
+use sonarmap::run::Run;
+use sonarmap::sim::{load_plan, simulate, Model};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Sonar resolution-based environment mapping (Cahut, Valavanis, Deliç): an inspector and
+/// headless tools. With no subcommand, opens the inspector on LOG (default: the built-in
+/// Blue Room).
+#[derive(Debug, Parser)]
+#[command(name = "sonarmap", version, args_conflicts_with_subcommands = true)]
+pub struct Cli {
+    /// A run log to open in the inspector.
+    pub log: Option<PathBuf>,
+    /// What to do headlessly.
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Run the mapper over a log and write the map and the trace.
+    Run(RunArgs),
+    /// Make a run log from a floor plan with the sonar simulator.
+    Simulate(SimulateArgs),
+    /// Compare the map of a log with its floor plan; prints one JSON object.
+    #[command(long_about = EVAL_HELP)]
+    Eval(EvalArgs),
+}
+
+const EVAL_HELP: &str = "Compare the map of a log with its floor plan; prints one JSON object.
+
+Only fitted segments count. The tolerance of an end-point with range D is the sonar resolution xi*D/100 (xi = the accuracy_pct parameter), at least 1 in.
+  segments             fitted segments in the map
+  true_segments        segments whose two end-points lie within their tolerance of one wall and whose angle to it is at most theta_o (orientation_deg), or whose end-points lie within tolerance of one pillar
+  spurious_fraction    1 - true_segments / segments
+  mean_endpoint_error  mean distance of true segments' end-points to their wall or pillar, in the log's units
+  mean_angle_error_deg mean angle between true segments and their walls
+  coverage             length of the walls covered by true segments (union of their end-points projected on their wall) over the total wall length
+  coverage_visible     covered length inside the visible part of the walls over the visible length. A wall is visible around each kept reading (an echo below max_range, within [min_range, d_max]) whose beam-axis point is within its tolerance of the wall: +- the tolerance around the projection, and marks no more than t_gap apart along the wall are joined.
+  wall_length, visible_length, covered_length  in the log's units";
+
+/// The parameter preset.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum PresetArg {
+    /// The paper alone.
+    Paper,
+    /// The paper with point memory and constant-depth groups.
+    Extended,
+}
+
+impl From<PresetArg> for Preset {
+    fn from(p: PresetArg) -> Preset {
+        match p {
+            PresetArg::Paper => Preset::Paper,
+            PresetArg::Extended => Preset::Extended,
+        }
+    }
+}
+
+/// Mapping parameters shared by `run` and `eval`.
+#[derive(Debug, Args)]
+pub struct ParamArgs {
+    /// A parameters file (FORMATS.md), applied on top of the preset.
+    #[arg(long, value_name = "P.json")]
+    pub params: Option<PathBuf>,
+    /// The parameter preset.
+    #[arg(long, value_enum, default_value = "paper")]
+    pub preset: PresetArg,
+}
+
+/// `sonarmap run`.
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// The run log.
+    pub log: PathBuf,
+    /// Mapping parameters.
+    #[command(flatten)]
+    pub params: ParamArgs,
+    /// Apply snapshots 0..=N only (default: all).
+    #[arg(long, value_name = "N")]
+    pub until: Option<usize>,
+    /// Write the map here (`sonarmap-map` v1, the log's units).
+    #[arg(long, value_name = "M.json")]
+    pub out_map: Option<PathBuf>,
+    /// Write the step traces here (JSON, metres).
+    #[arg(long, value_name = "T.json")]
+    pub out_trace: Option<PathBuf>,
+    /// Write an SVG of the map here.
+    #[arg(long, value_name = "V.svg")]
+    pub svg: Option<PathBuf>,
+}
+
+/// `sonarmap simulate`.
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    /// The floor plan (`sonarmap-plan` v1).
+    pub plan: PathBuf,
+    /// Where to write the run log.
+    #[arg(long, value_name = "LOG.json")]
+    pub out: PathBuf,
+    /// Seed of the noise.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Echo model.
+    #[arg(long, value_enum, default_value = "specular")]
+    pub model: ModelArg,
+}
+
+/// The echo model.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum ModelArg {
+    /// Beam cone, incidence limit (roughness), corner reflectors.
+    Specular,
+    /// One ray on the axis, first hit whatever the angle.
+    Axis,
+}
+
+/// `sonarmap eval`.
+#[derive(Debug, Args)]
+pub struct EvalArgs {
+    /// The run log.
+    pub log: PathBuf,
+    /// Mapping parameters.
+    #[command(flatten)]
+    pub params: ParamArgs,
+    /// Floor plan to compare with (default: the log's own `floor_plan`).
+    #[arg(long, value_name = "PLAN.json")]
+    pub plan: Option<PathBuf>,
+}
+
+fn read(path: &Path) -> Result<Vec<u8>> {
+    std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))
+}
+
+/// Reads and loads a run log.
+pub fn read_run(path: &Path) -> Result<Run> {
+    Ok(load_run(&read(path)?, &path.display().to_string())?)
+}
+
+/// The parameters from a preset and an optional `--params` file.
+pub fn read_params(args: &ParamArgs) -> Result<Params> {
+    let base = Params::preset(args.preset.into());
+    match &args.params {
+        None => Ok(base),
+        Some(path) => {
+            let name = path.display().to_string();
+            let file: ParamsFile = parse_json(&read(path)?, &name)?;
+            base.with_file(&file).with_context(|| format!("{name}: bad parameters"))
+        }
+    }
+}
+
+/// Writes `text` to a temporary file next to `path` and renames it into place.
+pub fn write_atomic(path: &Path, text: &str) -> Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let name = path.file_name().ok_or_else(|| anyhow!("{} is not a file name", path.display()))?;
+    let tmp = dir.join(format!(".{}.tmp-{}", name.to_string_lossy(), std::process::id()));
+    let result = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(text.as_bytes())?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result.with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// Runs the mapper over snapshots `0..=until` and returns the mapper and the traces.
+pub fn map_run(run: &Run, params: Params, until: Option<usize>, keep_traces: bool) -> Result<(Mapper, Vec<StepTrace>, Summary)> {
+    let last = run.snapshots.len() - 1;
+    let until = match until {
+        Some(n) if n > last => bail!("--until {n} is beyond the last snapshot, {last}"),
+        Some(n) => n,
+        None => last,
+    };
+    let mut mapper = Mapper::new(params, run.layout.clone(), run.sensor);
+    let mut traces = Vec::new();
+    let mut summary = Summary::default();
+    for snapshot in &run.snapshots[..=until] {
+        let trace = mapper.step(snapshot);
+        summary.add(&trace);
+        if keep_traces {
+            traces.push(trace);
+        }
+    }
+    summary.segments = mapper.map().segments.len();
+    Ok((mapper, traces, summary))
+}
+
+/// Counts over a run, for the one-line summary.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Summary {
+    /// Snapshots applied.
+    pub snapshots: usize,
+    /// Readings kept.
+    pub kept: usize,
+    /// Readings discarded.
+    pub discarded: usize,
+    /// Segments in the map.
+    pub segments: usize,
+    /// Decisions by outcome.
+    pub matches: usize,
+    /// Extensions.
+    pub extensions: usize,
+    /// Dismissals.
+    pub dismissals: usize,
+    /// New faces.
+    pub new_faces: usize,
+}
+
+impl Summary {
+    fn add(&mut self, trace: &StepTrace) {
+        self.snapshots += 1;
+        for r in &trace.readings {
+            if r.discarded.is_some() {
+                self.discarded += 1;
+            } else {
+                self.kept += 1;
+            }
+        }
+        for d in &trace.decisions {
+            match d.outcome {
+                Outcome::Match => self.matches += 1,
+                Outcome::Extension => self.extensions += 1,
+                Outcome::Dismissed => self.dismissals += 1,
+                Outcome::NewFace => self.new_faces += 1,
+            }
+        }
+    }
+}
+
+impl std::fmt::Display for Summary {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        write!(
+            f,
+            "snapshots {}, readings kept {} discarded {}, segments {}, matches {}, extensions {}, dismissals {}, new faces {}",
+            self.snapshots, self.kept, self.discarded, self.segments, self.matches, self.extensions, self.dismissals, self.new_faces
+        )
+    }
+}
+
+fn run_command(args: &RunArgs) -> Result<()> {
+    if args.svg.is_some() {
+        bail!("--svg: SVG export is not yet available in this build");
+    }
+    let run = read_run(&args.log)?;
+    let params = read_params(&args.params)?;
+    let (mapper, traces, summary) = map_run(&run, params, args.until, args.out_trace.is_some())?;
+    if let Some(path) = &args.out_map {
+        write_atomic(path, &save_map(mapper.map(), run.units, summary.snapshots - 1))?;
+    }
+    if let Some(path) = &args.out_trace {
+        #[derive(serde::Serialize)]
+        struct TraceFile<'a> {
+            format: &'static str,
+            version: u32,
+            units: &'static str,
+            steps: &'a [StepTrace],
+        }
+        let file = TraceFile { format: "sonarmap-trace", version: 1, units: "m", steps: &traces };
+        write_atomic(path, &serde_json::to_string(&file)?)?;
+    }
+    println!("{summary}");
+    Ok(())
+}
+
+fn simulate_command(args: &SimulateArgs) -> Result<()> {
+    let plan = load_plan(&read(&args.plan)?, &args.plan.display().to_string())?;
+    let model = match args.model {
+        ModelArg::Specular => Model::Specular,
+        ModelArg::Axis => Model::Axis,
+    };
+    let run = simulate(&plan, model, args.seed);
+    write_atomic(&args.out, &save_run(&run))
+}
+
+/// The figures `eval` prints, with what produced them.
+#[derive(Debug, serde::Serialize)]
+struct EvalOutput {
+    log: String,
+    preset: &'static str,
+    snapshots: usize,
+    #[serde(flatten)]
+    report: EvalReport,
+}
+
+fn eval_command(args: &EvalArgs) -> Result<()> {
+    let run = read_run(&args.log)?;
+    let params = read_params(&args.params)?;
+    let floor_plan = match &args.plan {
+        Some(path) => load_plan(&read(path)?, &path.display().to_string())?.floor_plan,
+        None => run.floor_plan.clone().ok_or_else(|| {
+            anyhow!("{}: the log has no floor_plan; give one with --plan PLAN.json", args.log.display())
+        })?,
+    };
+    let (mapper, _, summary) = map_run(&run, params.clone(), None, false)?;
+    let report = evaluate(mapper.map(), &run, &floor_plan, &params);
+    let out = EvalOutput {
+        log: args.log.display().to_string(),
+        preset: match args.params.preset {
+            PresetArg::Paper => "paper",
+            PresetArg::Extended => "extended",
+        },
+        snapshots: summary.snapshots,
+        report,
+    };
+    println!("{}", serde_json::to_string_pretty(&out)?);
+    Ok(())
+}
+
+/// Runs a subcommand.
+pub fn execute(command: &Command) -> Result<()> {
+    match command {
+        Command::Run(a) => run_command(a),
+        Command::Simulate(a) => simulate_command(a),
+        Command::Eval(a) => eval_command(a),
+    }
+}

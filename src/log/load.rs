@@ -1,0 +1,304 @@
+//! Reading a run log: bytes → [`LogFile`] → [`Run`] in metres, with every check of FORMATS.md.
+
+use super::duplicates::{check_duplicates, Found};
+use super::error::LogError;
+use super::file::{FloorPlanFile, LogFile, RobotFile, SensorFile, SonarsFile, LOG_FORMAT};
+use crate::geometry::{Point, Pose};
+use crate::run::{Circle, FloorPlan, Run, Snapshot, Wall};
+use crate::sonar::{SensorLayout, SensorMount, SensorSpec};
+use crate::units::Units;
+use serde::de::DeserializeOwned;
+
+/// The most sensors a layout may have; more is taken as a broken file.
+pub const MAX_SENSORS: usize = 10_000;
+
+/// The UTF-8 byte-order mark, skipped when a file starts with it.
+const BOM: &[u8] = b"\xEF\xBB\xBF";
+
+/// Parses a run log (FORMATS.md, `sonarmap-log` v1) into a [`Run`] in metres.
+/// `source_name` names the file in error messages. Pure: reads no file.
+pub fn load_run(bytes: &[u8], source_name: &str) -> Result<Run, LogError> {
+    let file: LogFile = parse_json(bytes, source_name)?;
+    run_from_file(file, source_name)
+}
+
+/// Parses JSON into `T`: skips a byte-order mark, rejects duplicated keys, and reports the JSON
+/// path of any value of the wrong shape. Deserialises from the slice directly (no `Value` tree).
+pub fn parse_json<T: DeserializeOwned>(bytes: &[u8], source_name: &str) -> Result<T, LogError> {
+    let bytes = bytes.strip_prefix(BOM).unwrap_or(bytes);
+    let found = Found::default();
+    if let Err(e) = check_duplicates(bytes, &found) {
+        if let Some((path, key)) = found.into_inner() {
+            return Err(LogError::DuplicateKey {
+                file: source_name.to_string(),
+                path,
+                key,
+                line: e.line(),
+                column: e.column(),
+            });
+        }
+        return Err(LogError::NotJson {
+            file: source_name.to_string(),
+            message: strip_location(&e),
+            line: e.line(),
+            column: e.column(),
+        });
+    }
+    let mut de = serde_json::Deserializer::from_slice(bytes);
+    let value: T = serde_path_to_error::deserialize(&mut de).map_err(|e| {
+        let path = format!("$.{}", e.path()).replace("$.[", "$[").replace("$..", "$.");
+        let inner = e.into_inner();
+        LogError::Shape {
+            file: source_name.to_string(),
+            path: if path == "$.." || path == "$." { "$".to_string() } else { path },
+            message: strip_location(&inner),
+            line: inner.line(),
+            column: inner.column(),
+        }
+    })?;
+    Ok(value)
+}
+
+/// serde_json's message without its " at line L column C" suffix (we print our own).
+fn strip_location(e: &serde_json::Error) -> String {
+    let text = e.to_string();
+    match text.rfind(" at line ") {
+        Some(i) => text[..i].to_string(),
+        None => text,
+    }
+}
+
+/// Checks `format` and `version`.
+pub(crate) fn check_header(
+    format: &str,
+    version: &serde_json::Number,
+    expected: &'static str,
+    file: &str,
+) -> Result<(), LogError> {
+    if format != expected {
+        return Err(LogError::WrongFormat { file: file.to_string(), found: format.to_string(), expected });
+    }
+    if version.as_u64() != Some(1) {
+        return Err(LogError::UnsupportedVersion { file: file.to_string(), found: version.to_string() });
+    }
+    Ok(())
+}
+
+/// Parses the `units` field.
+pub(crate) fn parse_units(units: &str, file: &str) -> Result<Units, LogError> {
+    Units::parse(units).ok_or_else(|| LogError::UnknownUnits { file: file.to_string(), found: units.to_string() })
+}
+
+fn bad(file: &str, path: impl Into<String>, value: impl ToString, expected: &'static str) -> LogError {
+    LogError::BadValue { file: file.to_string(), path: path.into(), value: value.to_string(), expected }
+}
+
+/// Checks a number is finite; `path` names it.
+fn finite(v: f64, file: &str, path: impl Into<String>) -> Result<f64, LogError> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(bad(file, path, v, "a finite number"))
+    }
+}
+
+/// Checks a length is finite and at least 0.
+fn non_negative(v: f64, file: &str, path: impl Into<String>) -> Result<f64, LogError> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(bad(file, path, v, "a finite number of at least 0"))
+    }
+}
+
+/// The layout and body radius (metres) of a `robot` block.
+pub(crate) fn layout_from_robot(
+    robot: &RobotFile,
+    units: Units,
+    file: &str,
+    at: &str,
+) -> Result<(SensorLayout, Option<f64>), LogError> {
+    let radius_m = match robot.radius {
+        Some(r) => Some(units.to_m(non_negative(r, file, format!("{at}.radius"))?)),
+        None => None,
+    };
+    let layout = match &robot.sonars {
+        SonarsFile::Ring(ring) => {
+            let path = format!("{at}.sonars.ring");
+            let count = ring.count;
+            if !(count.is_finite() && count.fract() == 0.0 && count >= 0.0) {
+                return Err(bad(file, format!("{path}.count"), count, "a whole number of sonars"));
+            }
+            if count == 0.0 {
+                return Err(bad(file, format!("{path}.count"), count, "at least one sonar"));
+            }
+            if count > MAX_SENSORS as f64 {
+                return Err(bad(file, format!("{path}.count"), count, "at most 10000 sonars"));
+            }
+            let spacing = finite(ring.spacing_deg, file, format!("{path}.spacing_deg"))?;
+            let first = finite(ring.first_deg.unwrap_or(0.0), file, format!("{path}.first_deg"))?;
+            let Some(radius_m) = radius_m else {
+                return Err(bad(file, format!("{at}.radius"), "nothing", "the robot radius (required with the ring: it is the mount radius)"));
+            };
+            SensorLayout::ring(count as usize, spacing.to_radians(), first.to_radians(), radius_m)
+        }
+        SonarsFile::Mounts(mounts) => {
+            let path = format!("{at}.sonars");
+            if mounts.is_empty() {
+                return Err(LogError::Empty { file: file.to_string(), path, expected: "at least one sonar" });
+            }
+            if mounts.len() > MAX_SENSORS {
+                return Err(bad(file, path, mounts.len(), "at most 10000 sonars"));
+            }
+            let mounts = mounts
+                .iter()
+                .enumerate()
+                .map(|(k, m)| {
+                    Ok(SensorMount {
+                        x_m: units.to_m(finite(m.x, file, format!("{path}[{k}].x"))?),
+                        y_m: units.to_m(finite(m.y, file, format!("{path}[{k}].y"))?),
+                        heading_rad: finite(m.heading_deg, file, format!("{path}[{k}].heading_deg"))?.to_radians(),
+                    })
+                })
+                .collect::<Result<Vec<_>, LogError>>()?;
+            SensorLayout { mounts }
+        }
+    };
+    Ok((layout, radius_m))
+}
+
+/// The sensor of a `sensor` block (absent fields: the Polaroid 6500).
+pub(crate) fn sensor_from_file(
+    sensor: Option<&SensorFile>,
+    units: Units,
+    file: &str,
+    at: &str,
+) -> Result<SensorSpec, LogError> {
+    let default = SensorSpec::default();
+    let Some(s) = sensor else { return Ok(default) };
+    let positive = |v: f64, name: &str| {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(bad(file, format!("{at}.{name}"), v, "a finite number greater than 0"))
+        }
+    };
+    let spec = SensorSpec {
+        accuracy_pct: match s.accuracy_pct {
+            Some(v) => positive(v, "accuracy_pct")?,
+            None => default.accuracy_pct,
+        },
+        beam_width_rad: match s.beam_width_deg {
+            Some(v) => positive(v, "beam_width_deg")?.to_radians(),
+            None => default.beam_width_rad,
+        },
+        max_range_m: match s.max_range {
+            Some(v) => units.to_m(positive(v, "max_range")?),
+            None => default.max_range_m,
+        },
+        min_range_m: match s.min_range {
+            Some(v) => units.to_m(non_negative(v, file, format!("{at}.min_range"))?),
+            None => default.min_range_m,
+        },
+    };
+    Ok(spec)
+}
+
+/// Walls and circles of a `floor_plan` (or a plan file's top level), in metres.
+pub(crate) fn floor_plan_from_file(
+    plan: &FloorPlanFile,
+    units: Units,
+    file: &str,
+    at: &str,
+) -> Result<FloorPlan, LogError> {
+    let mut walls = Vec::with_capacity(plan.walls.len());
+    for (i, w) in plan.walls.iter().enumerate() {
+        let path = format!("{at}walls[{i}]");
+        if w.len() != 4 && w.len() != 5 {
+            return Err(bad(file, path, format!("{} numbers", w.len()), "[x1, y1, x2, y2] or [x1, y1, x2, y2, roughness_deg]"));
+        }
+        for (j, v) in w.iter().enumerate() {
+            finite(*v, file, format!("{path}[{j}]"))?;
+        }
+        let roughness_rad = match w.get(4) {
+            Some(&r) if (0.0..=90.0).contains(&r) => Some(r.to_radians()),
+            Some(&r) => return Err(bad(file, format!("{path}[4]"), r, "a roughness between 0 and 90 degrees")),
+            None => None,
+        };
+        walls.push(Wall {
+            a: Point::new(units.to_m(w[0]), units.to_m(w[1])),
+            b: Point::new(units.to_m(w[2]), units.to_m(w[3])),
+            roughness_rad,
+        });
+    }
+    let mut circles = Vec::with_capacity(plan.circles.len());
+    for (i, c) in plan.circles.iter().enumerate() {
+        let path = format!("{at}circles[{i}]");
+        if c.len() != 3 {
+            return Err(bad(file, path, format!("{} numbers", c.len()), "[cx, cy, r]"));
+        }
+        finite(c[0], file, format!("{path}[0]"))?;
+        finite(c[1], file, format!("{path}[1]"))?;
+        let r = c[2];
+        if !(r.is_finite() && r > 0.0) {
+            return Err(bad(file, format!("{path}[2]"), r, "a radius greater than 0"));
+        }
+        circles.push(Circle { centre: Point::new(units.to_m(c[0]), units.to_m(c[1])), radius_m: units.to_m(r) });
+    }
+    Ok(FloorPlan { walls, circles })
+}
+
+/// Converts a parsed log file to a run in metres, checking every value.
+pub fn run_from_file(file: LogFile, source_name: &str) -> Result<Run, LogError> {
+    let f = source_name;
+    check_header(&file.format, &file.version, LOG_FORMAT, f)?;
+    let units = parse_units(&file.units, f)?;
+    let (layout, robot_radius_m) = layout_from_robot(&file.robot, units, f, "$.robot")?;
+    let sensor = sensor_from_file(file.sensor.as_ref(), units, f, "$.sensor")?;
+    let floor_plan = match &file.floor_plan {
+        Some(p) => Some(floor_plan_from_file(p, units, f, "$.floor_plan.")?),
+        None => None,
+    };
+    if file.snapshots.is_empty() {
+        return Err(LogError::Empty { file: f.to_string(), path: "$.snapshots".into(), expected: "at least one snapshot" });
+    }
+    let sensors = layout.len();
+    let mut snapshots = Vec::with_capacity(file.snapshots.len());
+    let mut previous_t = f64::NEG_INFINITY;
+    for (i, s) in file.snapshots.into_iter().enumerate() {
+        let t = finite(s.t.unwrap_or(i as f64), f, format!("$.snapshots[{i}].t"))?;
+        if t < previous_t {
+            return Err(LogError::TimeDecreases { file: f.to_string(), snapshot: i, t, previous: previous_t });
+        }
+        previous_t = t;
+        let x = finite(s.pose.x, f, format!("$.snapshots[{i}].pose.x"))?;
+        let y = finite(s.pose.y, f, format!("$.snapshots[{i}].pose.y"))?;
+        let h = finite(s.pose.heading_deg, f, format!("$.snapshots[{i}].pose.heading_deg"))?;
+        if s.ranges.len() != sensors {
+            return Err(LogError::RangeCount { file: f.to_string(), snapshot: i, found: s.ranges.len(), expected: sensors });
+        }
+        let mut ranges = s.ranges;
+        for (k, r) in ranges.iter_mut().enumerate() {
+            if let Some(v) = r {
+                if !(v.is_finite() && *v >= 0.0) {
+                    return Err(LogError::BadRange { file: f.to_string(), snapshot: i, sensor: k, value: *v });
+                }
+                *v = units.to_m(*v);
+            }
+        }
+        snapshots.push(Snapshot {
+            t,
+            pose: Pose::new(units.to_m(x), units.to_m(y), h.to_radians()),
+            ranges_m: ranges,
+        });
+    }
+    Ok(Run {
+        name: file.name.unwrap_or_else(|| source_name.to_string()),
+        units,
+        robot_radius_m,
+        layout,
+        sensor,
+        floor_plan,
+        snapshots,
+    })
+}

@@ -1,0 +1,87 @@
+//! The `sonarmap-map` v1 output (FORMATS.md, `run --out-map`): the map's segments with every
+//! length in the log's units.
+
+use super::save::tidy;
+use crate::mapping::{Map, SegmentKind};
+use crate::units::Units;
+use serde::{Deserialize, Serialize};
+
+/// The `format` value of a map file.
+pub const MAP_FORMAT: &str = "sonarmap-map";
+
+/// A whole map file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MapFile {
+    /// Always [`MAP_FORMAT`].
+    pub format: String,
+    /// Format version; 1.
+    pub version: u32,
+    /// The unit of every length.
+    pub units: String,
+    /// Index of the last snapshot applied.
+    pub snapshot: usize,
+    /// The segments, by id.
+    pub segments: Vec<MapSegmentFile>,
+}
+
+/// One segment of a map file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MapSegmentFile {
+    /// Segment id.
+    pub id: u32,
+    /// `"fitted"` or `"interpolated"`.
+    pub kind: SegmentKind,
+    /// First end-point `[x, y]`.
+    pub a: [f64; 2],
+    /// Second end-point `[x, y]`.
+    pub b: [f64; 2],
+    /// Range behind `a`.
+    pub range_a: f64,
+    /// Range behind `b`.
+    pub range_b: f64,
+    /// Face id.
+    pub face: u32,
+    /// Object id.
+    pub object: u32,
+    /// Snapshot that created it.
+    pub created: usize,
+    /// Snapshots that updated it.
+    pub updated: Vec<usize>,
+    /// Supporting points `[x, y, D]`.
+    pub points: Vec<[f64; 3]>,
+}
+
+/// The file form of `map` after snapshot `snapshot`, lengths in `units`.
+pub fn map_to_file(map: &Map, units: Units, snapshot: usize) -> MapFile {
+    let l = |v: f64| tidy(units.from_m(v));
+    MapFile {
+        format: MAP_FORMAT.to_string(),
+        version: 1,
+        units: units.symbol().to_string(),
+        snapshot,
+        segments: map
+            .segments
+            .iter()
+            .map(|s| MapSegmentFile {
+                id: s.id,
+                kind: s.kind,
+                a: [l(s.a.point.x), l(s.a.point.y)],
+                b: [l(s.b.point.x), l(s.b.point.y)],
+                range_a: l(s.a.range_m),
+                range_b: l(s.b.range_m),
+                face: s.face,
+                object: s.object,
+                created: s.created,
+                updated: s.updated.clone(),
+                points: s.points.iter().map(|p| [l(p.point.x), l(p.point.y), l(p.range_m)]).collect(),
+            })
+            .collect(),
+    }
+}
+
+/// `map` as `sonarmap-map` v1 JSON text.
+pub fn save_map(map: &Map, units: Units, snapshot: usize) -> String {
+    let mut text = serde_json::to_string_pretty(&map_to_file(map, units, snapshot)).expect("a map serialises");
+    text.push('\n');
+    text
+}

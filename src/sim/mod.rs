@@ -1,0 +1,13 @@
+//! The sonar simulator: floor plans (`sonarmap-plan` v1), a beam model of the Polaroid 6500 and
+//! seeded noise. Pure: plans come in as bytes, runs go out as values.
+
+mod beam;
+mod plan;
+mod simulate;
+
+pub use beam::{Hit, Model, World};
+pub use plan::{
+    interpolate_path, load_plan, plan_from_file, Plan, PlanFile, SimFile, SimSettings, DEFAULT_ROUGHNESS_DEG,
+    PLAN_FORMAT,
+};
+pub use simulate::simulate;
