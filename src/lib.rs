@@ -20,3 +20,4 @@ pub mod log;
 pub mod sim;
 pub mod eval;
 pub mod assets;
+pub mod app;
