@@ -19,7 +19,10 @@ fn open_app(log: Option<PathBuf>) -> anyhow::Result<()> {
     if let Some(path) = log {
         startup.push(Command::Open(path));
     }
-    if let Some(k) = std::env::var("SONARMAP_SNAPSHOT").ok().and_then(|v| v.parse().ok()) {
+    if let Some(k) = std::env::var("SONARMAP_SNAPSHOT")
+        .ok()
+        .and_then(|v| v.parse().ok())
+    {
         startup.push(Command::Seek(k));
     }
     if let Ok(sel) = std::env::var("SONARMAP_SELECT") {
@@ -52,7 +55,11 @@ fn main() -> ExitCode {
         Err(e) => {
             // Help and version go to stdout with code 0; usage errors to stderr with code 2.
             let _ = e.print();
-            return if e.use_stderr() { ExitCode::from(2) } else { ExitCode::SUCCESS };
+            return if e.use_stderr() {
+                ExitCode::from(2)
+            } else {
+                ExitCode::SUCCESS
+            };
         }
     };
     let result = match &cli.command {

@@ -14,7 +14,9 @@ use crate::mapping::{Outcome, Params};
 use crate::replay::{Replay, StepView};
 use crate::run::Run;
 use crate::scene::svg::{default_view, to_svg};
-use crate::scene::{build_scene, format_length, Layer, LayerSet, Scene, SceneId, SceneInput, ViewOptions};
+use crate::scene::{
+    build_scene, format_length, Layer, LayerSet, Scene, SceneId, SceneInput, ViewOptions,
+};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -250,6 +252,11 @@ impl SonarApp {
         &self.settings
     }
 
+    /// The state of "compare with…".
+    pub fn compare(&self) -> &CompareState {
+        &self.compare
+    }
+
     /// The last status message.
     pub fn message(&self) -> &str {
         &self.message
@@ -356,14 +363,17 @@ impl SonarApp {
         let size = (w.max(400) + 180, h.max(300) + 60);
         let title = format!("{} — snapshot {}", self.run().name, self.current());
         let svg = to_svg(&scene, view, size, &title, self.run().units);
-        write_svg_atomically(path, &svg).map_err(|e| format!("Could not write {}: {e}", path.display()))
+        write_svg_atomically(path, &svg)
+            .map_err(|e| format!("Could not write {}: {e}", path.display()))
     }
 
     /// Applies one command (the only place the state changes).
     pub fn apply(&mut self, command: Command) {
         match command {
             Command::Open(path) => self.open_path(&path, false),
-            Command::OpenBytes { name, bytes } => self.open_bytes(&bytes, Source::Bytes(name), false),
+            Command::OpenBytes { name, bytes } => {
+                self.open_bytes(&bytes, Source::Bytes(name), false)
+            }
             Command::OpenDialog => {
                 if let Some(path) = rfd::FileDialog::new()
                     .add_filter("run log", &["json"])
@@ -445,6 +455,10 @@ impl SonarApp {
     }
 
     fn select(&mut self, id: SceneId) {
+        if id == SceneId::None {
+            self.map_view.ruler_m = None;
+            self.compare = CompareState::Off;
+        }
         if let CompareState::Armed(existing) = self.compare {
             if let Some(other) = self.ends_of(id) {
                 if let Some(existing_ends) = self.ends_of(SceneId::MapSegment(existing)) {
@@ -545,14 +559,19 @@ impl SonarApp {
             let frame = egui::Frame::new()
                 .fill(egui::Color32::from_rgb(0x7a, 0x1e, 0x1e))
                 .inner_margin(6.0);
-            egui::Panel::top("error_banner").frame(frame).show(ui, |ui| {
-                ui.horizontal(|ui| {
-                    if ui.button("✖ Dismiss").clicked() {
-                        commands.push(Command::DismissError);
-                    }
-                    ui.add(egui::Label::new(egui::RichText::new(text).color(egui::Color32::WHITE)).wrap());
+            egui::Panel::top("error_banner")
+                .frame(frame)
+                .show(ui, |ui| {
+                    ui.horizontal(|ui| {
+                        if ui.button("Dismiss").clicked() {
+                            commands.push(Command::DismissError);
+                        }
+                        ui.add(
+                            egui::Label::new(egui::RichText::new(text).color(egui::Color32::WHITE))
+                                .wrap(),
+                        );
+                    });
                 });
-            });
         }
         egui::Panel::bottom("status_bar").show(ui, |ui| self.status_bar_ui(ui));
         egui::Panel::bottom("timeline").show(ui, |ui| {
@@ -590,7 +609,12 @@ impl SonarApp {
                         .resizable(true)
                         .default_size(190.0)
                         .show(ui, |ui| {
-                            commands.extend(decisions_ui(ui, &ictx, self.decision_filter, self.selection));
+                            commands.extend(decisions_ui(
+                                ui,
+                                &ictx,
+                                self.decision_filter,
+                                self.selection,
+                            ));
                         });
                     egui::CentralPanel::default().show(ui, |ui| {
                         egui::ScrollArea::both().show(ui, |ui| {
@@ -646,7 +670,7 @@ impl SonarApp {
                     format_length(p.x, units),
                     format_length(p.y, units)
                 )),
-                None => ui.label("x –  y –"),
+                None => ui.label("x -  y -"),
             };
             if let Some(r) = self.map_view.ruler_text(units) {
                 ui.separator();
@@ -666,7 +690,9 @@ pub fn describe_id(id: SceneId) -> String {
         SceneId::FloorPlan => "the floor plan".to_owned(),
         SceneId::Reading { snapshot, sensor } => format!("reading {snapshot}/{sensor}"),
         SceneId::Cluster(i) => format!("cluster {i}"),
-        SceneId::NewSegment(i) | SceneId::Decision { new_segment: i, .. } => format!("new segment n{i}"),
+        SceneId::NewSegment(i) | SceneId::Decision { new_segment: i, .. } => {
+            format!("new segment n{i}")
+        }
         SceneId::MapSegment(id) | SceneId::Update(id) => format!("segment #{id}"),
         SceneId::Correlation(i) => format!("correlation {i}"),
     }

@@ -50,7 +50,10 @@ pub fn decisions_ui(
     ui.horizontal_wrapped(|ui| {
         ui.label(RichText::new(format!("Decisions ({})", decisions.len())).strong());
         for f in FILTERS {
-            let count = decisions.iter().filter(|d| f.is_none_or(|o| d.outcome == o)).count();
+            let count = decisions
+                .iter()
+                .filter(|d| f.is_none_or(|o| d.outcome == o))
+                .count();
             let name = f.map_or("All", outcome_name);
             if ui
                 .selectable_label(filter == f, format!("{name} {count}"))
@@ -61,20 +64,28 @@ pub fn decisions_ui(
         }
     });
     ui.separator();
-    egui::ScrollArea::vertical().id_salt("decisions_scroll").show(ui, |ui| {
-        if decisions.is_empty() {
-            ui.label(RichText::new("no segment was fitted in this snapshot").weak());
-        }
-        for d in decisions.iter().filter(|d| filter.is_none_or(|o| d.outcome == o)) {
-            let selected = matches!(selection, SceneId::NewSegment(i) if i == d.new_segment);
-            if ui.selectable_label(selected, decision_row_text(d)).clicked() {
-                let id = SceneId::NewSegment(d.new_segment);
-                commands.push(Command::Select(id));
-                if let Some(p) = centre_of(ctx.view, id) {
-                    commands.push(Command::CenterOn(p));
+    egui::ScrollArea::vertical()
+        .id_salt("decisions_scroll")
+        .show(ui, |ui| {
+            if decisions.is_empty() {
+                ui.label(RichText::new("no segment was fitted in this snapshot").weak());
+            }
+            for d in decisions
+                .iter()
+                .filter(|d| filter.is_none_or(|o| d.outcome == o))
+            {
+                let selected = matches!(selection, SceneId::NewSegment(i) if i == d.new_segment);
+                if ui
+                    .selectable_label(selected, decision_row_text(d))
+                    .clicked()
+                {
+                    let id = SceneId::NewSegment(d.new_segment);
+                    commands.push(Command::Select(id));
+                    if let Some(p) = centre_of(ctx.view, id) {
+                        commands.push(Command::CenterOn(p));
+                    }
                 }
             }
-        }
-    });
+        });
     commands
 }

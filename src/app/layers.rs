@@ -30,7 +30,11 @@ fn swatch(ui: &mut egui::Ui, entry: &LegendEntry) {
             p.circle_filled(c, 4.0, fill_c.or(stroke_c).unwrap_or(egui::Color32::GRAY));
         }
         Glyph::Area => {
-            p.rect_filled(rect.shrink(1.0), 2.0, fill_c.or(stroke_c).unwrap_or(egui::Color32::GRAY));
+            p.rect_filled(
+                rect.shrink(1.0),
+                2.0,
+                fill_c.or(stroke_c).unwrap_or(egui::Color32::GRAY),
+            );
         }
         Glyph::None => {}
     }

@@ -72,7 +72,9 @@ fn line_style(style: &Style) -> LineStyle {
         [on, off, ..] if *on <= 2.0 => LineStyle::Dotted {
             spacing: (on + off).max(3.0),
         },
-        [on, ..] => LineStyle::Dashed { length: on.max(2.0) },
+        [on, ..] => LineStyle::Dashed {
+            length: on.max(2.0),
+        },
     }
 }
 
@@ -92,14 +94,24 @@ fn circle_points(centre: &Point, radius: f64, s: f64) -> Vec<[f64; 2]> {
     (0..N)
         .map(|i| {
             let a = std::f64::consts::TAU * i as f64 / N as f64;
-            [(centre.x + radius * a.cos()) * s, (centre.y + radius * a.sin()) * s]
+            [
+                (centre.x + radius * a.cos()) * s,
+                (centre.y + radius * a.sin()) * s,
+            ]
         })
         .collect()
 }
 
 /// Adds one primitive to the plot; `s` converts metres to plot units, `wpp` is metres per
 /// pixel, `emphasis` draws it as a selection highlight instead.
-fn draw_primitive(plot_ui: &mut egui_plot::PlotUi, prim: &Primitive, n: usize, s: f64, wpp: f64, emphasis: bool) {
+fn draw_primitive(
+    plot_ui: &mut egui_plot::PlotUi,
+    prim: &Primitive,
+    n: usize,
+    s: f64,
+    wpp: f64,
+    emphasis: bool,
+) {
     let style = &prim.style;
     let (stroke_colour, width, line) = if emphasis {
         (
@@ -109,7 +121,9 @@ fn draw_primitive(plot_ui: &mut egui_plot::PlotUi, prim: &Primitive, n: usize, s
         )
     } else {
         (
-            style.stroke.map_or(Color32::TRANSPARENT, |c| colour(c, style.opacity)),
+            style
+                .stroke
+                .map_or(Color32::TRANSPARENT, |c| colour(c, style.opacity)),
             style.stroke_width_px,
             line_style(style),
         )
@@ -121,7 +135,11 @@ fn draw_primitive(plot_ui: &mut egui_plot::PlotUi, prim: &Primitive, n: usize, s
         Shape::Circle { centre, radius_m } => {
             let poly = Polygon::new("", PlotPoints::new(circle_points(centre, *radius_m, s)))
                 .stroke(Stroke::new(width, stroke_colour))
-                .fill_color(if emphasis { Color32::TRANSPARENT } else { fill.unwrap_or(Color32::TRANSPARENT) })
+                .fill_color(if emphasis {
+                    Color32::TRANSPARENT
+                } else {
+                    fill.unwrap_or(Color32::TRANSPARENT)
+                })
                 .style(line)
                 .allow_hover(false)
                 .id(id);
@@ -137,11 +155,18 @@ fn draw_primitive(plot_ui: &mut egui_plot::PlotUi, prim: &Primitive, n: usize, s
             const N: usize = 16;
             for i in 0..=N {
                 let a = heading_rad - half_angle_rad + 2.0 * half_angle_rad * i as f64 / N as f64;
-                pts.push([(apex.x + radius_m * a.cos()) * s, (apex.y + radius_m * a.sin()) * s]);
+                pts.push([
+                    (apex.x + radius_m * a.cos()) * s,
+                    (apex.y + radius_m * a.sin()) * s,
+                ]);
             }
             let poly = Polygon::new("", PlotPoints::new(pts))
                 .stroke(Stroke::new(width, stroke_colour))
-                .fill_color(if emphasis { Color32::TRANSPARENT } else { fill.unwrap_or(Color32::TRANSPARENT) })
+                .fill_color(if emphasis {
+                    Color32::TRANSPARENT
+                } else {
+                    fill.unwrap_or(Color32::TRANSPARENT)
+                })
                 .allow_hover(false)
                 .id(id);
             plot_ui.polygon(poly);
@@ -172,9 +197,13 @@ fn draw_primitive(plot_ui: &mut egui_plot::PlotUi, prim: &Primitive, n: usize, s
             let c = if emphasis {
                 stroke_colour
             } else if shape.is_open() {
-                style.stroke.or(style.fill).map_or(Color32::GRAY, |c| colour(c, style.opacity))
+                style
+                    .stroke
+                    .or(style.fill)
+                    .map_or(Color32::GRAY, |c| colour(c, style.opacity))
             } else {
-                fill.or(style.stroke.map(|c| colour(c, style.opacity))).unwrap_or(Color32::GRAY)
+                fill.or(style.stroke.map(|c| colour(c, style.opacity)))
+                    .unwrap_or(Color32::GRAY)
             };
             let size = style.marker_size_px.max(3.0) + if emphasis { 6.0 } else { 0.0 };
             let p = Points::new("", vec![pt(at)])
@@ -199,16 +228,25 @@ fn draw_primitive(plot_ui: &mut egui_plot::PlotUi, prim: &Primitive, n: usize, s
                 (anchor.x + f64::from(offset_px[0]) * wpp) * s,
                 (anchor.y + f64::from(offset_px[1]) * wpp) * s,
             );
-            let c = style.fill.or(style.stroke).map_or(Color32::GRAY, |c| colour(c, style.opacity));
+            let c = style
+                .fill
+                .or(style.stroke)
+                .map_or(Color32::GRAY, |c| colour(c, style.opacity));
             let anchor = match align {
                 TextAlign::Start => Align2::LEFT_BOTTOM,
                 TextAlign::Middle => Align2::CENTER_BOTTOM,
                 TextAlign::End => Align2::RIGHT_BOTTOM,
             };
-            let t = Text::new("", at, RichText::new(text).size(style.marker_size_px.max(8.0)).color(c))
-                .anchor(anchor)
-                .allow_hover(false)
-                .id(id);
+            let t = Text::new(
+                "",
+                at,
+                RichText::new(text)
+                    .size(style.marker_size_px.max(8.0))
+                    .color(c),
+            )
+            .anchor(anchor)
+            .allow_hover(false)
+            .id(id);
             plot_ui.text(t);
         }
     }
@@ -220,7 +258,13 @@ pub fn is_selected(id: SceneId, selected: SceneId) -> bool {
         return false;
     }
     match (selected, id) {
-        (SceneId::NewSegment(i), SceneId::Decision { new_segment, existing: None }) => i == new_segment,
+        (
+            SceneId::NewSegment(i),
+            SceneId::Decision {
+                new_segment,
+                existing: None,
+            },
+        ) => i == new_segment,
         (SceneId::MapSegment(a), SceneId::Update(b)) => a == b,
         _ => id == selected,
     }
@@ -240,10 +284,14 @@ pub fn map_view_ui(
     let m_per_unit = units.metres_per_unit();
     let s = 1.0 / m_per_unit;
     ui.horizontal(|ui| {
-        if ui.button("⛶ Fit").on_hover_text("Fit the view to the scene (double-click also)").clicked() {
+        if ui
+            .button("Fit")
+            .on_hover_text("Fit the view to the scene (double-click also)")
+            .clicked()
+        {
             commands.push(Command::FitView);
         }
-        ui.toggle_value(&mut state.ruler_tool, "📏 Ruler")
+        ui.toggle_value(&mut state.ruler_tool, "Ruler")
             .on_hover_text("Drag to measure distance and angle (or hold Shift and drag)");
         if state.ruler_m.is_some() && ui.button("Clear ruler").clicked() {
             state.ruler_m = None;
@@ -266,8 +314,20 @@ pub fn map_view_ui(
         .allow_double_click_reset(true)
         .show_crosshair(false)
         .label_formatter(|_| None)
-        .x_axis_formatter(move |m, _| format!("{} {}", egui_plot::format_number(m.value, 4), x_units.symbol()))
-        .y_axis_formatter(move |m, _| format!("{} {}", egui_plot::format_number(m.value, 4), x_units.symbol()));
+        .x_axis_formatter(move |m, _| {
+            format!(
+                "{} {}",
+                egui_plot::format_number(m.value, 4),
+                x_units.symbol()
+            )
+        })
+        .y_axis_formatter(move |m, _| {
+            format!(
+                "{} {}",
+                egui_plot::format_number(m.value, 4),
+                x_units.symbol()
+            )
+        });
     let response = plot.show(ui, |plot_ui| {
         match request {
             Some(ViewRequest::Fit) => plot_ui.set_auto_bounds(true),
@@ -275,7 +335,8 @@ pub fn map_view_ui(
                 let b = plot_ui.plot_bounds();
                 let (w, h) = (b.width() / 2.0, b.height() / 2.0);
                 let (cx, cy) = (p.x * s, p.y * s);
-                plot_ui.set_plot_bounds(PlotBounds::from_min_max([cx - w, cy - h], [cx + w, cy + h]));
+                plot_ui
+                    .set_plot_bounds(PlotBounds::from_min_max([cx - w, cy - h], [cx + w, cy + h]));
             }
             None => {}
         }
@@ -290,11 +351,14 @@ pub fn map_view_ui(
         if let Some((a, b)) = ruler {
             let c = Color32::from_rgb(0xd0, 0x20, 0x80);
             plot_ui.line(
-                Line::new("", PlotPoints::new(vec![[a.x * s, a.y * s], [b.x * s, b.y * s]]))
-                    .color(c)
-                    .width(2.0)
-                    .allow_hover(false)
-                    .id("ruler"),
+                Line::new(
+                    "",
+                    PlotPoints::new(vec![[a.x * s, a.y * s], [b.x * s, b.y * s]]),
+                )
+                .color(c)
+                .width(2.0)
+                .allow_hover(false)
+                .id("ruler"),
             );
             plot_ui.add(
                 Points::new("", vec![[a.x * s, a.y * s], [b.x * s, b.y * s]])
@@ -332,9 +396,6 @@ pub fn map_view_ui(
                 state.ruler_m = Some((a, to_world(p)));
             }
         }
-    }
-    if ui.input(|i| i.key_pressed(egui::Key::Escape)) {
-        state.ruler_m = None;
     }
     let hit = state
         .cursor_m

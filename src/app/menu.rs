@@ -16,7 +16,7 @@ pub const SHORTCUTS: [(&str, &str); 13] = [
     ("Ctrl+O", "open a run log"),
     ("Ctrl+R", "reload the run log"),
     ("Ctrl+E", "export the map view as SVG"),
-    ("← / →", "previous / next snapshot"),
+    ("Left / Right", "previous / next snapshot"),
     ("Home / End", "first / last snapshot"),
     ("Space", "play / pause"),
     ("[ / ]", "previous / next mark"),
@@ -102,7 +102,10 @@ pub fn menu_bar_ui(ui: &mut egui::Ui, recent: &[PathBuf]) -> Vec<Command> {
             }
         });
         ui.menu_button("View", |ui| {
-            if ui.add(egui::Button::new("Fit view").shortcut_text("F")).clicked() {
+            if ui
+                .add(egui::Button::new("Fit view").shortcut_text("F"))
+                .clicked()
+            {
                 commands.push(Command::FitView);
             }
         });
@@ -122,12 +125,15 @@ pub fn shortcuts_window_ui(ctx: &egui::Context, open: &mut bool) {
         .resizable(false)
         .collapsible(false)
         .show(ctx, |ui| {
-            egui::Grid::new("shortcuts").num_columns(2).striped(true).show(ui, |ui| {
-                for (keys, what) in SHORTCUTS {
-                    ui.label(egui::RichText::new(keys).monospace().strong());
-                    ui.label(what);
-                    ui.end_row();
-                }
-            });
+            egui::Grid::new("shortcuts")
+                .num_columns(2)
+                .striped(true)
+                .show(ui, |ui| {
+                    for (keys, what) in SHORTCUTS {
+                        ui.label(egui::RichText::new(keys).monospace().strong());
+                        ui.label(what);
+                        ui.end_row();
+                    }
+                });
         });
 }

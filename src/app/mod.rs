@@ -23,7 +23,9 @@ pub use map_view::{MapViewState, ViewRequest};
 pub use timeline::snapshot_label;
 
 /// Opens the inspector window on `app` (blocks until the window closes).
-pub fn run_native(make: impl FnOnce(Option<&dyn eframe::Storage>) -> SonarApp + 'static) -> eframe::Result {
+pub fn run_native(
+    make: impl FnOnce(Option<&dyn eframe::Storage>) -> SonarApp + 'static,
+) -> eframe::Result {
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title("sonarmap")

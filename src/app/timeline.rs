@@ -35,30 +35,54 @@ pub fn timeline_ui(ui: &mut egui::Ui, info: &TimelineInfo, jump_text: &mut Strin
     let last = info.len.saturating_sub(1);
     ui.add_space(2.0);
     ui.horizontal(|ui| {
-        if ui.button("⏮").on_hover_text("First snapshot (Home)").clicked() {
+        if ui
+            .button("|<")
+            .on_hover_text("First snapshot (Home)")
+            .clicked()
+        {
             commands.push(Command::First);
         }
-        if ui.button("◀").on_hover_text("Previous snapshot (←)").clicked() {
+        if ui
+            .button("<")
+            .on_hover_text("Previous snapshot (Left)")
+            .clicked()
+        {
             commands.push(Command::Step(-1));
         }
-        let play = if info.playing { "⏸ Pause" } else { "▶ Play" };
-        if ui.button(play).on_hover_text("Play or pause (Space)").clicked() {
+        let play = if info.playing { "Pause" } else { "Play" };
+        if ui
+            .button(play)
+            .on_hover_text("Play or pause (Space)")
+            .clicked()
+        {
             commands.push(Command::TogglePlay);
         }
-        if ui.button("▶|").on_hover_text("Next snapshot (→)").clicked() {
+        if ui.button(">").on_hover_text("Next snapshot (Right)").clicked() {
             commands.push(Command::Step(1));
         }
-        if ui.button("⏭").on_hover_text("Last snapshot (End)").clicked() {
+        if ui
+            .button(">|")
+            .on_hover_text("Last snapshot (End)")
+            .clicked()
+        {
             commands.push(Command::Last);
         }
         ui.separator();
         ui.label(RichText::new(snapshot_label(info.current, info.len)).strong());
         ui.label(format!("t = {:.2} s", info.t_s));
         ui.separator();
-        if ui.button("◆◀ Prev mark").on_hover_text("Previous notable snapshot ([)").clicked() {
+        if ui
+            .button("< Prev mark")
+            .on_hover_text("Previous notable snapshot ([)")
+            .clicked()
+        {
             commands.push(Command::PrevMark);
         }
-        if ui.button("Next mark ▶◆").on_hover_text("Next notable snapshot (])").clicked() {
+        if ui
+            .button("Next mark >")
+            .on_hover_text("Next notable snapshot (])")
+            .clicked()
+        {
             commands.push(Command::NextMark);
         }
         ui.label(format!("{} marks", info.marks.len()));
@@ -67,7 +91,10 @@ pub fn timeline_ui(ui: &mut egui::Ui, info: &TimelineInfo, jump_text: &mut Strin
             .selected_text(format!("{} /s", info.rate))
             .show_ui(ui, |ui| {
                 for r in RATES {
-                    if ui.selectable_label(info.rate == r, format!("{r} /s")).clicked() {
+                    if ui
+                        .selectable_label(info.rate == r, format!("{r} /s"))
+                        .clicked()
+                    {
                         commands.push(Command::SetRate(r));
                     }
                 }
