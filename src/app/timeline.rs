@@ -57,7 +57,11 @@ pub fn timeline_ui(ui: &mut egui::Ui, info: &TimelineInfo, jump_text: &mut Strin
         {
             commands.push(Command::TogglePlay);
         }
-        if ui.button(">").on_hover_text("Next snapshot (Right)").clicked() {
+        if ui
+            .button(">")
+            .on_hover_text("Next snapshot (Right)")
+            .clicked()
+        {
             commands.push(Command::Step(1));
         }
         if ui

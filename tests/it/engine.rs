@@ -249,8 +249,8 @@ fn constant_depth_turns_a_corner_arc_into_one_reading() {
     // A corner reflector answers sonars 1, 2 and 3 at the same range: an arc of three points.
     let layout = SensorLayout::nomad_ring(inches(9.0));
     let mut ranges_m = vec![None; 16];
-    for k in 1..=3 {
-        ranges_m[k] = Some(inches(50.0));
+    for r in &mut ranges_m[1..=3] {
+        *r = Some(inches(50.0));
     }
     let snapshot = Snapshot {
         t: 0.0,
