@@ -89,10 +89,7 @@ impl<'de> Visitor<'de> for Check<'_> {
         let mut index = 0;
         loop {
             let child = Check {
-                node: Node {
-                    parent: Some(&self.node),
-                    step: Step::Index(index),
-                },
+                node: Node { parent: Some(&self.node), step: Step::Index(index) },
                 found: self.found,
             };
             if seq.next_element_seed(child)?.is_none() {
@@ -104,17 +101,14 @@ impl<'de> Visitor<'de> for Check<'_> {
     fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
         let mut keys: Vec<String> = Vec::new();
         while let Some(key) = map.next_key::<String>()? {
-            if keys.contains(&key) {
+            if keys.iter().any(|k| *k == key) {
                 let path = self.node.path();
                 let message = format!("duplicated key `{key}` in {path}");
                 *self.found.borrow_mut() = Some((path, key));
                 return Err(de::Error::custom(message));
             }
             let child = Check {
-                node: Node {
-                    parent: Some(&self.node),
-                    step: Step::Key(&key),
-                },
+                node: Node { parent: Some(&self.node), step: Step::Key(&key) },
                 found: self.found,
             };
             map.next_value_seed(child)?;
@@ -128,13 +122,7 @@ impl<'de> Visitor<'de> for Check<'_> {
 /// On error, `found` holds the path and key when the error is a duplicate.
 pub(crate) fn check_duplicates(bytes: &[u8], found: &Found) -> Result<(), serde_json::Error> {
     let mut de = serde_json::Deserializer::from_slice(bytes);
-    let seed = Check {
-        node: Node {
-            parent: None,
-            step: Step::Root,
-        },
-        found,
-    };
+    let seed = Check { node: Node { parent: None, step: Step::Root }, found };
     seed.deserialize(&mut de)?;
     de.end()
 }

@@ -1,8 +1,8 @@
 //! Writing a run back as a `sonarmap-log` v1 file in the run's units.
 
 use super::file::{
-    FloorPlanFile, LogFile, MountFile, PoseFile, RingFile, RobotFile, SensorFile, SnapshotFile,
-    SonarsFile, LOG_FORMAT,
+    FloorPlanFile, LogFile, MountFile, PoseFile, RingFile, RobotFile, SensorFile, SnapshotFile, SonarsFile,
+    LOG_FORMAT,
 };
 use crate::run::{FloorPlan, Run};
 use crate::sonar::SensorLayout;
@@ -39,11 +39,7 @@ fn deg(v_rad: f64) -> f64 {
 pub fn ring_parameters(layout: &SensorLayout, radius_m: f64) -> Option<(usize, f64, f64)> {
     let n = layout.len();
     let first = layout.mounts.first()?.heading_rad;
-    let spacing = if n > 1 {
-        layout.mounts[1].heading_rad - first
-    } else {
-        0.0
-    };
+    let spacing = if n > 1 { layout.mounts[1].heading_rad - first } else { 0.0 };
     let ring = SensorLayout::ring(n, spacing, first, radius_m);
     let scale = radius_m.abs().max(1e-3);
     let same = ring.mounts.iter().zip(&layout.mounts).all(|(a, b)| {
@@ -56,11 +52,7 @@ pub fn ring_parameters(layout: &SensorLayout, radius_m: f64) -> Option<(usize, f
 
 /// The robot block of a layout, in `units` (ring shorthand when the layout is a ring of the
 /// robot's radius).
-pub(crate) fn robot_to_file(
-    layout: &SensorLayout,
-    radius_m: Option<f64>,
-    units: Units,
-) -> RobotFile {
+pub(crate) fn robot_to_file(layout: &SensorLayout, radius_m: Option<f64>, units: Units) -> RobotFile {
     let sonars = match radius_m.and_then(|r| ring_parameters(layout, r)) {
         Some((count, spacing, first)) => SonarsFile::Ring(RingFile {
             count: count as f64,
@@ -71,18 +63,11 @@ pub(crate) fn robot_to_file(
             layout
                 .mounts
                 .iter()
-                .map(|m| MountFile {
-                    x: len(units, m.x_m),
-                    y: len(units, m.y_m),
-                    heading_deg: deg(m.heading_rad),
-                })
+                .map(|m| MountFile { x: len(units, m.x_m), y: len(units, m.y_m), heading_deg: deg(m.heading_rad) })
                 .collect(),
         ),
     };
-    RobotFile {
-        radius: radius_m.map(|r| len(units, r)),
-        sonars,
-    }
+    RobotFile { radius: radius_m.map(|r| len(units, r)), sonars }
 }
 
 /// A floor plan as file walls and circles, in `units`.
@@ -92,12 +77,7 @@ pub(crate) fn floor_plan_to_file(plan: &FloorPlan, units: Units) -> FloorPlanFil
             .walls
             .iter()
             .map(|w| {
-                let mut v = vec![
-                    len(units, w.a.x),
-                    len(units, w.a.y),
-                    len(units, w.b.x),
-                    len(units, w.b.y),
-                ];
+                let mut v = vec![len(units, w.a.x), len(units, w.a.y), len(units, w.b.x), len(units, w.b.y)];
                 if let Some(r) = w.roughness_rad {
                     v.push(deg(r));
                 }
@@ -107,13 +87,7 @@ pub(crate) fn floor_plan_to_file(plan: &FloorPlan, units: Units) -> FloorPlanFil
         circles: plan
             .circles
             .iter()
-            .map(|c| {
-                vec![
-                    len(units, c.centre.x),
-                    len(units, c.centre.y),
-                    len(units, c.radius_m),
-                ]
-            })
+            .map(|c| vec![len(units, c.centre.x), len(units, c.centre.y), len(units, c.radius_m)])
             .collect(),
     }
 }
@@ -139,11 +113,7 @@ pub fn run_to_file(run: &Run) -> LogFile {
             .iter()
             .map(|s| SnapshotFile {
                 t: Some(s.t),
-                pose: PoseFile {
-                    x: len(u, s.pose.x),
-                    y: len(u, s.pose.y),
-                    heading_deg: deg(s.pose.heading_rad),
-                },
+                pose: PoseFile { x: len(u, s.pose.x), y: len(u, s.pose.y), heading_deg: deg(s.pose.heading_rad) },
                 ranges: s.ranges_m.iter().map(|r| r.map(|v| len(u, v))).collect(),
             })
             .collect(),
@@ -155,10 +125,7 @@ pub fn run_to_file(run: &Run) -> LogFile {
 /// back to within 1e-9 of a unit.
 pub fn save_run(run: &Run) -> String {
     let file = run_to_file(run);
-    let head = LogFile {
-        snapshots: Vec::new(),
-        ..file.clone()
-    };
+    let head = LogFile { snapshots: Vec::new(), ..file.clone() };
     let mut text = serde_json::to_string_pretty(&head).expect("a log file serialises");
     // Replace the empty snapshot list with one snapshot per line.
     let empty = "\"snapshots\": []";
