@@ -101,7 +101,7 @@ impl<'de> Visitor<'de> for Check<'_> {
     fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
         let mut keys: Vec<String> = Vec::new();
         while let Some(key) = map.next_key::<String>()? {
-            if keys.iter().any(|k| *k == key) {
+            if keys.contains(&key) {
                 let path = self.node.path();
                 let message = format!("duplicated key `{key}` in {path}");
                 *self.found.borrow_mut() = Some((path, key));
