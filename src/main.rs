@@ -33,6 +33,7 @@ fn open_app(log: Option<PathBuf>) -> anyhow::Result<()> {
         };
         if let Some(id) = id {
             startup.push(Command::Select(id));
+            startup.push(Command::ZoomToSelection);
         }
     }
     sonarmap::app::run_native(move |storage| {

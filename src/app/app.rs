@@ -14,6 +14,7 @@ use crate::mapping::{Outcome, Params};
 use crate::replay::{Replay, StepView};
 use crate::run::Run;
 use crate::scene::svg::{default_view, to_svg};
+use crate::scene::ViewRect;
 use crate::scene::{
     build_scene, format_length, Layer, LayerSet, Scene, SceneId, SceneInput, ViewOptions,
 };
@@ -431,6 +432,15 @@ impl SonarApp {
             }
             Command::FilterDecisions(filter) => self.decision_filter = filter,
             Command::FitView => self.map_view.request = Some(ViewRequest::Fit),
+            Command::ZoomToSelection => match self.ends_of(self.selection) {
+                Some(ends) => {
+                    let length = (ends.b.point - ends.a.point).norm();
+                    let rect =
+                        ViewRect::new(ends.a.point, ends.b.point).expanded(length.max(0.5) * 0.75);
+                    self.map_view.request = Some(ViewRequest::Frame(rect));
+                }
+                None => self.message = "select a segment to zoom to it".to_owned(),
+            },
             Command::CenterOn(p) => self.map_view.request = Some(ViewRequest::Center(p)),
             Command::ExportDialog => {
                 let name = format!("snapshot-{}.svg", self.current());
@@ -597,7 +607,7 @@ impl SonarApp {
             });
         egui::Panel::right("inspector")
             .resizable(true)
-            .default_size(520.0)
+            .default_size(580.0)
             .show(ui, |ui| {
                 if let Some(view) = &self.view {
                     let ictx = InspectCtx {

@@ -51,6 +51,8 @@ pub enum Command {
     FilterDecisions(Option<Outcome>),
     /// Fit the map view to the scene.
     FitView,
+    /// Zoom the map view onto the selected segment.
+    ZoomToSelection,
     /// Centre the map view on a world point (metres).
     CenterOn(Point),
     /// Ask for a file with the system dialog, then [`Command::ExportSvg`] to it.

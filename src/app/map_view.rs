@@ -23,6 +23,8 @@ pub enum ViewRequest {
     Fit,
     /// Centre the view on a world point (metres), keeping the zoom.
     Center(Point),
+    /// Show this world rectangle (metres; grown to the plot's aspect).
+    Frame(ViewRect),
 }
 
 /// What the map view remembers between frames.
@@ -115,7 +117,7 @@ fn draw_primitive(
     let style = &prim.style;
     let (stroke_colour, width, line) = if emphasis {
         (
-            Color32::from_rgba_unmultiplied(255, 215, 0, 200),
+            Color32::from_rgba_unmultiplied(255, 255, 255, 150),
             style.stroke_width_px.max(1.0) + 6.0,
             LineStyle::Solid,
         )
@@ -291,6 +293,13 @@ pub fn map_view_ui(
         {
             commands.push(Command::FitView);
         }
+        if ui
+            .button("Zoom to selection")
+            .on_hover_text("Frame the selected segment (Z)")
+            .clicked()
+        {
+            commands.push(Command::ZoomToSelection);
+        }
         ui.toggle_value(&mut state.ruler_tool, "Ruler")
             .on_hover_text("Drag to measure distance and angle (or hold Shift and drag)");
         if state.ruler_m.is_some() && ui.button("Clear ruler").clicked() {
@@ -337,6 +346,12 @@ pub fn map_view_ui(
                 let (cx, cy) = (p.x * s, p.y * s);
                 plot_ui
                     .set_plot_bounds(PlotBounds::from_min_max([cx - w, cy - h], [cx + w, cy + h]));
+            }
+            Some(ViewRequest::Frame(r)) => {
+                plot_ui.set_plot_bounds(PlotBounds::from_min_max(
+                    [r.min.x * s, r.min.y * s],
+                    [r.max.x * s, r.max.y * s],
+                ));
             }
             None => {}
         }

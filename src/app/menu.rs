@@ -12,7 +12,7 @@ pub const RELOAD: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, K
 pub const EXPORT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::E);
 
 /// Every shortcut with what it does, for the help window.
-pub const SHORTCUTS: [(&str, &str); 13] = [
+pub const SHORTCUTS: [(&str, &str); 14] = [
     ("Ctrl+O", "open a run log"),
     ("Ctrl+R", "reload the run log"),
     ("Ctrl+E", "export the map view as SVG"),
@@ -21,6 +21,7 @@ pub const SHORTCUTS: [(&str, &str); 13] = [
     ("Space", "play / pause"),
     ("[ / ]", "previous / next mark"),
     ("F", "fit the view"),
+    ("Z", "zoom to the selected segment"),
     ("Esc", "clear selection and ruler"),
     ("Shift+drag", "measure (ruler)"),
     ("Scroll / drag", "zoom / pan the map"),
@@ -54,6 +55,7 @@ pub fn handle_shortcuts(ctx: &egui::Context) -> Vec<Command> {
             (Key::OpenBracket, Command::PrevMark),
             (Key::CloseBracket, Command::NextMark),
             (Key::F, Command::FitView),
+            (Key::Z, Command::ZoomToSelection),
             (Key::Escape, Command::Select(crate::scene::SceneId::None)),
         ];
         for (key, command) in keys {
