@@ -253,6 +253,11 @@ impl SonarApp {
         &self.settings
     }
 
+    /// The map view's state (visible rectangle, cursor, ruler).
+    pub fn map_view(&self) -> &MapViewState {
+        &self.map_view
+    }
+
     /// The state of "compare with…".
     pub fn compare(&self) -> &CompareState {
         &self.compare
@@ -389,7 +394,7 @@ impl SonarApp {
             },
             Command::Seek(k) => self.seek(k),
             Command::Step(delta) => {
-                let k = (self.current() as i64 + delta).max(0) as usize;
+                let k = (self.current() as i64).saturating_add(delta).max(0) as usize;
                 self.seek(k);
             }
             Command::First => self.seek(0),

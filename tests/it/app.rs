@@ -141,6 +141,14 @@ fn selecting_a_new_segment_shows_its_candidate_table() {
     assert!(h.query_by_label("θ_o").is_some());
     assert!(h.query_by_label("Colinearity d").is_some());
     assert!(h.query_by_label("deciding rule").is_some());
+    let before = h.state().map_view().visible_m.unwrap();
+    h.key_press(egui::Key::Z);
+    h.run();
+    let after = h.state().map_view().visible_m.unwrap();
+    assert!(
+        after.width_m() < before.width_m(),
+        "zoomed onto the segment"
+    );
     let verdicts = h.query_all_by_label("pass").count() + h.query_all_by_label("FAIL").count();
     assert!(verdicts >= 3, "pass/fail cells for every test");
 }
