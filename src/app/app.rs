@@ -11,7 +11,7 @@ use crate::export::write_svg_atomically;
 use crate::log::load_run;
 use crate::mapping::matching::{evaluate_pair, SegmentEnds};
 use crate::mapping::{Outcome, Params};
-use crate::replay::{Replay, StepView};
+use crate::replay::{Replay, StepView, DEFAULT_CHECKPOINT_INTERVAL};
 use crate::run::Run;
 use crate::scene::svg::{default_view, to_svg};
 use crate::scene::ViewRect;
@@ -20,6 +20,7 @@ use crate::scene::{
 };
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 
 /// Key of the persisted [`Settings`] in eframe's storage.
@@ -113,6 +114,19 @@ impl Source {
     }
 }
 
+/// Runs with at least this many snapshots are replayed on a background thread.
+pub const BACKGROUND_MIN_SNAPSHOTS: usize = 2000;
+
+/// A replay being built on a thread.
+struct Background {
+    source: Source,
+    keep_index: bool,
+    total: usize,
+    progress: Arc<AtomicUsize>,
+    cancel: Arc<AtomicBool>,
+    result: std::sync::mpsc::Receiver<Replay>,
+}
+
 /// A run and its replay.
 struct Loaded {
     source: Source,
@@ -125,6 +139,8 @@ pub struct SonarApp {
     settings: Settings,
     params: Params,
     loaded: Loaded,
+    background: Option<Background>,
+    background_min_snapshots: usize,
     view: Option<StepView>,
     playing: bool,
     play_clock_s: f64,
@@ -154,6 +170,8 @@ impl SonarApp {
             settings: Settings::load(storage),
             params,
             loaded,
+            background: None,
+            background_min_snapshots: BACKGROUND_MIN_SNAPSHOTS,
             view: None,
             playing: false,
             play_clock_s: 0.0,
@@ -173,7 +191,10 @@ impl SonarApp {
     }
 
     fn prepare(run: Run, source: Source, params: &Params) -> Loaded {
-        let replay = Replay::new(Arc::new(run), params.clone());
+        Self::loaded_from(Replay::new(Arc::new(run), params.clone()), source)
+    }
+
+    fn loaded_from(replay: Replay, source: Source) -> Loaded {
         let marks = replay
             .summaries()
             .iter()
@@ -185,6 +206,36 @@ impl SonarApp {
             source,
             replay,
             marks,
+        }
+    }
+
+    /// Replays runs of at least `snapshots` snapshots in the background (default
+    /// [`BACKGROUND_MIN_SNAPSHOTS`]).
+    pub fn set_background_threshold(&mut self, snapshots: usize) {
+        self.background_min_snapshots = snapshots.max(1);
+    }
+
+    /// True while a large run is being replayed in the background.
+    pub fn is_loading(&self) -> bool {
+        self.background.is_some()
+    }
+
+    /// Installs a finished background replay.
+    fn poll_background(&mut self, ctx: &egui::Context) {
+        let Some(job) = &self.background else {
+            return;
+        };
+        match job.result.try_recv() {
+            Ok(replay) => {
+                let job = self.background.take().expect("checked above");
+                self.install(Self::loaded_from(replay, job.source), job.keep_index);
+            }
+            Err(std::sync::mpsc::TryRecvError::Empty) => ctx.request_repaint(),
+            Err(std::sync::mpsc::TryRecvError::Disconnected) => {
+                self.background = None;
+                self.banner =
+                    Some("the replay stopped unexpectedly; the previous run stays open".to_owned());
+            }
         }
     }
 
@@ -312,32 +363,74 @@ impl SonarApp {
     fn open_bytes(&mut self, bytes: &[u8], source: Source, keep_index: bool) {
         let name = source.display_name();
         match load_run(bytes, &name) {
-            Ok(run) => {
-                let k = self.current();
-                self.loaded = Self::prepare(run, source.clone(), &self.params);
-                self.view = None;
-                self.selection = SceneId::None;
-                self.compare = CompareState::Off;
-                self.playing = false;
-                self.banner = None;
-                self.seek(if keep_index { k } else { 0 });
-                if !keep_index {
-                    self.map_view.request = Some(ViewRequest::Fit);
-                }
-                if let Source::File(path) = &source {
-                    self.remember(path);
-                }
-                self.message = format!(
-                    "{} {name}: {} snapshots",
-                    if keep_index { "reloaded" } else { "opened" },
-                    self.len()
-                );
+            Ok(run) if run.snapshots.len() >= self.background_min_snapshots => {
+                self.start_background(run, source, keep_index);
             }
+            Ok(run) => self.install(Self::prepare(run, source, &self.params), keep_index),
             Err(e) => {
                 self.banner = Some(format!("Could not open {name}: {e}"));
                 self.message = "open failed; the previous run stays open".to_owned();
             }
         }
+    }
+
+    /// Replays a large run on a thread; the current run stays usable meanwhile.
+    fn start_background(&mut self, run: Run, source: Source, keep_index: bool) {
+        if let Some(old) = self.background.take() {
+            old.cancel.store(true, Ordering::Relaxed);
+        }
+        let total = run.snapshots.len();
+        let progress = Arc::new(AtomicUsize::new(0));
+        let cancel = Arc::new(AtomicBool::new(false));
+        let (tx, rx) = std::sync::mpsc::channel();
+        let (p, c, params) = (progress.clone(), cancel.clone(), self.params.clone());
+        std::thread::spawn(move || {
+            let built = Replay::build(
+                Arc::new(run),
+                params,
+                DEFAULT_CHECKPOINT_INTERVAL,
+                &mut |done| {
+                    p.store(done, Ordering::Relaxed);
+                    !c.load(Ordering::Relaxed)
+                },
+            );
+            if let Ok(replay) = built {
+                let _ = tx.send(replay);
+            }
+        });
+        self.message = format!("replaying {}…", source.display_name());
+        self.background = Some(Background {
+            source,
+            keep_index,
+            total,
+            progress,
+            cancel,
+            result: rx,
+        });
+    }
+
+    fn install(&mut self, loaded: Loaded, keep_index: bool) {
+        let k = self.current();
+        let name = loaded.source.display_name();
+        if let Source::File(path) = &loaded.source {
+            let path = path.clone();
+            self.remember(&path);
+        }
+        self.loaded = loaded;
+        self.view = None;
+        self.selection = SceneId::None;
+        self.compare = CompareState::Off;
+        self.playing = false;
+        self.banner = None;
+        self.seek(if keep_index { k } else { 0 });
+        if !keep_index {
+            self.map_view.request = Some(ViewRequest::Fit);
+        }
+        self.message = format!(
+            "{} {name}: {} snapshots",
+            if keep_index { "reloaded" } else { "opened" },
+            self.len()
+        );
     }
 
     fn open_path(&mut self, path: &Path, keep_index: bool) {
@@ -560,6 +653,7 @@ impl SonarApp {
         for command in std::mem::take(&mut self.pending) {
             self.apply(command);
         }
+        self.poll_background(&ctx);
         self.advance_playback(&ctx);
         let mut commands = handle_shortcuts(&ctx);
         commands.extend(Self::dropped_files(&ctx));
@@ -676,6 +770,20 @@ impl SonarApp {
         ui.horizontal(|ui| {
             ui.label(self.loaded.source.display_name());
             ui.separator();
+            if let Some(job) = &self.background {
+                ui.spinner();
+                let done = job.progress.load(Ordering::Relaxed);
+                ui.add(
+                    egui::ProgressBar::new(done as f32 / job.total.max(1) as f32)
+                        .desired_width(160.0)
+                        .text(format!(
+                            "replaying {}: {done} / {}",
+                            job.source.display_name(),
+                            job.total
+                        )),
+                );
+                ui.separator();
+            }
             ui.label(format!("snapshot {} of {}", self.current(), self.len()));
             ui.separator();
             let units = self.run().units;

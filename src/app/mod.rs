@@ -15,7 +15,7 @@ mod map_view;
 mod menu;
 mod timeline;
 
-pub use app::{describe_id, Settings, SonarApp, Source, SETTINGS_KEY};
+pub use app::{describe_id, Settings, SonarApp, Source, BACKGROUND_MIN_SNAPSHOTS, SETTINGS_KEY};
 pub use command::Command;
 pub use decisions::decision_row_text;
 pub use inspector::{outcome_name, CompareState};

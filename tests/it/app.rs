@@ -344,3 +344,36 @@ fn settings_persist_and_corrupt_values_are_ignored() {
     let app = SonarApp::new(run, Some(&corrupt));
     assert!(app.settings().rate > 0.0);
 }
+
+#[test]
+fn a_large_run_replays_in_the_background_and_the_old_run_stays_usable() {
+    let mut h = building();
+    h.state_mut().set_background_threshold(100);
+    let bytes = std::fs::read(asset("building.log.json")).unwrap();
+    h.state_mut().push(Command::OpenBytes {
+        name: "big.json".to_owned(),
+        bytes,
+    });
+    h.step();
+    assert!(h.state().is_loading());
+    assert_eq!(
+        *h.state().source(),
+        sonarmap::app::Source::File(asset("building.log.json")),
+        "the old run stays while replaying"
+    );
+    h.key_press(egui::Key::ArrowRight);
+    h.step();
+    assert_eq!(h.state().current(), 1, "and stays usable");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(300);
+    while h.state().is_loading() && std::time::Instant::now() < deadline {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        h.step();
+    }
+    assert!(h.state().banner().is_none(), "{:?}", h.state().banner());
+    assert!(!h.state().is_loading());
+    assert_eq!(
+        *h.state().source(),
+        sonarmap::app::Source::Bytes("big.json".to_owned())
+    );
+    assert_eq!(h.state().len(), 305);
+}
