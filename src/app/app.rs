@@ -368,7 +368,8 @@ impl SonarApp {
             }
             Ok(run) => self.install(Self::prepare(run, source, &self.params), keep_index),
             Err(e) => {
-                self.banner = Some(format!("Could not open {name}: {e}"));
+                // The loader's error already names the file and the place.
+                self.banner = Some(format!("Could not open the log: {e}"));
                 self.message = "open failed; the previous run stays open".to_owned();
             }
         }
@@ -784,7 +785,11 @@ impl SonarApp {
                 );
                 ui.separator();
             }
-            ui.label(format!("snapshot {} of {}", self.current(), self.len()));
+            ui.label(format!(
+                "snapshot {} / {}",
+                self.current(),
+                self.len().saturating_sub(1)
+            ));
             ui.separator();
             let units = self.run().units;
             match self.map_view.cursor_m {
