@@ -9,6 +9,7 @@
 #![warn(missing_docs)]
 
 pub mod alloc_count;
+pub mod app;
 pub mod assets;
 pub mod bench;
 pub mod diff;

@@ -282,9 +282,20 @@ fn broken_inputs_exit_with_code_2_and_a_message() {
 }
 
 #[test]
-fn no_subcommand_opens_the_inspector_hook() {
-    let out = sonarmap(&[]);
-    assert_eq!(out.status.code(), Some(0));
+fn no_subcommand_opens_the_inspector_or_says_why_not() {
+    // Without a display the window cannot open: a clear error and exit code 2, no panic.
+    let out = Command::new(env!("CARGO_BIN_EXE_sonarmap"))
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("cannot open the window") && !err.contains("panicked"),
+        "{err}"
+    );
     let help = sonarmap(&["eval", "--help"]);
     assert_eq!(help.status.code(), Some(0));
     assert!(text(&help.stdout).contains("coverage_visible"));
