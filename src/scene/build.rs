@@ -197,13 +197,17 @@ impl Builder<'_, '_> {
                 sensor: r.sensor,
             };
             let radius_m = range_m.min(run.sensor.max_range_m);
-            let shape = Shape::Wedge {
-                apex,
-                heading_rad: sensor.heading_rad,
-                half_angle_rad,
-                radius_m,
-            };
-            self.push(Layer::Beams, Role::Beam, id, shape);
+            // Wedges for kept readings only: a discarded beam at maximum range would dwarf the map.
+            if r.discarded.is_none() {
+                let heading_rad = sensor.heading_rad;
+                let shape = Shape::Wedge {
+                    apex,
+                    heading_rad,
+                    half_angle_rad,
+                    radius_m,
+                };
+                self.push(Layer::Beams, Role::Beam, id, shape);
+            }
             let end = apex + unit(sensor.heading_rad) * radius_m;
             self.push(
                 Layer::Beams,

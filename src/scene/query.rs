@@ -1,6 +1,6 @@
 //! Questions asked of a built scene: its bounds, its legend, what is under the cursor.
 
-use super::layer::Layer;
+use super::layer::{Layer, LayerSet};
 use super::primitive::{Primitive, SceneId, Shape};
 use super::style::{Glyph, Role, Style};
 use super::Scene;
@@ -73,12 +73,18 @@ impl Scene {
     /// Bounding box of every primitive (texts and markers count by their anchor);
     /// `None` for an empty scene.
     pub fn bounds(&self) -> Option<ViewRect> {
+        self.bounds_of(LayerSet::all())
+    }
+
+    /// Bounding box of the primitives of `layers` only (e.g. without beams and discarded
+    /// readings, which may reach far beyond the map); `None` when they hold nothing.
+    pub fn bounds_of(&self, layers: LayerSet) -> Option<ViewRect> {
         let mut rect: Option<ViewRect> = None;
         let mut add = |p: Point| match rect.as_mut() {
             Some(r) => r.include(&p),
             None => rect = Some(ViewRect { min: p, max: p }),
         };
-        for prim in &self.primitives {
+        for prim in self.primitives.iter().filter(|p| layers.contains(p.layer)) {
             match &prim.shape {
                 Shape::Circle { centre, radius_m } => {
                     add(Point::new(centre.x - radius_m, centre.y - radius_m));

@@ -8,7 +8,7 @@
 use super::primitive::{MarkerShape, Primitive, Shape, TextAlign};
 use super::query::ViewRect;
 use super::style::{Glyph, Rgba, Style};
-use super::{format_length, Layer, Scene};
+use super::{format_length, Layer, LayerSet, Scene};
 use crate::geometry::{unit, Point};
 use crate::units::Units;
 use std::fmt::Write;
@@ -25,10 +25,14 @@ const LEGEND_WIDTH_PX: f64 = 190.0;
 const LEGEND_ROW_PX: f64 = 17.0;
 const FONT: &str = "DejaVu Sans, Verdana, Arial, sans-serif";
 
-/// The scene's bounds grown by 5 % on every side (a unit square around the origin when the
-/// scene is empty): a good default view.
+/// The bounds of the scene's content grown by 5 % on every side: a good default view. Beams
+/// and discarded readings are left out when anything else is drawn (a reading at maximum
+/// range would dwarf the map); a unit square around the origin for an empty scene.
 pub fn default_view(scene: &Scene) -> ViewRect {
-    match scene.bounds() {
+    let content = LayerSet::all()
+        .with(Layer::Beams, false)
+        .with(Layer::Discarded, false);
+    match scene.bounds_of(content).or_else(|| scene.bounds()) {
         Some(b) => {
             let margin_m = 0.05 * b.width_m().max(b.height_m()).max(1e-3);
             b.expanded(margin_m)
@@ -38,21 +42,50 @@ pub fn default_view(scene: &Scene) -> ViewRect {
 }
 
 /// Where the map goes on the page and how world points map to pixels.
-#[derive(Clone, Copy, Debug)]
-struct Transform {
-    scale_px_per_m: f64,
-    origin_px: (f64, f64),
-    view: ViewRect,
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PageTransform {
+    /// Pixels per world metre.
+    pub scale_px_per_m: f64,
+    /// Pixel position of the view's upper-left corner (`view.min.x`, `view.max.y`).
+    pub origin_px: (f64, f64),
+    /// The world rectangle shown.
+    pub view: ViewRect,
 }
 
-impl Transform {
+/// The transform [`to_svg`] uses for `scene` shown in `view` on a `size_px` page
+/// (the legend's room depends on the scene, hence the argument).
+pub fn page_transform(scene: &Scene, view: ViewRect, size_px: (u32, u32)) -> PageTransform {
+    page(scene, view, size_px).0
+}
+
+fn page(scene: &Scene, view: ViewRect, size_px: (u32, u32)) -> (PageTransform, f64, (f64, f64)) {
+    let (w, h) = (f64::from(size_px.0.max(1)), f64::from(size_px.1.max(1)));
+    let has_legend = scene
+        .primitives
+        .iter()
+        .any(|p| p.role.legend_label().is_some());
+    let legend_w = if !has_legend || w < 2.5 * LEGEND_WIDTH_PX {
+        0.0
+    } else {
+        LEGEND_WIDTH_PX
+    };
+    let area = (
+        MARGIN_PX,
+        TITLE_BAND_PX,
+        (w - 2.0 * MARGIN_PX - legend_w).max(1.0),
+        (h - TITLE_BAND_PX - BOTTOM_BAND_PX).max(1.0),
+    );
+    (PageTransform::fit(view, area), legend_w, (w, h))
+}
+
+impl PageTransform {
     fn fit(view: ViewRect, area: (f64, f64, f64, f64)) -> Self {
         let (x, y, w, h) = area;
         let vw = view.width_m().max(1e-9);
         let vh = view.height_m().max(1e-9);
         let scale = (w / vw).min(h / vh).max(1e-9);
         let origin_px = (x + 0.5 * (w - vw * scale), y + 0.5 * (h - vh * scale));
-        Transform {
+        PageTransform {
             scale_px_per_m: scale,
             origin_px,
             view,
@@ -60,7 +93,7 @@ impl Transform {
     }
 
     /// World point → pixel (y flipped: larger world y is higher on the page).
-    fn px(&self, p: &Point) -> (f64, f64) {
+    pub fn px(&self, p: &Point) -> (f64, f64) {
         (
             self.origin_px.0 + (p.x - self.view.min.x) * self.scale_px_per_m,
             self.origin_px.1 + (self.view.max.y - p.y) * self.scale_px_per_m,
@@ -88,20 +121,7 @@ pub fn to_svg(
     title: &str,
     units: Units,
 ) -> String {
-    let (w, h) = (f64::from(size_px.0.max(1)), f64::from(size_px.1.max(1)));
-    let legend = scene.legend();
-    let legend_w = if legend.is_empty() || w < 2.5 * LEGEND_WIDTH_PX {
-        0.0
-    } else {
-        LEGEND_WIDTH_PX
-    };
-    let area = (
-        MARGIN_PX,
-        TITLE_BAND_PX,
-        (w - 2.0 * MARGIN_PX - legend_w).max(1.0),
-        (h - TITLE_BAND_PX - BOTTOM_BAND_PX).max(1.0),
-    );
-    let tf = Transform::fit(view, area);
+    let (tf, legend_w, (w, h)) = page(scene, view, size_px);
     let mut s = String::with_capacity(256 + 160 * scene.primitives.len());
     let _ = writeln!(
         s,
@@ -215,7 +235,7 @@ fn paint(s: &mut String, style: &Style, area: bool) {
     }
 }
 
-fn primitive(s: &mut String, tf: &Transform, prim: &Primitive) {
+fn primitive(s: &mut String, tf: &PageTransform, prim: &Primitive) {
     let style = &prim.style;
     match &prim.shape {
         Shape::Circle { centre, radius_m } => {
@@ -398,7 +418,7 @@ pub fn round_length_m(target_m: f64, units: Units) -> f64 {
     units.to_m(nice)
 }
 
-fn scale_bar(s: &mut String, tf: &Transform, units: Units, (left_px, bottom_px): (f64, f64)) {
+fn scale_bar(s: &mut String, tf: &PageTransform, units: Units, (left_px, bottom_px): (f64, f64)) {
     let (_, _, cw, _) = tf.view_rect_px();
     let length_m = round_length_m(0.2 * cw / tf.scale_px_per_m, units);
     let len_px = length_m * tf.scale_px_per_m;
@@ -511,7 +531,7 @@ mod tests {
     #[test]
     fn y_axis_points_up() {
         let view = ViewRect::new(Point::new(0.0, 0.0), Point::new(10.0, 10.0));
-        let tf = Transform::fit(view, (0.0, 0.0, 100.0, 100.0));
+        let tf = PageTransform::fit(view, (0.0, 0.0, 100.0, 100.0));
         assert!(tf.px(&Point::new(0.0, 9.0)).1 < tf.px(&Point::new(0.0, 1.0)).1);
         assert_eq!(tf.px(&Point::new(0.0, 10.0)), (0.0, 0.0));
     }

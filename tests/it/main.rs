@@ -3,3 +3,4 @@
 mod app;
 mod engine;
 mod engine_properties;
+mod scene;
