@@ -154,7 +154,8 @@ pub fn read_params(args: &ParamArgs) -> Result<Params> {
         Some(path) => {
             let name = path.display().to_string();
             let file: ParamsFile = parse_json(&read(path)?, &name)?;
-            base.with_file(&file).with_context(|| format!("{name}: bad parameters"))
+            base.with_file(&file)
+                .with_context(|| format!("{name}: bad parameters"))
         }
     }
 }
@@ -165,8 +166,14 @@ pub fn write_atomic(path: &Path, text: &str) -> Result<()> {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    let name = path.file_name().ok_or_else(|| anyhow!("{} is not a file name", path.display()))?;
-    let tmp = dir.join(format!(".{}.tmp-{}", name.to_string_lossy(), std::process::id()));
+    let name = path
+        .file_name()
+        .ok_or_else(|| anyhow!("{} is not a file name", path.display()))?;
+    let tmp = dir.join(format!(
+        ".{}.tmp-{}",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(text.as_bytes())?;
@@ -180,7 +187,12 @@ pub fn write_atomic(path: &Path, text: &str) -> Result<()> {
 }
 
 /// Runs the mapper over snapshots `0..=until` and returns the mapper and the traces.
-pub fn map_run(run: &Run, params: Params, until: Option<usize>, keep_traces: bool) -> Result<(Mapper, Vec<StepTrace>, Summary)> {
+pub fn map_run(
+    run: &Run,
+    params: Params,
+    until: Option<usize>,
+    keep_traces: bool,
+) -> Result<(Mapper, Vec<StepTrace>, Summary)> {
     let last = run.snapshots.len() - 1;
     let until = match until {
         Some(n) if n > last => bail!("--until {n} is beyond the last snapshot, {last}"),
@@ -261,7 +273,10 @@ fn run_command(args: &RunArgs) -> Result<()> {
     let params = read_params(&args.params)?;
     let (mapper, traces, summary) = map_run(&run, params, args.until, args.out_trace.is_some())?;
     if let Some(path) = &args.out_map {
-        write_atomic(path, &save_map(mapper.map(), run.units, summary.snapshots - 1))?;
+        write_atomic(
+            path,
+            &save_map(mapper.map(), run.units, summary.snapshots - 1),
+        )?;
     }
     if let Some(path) = &args.out_trace {
         #[derive(serde::Serialize)]
@@ -271,7 +286,12 @@ fn run_command(args: &RunArgs) -> Result<()> {
             units: &'static str,
             steps: &'a [StepTrace],
         }
-        let file = TraceFile { format: "sonarmap-trace", version: 1, units: "m", steps: &traces };
+        let file = TraceFile {
+            format: "sonarmap-trace",
+            version: 1,
+            units: "m",
+            steps: &traces,
+        };
         write_atomic(path, &serde_json::to_string(&file)?)?;
     }
     println!("{summary}");
@@ -304,7 +324,10 @@ fn eval_command(args: &EvalArgs) -> Result<()> {
     let floor_plan = match &args.plan {
         Some(path) => load_plan(&read(path)?, &path.display().to_string())?.floor_plan,
         None => run.floor_plan.clone().ok_or_else(|| {
-            anyhow!("{}: the log has no floor_plan; give one with --plan PLAN.json", args.log.display())
+            anyhow!(
+                "{}: the log has no floor_plan; give one with --plan PLAN.json",
+                args.log.display()
+            )
         })?,
     };
     let (mapper, _, summary) = map_run(&run, params.clone(), None, false)?;

@@ -98,7 +98,11 @@ pub fn evaluate(map: &Map, run: &Run, floor_plan: &FloorPlan, params: &Params) -
     let (mut fitted, mut true_count) = (0usize, 0usize);
     let (mut endpoint_sum, mut endpoint_n) = (0.0, 0usize);
     let (mut angle_sum, mut angle_n) = (0.0, 0usize);
-    for s in map.segments.iter().filter(|s| s.kind == SegmentKind::Fitted) {
+    for s in map
+        .segments
+        .iter()
+        .filter(|s| s.kind == SegmentKind::Fitted)
+    {
         fitted += 1;
         let (ta, tb) = (tol(s.a.range_m), tol(s.b.range_m));
         let dir = s.b.point - s.a.point;
@@ -107,7 +111,11 @@ pub fn evaluate(map: &Map, run: &Run, floor_plan: &FloorPlan, params: &Params) -
             let da = distance_to_segment(&s.a.point, &w.a, &w.b);
             let db = distance_to_segment(&s.b.point, &w.a, &w.b);
             let angle = line_angle_between(&dir, &(w.b - w.a));
-            if da <= ta && db <= tb && angle <= params.orientation_rad + 1e-12 && best.is_none_or(|b| da + db < b.1) {
+            if da <= ta
+                && db <= tb
+                && angle <= params.orientation_rad + 1e-12
+                && best.is_none_or(|b| da + db < b.1)
+            {
                 best = Some((i, da + db, angle));
             }
         }
@@ -154,7 +162,8 @@ pub fn evaluate(map: &Map, run: &Run, floor_plan: &FloorPlan, params: &Params) -
             }
         }
     }
-    let (mut wall_length, mut covered_length, mut visible_length, mut covered_visible) = (0.0, 0.0, 0.0, 0.0);
+    let (mut wall_length, mut covered_length, mut visible_length, mut covered_visible) =
+        (0.0, 0.0, 0.0, 0.0);
     for (i, w) in walls.iter().enumerate() {
         let len = (w.b - w.a).norm();
         if len <= 0.0 {
@@ -170,7 +179,9 @@ pub fn evaluate(map: &Map, run: &Run, floor_plan: &FloorPlan, params: &Params) -
         for (t, r) in m {
             let (lo, hi) = ((t - r / len).max(0.0), (t + r / len).min(1.0));
             current = match current {
-                Some((clo, chi, last)) if (t - last) * len <= params.t_gap_m => Some((clo, chi.max(hi), t)),
+                Some((clo, chi, last)) if (t - last) * len <= params.t_gap_m => {
+                    Some((clo, chi.max(hi), t))
+                }
                 Some(c) => {
                     visible.push((c.0, c.1));
                     Some((lo, hi, t))
@@ -190,10 +201,18 @@ pub fn evaluate(map: &Map, run: &Run, floor_plan: &FloorPlan, params: &Params) -
         units: u.symbol().to_string(),
         segments: fitted,
         true_segments: true_count,
-        spurious_fraction: if fitted == 0 { 0.0 } else { 1.0 - true_count as f64 / fitted as f64 },
+        spurious_fraction: if fitted == 0 {
+            0.0
+        } else {
+            1.0 - true_count as f64 / fitted as f64
+        },
         mean_endpoint_error: (endpoint_n > 0).then(|| u.from_m(endpoint_sum / endpoint_n as f64)),
         mean_angle_error_deg: (angle_n > 0).then(|| (angle_sum / angle_n as f64).to_degrees()),
-        coverage: if wall_length > 0.0 { covered_length / wall_length } else { 0.0 },
+        coverage: if wall_length > 0.0 {
+            covered_length / wall_length
+        } else {
+            0.0
+        },
         coverage_visible: (visible_length > 0.0).then(|| covered_visible / visible_length),
         wall_length: u.from_m(wall_length),
         visible_length: u.from_m(visible_length),

@@ -8,16 +8,16 @@
 //! scene → map view or SVG.
 #![warn(missing_docs)]
 
+pub mod app;
+pub mod assets;
+pub mod eval;
 pub mod export;
 pub mod geometry;
+pub mod log;
 pub mod mapping;
 pub mod replay;
 pub mod run;
 pub mod scene;
+pub mod sim;
 pub mod sonar;
 pub mod units;
-pub mod log;
-pub mod sim;
-pub mod eval;
-pub mod assets;
-pub mod app;

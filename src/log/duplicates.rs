@@ -89,7 +89,10 @@ impl<'de> Visitor<'de> for Check<'_> {
         let mut index = 0;
         loop {
             let child = Check {
-                node: Node { parent: Some(&self.node), step: Step::Index(index) },
+                node: Node {
+                    parent: Some(&self.node),
+                    step: Step::Index(index),
+                },
                 found: self.found,
             };
             if seq.next_element_seed(child)?.is_none() {
@@ -108,7 +111,10 @@ impl<'de> Visitor<'de> for Check<'_> {
                 return Err(de::Error::custom(message));
             }
             let child = Check {
-                node: Node { parent: Some(&self.node), step: Step::Key(&key) },
+                node: Node {
+                    parent: Some(&self.node),
+                    step: Step::Key(&key),
+                },
                 found: self.found,
             };
             map.next_value_seed(child)?;
@@ -122,7 +128,13 @@ impl<'de> Visitor<'de> for Check<'_> {
 /// On error, `found` holds the path and key when the error is a duplicate.
 pub(crate) fn check_duplicates(bytes: &[u8], found: &Found) -> Result<(), serde_json::Error> {
     let mut de = serde_json::Deserializer::from_slice(bytes);
-    let seed = Check { node: Node { parent: None, step: Step::Root }, found };
+    let seed = Check {
+        node: Node {
+            parent: None,
+            step: Step::Root,
+        },
+        found,
+    };
     seed.deserialize(&mut de)?;
     de.end()
 }

@@ -176,7 +176,8 @@ impl<'de> Deserialize<'de> for SonarsFile {
                         map.next_value::<de::IgnoredAny>()?;
                     }
                 }
-                ring.map(SonarsFile::Ring).ok_or_else(|| de::Error::missing_field("ring"))
+                ring.map(SonarsFile::Ring)
+                    .ok_or_else(|| de::Error::missing_field("ring"))
             }
         }
         d.deserialize_any(SonarsVisitor)

@@ -46,11 +46,17 @@ pub fn parse_json<T: DeserializeOwned>(bytes: &[u8], source_name: &str) -> Resul
     }
     let mut de = serde_json::Deserializer::from_slice(bytes);
     let value: T = serde_path_to_error::deserialize(&mut de).map_err(|e| {
-        let path = format!("$.{}", e.path()).replace("$.[", "$[").replace("$..", "$.");
+        let path = format!("$.{}", e.path())
+            .replace("$.[", "$[")
+            .replace("$..", "$.");
         let inner = e.into_inner();
         LogError::Shape {
             file: source_name.to_string(),
-            path: if path == "$.." || path == "$." { "$".to_string() } else { path },
+            path: if path == "$.." || path == "$." {
+                "$".to_string()
+            } else {
+                path
+            },
             message: strip_location(&inner),
             line: inner.line(),
             column: inner.column(),
@@ -76,21 +82,41 @@ pub(crate) fn check_header(
     file: &str,
 ) -> Result<(), LogError> {
     if format != expected {
-        return Err(LogError::WrongFormat { file: file.to_string(), found: format.to_string(), expected });
+        return Err(LogError::WrongFormat {
+            file: file.to_string(),
+            found: format.to_string(),
+            expected,
+        });
     }
     if version.as_u64() != Some(1) {
-        return Err(LogError::UnsupportedVersion { file: file.to_string(), found: version.to_string() });
+        return Err(LogError::UnsupportedVersion {
+            file: file.to_string(),
+            found: version.to_string(),
+        });
     }
     Ok(())
 }
 
 /// Parses the `units` field.
 pub(crate) fn parse_units(units: &str, file: &str) -> Result<Units, LogError> {
-    Units::parse(units).ok_or_else(|| LogError::UnknownUnits { file: file.to_string(), found: units.to_string() })
+    Units::parse(units).ok_or_else(|| LogError::UnknownUnits {
+        file: file.to_string(),
+        found: units.to_string(),
+    })
 }
 
-fn bad(file: &str, path: impl Into<String>, value: impl ToString, expected: &'static str) -> LogError {
-    LogError::BadValue { file: file.to_string(), path: path.into(), value: value.to_string(), expected }
+fn bad(
+    file: &str,
+    path: impl Into<String>,
+    value: impl ToString,
+    expected: &'static str,
+) -> LogError {
+    LogError::BadValue {
+        file: file.to_string(),
+        path: path.into(),
+        value: value.to_string(),
+        expected,
+    }
 }
 
 /// Checks a number is finite; `path` names it.
@@ -127,25 +153,58 @@ pub(crate) fn layout_from_robot(
             let path = format!("{at}.sonars.ring");
             let count = ring.count;
             if !(count.is_finite() && count.fract() == 0.0 && count >= 0.0) {
-                return Err(bad(file, format!("{path}.count"), count, "a whole number of sonars"));
+                return Err(bad(
+                    file,
+                    format!("{path}.count"),
+                    count,
+                    "a whole number of sonars",
+                ));
             }
             if count == 0.0 {
-                return Err(bad(file, format!("{path}.count"), count, "at least one sonar"));
+                return Err(bad(
+                    file,
+                    format!("{path}.count"),
+                    count,
+                    "at least one sonar",
+                ));
             }
             if count > MAX_SENSORS as f64 {
-                return Err(bad(file, format!("{path}.count"), count, "at most 10000 sonars"));
+                return Err(bad(
+                    file,
+                    format!("{path}.count"),
+                    count,
+                    "at most 10000 sonars",
+                ));
             }
             let spacing = finite(ring.spacing_deg, file, format!("{path}.spacing_deg"))?;
-            let first = finite(ring.first_deg.unwrap_or(0.0), file, format!("{path}.first_deg"))?;
+            let first = finite(
+                ring.first_deg.unwrap_or(0.0),
+                file,
+                format!("{path}.first_deg"),
+            )?;
             let Some(radius_m) = radius_m else {
-                return Err(bad(file, format!("{at}.radius"), "nothing", "the robot radius (required with the ring: it is the mount radius)"));
+                return Err(bad(
+                    file,
+                    format!("{at}.radius"),
+                    "nothing",
+                    "the robot radius (required with the ring: it is the mount radius)",
+                ));
             };
-            SensorLayout::ring(count as usize, spacing.to_radians(), first.to_radians(), radius_m)
+            SensorLayout::ring(
+                count as usize,
+                spacing.to_radians(),
+                first.to_radians(),
+                radius_m,
+            )
         }
         SonarsFile::Mounts(mounts) => {
             let path = format!("{at}.sonars");
             if mounts.is_empty() {
-                return Err(LogError::Empty { file: file.to_string(), path, expected: "at least one sonar" });
+                return Err(LogError::Empty {
+                    file: file.to_string(),
+                    path,
+                    expected: "at least one sonar",
+                });
             }
             if mounts.len() > MAX_SENSORS {
                 return Err(bad(file, path, mounts.len(), "at most 10000 sonars"));
@@ -157,7 +216,12 @@ pub(crate) fn layout_from_robot(
                     Ok(SensorMount {
                         x_m: units.to_m(finite(m.x, file, format!("{path}[{k}].x"))?),
                         y_m: units.to_m(finite(m.y, file, format!("{path}[{k}].y"))?),
-                        heading_rad: finite(m.heading_deg, file, format!("{path}[{k}].heading_deg"))?.to_radians(),
+                        heading_rad: finite(
+                            m.heading_deg,
+                            file,
+                            format!("{path}[{k}].heading_deg"),
+                        )?
+                        .to_radians(),
                     })
                 })
                 .collect::<Result<Vec<_>, LogError>>()?;
@@ -180,7 +244,12 @@ pub(crate) fn sensor_from_file(
         if v.is_finite() && v > 0.0 {
             Ok(v)
         } else {
-            Err(bad(file, format!("{at}.{name}"), v, "a finite number greater than 0"))
+            Err(bad(
+                file,
+                format!("{at}.{name}"),
+                v,
+                "a finite number greater than 0",
+            ))
         }
     };
     let spec = SensorSpec {
@@ -215,14 +284,26 @@ pub(crate) fn floor_plan_from_file(
     for (i, w) in plan.walls.iter().enumerate() {
         let path = format!("{at}walls[{i}]");
         if w.len() != 4 && w.len() != 5 {
-            return Err(bad(file, path, format!("{} numbers", w.len()), "[x1, y1, x2, y2] or [x1, y1, x2, y2, roughness_deg]"));
+            return Err(bad(
+                file,
+                path,
+                format!("{} numbers", w.len()),
+                "[x1, y1, x2, y2] or [x1, y1, x2, y2, roughness_deg]",
+            ));
         }
         for (j, v) in w.iter().enumerate() {
             finite(*v, file, format!("{path}[{j}]"))?;
         }
         let roughness_rad = match w.get(4) {
             Some(&r) if (0.0..=90.0).contains(&r) => Some(r.to_radians()),
-            Some(&r) => return Err(bad(file, format!("{path}[4]"), r, "a roughness between 0 and 90 degrees")),
+            Some(&r) => {
+                return Err(bad(
+                    file,
+                    format!("{path}[4]"),
+                    r,
+                    "a roughness between 0 and 90 degrees",
+                ))
+            }
             None => None,
         };
         walls.push(Wall {
@@ -235,15 +316,28 @@ pub(crate) fn floor_plan_from_file(
     for (i, c) in plan.circles.iter().enumerate() {
         let path = format!("{at}circles[{i}]");
         if c.len() != 3 {
-            return Err(bad(file, path, format!("{} numbers", c.len()), "[cx, cy, r]"));
+            return Err(bad(
+                file,
+                path,
+                format!("{} numbers", c.len()),
+                "[cx, cy, r]",
+            ));
         }
         finite(c[0], file, format!("{path}[0]"))?;
         finite(c[1], file, format!("{path}[1]"))?;
         let r = c[2];
         if !(r.is_finite() && r > 0.0) {
-            return Err(bad(file, format!("{path}[2]"), r, "a radius greater than 0"));
+            return Err(bad(
+                file,
+                format!("{path}[2]"),
+                r,
+                "a radius greater than 0",
+            ));
         }
-        circles.push(Circle { centre: Point::new(units.to_m(c[0]), units.to_m(c[1])), radius_m: units.to_m(r) });
+        circles.push(Circle {
+            centre: Point::new(units.to_m(c[0]), units.to_m(c[1])),
+            radius_m: units.to_m(r),
+        });
     }
     Ok(FloorPlan { walls, circles })
 }
@@ -260,7 +354,11 @@ pub fn run_from_file(file: LogFile, source_name: &str) -> Result<Run, LogError> 
         None => None,
     };
     if file.snapshots.is_empty() {
-        return Err(LogError::Empty { file: f.to_string(), path: "$.snapshots".into(), expected: "at least one snapshot" });
+        return Err(LogError::Empty {
+            file: f.to_string(),
+            path: "$.snapshots".into(),
+            expected: "at least one snapshot",
+        });
     }
     let sensors = layout.len();
     let mut snapshots = Vec::with_capacity(file.snapshots.len());
@@ -268,20 +366,39 @@ pub fn run_from_file(file: LogFile, source_name: &str) -> Result<Run, LogError> 
     for (i, s) in file.snapshots.into_iter().enumerate() {
         let t = finite(s.t.unwrap_or(i as f64), f, format!("$.snapshots[{i}].t"))?;
         if t < previous_t {
-            return Err(LogError::TimeDecreases { file: f.to_string(), snapshot: i, t, previous: previous_t });
+            return Err(LogError::TimeDecreases {
+                file: f.to_string(),
+                snapshot: i,
+                t,
+                previous: previous_t,
+            });
         }
         previous_t = t;
         let x = finite(s.pose.x, f, format!("$.snapshots[{i}].pose.x"))?;
         let y = finite(s.pose.y, f, format!("$.snapshots[{i}].pose.y"))?;
-        let h = finite(s.pose.heading_deg, f, format!("$.snapshots[{i}].pose.heading_deg"))?;
+        let h = finite(
+            s.pose.heading_deg,
+            f,
+            format!("$.snapshots[{i}].pose.heading_deg"),
+        )?;
         if s.ranges.len() != sensors {
-            return Err(LogError::RangeCount { file: f.to_string(), snapshot: i, found: s.ranges.len(), expected: sensors });
+            return Err(LogError::RangeCount {
+                file: f.to_string(),
+                snapshot: i,
+                found: s.ranges.len(),
+                expected: sensors,
+            });
         }
         let mut ranges = s.ranges;
         for (k, r) in ranges.iter_mut().enumerate() {
             if let Some(v) = r {
                 if !(v.is_finite() && *v >= 0.0) {
-                    return Err(LogError::BadRange { file: f.to_string(), snapshot: i, sensor: k, value: *v });
+                    return Err(LogError::BadRange {
+                        file: f.to_string(),
+                        snapshot: i,
+                        sensor: k,
+                        value: *v,
+                    });
                 }
                 *v = units.to_m(*v);
             }

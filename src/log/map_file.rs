@@ -73,7 +73,11 @@ pub fn map_to_file(map: &Map, units: Units, snapshot: usize) -> MapFile {
                 object: s.object,
                 created: s.created,
                 updated: s.updated.clone(),
-                points: s.points.iter().map(|p| [l(p.point.x), l(p.point.y), l(p.range_m)]).collect(),
+                points: s
+                    .points
+                    .iter()
+                    .map(|p| [l(p.point.x), l(p.point.y), l(p.range_m)])
+                    .collect(),
             })
             .collect(),
     }
@@ -81,7 +85,8 @@ pub fn map_to_file(map: &Map, units: Units, snapshot: usize) -> MapFile {
 
 /// `map` as `sonarmap-map` v1 JSON text.
 pub fn save_map(map: &Map, units: Units, snapshot: usize) -> String {
-    let mut text = serde_json::to_string_pretty(&map_to_file(map, units, snapshot)).expect("a map serialises");
+    let mut text =
+        serde_json::to_string_pretty(&map_to_file(map, units, snapshot)).expect("a map serialises");
     text.push('\n');
     text
 }

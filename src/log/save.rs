@@ -1,8 +1,8 @@
 //! Writing a run back as a `sonarmap-log` v1 file in the run's units.
 
 use super::file::{
-    FloorPlanFile, LogFile, MountFile, PoseFile, RingFile, RobotFile, SensorFile, SnapshotFile, SonarsFile,
-    LOG_FORMAT,
+    FloorPlanFile, LogFile, MountFile, PoseFile, RingFile, RobotFile, SensorFile, SnapshotFile,
+    SonarsFile, LOG_FORMAT,
 };
 use crate::run::{FloorPlan, Run};
 use crate::sonar::SensorLayout;
@@ -39,7 +39,11 @@ fn deg(v_rad: f64) -> f64 {
 pub fn ring_parameters(layout: &SensorLayout, radius_m: f64) -> Option<(usize, f64, f64)> {
     let n = layout.len();
     let first = layout.mounts.first()?.heading_rad;
-    let spacing = if n > 1 { layout.mounts[1].heading_rad - first } else { 0.0 };
+    let spacing = if n > 1 {
+        layout.mounts[1].heading_rad - first
+    } else {
+        0.0
+    };
     let ring = SensorLayout::ring(n, spacing, first, radius_m);
     let scale = radius_m.abs().max(1e-3);
     let same = ring.mounts.iter().zip(&layout.mounts).all(|(a, b)| {
@@ -52,7 +56,11 @@ pub fn ring_parameters(layout: &SensorLayout, radius_m: f64) -> Option<(usize, f
 
 /// The robot block of a layout, in `units` (ring shorthand when the layout is a ring of the
 /// robot's radius).
-pub(crate) fn robot_to_file(layout: &SensorLayout, radius_m: Option<f64>, units: Units) -> RobotFile {
+pub(crate) fn robot_to_file(
+    layout: &SensorLayout,
+    radius_m: Option<f64>,
+    units: Units,
+) -> RobotFile {
     let sonars = match radius_m.and_then(|r| ring_parameters(layout, r)) {
         Some((count, spacing, first)) => SonarsFile::Ring(RingFile {
             count: count as f64,
@@ -63,11 +71,18 @@ pub(crate) fn robot_to_file(layout: &SensorLayout, radius_m: Option<f64>, units:
             layout
                 .mounts
                 .iter()
-                .map(|m| MountFile { x: len(units, m.x_m), y: len(units, m.y_m), heading_deg: deg(m.heading_rad) })
+                .map(|m| MountFile {
+                    x: len(units, m.x_m),
+                    y: len(units, m.y_m),
+                    heading_deg: deg(m.heading_rad),
+                })
                 .collect(),
         ),
     };
-    RobotFile { radius: radius_m.map(|r| len(units, r)), sonars }
+    RobotFile {
+        radius: radius_m.map(|r| len(units, r)),
+        sonars,
+    }
 }
 
 /// A floor plan as file walls and circles, in `units`.
@@ -77,7 +92,12 @@ pub(crate) fn floor_plan_to_file(plan: &FloorPlan, units: Units) -> FloorPlanFil
             .walls
             .iter()
             .map(|w| {
-                let mut v = vec![len(units, w.a.x), len(units, w.a.y), len(units, w.b.x), len(units, w.b.y)];
+                let mut v = vec![
+                    len(units, w.a.x),
+                    len(units, w.a.y),
+                    len(units, w.b.x),
+                    len(units, w.b.y),
+                ];
                 if let Some(r) = w.roughness_rad {
                     v.push(deg(r));
                 }
@@ -87,7 +107,13 @@ pub(crate) fn floor_plan_to_file(plan: &FloorPlan, units: Units) -> FloorPlanFil
         circles: plan
             .circles
             .iter()
-            .map(|c| vec![len(units, c.centre.x), len(units, c.centre.y), len(units, c.radius_m)])
+            .map(|c| {
+                vec![
+                    len(units, c.centre.x),
+                    len(units, c.centre.y),
+                    len(units, c.radius_m),
+                ]
+            })
             .collect(),
     }
 }
@@ -113,7 +139,11 @@ pub fn run_to_file(run: &Run) -> LogFile {
             .iter()
             .map(|s| SnapshotFile {
                 t: Some(s.t),
-                pose: PoseFile { x: len(u, s.pose.x), y: len(u, s.pose.y), heading_deg: deg(s.pose.heading_rad) },
+                pose: PoseFile {
+                    x: len(u, s.pose.x),
+                    y: len(u, s.pose.y),
+                    heading_deg: deg(s.pose.heading_rad),
+                },
                 ranges: s.ranges_m.iter().map(|r| r.map(|v| len(u, v))).collect(),
             })
             .collect(),
@@ -124,18 +154,36 @@ pub fn run_to_file(run: &Run) -> LogFile {
 /// first, then one line per snapshot (diff-friendly). `load_run(save_run(run))` gives the run
 /// back to within 1e-9 of a unit.
 pub fn save_run(run: &Run) -> String {
-    let file = run_to_file(run);
-    let head = LogFile { snapshots: Vec::new(), ..file.clone() };
+    let mut head = run_to_file(run);
+    let snapshots = std::mem::take(&mut head.snapshots);
+    let floor_plan = head.floor_plan.take();
     let mut text = serde_json::to_string_pretty(&head).expect("a log file serialises");
-    // Replace the empty snapshot list with one snapshot per line.
+    // Replace the empty snapshot list with the floor plan (one wall a line) and one snapshot
+    // a line (diff-friendly).
     let empty = "\"snapshots\": []";
     let at = text.rfind(empty).expect("the snapshots key is written");
     text.truncate(at);
+    if let Some(plan) = &floor_plan {
+        let rows = |rows: &[Vec<f64>]| {
+            let lines: Vec<String> = rows
+                .iter()
+                .map(|r| format!("      {}", serde_json::to_string(r).expect("numbers serialise")))
+                .collect();
+            format!("[\n{}\n    ]", lines.join(",\n"))
+        };
+        text.push_str("\"floor_plan\": {\n    \"walls\": ");
+        text.push_str(&rows(&plan.walls));
+        if !plan.circles.is_empty() {
+            text.push_str(",\n    \"circles\": ");
+            text.push_str(&rows(&plan.circles));
+        }
+        text.push_str("\n  },\n  ");
+    }
     text.push_str("\"snapshots\": [\n");
-    for (i, s) in file.snapshots.iter().enumerate() {
+    for (i, s) in snapshots.iter().enumerate() {
         text.push_str("    ");
         text.push_str(&serde_json::to_string(s).expect("a snapshot serialises"));
-        if i + 1 < file.snapshots.len() {
+        if i + 1 < snapshots.len() {
             text.push(',');
         }
         text.push('\n');

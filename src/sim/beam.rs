@@ -114,13 +114,22 @@ impl World {
                         let off = (wj.a + e * t - p).norm();
                         if off < SAME_POINT_M && t > 0.0 && t < 1.0 {
                             corners.push(Corner { point: p, u1, u2 });
-                            corners.push(Corner { point: p, u1, u2: -u2 });
+                            corners.push(Corner {
+                                point: p,
+                                u1,
+                                u2: -u2,
+                            });
                         }
                     }
                 }
             }
         }
-        Self { plan: plan.clone(), default_roughness_rad, corners, corner_tolerance_m }
+        Self {
+            plan: plan.clone(),
+            default_roughness_rad,
+            corners,
+            corner_tolerance_m,
+        }
     }
 
     /// The first surface met by the ray from `origin` in direction `dir` (unit length).
@@ -159,7 +168,11 @@ impl World {
                 continue;
             }
             let root = disc.sqrt();
-            let t = if -b - root > 1e-9 { -b - root } else { -b + root };
+            let t = if -b - root > 1e-9 {
+                -b - root
+            } else {
+                -b + root
+            };
             if t > 1e-9 {
                 let point = origin + dir * t;
                 let normal = (point - c.centre) / c.radius_m;
@@ -177,17 +190,25 @@ impl World {
     /// True when `hit`, reached from `origin`, is within the corner tolerance of a corner that is
     /// concave seen from `origin`.
     fn near_concave_corner(&self, origin: &Point, hit: &Hit) -> bool {
-        self.corners
-            .iter()
-            .any(|c| (hit.point - c.point).norm() <= self.corner_tolerance_m && c.is_concave_from(origin))
+        self.corners.iter().any(|c| {
+            (hit.point - c.point).norm() <= self.corner_tolerance_m && c.is_concave_from(origin)
+        })
     }
 
     /// The noise-free range a sonar at `sensor` (position and beam heading) reads, or `None`
     /// when nothing echoes (range limits are the caller's).
-    pub fn echo_range(&self, sensor: &Pose, beam_width_rad: f64, ray_step_rad: f64, model: Model) -> Option<f64> {
+    pub fn echo_range(
+        &self,
+        sensor: &Pose,
+        beam_width_rad: f64,
+        ray_step_rad: f64,
+        model: Model,
+    ) -> Option<f64> {
         let origin = sensor.position();
         match model {
-            Model::Axis => self.cast(&origin, &unit(sensor.heading_rad)).map(|h| h.distance_m),
+            Model::Axis => self
+                .cast(&origin, &unit(sensor.heading_rad))
+                .map(|h| h.distance_m),
             Model::Specular => {
                 let half = beam_width_rad / 2.0;
                 let mut offsets = Vec::new();
@@ -197,7 +218,8 @@ impl World {
                 }
                 let mut special = |target_dir: Vec2| {
                     let angle = target_dir.y.atan2(target_dir.x) - sensor.heading_rad;
-                    let off = (angle + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
+                    let off = (angle + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                        - std::f64::consts::PI;
                     if off.abs() <= half {
                         offsets.push(off);
                     }
@@ -222,7 +244,9 @@ impl World {
                 let mut best: Option<f64> = None;
                 for off in offsets {
                     let dir = unit(sensor.heading_rad + off);
-                    let Some(hit) = self.cast(&origin, &dir) else { continue };
+                    let Some(hit) = self.cast(&origin, &dir) else {
+                        continue;
+                    };
                     let echoes = hit.incidence_rad <= hit.roughness_rad + 1e-9
                         || self.near_concave_corner(&origin, &hit);
                     if echoes && best.is_none_or(|b| hit.distance_m < b) {

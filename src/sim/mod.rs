@@ -7,7 +7,7 @@ mod simulate;
 
 pub use beam::{Hit, Model, World};
 pub use plan::{
-    interpolate_path, load_plan, plan_from_file, Plan, PlanFile, SimFile, SimSettings, DEFAULT_ROUGHNESS_DEG,
-    PLAN_FORMAT,
+    interpolate_path, load_plan, plan_from_file, Plan, PlanFile, SimFile, SimSettings,
+    DEFAULT_ROUGHNESS_DEG, PLAN_FORMAT,
 };
 pub use simulate::simulate;

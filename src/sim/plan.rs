@@ -2,8 +2,8 @@
 
 use crate::geometry::Pose;
 use crate::log::{
-    check_header, floor_plan_from_file, layout_from_robot, parse_json, parse_units, sensor_from_file, FloorPlanFile,
-    LogError, RingFile, RobotFile, SensorFile, SonarsFile,
+    check_header, floor_plan_from_file, layout_from_robot, parse_json, parse_units,
+    sensor_from_file, FloorPlanFile, LogError, RingFile, RobotFile, SensorFile, SonarsFile,
 };
 use crate::run::FloorPlan;
 use crate::sonar::{SensorLayout, SensorSpec};
@@ -138,7 +138,12 @@ pub fn load_plan(bytes: &[u8], source_name: &str) -> Result<Plan, LogError> {
 }
 
 fn bad(file: &str, path: String, value: impl ToString, expected: &'static str) -> LogError {
-    LogError::BadValue { file: file.to_string(), path, value: value.to_string(), expected }
+    LogError::BadValue {
+        file: file.to_string(),
+        path,
+        value: value.to_string(),
+        expected,
+    }
 }
 
 /// Converts a parsed plan file, checking every value.
@@ -146,46 +151,95 @@ pub fn plan_from_file(file: &PlanFile, source_name: &str) -> Result<Plan, LogErr
     let f = source_name;
     check_header(&file.format, &file.version, PLAN_FORMAT, f)?;
     let units = parse_units(&file.units, f)?;
-    let floor_plan =
-        floor_plan_from_file(&FloorPlanFile { walls: file.walls.clone(), circles: file.circles.clone() }, units, f, "$.")?;
+    let floor_plan = floor_plan_from_file(
+        &FloorPlanFile {
+            walls: file.walls.clone(),
+            circles: file.circles.clone(),
+        },
+        units,
+        f,
+        "$.",
+    )?;
     let roughness_deg = file.roughness_deg.unwrap_or(DEFAULT_ROUGHNESS_DEG);
     if !(0.0..=90.0).contains(&roughness_deg) {
-        return Err(bad(f, "$.roughness_deg".into(), roughness_deg, "an angle between 0 and 90 degrees"));
+        return Err(bad(
+            f,
+            "$.roughness_deg".into(),
+            roughness_deg,
+            "an angle between 0 and 90 degrees",
+        ));
     }
     let nomad = RobotFile {
         radius: Some(units.from_m(inches(9.0))),
-        sonars: SonarsFile::Ring(RingFile { count: 16.0, spacing_deg: 22.5, first_deg: None }),
+        sonars: SonarsFile::Ring(RingFile {
+            count: 16.0,
+            spacing_deg: 22.5,
+            first_deg: None,
+        }),
     };
-    let (layout, robot_radius_m) = layout_from_robot(file.robot.as_ref().unwrap_or(&nomad), units, f, "$.robot")?;
+    let (layout, robot_radius_m) =
+        layout_from_robot(file.robot.as_ref().unwrap_or(&nomad), units, f, "$.robot")?;
     let sensor = sensor_from_file(file.sensor.as_ref(), units, f, "$.sensor")?;
     let s = file.sim.unwrap_or_default();
     let d = SimSettings::default();
     let prob = |v: Option<f64>, name: &str| match v {
         None => Ok(0.0),
         Some(p) if (0.0..=1.0).contains(&p) => Ok(p),
-        Some(p) => Err(bad(f, format!("$.sim.{name}"), p, "a probability between 0 and 1")),
+        Some(p) => Err(bad(
+            f,
+            format!("$.sim.{name}"),
+            p,
+            "a probability between 0 and 1",
+        )),
     };
     let positive = |v: Option<f64>, name: &str, default: f64, to: &dyn Fn(f64) -> f64| match v {
         None => Ok(default),
         Some(x) if x.is_finite() && x > 0.0 => Ok(to(x)),
-        Some(x) => Err(bad(f, format!("$.sim.{name}"), x, "a finite number greater than 0")),
+        Some(x) => Err(bad(
+            f,
+            format!("$.sim.{name}"),
+            x,
+            "a finite number greater than 0",
+        )),
     };
     let sim = SimSettings {
-        resolution_m: positive(s.resolution, "resolution", d.resolution_m, &|x| units.to_m(x))?,
+        resolution_m: positive(s.resolution, "resolution", d.resolution_m, &|x| {
+            units.to_m(x)
+        })?,
         dropout: prob(s.dropout, "dropout")?,
         ghost: prob(s.ghost, "ghost")?,
-        ray_step_rad: positive(s.ray_step_deg, "ray_step_deg", d.ray_step_rad, &|x: f64| x.to_radians())?,
-        corner_tolerance_m: positive(s.corner_tolerance, "corner_tolerance", d.corner_tolerance_m, &|x| units.to_m(x))?,
+        ray_step_rad: positive(s.ray_step_deg, "ray_step_deg", d.ray_step_rad, &|x: f64| {
+            x.to_radians()
+        })?,
+        corner_tolerance_m: positive(
+            s.corner_tolerance,
+            "corner_tolerance",
+            d.corner_tolerance_m,
+            &|x| units.to_m(x),
+        )?,
     };
     if file.path.is_empty() {
-        return Err(LogError::Empty { file: f.to_string(), path: "$.path".into(), expected: "at least one pose [x, y, heading_deg]" });
+        return Err(LogError::Empty {
+            file: f.to_string(),
+            path: "$.path".into(),
+            expected: "at least one pose [x, y, heading_deg]",
+        });
     }
     let mut waypoints = Vec::with_capacity(file.path.len());
     for (i, p) in file.path.iter().enumerate() {
         if p.len() != 3 || p.iter().any(|v| !v.is_finite()) {
-            return Err(bad(f, format!("$.path[{i}]"), format!("{p:?}"), "[x, y, heading_deg] of finite numbers"));
+            return Err(bad(
+                f,
+                format!("$.path[{i}]"),
+                format!("{p:?}"),
+                "[x, y, heading_deg] of finite numbers",
+            ));
         }
-        waypoints.push(Pose::new(units.to_m(p[0]), units.to_m(p[1]), p[2].to_radians()));
+        waypoints.push(Pose::new(
+            units.to_m(p[0]),
+            units.to_m(p[1]),
+            p[2].to_radians(),
+        ));
     }
     let step_m = match file.step {
         None => None,
@@ -195,11 +249,23 @@ pub fn plan_from_file(file: &PlanFile, source_name: &str) -> Result<Plan, LogErr
     let turn_step_rad = match file.turn_step_deg {
         None => None,
         Some(v) if v.is_finite() && v > 0.0 => Some(v.to_radians()),
-        Some(v) => return Err(bad(f, "$.turn_step_deg".into(), v, "a finite angle greater than 0")),
+        Some(v) => {
+            return Err(bad(
+                f,
+                "$.turn_step_deg".into(),
+                v,
+                "a finite angle greater than 0",
+            ))
+        }
     };
     let poses = interpolate_path(&waypoints, step_m, turn_step_rad);
     if poses.len() > 10_000_000 {
-        return Err(bad(f, "$.step".into(), poses.len(), "a path of at most 10,000,000 snapshots"));
+        return Err(bad(
+            f,
+            "$.step".into(),
+            poses.len(),
+            "a path of at most 10,000,000 snapshots",
+        ));
     }
     Ok(Plan {
         name: file.name.clone().unwrap_or_else(|| source_name.to_string()),
@@ -225,7 +291,11 @@ pub fn plan_from_file(file: &PlanFile, source_name: &str) -> Result<Plan, LogErr
 /// let poses = interpolate_path(&[Pose::new(0.0, 0.0, 0.0), Pose::new(1.0, 0.0, 0.0)], Some(0.3), None);
 /// assert_eq!(poses.len(), 5); // 0, 0.25, 0.5, 0.75, 1
 /// ```
-pub fn interpolate_path(waypoints: &[Pose], step_m: Option<f64>, turn_step_rad: Option<f64>) -> Vec<Pose> {
+pub fn interpolate_path(
+    waypoints: &[Pose],
+    step_m: Option<f64>,
+    turn_step_rad: Option<f64>,
+) -> Vec<Pose> {
     if step_m.is_none() && turn_step_rad.is_none() {
         return waypoints.to_vec();
     }
@@ -233,13 +303,20 @@ pub fn interpolate_path(waypoints: &[Pose], step_m: Option<f64>, turn_step_rad: 
     for pair in waypoints.windows(2) {
         let (a, b) = (pair[0], pair[1]);
         let dist = a.distance_to(&b);
-        let turn = (b.heading_rad - a.heading_rad + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+        let turn = (b.heading_rad - a.heading_rad + std::f64::consts::PI)
+            .rem_euclid(std::f64::consts::TAU)
             - std::f64::consts::PI;
-        let pieces = |amount: f64, limit: Option<f64>| limit.map_or(1.0, |l| (amount / l - 1e-9).ceil().max(1.0));
+        let pieces = |amount: f64, limit: Option<f64>| {
+            limit.map_or(1.0, |l| (amount / l - 1e-9).ceil().max(1.0))
+        };
         let n = pieces(dist, step_m).max(pieces(turn.abs(), turn_step_rad)) as usize;
         for k in 0..n {
             let s = k as f64 / n as f64;
-            poses.push(Pose::new(a.x + (b.x - a.x) * s, a.y + (b.y - a.y) * s, a.heading_rad + turn * s));
+            poses.push(Pose::new(
+                a.x + (b.x - a.x) * s,
+                a.y + (b.y - a.y) * s,
+                a.heading_rad + turn * s,
+            ));
         }
     }
     if let Some(last) = waypoints.last() {

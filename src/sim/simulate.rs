@@ -18,7 +18,11 @@ use rand_chacha::ChaCha8Rng;
 /// Then the range is rounded to a multiple of `sim.resolution_m`; a range at or beyond the
 /// sensor's maximum is no echo (`None`). The run carries the plan's floor plan as ground truth.
 pub fn simulate(plan: &Plan, model: Model, seed: u64) -> Run {
-    let world = World::new(&plan.floor_plan, plan.roughness_rad, plan.sim.corner_tolerance_m);
+    let world = World::new(
+        &plan.floor_plan,
+        plan.roughness_rad,
+        plan.sim.corner_tolerance_m,
+    );
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let sensor = plan.sensor;
     let sim = plan.sim;
@@ -34,21 +38,32 @@ pub fn simulate(plan: &Plan, model: Model, seed: u64) -> Run {
                     let u_noise: f64 = rng.random();
                     let u_far: f64 = rng.random();
                     let sensor_pose = plan.layout.sensor_pose_in_world(pose, k);
-                    let truth = world.echo_range(&sensor_pose, sensor.beam_width_rad, sim.ray_step_rad, model);
+                    let truth = world.echo_range(
+                        &sensor_pose,
+                        sensor.beam_width_rad,
+                        sim.ray_step_rad,
+                        model,
+                    );
                     let range = if u_drop < sim.dropout {
                         None
                     } else if u_ghost < sim.ghost {
                         let from = truth.unwrap_or(sensor.min_range_m).min(sensor.max_range_m);
                         Some(from + u_far * (sensor.max_range_m - from))
                     } else {
-                        truth.map(|r| r * (1.0 + sensor.accuracy_pct / 100.0 * (2.0 * u_noise - 1.0)))
+                        truth.map(|r| {
+                            r * (1.0 + sensor.accuracy_pct / 100.0 * (2.0 * u_noise - 1.0))
+                        })
                     };
                     range
                         .map(|r| (r / sim.resolution_m).round() * sim.resolution_m)
                         .filter(|r| *r < sensor.max_range_m)
                 })
                 .collect();
-            Snapshot { t: i as f64, pose: *pose, ranges_m }
+            Snapshot {
+                t: i as f64,
+                pose: *pose,
+                ranges_m,
+            }
         })
         .collect();
     Run {

@@ -1,6 +1,10 @@
 //! The integration tests: one binary, one module per area.
 
 mod app;
+mod cli;
 mod engine;
 mod engine_properties;
+mod eval;
+mod log;
 mod scene;
+mod sim;

@@ -1,0 +1,262 @@
+//! The binary: subcommands on the assets and on broken files.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn assets(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets")
+        .join(name)
+}
+
+fn sonarmap(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_sonarmap"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// Expects exit code 2, nothing on stdout, no panic, and a message containing every part.
+fn check_fails(args: &[&str], parts: &[&str]) {
+    let out = sonarmap(args);
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "args {args:?}, stderr {err}");
+    assert!(
+        !err.contains("panicked") && !err.contains("backtrace"),
+        "{err}"
+    );
+    for p in parts {
+        assert!(err.contains(p), "stderr lacks {p:?}: {err}");
+    }
+}
+
+#[test]
+fn run_writes_map_and_trace_and_prints_a_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = dir.path().join("map.json");
+    let trace = dir.path().join("trace.json");
+    let log = assets("blue_room.log.json");
+    let out = sonarmap(&[
+        "run",
+        log.to_str().unwrap(),
+        "--out-map",
+        map.to_str().unwrap(),
+        "--out-trace",
+        trace.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let summary = text(&out.stdout);
+    assert!(
+        summary.starts_with("snapshots 2, readings kept"),
+        "{summary}"
+    );
+    let map: serde_json::Value = serde_json::from_slice(&std::fs::read(&map).unwrap()).unwrap();
+    assert_eq!(map["format"], "sonarmap-map");
+    assert_eq!(map["units"], "in");
+    assert_eq!(map["snapshot"], 1);
+    let trace: serde_json::Value = serde_json::from_slice(&std::fs::read(&trace).unwrap()).unwrap();
+    assert_eq!(trace["steps"].as_array().unwrap().len(), 2);
+    // No temporary file is left behind.
+    let names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names.len(), 2, "{names:?}");
+}
+
+#[test]
+fn run_until_stops_early_and_rejects_a_snapshot_past_the_end() {
+    let log = assets("building.log.json");
+    let out = sonarmap(&[
+        "run",
+        log.to_str().unwrap(),
+        "--until",
+        "9",
+        "--preset",
+        "extended",
+    ]);
+    assert_eq!(out.status.code(), Some(0));
+    assert!(text(&out.stdout).starts_with("snapshots 10,"));
+    check_fails(
+        &["run", log.to_str().unwrap(), "--until", "100000"],
+        &["--until 100000", "last snapshot"],
+    );
+}
+
+#[test]
+fn svg_is_not_available_yet() {
+    let log = assets("blue_room.log.json");
+    check_fails(
+        &["run", log.to_str().unwrap(), "--svg", "x.svg"],
+        &["not yet available"],
+    );
+}
+
+#[test]
+fn simulate_reproduces_the_assets() {
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["blue_room", "tight_room", "building"] {
+        let out_log = dir.path().join(format!("{name}.log.json"));
+        let plan = assets(&format!("{name}.plan.json"));
+        let out = sonarmap(&[
+            "simulate",
+            plan.to_str().unwrap(),
+            "--out",
+            out_log.to_str().unwrap(),
+            "--seed",
+            "1",
+        ]);
+        assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+        let made = std::fs::read_to_string(&out_log).unwrap();
+        let shipped = std::fs::read_to_string(assets(&format!("{name}.log.json"))).unwrap();
+        assert!(
+            made == shipped,
+            "assets/{name}.log.json is not what `simulate --seed 1` makes"
+        );
+    }
+}
+
+#[test]
+fn simulate_axis_model_and_another_seed() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_log = dir.path().join("axis.json");
+    let plan = assets("tight_room.plan.json");
+    let out = sonarmap(&[
+        "simulate",
+        plan.to_str().unwrap(),
+        "--out",
+        out_log.to_str().unwrap(),
+        "--model",
+        "axis",
+        "--seed",
+        "5",
+    ]);
+    assert_eq!(out.status.code(), Some(0));
+    let run = sonarmap::log::load_run(&std::fs::read(&out_log).unwrap(), "axis.json").unwrap();
+    assert_eq!(run.snapshots.len(), 2);
+    // The axis model has no incidence limit: only the sonar looking out of the opening misses.
+    let hits = run.snapshots[0]
+        .ranges_m
+        .iter()
+        .filter(|r| r.is_some())
+        .count();
+    assert!(hits >= 15, "{hits} of 16");
+}
+
+#[test]
+fn eval_prints_one_json_object_with_the_figures() {
+    for preset in ["paper", "extended"] {
+        let log = assets("tight_room.log.json");
+        let out = sonarmap(&["eval", log.to_str().unwrap(), "--preset", preset]);
+        assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        for key in [
+            "segments",
+            "true_segments",
+            "spurious_fraction",
+            "mean_endpoint_error",
+            "mean_angle_error_deg",
+            "coverage",
+            "coverage_visible",
+        ] {
+            assert!(v.get(key).is_some(), "missing {key}: {v}");
+        }
+        assert_eq!(v["preset"], preset);
+    }
+}
+
+#[test]
+fn eval_with_a_plan_and_params_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let params = dir.path().join("p.json");
+    std::fs::write(&params, r#"{"t_gap": 30, "orientation_deg": 10}"#).unwrap();
+    let log = assets("blue_room.log.json");
+    let plan = assets("blue_room.plan.json");
+    let out = sonarmap(&[
+        "eval",
+        log.to_str().unwrap(),
+        "--plan",
+        plan.to_str().unwrap(),
+        "--params",
+        params.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    std::fs::write(&params, r#"{"t_gap": -1}"#).unwrap();
+    check_fails(
+        &[
+            "eval",
+            log.to_str().unwrap(),
+            "--params",
+            params.to_str().unwrap(),
+        ],
+        &["p.json", "t_gap"],
+    );
+    std::fs::write(&params, r#"{"tgap": 3}"#).unwrap();
+    check_fails(
+        &[
+            "run",
+            log.to_str().unwrap(),
+            "--params",
+            params.to_str().unwrap(),
+        ],
+        &["p.json", "tgap"],
+    );
+}
+
+#[test]
+fn broken_inputs_exit_with_code_2_and_a_message() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.json");
+    std::fs::write(&bad, "{ not json").unwrap();
+    check_fails(
+        &["run", bad.to_str().unwrap()],
+        &["bad.json", "not JSON", "line 1"],
+    );
+    std::fs::write(
+        &bad,
+        std::fs::read_to_string(assets("blue_room.log.json"))
+            .unwrap()
+            .replace("\"version\": 1", "\"version\": 7"),
+    )
+    .unwrap();
+    check_fails(&["eval", bad.to_str().unwrap()], &["bad.json", "version"]);
+    check_fails(
+        &["run", dir.path().join("missing.json").to_str().unwrap()],
+        &["cannot read", "missing.json"],
+    );
+    check_fails(
+        &[
+            "simulate",
+            bad.to_str().unwrap(),
+            "--out",
+            dir.path().join("o.json").to_str().unwrap(),
+        ],
+        &["bad.json", "missing field `path`"],
+    );
+    check_fails(&["run"], &["LOG"]);
+    check_fails(&["run", "x.json", "--preset", "fancy"], &["fancy"]);
+    check_fails(
+        &["simulate", "p.json", "--out", "o.json", "--model", "ray"],
+        &["ray"],
+    );
+    // A log without a floor plan cannot be evaluated without --plan.
+    let no_plan = dir.path().join("noplan.json");
+    std::fs::write(&no_plan, r#"{"format": "sonarmap-log", "version": 1, "units": "in", "robot": {"radius": 9, "sonars": {"ring": {"count": 1, "spacing_deg": 0}}}, "snapshots": [{"pose": {"x": 0, "y": 0, "heading_deg": 0}, "ranges": [10]}]}"#).unwrap();
+    check_fails(
+        &["eval", no_plan.to_str().unwrap()],
+        &["no floor_plan", "--plan"],
+    );
+}
+
+#[test]
+fn no_subcommand_opens_the_inspector_hook() {
+    let out = sonarmap(&[]);
+    assert_eq!(out.status.code(), Some(0));
+    let help = sonarmap(&["eval", "--help"]);
+    assert_eq!(help.status.code(), Some(0));
+    assert!(text(&help.stdout).contains("coverage_visible"));
+}

@@ -1,0 +1,213 @@
+//! The simulator: beam model behaviour, plan paths, determinism.
+
+use sonarmap::geometry::{Point, Pose};
+use sonarmap::log::save_run;
+use sonarmap::run::{Circle, FloorPlan, Wall};
+use sonarmap::sim::{interpolate_path, load_plan, simulate, Model, World};
+
+const BEAM: f64 = 25.0;
+
+fn wall(ax: f64, ay: f64, bx: f64, by: f64, roughness_deg: Option<f64>) -> Wall {
+    Wall {
+        a: Point::new(ax, ay),
+        b: Point::new(bx, by),
+        roughness_rad: roughness_deg.map(f64::to_radians),
+    }
+}
+
+fn echo(world: &World, x: f64, y: f64, heading_deg: f64, model: Model) -> Option<f64> {
+    world.echo_range(
+        &Pose::new(x, y, heading_deg.to_radians()),
+        BEAM.to_radians(),
+        1f64.to_radians(),
+        model,
+    )
+}
+
+#[test]
+fn a_mirror_wall_perpendicular_to_the_beam_echoes_at_the_normal_distance() {
+    let plan = FloorPlan {
+        walls: vec![wall(2.0, -5.0, 2.0, 5.0, Some(1.0))],
+        circles: vec![],
+    };
+    let world = World::new(&plan, 0.0, 0.0254);
+    // Axis 10° off the normal: the normal is inside the 25° cone → normal distance 2.
+    let r = echo(&world, 0.0, 0.0, 10.0, Model::Specular).unwrap();
+    assert!((r - 2.0).abs() < 1e-9, "{r}");
+}
+
+#[test]
+fn a_mirror_wall_at_grazing_angle_gives_no_echo() {
+    let plan = FloorPlan {
+        walls: vec![wall(2.0, -5.0, 2.0, 5.0, Some(5.0))],
+        circles: vec![],
+    };
+    let world = World::new(&plan, 0.0, 0.0254);
+    // Axis 60° off the normal: rays 47.5°..72.5° off, all beyond 5° roughness.
+    assert_eq!(echo(&world, 0.0, 0.0, 60.0, Model::Specular), None);
+    // The axis model sees it anyway: 2 / cos 60° = 4.
+    let r = echo(&world, 0.0, 0.0, 60.0, Model::Axis).unwrap();
+    assert!((r - 4.0).abs() < 1e-9, "{r}");
+}
+
+#[test]
+fn a_rough_wall_echoes_at_the_nearest_ray_within_its_roughness() {
+    // Axis 22.5° off the normal, beam edge 10° off: roughness 12° → the edge ray echoes at 2/cos 10°.
+    let plan = FloorPlan {
+        walls: vec![wall(2.0, -5.0, 2.0, 5.0, Some(12.0))],
+        circles: vec![],
+    };
+    let world = World::new(&plan, 0.0, 0.0254);
+    let r = echo(&world, 0.0, 0.0, 22.5, Model::Specular).unwrap();
+    assert!((r - 2.0 / 10f64.to_radians().cos()).abs() < 1e-9, "{r}");
+}
+
+#[test]
+fn a_concave_corner_returns_whatever_the_angle() {
+    // Corner at (2, 2) of two mirror walls; the sonar looks straight at it (45° to both walls).
+    let plan = FloorPlan {
+        walls: vec![
+            wall(2.0, -3.0, 2.0, 2.0, Some(0.0)),
+            wall(2.0, 2.0, -3.0, 2.0, Some(0.0)),
+        ],
+        circles: vec![],
+    };
+    let world = World::new(&plan, 0.0, 0.0254);
+    let r = echo(&world, 0.0, 0.0, 45.0, Model::Specular).unwrap();
+    assert!((r - 8f64.sqrt()).abs() < 1e-6, "{r}");
+    // Seen from outside (convex), the same corner gives nothing.
+    assert_eq!(echo(&world, 4.0, 4.0, -135.0, Model::Specular), None);
+}
+
+#[test]
+fn a_pillar_echoes_toward_its_centre_and_occludes_the_wall_behind() {
+    let plan = FloorPlan {
+        walls: vec![wall(3.0, -5.0, 3.0, 5.0, Some(0.0))],
+        circles: vec![Circle {
+            centre: Point::new(1.5, 0.3),
+            radius_m: 0.2,
+        }],
+    };
+    let world = World::new(&plan, 0.0, 0.0254);
+    let r = echo(&world, 0.0, 0.0, 0.0, Model::Specular).unwrap();
+    let expected = (1.5f64.powi(2) + 0.09).sqrt() - 0.2;
+    assert!((r - expected).abs() < 1e-9, "{r} vs {expected}");
+}
+
+#[test]
+fn paths_are_cut_by_step_and_turn() {
+    let w = [
+        Pose::new(0.0, 0.0, 0.0),
+        Pose::new(1.0, 0.0, 0.0),
+        Pose::new(1.0, 0.0, 90f64.to_radians()),
+    ];
+    assert_eq!(interpolate_path(&w, None, None), w.to_vec());
+    let p = interpolate_path(&w, Some(0.25), Some(30f64.to_radians()));
+    // 4 steps of 0.25, 3 turns of 30°, plus the last waypoint.
+    assert_eq!(p.len(), 8);
+    assert!((p[1].x - 0.25).abs() < 1e-12);
+    assert!((p[5].heading_rad - 30f64.to_radians()).abs() < 1e-12);
+    assert_eq!(p[7], w[2]);
+    // Headings turn the short way: 350° → 10° is +20°.
+    let q = interpolate_path(
+        &[
+            Pose::new(0.0, 0.0, 350f64.to_radians()),
+            Pose::new(0.0, 0.0, 10f64.to_radians()),
+        ],
+        None,
+        Some(10f64.to_radians()),
+    );
+    assert_eq!(q.len(), 3);
+    assert!((q[1].heading_rad - 360f64.to_radians()).abs() < 1e-12);
+}
+
+const PLAN: &str = r#"{"format": "sonarmap-plan", "version": 1, "units": "in",
+  "walls": [[0, 0, 100, 0], [100, 0, 100, 60], [100, 60, 0, 60], [0, 60, 0, 0, 5]],
+  "circles": [[70, 30, 4]], "roughness_deg": 20, "sim": {"dropout": 0.1, "ghost": 0.05},
+  "step": 3, "path": [[20, 30, 0], [40, 30, 0]]}"#;
+
+#[test]
+fn a_plan_loads_with_defaults_and_its_path_is_interpolated() {
+    let plan = load_plan(PLAN.as_bytes(), "p.json").unwrap();
+    assert_eq!(plan.layout.len(), 16, "default robot: the Nomad ring");
+    assert!((plan.robot_radius_m.unwrap() - 9.0 * 0.0254).abs() < 1e-12);
+    assert_eq!(
+        plan.poses.len(),
+        8,
+        "20 in cut into 7 steps of at most 3 in, plus the end"
+    );
+    assert!((plan.floor_plan.walls[3].roughness_rad.unwrap() - 5f64.to_radians()).abs() < 1e-12);
+    assert_eq!(plan.floor_plan.walls[0].roughness_rad, None);
+}
+
+#[test]
+fn bad_plans_name_the_place() {
+    let e = load_plan(
+        PLAN.replace("\"step\": 3", "\"step\": -3").as_bytes(),
+        "p.json",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("p.json") && e.contains("$.step"), "{e}");
+    let e = load_plan(
+        PLAN.replace("\"dropout\": 0.1", "\"dropout\": 2")
+            .as_bytes(),
+        "p.json",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("$.sim.dropout"), "{e}");
+    let e = load_plan(PLAN.replace("[20, 30, 0]", "[20, 30]").as_bytes(), "p.json")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("$.path[0]"), "{e}");
+    let e = load_plan(
+        PLAN.replace("sonarmap-plan", "sonarmap-log").as_bytes(),
+        "p.json",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("sonarmap-plan"), "{e}");
+}
+
+#[test]
+fn the_same_seed_gives_the_same_log_and_another_seed_does_not() {
+    let plan = load_plan(PLAN.as_bytes(), "p.json").unwrap();
+    let a = save_run(&simulate(&plan, Model::Specular, 7));
+    let b = save_run(&simulate(&plan, Model::Specular, 7));
+    let c = save_run(&simulate(&plan, Model::Specular, 8));
+    assert_eq!(a, b);
+    assert_ne!(a, c);
+}
+
+#[test]
+fn simulated_ranges_are_quantised_within_accuracy_and_below_max_range() {
+    let text = PLAN.replace(r#""sim": {"dropout": 0.1, "ghost": 0.05},"#, "");
+    let plan = load_plan(text.as_bytes(), "p.json").unwrap();
+    let run = simulate(&plan, Model::Axis, 3);
+    let world = World::new(
+        &plan.floor_plan,
+        plan.roughness_rad,
+        plan.sim.corner_tolerance_m,
+    );
+    for s in &run.snapshots {
+        for (k, r) in s.ranges_m.iter().enumerate() {
+            let truth = world.echo_range(
+                &plan.layout.sensor_pose_in_world(&s.pose, k),
+                0.4,
+                0.02,
+                Model::Axis,
+            );
+            let (Some(r), Some(t)) = (r, truth) else {
+                continue;
+            };
+            let q = r / plan.sim.resolution_m;
+            assert!((q - q.round()).abs() < 1e-6, "quantised");
+            assert!(
+                (r - t).abs() <= t * 0.01 + plan.sim.resolution_m,
+                "within 1 % + a quantum"
+            );
+            assert!(*r < plan.sensor.max_range_m);
+        }
+    }
+}
