@@ -254,8 +254,14 @@ fn broken_inputs_exit_with_code_2_and_a_message() {
 
 #[test]
 fn no_subcommand_opens_the_inspector_hook() {
+    // The hook now opens the inspector window. Without a display (as here, headless) it must
+    // fail cleanly with exit code 2 and a message, never panic.
     let out = sonarmap(&[]);
-    assert_eq!(out.status.code(), Some(0));
+    match out.status.code() {
+        Some(0) => {}
+        Some(2) => assert!(text(&out.stderr).contains("window"), "{}", text(&out.stderr)),
+        other => panic!("unexpected exit {other:?}: {}", text(&out.stderr)),
+    }
     let help = sonarmap(&["eval", "--help"]);
     assert_eq!(help.status.code(), Some(0));
     assert!(text(&help.stdout).contains("coverage_visible"));
