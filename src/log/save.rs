@@ -167,7 +167,12 @@ pub fn save_run(run: &Run) -> String {
         let rows = |rows: &[Vec<f64>]| {
             let lines: Vec<String> = rows
                 .iter()
-                .map(|r| format!("      {}", serde_json::to_string(r).expect("numbers serialise")))
+                .map(|r| {
+                    format!(
+                        "      {}",
+                        serde_json::to_string(r).expect("numbers serialise")
+                    )
+                })
                 .collect();
             format!("[\n{}\n    ]", lines.join(",\n"))
         };

@@ -259,7 +259,11 @@ fn no_subcommand_opens_the_inspector_hook() {
     let out = sonarmap(&[]);
     match out.status.code() {
         Some(0) => {}
-        Some(2) => assert!(text(&out.stderr).contains("window"), "{}", text(&out.stderr)),
+        Some(2) => assert!(
+            text(&out.stderr).contains("window"),
+            "{}",
+            text(&out.stderr)
+        ),
         other => panic!("unexpected exit {other:?}: {}", text(&out.stderr)),
     }
     let help = sonarmap(&["eval", "--help"]);
