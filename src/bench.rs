@@ -6,6 +6,7 @@ use crate::log::{load_run, save_run};
 use crate::mapping::{Mapper, Params};
 use crate::replay::Replay;
 use crate::run::Run;
+use crate::scene::svg::{default_view, to_svg};
 use crate::scene::{build_scene, SceneInput, ViewOptions};
 use crate::sim::{building_plan, simulate, BuildingSpec, Model};
 use serde::Serialize;
@@ -41,6 +42,10 @@ pub struct BenchReport {
     pub checkpoint_bytes: usize,
     /// Median time to build the scene of a snapshot with every layer on, milliseconds.
     pub frame_ms_median: f64,
+    /// Median time to write the SVG of a snapshot with every layer on (whole content in view), ms.
+    pub svg_ms_median: f64,
+    /// Largest size of those SVGs, bytes.
+    pub svg_bytes_max: usize,
     /// Segments in the final map.
     pub final_segments: usize,
 }
@@ -136,6 +141,8 @@ pub fn bench(run: &Run, params: &Params, repeats: usize) -> BenchReport {
         .collect();
     let mut seeks = Vec::new();
     let mut frames = Vec::new();
+    let mut svgs = Vec::new();
+    let mut svg_bytes_max = 0;
     for &k in &targets {
         let start = Instant::now();
         let view = replay.view(k).expect("non-empty run");
@@ -149,8 +156,18 @@ pub fn bench(run: &Run, params: &Params, repeats: usize) -> BenchReport {
             map_after: &view.map_after,
         };
         let start = Instant::now();
-        std::hint::black_box(build_scene(&input, &ViewOptions::all()));
+        let scene = build_scene(&input, &ViewOptions::all());
         frames.push(start.elapsed().as_secs_f64() * 1e3);
+        let start = Instant::now();
+        let svg = to_svg(
+            &scene,
+            default_view(&scene),
+            (1600, 1000),
+            &run.name,
+            run.units,
+        );
+        svgs.push(start.elapsed().as_secs_f64() * 1e3);
+        svg_bytes_max = svg_bytes_max.max(svg.len());
     }
     BenchReport {
         cores: std::thread::available_parallelism().map_or(1, |c| c.get()),
@@ -166,6 +183,8 @@ pub fn bench(run: &Run, params: &Params, repeats: usize) -> BenchReport {
         checkpoint_interval: interval,
         checkpoint_bytes,
         frame_ms_median: median(frames),
+        svg_ms_median: median(svgs),
+        svg_bytes_max,
         final_segments: replay.final_map().segments.len(),
     }
 }
