@@ -4,7 +4,7 @@
 use anyhow::{anyhow, bail, Context, Result};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use sonarmap::eval::{evaluate, EvalReport};
-use sonarmap::log::{load_run, parse_json, save_map, save_run};
+use sonarmap::log::{parse_json, save_map, save_run};
 use sonarmap::mapping::{Mapper, Outcome, Params, ParamsFile, Preset, StepTrace};
 use sonarmap::run::Run;
 use sonarmap::sim::{load_plan, simulate, Model};
@@ -34,6 +34,8 @@ pub enum Command {
     /// Compare the map of a log with its floor plan; prints one JSON object.
     #[command(long_about = EVAL_HELP)]
     Eval(EvalArgs),
+    /// Convert a recording (Player/Stage log, ROS 2 MCAP, table) to a run log.
+    Convert(crate::convert::ConvertArgs),
 }
 
 const EVAL_HELP: &str = "Compare the map of a log with its floor plan; prints one JSON object.
@@ -141,9 +143,9 @@ fn read(path: &Path) -> Result<Vec<u8>> {
     std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))
 }
 
-/// Reads and loads a run log.
+/// Reads a run log or any recording the importers read (content decides).
 pub fn read_run(path: &Path) -> Result<Run> {
-    Ok(load_run(&read(path)?, &path.display().to_string())?)
+    crate::convert::load_any(path)
 }
 
 /// The parameters from a preset and an optional `--params` file.
@@ -351,5 +353,6 @@ pub fn execute(command: &Command) -> Result<()> {
         Command::Run(a) => run_command(a),
         Command::Simulate(a) => simulate_command(a),
         Command::Eval(a) => eval_command(a),
+        Command::Convert(a) => crate::convert::convert_command(a),
     }
 }
