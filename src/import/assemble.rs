@@ -38,6 +38,12 @@ pub(crate) fn assemble(
     hw: Hardware,
     summary: &mut ImportSummary,
 ) -> Result<Run, ImportError> {
+    if raw.is_empty() {
+        return Err(ImportError::NoSnapshots {
+            file: file.to_string(),
+            why: "the file has no sonar readings".to_string(),
+        });
+    }
     let use_fixed = match (track.is_empty(), fixed_pose) {
         (true, None) => {
             return Err(ImportError::NoOdometry {

@@ -116,7 +116,7 @@ fn player_max_range_option_and_layout_override() {
         ..ImportOptions::default()
     };
     let i = import_player(&fixture("pioneer_tiny.player2.log"), "p2", &options).unwrap();
-    assert_eq!(i.summary.turned_no_echo, 4, "2.0, 5.0, 4.5 and... {:?}", i.run.snapshots);
+    assert_eq!(i.summary.turned_no_echo, 3, "2.0, 5.0 and 4.5: {:?}", i.run.snapshots);
     // A 16-sonar layout does not fit 4 ranges: the error names the line and the layout.
     let options = ImportOptions {
         layout: builtin_layout("pioneer_8_8"),
