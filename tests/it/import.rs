@@ -58,7 +58,10 @@ fn check_round_trip(run: &Run) {
 /// Expects an error whose message contains every part.
 fn check_err(result: Result<Imported, ImportError>, parts: &[&str]) {
     let e = match result {
-        Ok(i) => panic!("expected an error with {parts:?}, got {} snapshots", i.run.snapshots.len()),
+        Ok(i) => panic!(
+            "expected an error with {parts:?}, got {} snapshots",
+            i.run.snapshots.len()
+        ),
         Err(e) => e.to_string(),
     };
     for p in parts {
@@ -67,7 +70,11 @@ fn check_err(result: Result<Imported, ImportError>, parts: &[&str]) {
 }
 
 fn map_all(run: &Run) -> (Mapper, Vec<StepTrace>) {
-    let mut mapper = Mapper::new(Params::preset(Preset::Paper), run.layout.clone(), run.sensor);
+    let mut mapper = Mapper::new(
+        Params::preset(Preset::Paper),
+        run.layout.clone(),
+        run.sensor,
+    );
     let traces = run.snapshots.iter().map(|s| mapper.step(s)).collect();
     (mapper, traces)
 }
@@ -76,8 +83,12 @@ fn map_all(run: &Run) -> (Mapper, Vec<StepTrace>) {
 
 #[test]
 fn player2_fixture_imports_with_its_geometry_and_interpolated_poses() {
-    let i = import_player(&fixture("pioneer_tiny.player2.log"), "p2.log", &ImportOptions::default())
-        .unwrap();
+    let i = import_player(
+        &fixture("pioneer_tiny.player2.log"),
+        "p2.log",
+        &ImportOptions::default(),
+    )
+    .unwrap();
     assert_eq!(i.format, Format::Player);
     let run = &i.run;
     assert_eq!(run.layout.len(), 4);
@@ -93,18 +104,33 @@ fn player2_fixture_imports_with_its_geometry_and_interpolated_poses() {
     assert_eq!(run.snapshots[1].ranges_m[2], Some(4.5));
     assert_eq!(i.summary.turned_no_echo, 1);
     assert_eq!(i.summary.readings, 8);
-    assert!(i.summary.warnings.iter().any(|w| w.contains("1 lines of other")), "{:?}", i.summary);
+    assert!(
+        i.summary
+            .warnings
+            .iter()
+            .any(|w| w.contains("1 lines of other")),
+        "{:?}",
+        i.summary
+    );
     check_round_trip(run);
 }
 
 #[test]
 fn player1_lines_give_the_same_run() {
-    let a = import_player(&fixture("pioneer_tiny.player2.log"), "p2", &ImportOptions::default())
-        .unwrap()
-        .run;
-    let b = import_player(&fixture("pioneer_tiny.player1.log"), "p1", &ImportOptions::default())
-        .unwrap()
-        .run;
+    let a = import_player(
+        &fixture("pioneer_tiny.player2.log"),
+        "p2",
+        &ImportOptions::default(),
+    )
+    .unwrap()
+    .run;
+    let b = import_player(
+        &fixture("pioneer_tiny.player1.log"),
+        "p1",
+        &ImportOptions::default(),
+    )
+    .unwrap()
+    .run;
     assert_eq!(a.layout, b.layout);
     assert_eq!(a.snapshots, b.snapshots);
 }
@@ -116,7 +142,11 @@ fn player_max_range_option_and_layout_override() {
         ..ImportOptions::default()
     };
     let i = import_player(&fixture("pioneer_tiny.player2.log"), "p2", &options).unwrap();
-    assert_eq!(i.summary.turned_no_echo, 3, "2.0, 5.0 and 4.5: {:?}", i.run.snapshots);
+    assert_eq!(
+        i.summary.turned_no_echo, 3,
+        "2.0, 5.0 and 4.5: {:?}",
+        i.run.snapshots
+    );
     // A 16-sonar layout does not fit 4 ranges: the error names the line and the layout.
     let options = ImportOptions {
         layout: builtin_layout("pioneer_8_8"),
@@ -124,7 +154,13 @@ fn player_max_range_option_and_layout_override() {
     };
     check_err(
         import_player(&fixture("pioneer_tiny.player2.log"), "p2.log", &options),
-        &["p2.log", "line 12", "4 ranges", "expected one per sensor, 16", "--layout"],
+        &[
+            "p2.log",
+            "line 12",
+            "4 ranges",
+            "expected one per sensor, 16",
+            "--layout",
+        ],
     );
 }
 
@@ -140,18 +176,35 @@ fn player_refusals_name_the_line_and_what_was_expected() {
         &["bad.log: line 3", "expected 10"],
     );
     check_err(
-        p(&format!("{GEOM}{HEAD}1.1 1 6665 sonar 00 001 001 2 1.0 abc\n")),
-        &["line 3, field 10", "\"abc\" is not a finite number", "a range in metres"],
+        p(&format!(
+            "{GEOM}{HEAD}1.1 1 6665 sonar 00 001 001 2 1.0 abc\n"
+        )),
+        &[
+            "line 3, field 10",
+            "\"abc\" is not a finite number",
+            "a range in metres",
+        ],
     );
     check_err(
-        p(&format!("{GEOM}{HEAD}1.1 1 6665 sonar 00 001 001 3 1.0 2.0 3.0\n")),
-        &["line 3", "3 ranges", "expected one per sensor, 2 (the geometry on line 1)"],
+        p(&format!(
+            "{GEOM}{HEAD}1.1 1 6665 sonar 00 001 001 3 1.0 2.0 3.0\n"
+        )),
+        &[
+            "line 3",
+            "3 ranges",
+            "expected one per sensor, 2 (the geometry on line 1)",
+        ],
     );
     check_err(
-        p(&format!("{GEOM}{HEAD}1.1 1 6665 sonar 00 001 001 2 1.0 -2.0\n")),
+        p(&format!(
+            "{GEOM}{HEAD}1.1 1 6665 sonar 00 001 001 2 1.0 -2.0\n"
+        )),
         &["line 3, field 10", "negative"],
     );
-    check_err(p("hello world\n"), &["bad.log: line 1", "expected `time host robot"]);
+    check_err(
+        p("hello world\n"),
+        &["bad.log: line 1", "expected `time host robot"],
+    );
     check_err(
         p(&format!("{HEAD}1.1 1 6665 sonar 00 001 001 2 1.0 2.0\n")),
         &["no sonar geometry", "--layout"],
@@ -169,7 +222,11 @@ fn player_refusals_name_the_line_and_what_was_expected() {
     assert_eq!(i.run.snapshots.len(), 2);
     assert_eq!(i.summary.skipped.len(), 1);
     assert_eq!(i.summary.skipped[0].place, "line 4");
-    assert!(i.summary.warnings.iter().any(|w| w.contains("time goes backwards")));
+    assert!(i
+        .summary
+        .warnings
+        .iter()
+        .any(|w| w.contains("time goes backwards")));
     // Far from any odometry: skipped with a reason; within 1 s: the nearest pose.
     let i = p(&format!(
         "{GEOM}{HEAD}1.5 1 6665 sonar 00 001 001 2 1.0 2.0\n9.0 1 6665 sonar 00 001 001 2 1.0 2.0\n"
@@ -208,9 +265,16 @@ fn table_fixture_imports_in_inches_with_no_echo_marks() {
     assert_eq!(run.units, Units::Inches);
     assert_eq!(run.snapshots.len(), 2);
     assert!(close(run.snapshots[0].pose.x, inches(120.0), 1e-12));
-    assert!(close(run.snapshots[0].ranges_m[0].unwrap(), inches(48.2), 1e-12));
+    assert!(close(
+        run.snapshots[0].ranges_m[0].unwrap(),
+        inches(48.2),
+        1e-12
+    ));
     assert_eq!(run.snapshots[0].ranges_m[2], None);
-    assert_eq!(run.snapshots[1].ranges_m[2], None, "255 in is the Nomad's no echo");
+    assert_eq!(
+        run.snapshots[1].ranges_m[2], None,
+        "255 in is the Nomad's no echo"
+    );
     assert_eq!(i.summary.turned_no_echo, 1);
     check_round_trip(run);
     // The same as a ranges table and a poses table.
@@ -236,14 +300,27 @@ fn table_refusals_name_the_line_and_what_was_expected() {
         import_table(b"0 1 2 3", "x.csv", &ImportOptions::default()),
         &["x.csv", "a table has no sensor geometry", "--layout"],
     );
-    check_err(t("0 1 2 3 4\n"), &["bad.csv: line 1", "5 fields: expected 20", "t x y heading then 16 ranges"]);
+    check_err(
+        t("0 1 2 3 4\n"),
+        &[
+            "bad.csv: line 1",
+            "5 fields: expected 20",
+            "t x y heading then 16 ranges",
+        ],
+    );
     let row = |t: &str| format!("{t} 0 0 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16\n");
-    check_err(t(&format!("{}{}", row("1"), row("0.5"))), &["line 2, field 1", "earlier"]);
+    check_err(
+        t(&format!("{}{}", row("1"), row("0.5"))),
+        &["line 2, field 1", "earlier"],
+    );
     check_err(
         t(&row("1").replace(" 7 ", " seven ")),
         &["line 1, field 11", "\"seven\"", "a range"],
     );
-    check_err(t(&row("1").replace(" 7 ", " -7 ")), &["line 1, field 11", "negative"]);
+    check_err(
+        t(&row("1").replace(" 7 ", " -7 ")),
+        &["line 1, field 11", "negative"],
+    );
     check_err(
         t("0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16\n"),
         &["no odometry", "--fixed-pose"],
@@ -267,7 +344,7 @@ impl Cdr {
         }
     }
     fn align(&mut self, n: usize) {
-        while (self.b.len() - 4) % n != 0 {
+        while !(self.b.len() - 4).is_multiple_of(n) {
             self.b.push(0);
         }
     }
@@ -366,15 +443,26 @@ fn write_mcap(with_tf: bool, truncate: bool) -> Vec<u8> {
         .create(Cursor::new(Vec::new()))
         .unwrap();
     let none = BTreeMap::new();
-    let range_schema = w.add_schema("sensor_msgs/msg/Range", "ros2msg", b"").unwrap();
-    let odom_schema = w.add_schema("nav_msgs/msg/Odometry", "ros2msg", b"").unwrap();
-    let tf_schema = w.add_schema("tf2_msgs/msg/TFMessage", "ros2msg", b"").unwrap();
+    let range_schema = w
+        .add_schema("sensor_msgs/msg/Range", "ros2msg", b"")
+        .unwrap();
+    let odom_schema = w
+        .add_schema("nav_msgs/msg/Odometry", "ros2msg", b"")
+        .unwrap();
+    let tf_schema = w
+        .add_schema("tf2_msgs/msg/TFMessage", "ros2msg", b"")
+        .unwrap();
     let other = w.add_schema("std_msgs/msg/String", "ros2msg", b"").unwrap();
     let sonar: Vec<u16> = (0..4)
-        .map(|k| w.add_channel(range_schema, &format!("/sonar_{k}"), "cdr", &none).unwrap())
+        .map(|k| {
+            w.add_channel(range_schema, &format!("/sonar_{k}"), "cdr", &none)
+                .unwrap()
+        })
         .collect();
     let odom = w.add_channel(odom_schema, "/odom", "cdr", &none).unwrap();
-    let tf = w.add_channel(tf_schema, "/tf_static", "cdr", &none).unwrap();
+    let tf = w
+        .add_channel(tf_schema, "/tf_static", "cdr", &none)
+        .unwrap();
     let chatter = w.add_channel(other, "/chatter", "cdr", &none).unwrap();
     let mut seq = 0;
     let mut put = |w: &mut mcap::Writer<Cursor<Vec<u8>>>, ch: u16, t: f64, data: &[u8]| {
@@ -393,10 +481,15 @@ fn write_mcap(with_tf: bool, truncate: bool) -> Vec<u8> {
     put(&mut w, chatter, 10.0, &[0, 1, 0, 0, 1, 0, 0, 0, 0]);
     for i in 0..=8 {
         let t = 10.0 + 0.1 * i as f64;
-        put(&mut w, odom, t, &odom_msg(t, 0.1 * i as f64, 0.0, 0.05 * i as f64));
+        put(
+            &mut w,
+            odom,
+            t,
+            &odom_msg(t, 0.1 * i as f64, 0.0, 0.05 * i as f64),
+        );
     }
     for cycle in 0..3 {
-        for k in 0..4 {
+        for (k, &channel) in sonar.iter().enumerate() {
             let t = 10.1 + 0.25 * cycle as f64 + 0.02 * k as f64;
             let mut range = 1.0 + 0.1 * k as f32 + cycle as f32;
             if cycle == 1 && k == 1 {
@@ -409,7 +502,7 @@ fn write_mcap(with_tf: bool, truncate: bool) -> Vec<u8> {
             if truncate && cycle == 1 && k == 2 {
                 data.truncate(data.len() - 3);
             }
-            put(&mut w, sonar[k], t, &data);
+            put(&mut w, channel, t, &data);
         }
     }
     w.finish().unwrap();
@@ -425,21 +518,40 @@ fn mcap_with_tf_static_imports_cycles_with_rep117_no_echo() {
     assert_eq!(run.layout.len(), 4);
     for (m, e) in run.layout.mounts.iter().zip(MOUNTS) {
         assert!(close(m.x_m, e.0, 1e-12) && close(m.y_m, e.1, 1e-12));
-        assert!(close(m.heading_rad, e.2, 1e-9), "{} vs {}", m.heading_rad, e.2);
+        assert!(
+            close(m.heading_rad, e.2, 1e-9),
+            "{} vs {}",
+            m.heading_rad,
+            e.2
+        );
     }
     assert_eq!(run.snapshots.len(), 3, "{:?}", i.summary);
     let s0 = &run.snapshots[0];
-    assert!(close(s0.t, 10.13, 1e-6), "mean of the cycle's times: {}", s0.t);
+    assert!(
+        close(s0.t, 10.13, 1e-6),
+        "mean of the cycle's times: {}",
+        s0.t
+    );
     assert!(close(s0.pose.x, 0.13, 1e-6) && close(s0.pose.heading_rad, 0.065, 1e-6));
     for k in 0..4 {
-        assert!(close(s0.ranges_m[k].unwrap(), 1.0 + 0.1 * k as f64, 1e-6), "{k}");
+        assert!(
+            close(s0.ranges_m[k].unwrap(), 1.0 + 0.1 * k as f64, 1e-6),
+            "{k}"
+        );
     }
     assert_eq!(run.snapshots[1].ranges_m[1], None, "infinity is no echo");
-    assert_eq!(run.snapshots[2].ranges_m[2], None, "beyond max_range is no echo");
+    assert_eq!(
+        run.snapshots[2].ranges_m[2], None,
+        "beyond max_range is no echo"
+    );
     assert_eq!(i.summary.turned_no_echo, 2);
     assert!(close(run.sensor.max_range_m, 5.0, 1e-6));
     assert!(close(run.sensor.min_range_m, 0.15, 1e-6));
-    assert!(i.summary.warnings.iter().any(|w| w.contains("/chatter")), "{:?}", i.summary);
+    assert!(
+        i.summary.warnings.iter().any(|w| w.contains("/chatter")),
+        "{:?}",
+        i.summary
+    );
     check_round_trip(run);
 }
 
@@ -468,14 +580,26 @@ fn mcap_cycle_window_splits_and_layout_frames_map() {
     assert_eq!(i.summary.skipped.len(), 3, "{:?}", i.summary);
     assert!(i.summary.skipped[0].reason.contains("frames"));
     assert_eq!(i.run.snapshots.len(), 6);
-    assert_eq!(i.run.snapshots[1].ranges_m[2].map(|r| (r * 10.0).round()), Some(12.0));
+    assert_eq!(
+        i.run.snapshots[1].ranges_m[2].map(|r| (r * 10.0).round()),
+        Some(12.0)
+    );
 }
 
 #[test]
 fn mcap_refusals_name_the_message() {
     check_err(
-        import_mcap(&write_mcap(true, true), "cut.mcap", &ImportOptions::default()),
-        &["cut.mcap", "MCAP message", "(topic /sonar_2)", "expected range"],
+        import_mcap(
+            &write_mcap(true, true),
+            "cut.mcap",
+            &ImportOptions::default(),
+        ),
+        &[
+            "cut.mcap",
+            "MCAP message",
+            "(topic /sonar_2)",
+            "expected range",
+        ],
     );
     let mut bytes = write_mcap(true, false);
     bytes.truncate(bytes.len() / 2);
@@ -491,10 +615,22 @@ fn mcap_refusals_name_the_message() {
 
 #[test]
 fn content_decides_the_importer() {
-    assert_eq!(detect(&fixture("pioneer_tiny.player2.log")), Some(Format::Player));
-    assert_eq!(detect(&fixture("pioneer_tiny.player1.log")), Some(Format::Player));
-    assert_eq!(detect(&fixture("nomad_tiny.table.csv")), Some(Format::Table));
-    assert_eq!(detect(b"\xEF\xBB\xBF  {\"format\": 1}"), Some(Format::SonarmapLog));
+    assert_eq!(
+        detect(&fixture("pioneer_tiny.player2.log")),
+        Some(Format::Player)
+    );
+    assert_eq!(
+        detect(&fixture("pioneer_tiny.player1.log")),
+        Some(Format::Player)
+    );
+    assert_eq!(
+        detect(&fixture("nomad_tiny.table.csv")),
+        Some(Format::Table)
+    );
+    assert_eq!(
+        detect(b"\xEF\xBB\xBF  {\"format\": 1}"),
+        Some(Format::SonarmapLog)
+    );
     assert_eq!(detect(b"hello\nworld\n"), None);
     assert_eq!(detect(b""), None);
     let log = save_run(&sonarmap::assets::default_run().unwrap());
@@ -509,10 +645,8 @@ fn content_decides_the_importer() {
 // ------------------------------------------------------------------ realistic runs
 
 fn pioneer_plan_json() -> String {
-    let layout: serde_json::Value = serde_json::from_str(include_str!(
-        "../../assets/pioneer_8_8.layout.json"
-    ))
-    .unwrap();
+    let layout: serde_json::Value =
+        serde_json::from_str(include_str!("../../assets/pioneer_8_8.layout.json")).unwrap();
     serde_json::json!({
         "format": "sonarmap-plan", "version": 1, "units": "m",
         "name": "Stage-style Pioneer in a 6 m x 4 m room",
@@ -533,7 +667,11 @@ fn to_player2(run: &Run) -> String {
         .iter()
         .map(|m| format!("{:+.3} {:+.3} {:+.6}", m.x_m, m.y_m, m.heading_rad))
         .collect();
-    s += &format!("0.000 16777343 6665 sonar 00 004 001 {:04} {}\n", g.len(), g.join(" "));
+    s += &format!(
+        "0.000 16777343 6665 sonar 00 004 001 {:04} {}\n",
+        g.len(),
+        g.join(" ")
+    );
     for (i, snap) in run.snapshots.iter().enumerate() {
         let t = 100.0 + 0.2 * i as f64;
         let p = snap.pose;
@@ -546,7 +684,11 @@ fn to_player2(run: &Run) -> String {
             .iter()
             .map(|r| format!("{:.3}", r.unwrap_or(5.0).min(5.0)))
             .collect();
-        s += &format!("{t:.3} 16777343 6665 sonar 00 001 001 {:04} {}\n", r.len(), r.join(" "));
+        s += &format!(
+            "{t:.3} 16777343 6665 sonar 00 001 001 {:04} {}\n",
+            r.len(),
+            r.join(" ")
+        );
         s += &format!("{t:.3} 16777343 6665 laser 00 001 001 0000\n");
     }
     s
@@ -562,7 +704,9 @@ fn stage_style_pioneer_run_imports_maps_and_exports_an_svg() {
     let run = &i.run;
     assert_eq!(run.snapshots.len(), truth.snapshots.len());
     for (a, b) in truth.snapshots.iter().zip(&run.snapshots) {
-        assert!(close(a.pose.x, b.pose.x, 1e-6) && close(a.pose.heading_rad, b.pose.heading_rad, 1e-6));
+        assert!(
+            close(a.pose.x, b.pose.x, 1e-6) && close(a.pose.heading_rad, b.pose.heading_rad, 1e-6)
+        );
         for (ra, rb) in a.ranges_m.iter().zip(&b.ranges_m) {
             match (ra.filter(|v| *v < 4.9995), rb) {
                 (Some(x), Some(y)) => assert!(close(x, *y, 5e-4)),
@@ -583,7 +727,11 @@ fn write_png(run: &Run, mapper: &Mapper, traces: &[StepTrace]) {
     use sonarmap::scene::svg::{default_view, to_svg};
     use sonarmap::scene::{build_scene, SceneInput, ViewOptions};
     // Map before the last step: replay all but the last snapshot.
-    let mut before = Mapper::new(Params::preset(Preset::Paper), run.layout.clone(), run.sensor);
+    let mut before = Mapper::new(
+        Params::preset(Preset::Paper),
+        run.layout.clone(),
+        run.sensor,
+    );
     for s in &run.snapshots[..run.snapshots.len() - 1] {
         before.step(s);
     }
@@ -597,14 +745,28 @@ fn write_png(run: &Run, mapper: &Mapper, traces: &[StepTrace]) {
         map_after: mapper.map(),
     };
     let scene = build_scene(&input, &ViewOptions::default());
-    let svg = to_svg(&scene, default_view(&scene), (900, 650), "Stage-style Pioneer (imported)", run.units);
+    let svg = to_svg(
+        &scene,
+        default_view(&scene),
+        (900, 650),
+        "Stage-style Pioneer (imported)",
+        run.units,
+    );
     let mut opt = usvg::Options::default();
     opt.fontdb_mut().load_system_fonts();
     let tree = usvg::Tree::from_str(&svg, &opt).expect("the SVG parses");
     let size = tree.size().to_int_size();
     let mut pixmap = resvg::tiny_skia::Pixmap::new(size.width(), size.height()).unwrap();
-    resvg::render(&tree, resvg::tiny_skia::Transform::identity(), &mut pixmap.as_mut());
-    let drawn = pixmap.pixels().iter().filter(|p| p.red() < 200 || p.blue() < 200).count();
+    resvg::render(
+        &tree,
+        resvg::tiny_skia::Transform::identity(),
+        &mut pixmap.as_mut(),
+    );
+    let drawn = pixmap
+        .pixels()
+        .iter()
+        .filter(|p| p.red() < 200 || p.blue() < 200)
+        .count();
     assert!(drawn > 1000, "the map draws something: {drawn} pixels");
     if let Ok(path) = std::env::var("SONARMAP_IMPORT_PNG") {
         pixmap.save_png(PathBuf::from(&path)).unwrap();
@@ -642,7 +804,11 @@ fn nomad_style_table_run_imports_and_maps() {
     assert_eq!(i.run.snapshots.len(), truth.snapshots.len());
     check_round_trip(&i.run);
     let (mapper, _) = map_all(&i.run);
-    assert!(mapper.map().segments.len() >= 2, "{}", mapper.map().segments.len());
+    assert!(
+        mapper.map().segments.len() >= 2,
+        "{}",
+        mapper.map().segments.len()
+    );
 }
 
 // ------------------------------------------------------------------ command line
@@ -656,12 +822,27 @@ fn convert_writes_a_log_that_run_reads_and_run_reads_a_player_log_directly() {
     let out = dir.path().join("stage.log.json");
     let bin = env!("CARGO_BIN_EXE_sonarmap");
     let o = std::process::Command::new(bin)
-        .args(["convert", input.to_str().unwrap(), "--out", out.to_str().unwrap(), "--max-range", "4.5"])
+        .args([
+            "convert",
+            input.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--max-range",
+            "4.5",
+        ])
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(stdout.contains("Player/Stage text log") && stdout.contains("turned into no echo"), "{stdout}");
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(
+        stdout.contains("Player/Stage text log") && stdout.contains("turned into no echo"),
+        "{stdout}"
+    );
     let run = load_run(&std::fs::read(&out).unwrap(), "out").unwrap();
     assert!(close(run.sensor.max_range_m, 4.5, 1e-9));
     for path in [&out, &input] {
@@ -669,14 +850,24 @@ fn convert_writes_a_log_that_run_reads_and_run_reads_a_player_log_directly() {
             .args(["run", path.to_str().unwrap()])
             .output()
             .unwrap();
-        assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
         assert!(String::from_utf8_lossy(&o.stdout).starts_with("snapshots "));
     }
     // A table without --layout: exit 2, the message names --layout.
     let table = dir.path().join("t.csv");
     std::fs::write(&table, "0 1 2 3\n").unwrap();
     let o = std::process::Command::new(bin)
-        .args(["convert", table.to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .args([
+            "convert",
+            table.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
         .output()
         .unwrap();
     assert_eq!(o.status.code(), Some(2));
@@ -684,8 +875,16 @@ fn convert_writes_a_log_that_run_reads_and_run_reads_a_player_log_directly() {
     // A shipped layout by name, and a fixed pose.
     let o = std::process::Command::new(bin)
         .args([
-            "convert", table.to_str().unwrap(), "--out", out.to_str().unwrap(),
-            "--layout", "nomad_200", "--units", "in", "--fixed-pose", "10,20,-90",
+            "convert",
+            table.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--layout",
+            "nomad_200",
+            "--units",
+            "in",
+            "--fixed-pose",
+            "10,20,-90",
         ])
         .output()
         .unwrap();
