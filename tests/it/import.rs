@@ -136,6 +136,29 @@ fn player1_lines_give_the_same_run() {
 }
 
 #[test]
+fn player3_geometry_with_3d_poses() {
+    let text =
+        "0.0 1 6665 sonar 00 001 002 0002 0.1 0.2 0.3 0.0 0.0 1.5 -0.1 -0.2 0.3 0.0 0.0 -1.5\n\
+                0.0 1 6665 position2d 00 001 001 1 2 0.5 0 0 0 0\n\
+                0.1 1 6665 sonar 00 001 001 0002 1.0 6.0\n";
+    let i = import_player(text.as_bytes(), "p3", &ImportOptions::default()).unwrap();
+    let m = &i.run.layout.mounts;
+    assert_eq!((m[0].x_m, m[0].y_m, m[0].heading_rad), (0.1, 0.2, 1.5));
+    assert_eq!((m[1].x_m, m[1].y_m, m[1].heading_rad), (-0.1, -0.2, -1.5));
+    assert_eq!(i.run.snapshots[0].ranges_m, vec![Some(1.0), None]);
+    assert_eq!(
+        i.run.snapshots[0].pose,
+        Pose::new(1.0, 2.0, 0.5),
+        "clamped to the last odometry"
+    );
+    assert!(i
+        .summary
+        .warnings
+        .iter()
+        .any(|w| w.contains("took its pose")));
+}
+
+#[test]
 fn player_max_range_option_and_layout_override() {
     let options = ImportOptions {
         max_range_m: Some(1.95),
