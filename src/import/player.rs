@@ -140,6 +140,14 @@ pub fn import_player(
                 let at_ranges = 7 + 3 * n;
                 let m = count(&line, at_ranges, "the range count", MAX_SENSORS, file)?;
                 let ranges = values(&line, at_ranges, m, file)?;
+                if f.len() != at_ranges + 1 + m {
+                    return Err(field_count(
+                        &line,
+                        at_ranges + 1 + m,
+                        "data time, pose count, poses, range count, ranges",
+                        file,
+                    ));
+                }
                 events.push(Event::Geometry {
                     line: line.number,
                     mounts,

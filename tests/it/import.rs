@@ -952,7 +952,12 @@ fn player_line() -> impl Strategy<Value = String> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 3000, failure_persistence: None, ..ProptestConfig::default() })]
+    // 3000 cases a test by default; `IMPORT_FUZZ_CASES=N` for a longer run.
+    #![proptest_config(ProptestConfig {
+        cases: std::env::var("IMPORT_FUZZ_CASES").ok().and_then(|c| c.parse().ok()).unwrap_or(3000),
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn no_panic_on_arbitrary_bytes(bytes in prop::collection::vec(any::<u8>(), 0..600)) {
