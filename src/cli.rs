@@ -6,10 +6,14 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use sonarmap::eval::{evaluate, EvalReport};
 use sonarmap::log::{parse_json, save_map, save_run};
 use sonarmap::mapping::{Mapper, Outcome, Params, ParamsFile, Preset, StepTrace};
+use sonarmap::replay::Replay;
 use sonarmap::run::Run;
+use sonarmap::scene::svg::{default_view, to_svg};
+use sonarmap::scene::{build_scene, Layer, LayerSet, SceneInput, ViewOptions};
 use sonarmap::sim::{load_plan, simulate, Model};
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Sonar resolution-based environment mapping (Cahut, Valavanis, Deliç): an inspector and
 /// headless tools. With no subcommand, opens the inspector on LOG (default: the built-in
@@ -36,6 +40,50 @@ pub enum Command {
     Eval(EvalArgs),
     /// Convert a recording (Player/Stage log, ROS 2 MCAP, table) to a run log.
     Convert(crate::convert::ConvertArgs),
+    /// Measure the engine, loading, seeking and scene building; prints one JSON object.
+    Bench(BenchArgs),
+    /// Compare the decisions of two parameter sets (A and B) on one log; prints one JSON object.
+    #[command(long_about = DIFF_HELP)]
+    Diff(DiffArgs),
+}
+
+const DIFF_HELP: &str = "Compare the decisions of two parameter sets on one log; prints one JSON object.
+
+New segments of A and B are paired by their supporting readings. A decision differs when the outcome differs (kind \"outcome\"), when the same outcome names another existing segment (\"existing_segment\"), or when only one parameter set fitted the segment (\"only_in_a\", \"only_in_b\"). Output: snapshots (where any decision differs), decisions (each with both sides: outcome, rule, existing segment), and eval_a / eval_b (the figures of `sonarmap eval`) when the log has a floor plan.";
+
+/// `sonarmap diff`.
+#[derive(Debug, Args)]
+pub struct DiffArgs {
+    /// The run log.
+    pub log: PathBuf,
+    /// Parameter set A.
+    #[command(flatten)]
+    pub a: ParamArgs,
+    /// A parameters file for B (FORMATS.md), applied on top of B's preset.
+    #[arg(long = "params-b", value_name = "B.json")]
+    pub params_b: Option<PathBuf>,
+    /// B's preset.
+    #[arg(long = "preset-b", value_enum, default_value = "paper")]
+    pub preset_b: PresetArg,
+}
+
+/// `bench` options.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// The run log to measure (default: a generated building floor, driven back and forth).
+    pub log: Option<PathBuf>,
+    /// Snapshots of the generated run.
+    #[arg(long, default_value_t = 100_000)]
+    pub snapshots: usize,
+    /// Also write the generated run to this log file (to open it in the inspector).
+    #[arg(long)]
+    pub write_log: Option<PathBuf>,
+    /// Runs of each measurement (the median is printed).
+    #[arg(long, default_value_t = 3)]
+    pub repeats: usize,
+    /// Mapping parameters.
+    #[command(flatten)]
+    pub params: ParamArgs,
 }
 
 const EVAL_HELP: &str = "Compare the map of a log with its floor plan; prints one JSON object.
@@ -268,11 +316,9 @@ impl std::fmt::Display for Summary {
 }
 
 fn run_command(args: &RunArgs) -> Result<()> {
-    if args.svg.is_some() {
-        bail!("--svg: SVG export is not yet available in this build");
-    }
     let run = read_run(&args.log)?;
     let params = read_params(&args.params)?;
+    let params_for_svg = params.clone();
     let (mapper, traces, summary) = map_run(&run, params, args.until, args.out_trace.is_some())?;
     if let Some(path) = &args.out_map {
         write_atomic(
@@ -296,8 +342,46 @@ fn run_command(args: &RunArgs) -> Result<()> {
         };
         write_atomic(path, &serde_json::to_string(&file)?)?;
     }
-    println!("{summary}");
+    if let Some(path) = &args.svg {
+        write_atomic(
+            path,
+            &paper_figure_svg(&run, &params_for_svg, summary.snapshots - 1),
+        )?;
+    }
+    emit(&summary.to_string())?;
     Ok(())
+}
+
+/// The layers of a paper figure: ground truth, both snapshots' points, balls, fitted and map
+/// segments, updates, decisions, correlations, the robot and labels; no beams or discarded
+/// readings (they would dwarf the room).
+pub fn paper_figure_layers() -> LayerSet {
+    LayerSet::all()
+        .with(Layer::Beams, false)
+        .with(Layer::Discarded, false)
+        .with(Layer::MapBefore, false)
+        .with(Layer::Clusters, false)
+}
+
+/// The SVG of snapshot `k` of `run` as a paper figure (the whole content in view).
+pub fn paper_figure_svg(run: &Run, params: &Params, k: usize) -> String {
+    let replay = Replay::new(Arc::new(run.clone()), params.clone());
+    let view = replay.view(k).expect("k is within the run");
+    let input = SceneInput {
+        run,
+        snapshot: k,
+        step: &view.trace,
+        previous_step: view.previous.as_ref(),
+        map_before: &view.map_before,
+        map_after: &view.map_after,
+    };
+    let options = ViewOptions {
+        layers: paper_figure_layers(),
+        world_per_px: 0.0,
+    };
+    let scene = build_scene(&input, &options);
+    let title = format!("{} — snapshot {k}", run.name);
+    to_svg(&scene, default_view(&scene), (1000, 700), &title, run.units)
 }
 
 fn simulate_command(args: &SimulateArgs) -> Result<()> {
@@ -343,7 +427,7 @@ fn eval_command(args: &EvalArgs) -> Result<()> {
         snapshots: summary.snapshots,
         report,
     };
-    println!("{}", serde_json::to_string_pretty(&out)?);
+    emit(&serde_json::to_string_pretty(&out)?)?;
     Ok(())
 }
 
@@ -354,5 +438,68 @@ pub fn execute(command: &Command) -> Result<()> {
         Command::Simulate(a) => simulate_command(a),
         Command::Eval(a) => eval_command(a),
         Command::Convert(a) => crate::convert::convert_command(a),
+        Command::Bench(a) => bench_command(a),
+        Command::Diff(a) => diff_command(a),
+    }
+}
+
+fn bench_command(args: &BenchArgs) -> Result<()> {
+    let run = match &args.log {
+        Some(path) => read_run(path)?,
+        None => sonarmap::bench::building_run(args.snapshots, 1),
+    };
+    if run.snapshots.is_empty() {
+        bail!("the run has no snapshot to measure");
+    }
+    if let Some(path) = &args.write_log {
+        write_atomic(path, &save_run(&run))?;
+    }
+    let params = read_params(&args.params)?;
+    let report = sonarmap::bench::bench(&run, &params, args.repeats);
+    emit(&serde_json::to_string_pretty(&report)?)?;
+    Ok(())
+}
+
+fn diff_command(args: &DiffArgs) -> Result<()> {
+    let run = read_run(&args.log)?;
+    let a = read_params(&args.a)?;
+    let b = read_params(&ParamArgs {
+        params: args.params_b.clone(),
+        preset: args.preset_b,
+    })?;
+    let diff = sonarmap::diff::diff_run(&run, &a, &b, &mut |_| true);
+    let eval = |params: &Params| -> Result<Option<EvalReport>> {
+        let Some(plan) = &run.floor_plan else {
+            return Ok(None);
+        };
+        let (mapper, _, _) = map_run(&run, params.clone(), None, false)?;
+        Ok(Some(evaluate(mapper.map(), &run, plan, params)))
+    };
+    #[derive(serde::Serialize)]
+    struct DiffOutput {
+        log: String,
+        snapshots_compared: usize,
+        #[serde(flatten)]
+        diff: sonarmap::diff::RunDiff,
+        eval_a: Option<EvalReport>,
+        eval_b: Option<EvalReport>,
+    }
+    let out = DiffOutput {
+        log: args.log.display().to_string(),
+        snapshots_compared: run.snapshots.len(),
+        eval_a: eval(&a)?,
+        eval_b: eval(&b)?,
+        diff,
+    };
+    emit(&serde_json::to_string_pretty(&out)?)?;
+    Ok(())
+}
+
+/// Prints a line on stdout; a closed pipe (`| head`) is not an error.
+fn emit(text: &str) -> Result<()> {
+    let mut out = std::io::stdout().lock();
+    match writeln!(out, "{text}").and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
+        _ => Ok(()),
     }
 }

@@ -8,7 +8,10 @@
 //! scene → map view or SVG.
 #![warn(missing_docs)]
 
+pub mod alloc_count;
+pub mod app;
 pub mod assets;
+pub mod bench;
 pub mod diff;
 pub mod eval;
 pub mod export;

@@ -4,14 +4,55 @@ mod cli;
 mod convert;
 
 use clap::Parser;
+use sonarmap::app::{Command, SonarApp, Source};
+use sonarmap::scene::SceneId;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-/// Opens the inspector on `log` (the built-in Blue Room when `None`).
+#[global_allocator]
+static ALLOCATOR: sonarmap::alloc_count::CountingAllocator =
+    sonarmap::alloc_count::CountingAllocator;
+
+/// Opens the inspector on `log` (the built-in Blue Room when `None`). A log that fails to load
+/// opens the Blue Room with the error in the banner.
+///
+/// For screenshots only: `SONARMAP_SNAPSHOT=k` starts at snapshot `k`, `SONARMAP_SELECT=n3`
+/// selects new segment 3 (`s5`: map segment 5).
 fn open_app(log: Option<PathBuf>) -> anyhow::Result<()> {
-    let _ = log;
-    println!("the inspector is not built yet");
-    Ok(())
+    let builtin = sonarmap::assets::default_run()?;
+    let mut startup = Vec::new();
+    if let Some(path) = log {
+        startup.push(Command::Open(path));
+    }
+    if let Some(k) = std::env::var("SONARMAP_SNAPSHOT")
+        .ok()
+        .and_then(|v| v.parse().ok())
+    {
+        startup.push(Command::Seek(k));
+    }
+    if let Ok(sel) = std::env::var("SONARMAP_SELECT") {
+        let id = match (sel.get(..1), sel.get(1..).and_then(|n| n.parse().ok())) {
+            (Some("n"), Some(i)) => Some(SceneId::NewSegment(i as usize)),
+            (Some("s"), Some(i)) => Some(SceneId::MapSegment(i)),
+            _ => None,
+        };
+        if let Some(id) = id {
+            startup.push(Command::Select(id));
+            startup.push(Command::ZoomToSelection);
+        }
+    }
+    sonarmap::app::run_native(move |storage| {
+        let mut app = SonarApp::with_source(
+            builtin,
+            Source::BuiltIn(sonarmap::assets::DEFAULT_RUN_NAME.to_owned()),
+            storage,
+        );
+        for command in startup {
+            app.apply(command);
+        }
+        app
+    })
+    .map_err(|e| anyhow::anyhow!("cannot open the window: {e}"))
 }
 
 fn main() -> ExitCode {

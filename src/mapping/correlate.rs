@@ -135,8 +135,11 @@ pub fn correlate_face(
             trace.result = CorrelationKind::Interpolated { link: id, reason };
         }
     }
-    for s in map.segments.iter_mut().filter(|s| s.object == new_object) {
-        s.object = object;
+    // The new face's object is fresh: only the face's own segments hold it.
+    for id in new_ids {
+        if let Some(s) = map.segment_mut(id).filter(|s| s.object == new_object) {
+            s.object = object;
+        }
     }
     trace
 }

@@ -111,8 +111,8 @@ pub struct MemoryPoint {
 /// The map after some snapshots.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Map {
-    /// Segments ordered by id.
-    pub segments: Vec<Segment>,
+    /// Segments ordered by id, shared between clones until one changes (cheap checkpoints).
+    pub segments: Vec<Arc<Segment>>,
     /// Faces ordered by id.
     pub faces: Vec<Face>,
     /// Readings held by point memory.
@@ -159,7 +159,7 @@ impl Map {
         self.segments
             .binary_search_by_key(&id, |s| s.id)
             .ok()
-            .map(|i| &self.segments[i])
+            .map(|i| &*self.segments[i])
     }
 
     /// The segment with `id`, mutable.
@@ -167,7 +167,7 @@ impl Map {
         self.segments
             .binary_search_by_key(&id, |s| s.id)
             .ok()
-            .map(move |i| &mut self.segments[i])
+            .map(move |i| Arc::make_mut(&mut self.segments[i]))
     }
 
     /// The face with `id`.
@@ -223,12 +223,12 @@ impl Map {
     }
 
     /// Inserts a segment (its id must be the newest).
-    pub(crate) fn push_segment(&mut self, segment: Segment) {
+    pub fn push_segment(&mut self, segment: Segment) {
         debug_assert!(self.segments.last().is_none_or(|s| s.id < segment.id));
         self.note_ends(&segment.a, &segment.b);
         self.index
             .insert(segment.id, &segment.a.point, &segment.b.point);
-        self.segments.push(segment);
+        self.segments.push(Arc::new(segment));
     }
 
     /// Moves the end-points of segment `id` (keeping the index current).
@@ -257,6 +257,20 @@ impl Map {
         }
         let r = nalgebra::Vector2::new(radius_m, radius_m);
         self.index.query(&(p - r), &(p + r))
+    }
+
+    /// A copy without the spatial index (for checkpoints); [`Map::rebuild_index`] restores it.
+    pub fn without_index(&self) -> Map {
+        Map {
+            segments: self.segments.clone(),
+            faces: self.faces.clone(),
+            memory: self.memory.clone(),
+            next_segment_id: self.next_segment_id,
+            next_face_id: self.next_face_id,
+            next_object_id: self.next_object_id,
+            max_end_range_m: self.max_end_range_m,
+            index: SegmentGrid::default(),
+        }
     }
 
     /// Files every segment in the spatial index afresh.

@@ -18,6 +18,9 @@ use crate::run::Snapshot;
 use crate::sonar::{SensorLayout, SensorSpec};
 use std::sync::Arc;
 
+/// Supporting readings a segment keeps (the most recent ones).
+pub const MAX_SUPPORT_POINTS: usize = 64;
+
 /// Runs the paper's algorithm snapshot by snapshot.
 #[derive(Clone, Debug)]
 pub struct Mapper {
@@ -29,6 +32,7 @@ pub struct Mapper {
     last_pose: Option<Pose>,
     next_snapshot: usize,
     brute_force: bool,
+    record_trace: bool,
 }
 
 /// The mutable state a checkpoint needs to resume a [`Mapper`].
@@ -55,7 +59,16 @@ impl Mapper {
             last_pose: None,
             next_snapshot: 0,
             brute_force: false,
+            record_trace: true,
         }
+    }
+
+    /// With `false`, steps return a slim trace: readings, decisions (without their candidate
+    /// lists), updates, correlations and warnings; no gaps, clusters, splits or new-segment
+    /// geometry. The map is the same either way.
+    pub fn with_trace(mut self, on: bool) -> Self {
+        self.record_trace = on;
+        self
     }
 
     /// Tests every map segment as a candidate instead of searching the spatial index (the
@@ -121,10 +134,10 @@ impl Mapper {
         self.next_snapshot
     }
 
-    /// A copy of the state (for checkpoints).
+    /// A copy of the state (for checkpoints): segments are shared, the index is left out.
     pub fn state(&self) -> MapperState {
         MapperState {
-            map: self.map.clone(),
+            map: self.map.without_index(),
             last_pose: self.last_pose,
             next_snapshot: self.next_snapshot,
         }
@@ -133,6 +146,7 @@ impl Mapper {
     /// Resumes from a checkpoint.
     pub fn restore(&mut self, state: MapperState) {
         self.map = state.map;
+        self.map.rebuild_index();
         self.last_pose = state.last_pose;
         self.next_snapshot = state.next_snapshot;
     }
@@ -180,7 +194,10 @@ impl Mapper {
         trace.readings = readings;
         let (order, wraps) = (&self.bearing_order.0, self.bearing_order.1);
         let (clusters, gaps) = cluster_points(&kept, order, wraps, params.t_gap_m);
-        trace.gaps = gaps;
+        let chain_has_break = gaps.iter().any(|g| g.is_break);
+        if self.record_trace {
+            trace.gaps = gaps;
+        }
 
         // §3 fitting of each cluster (with constant-depth groups when on).
         let mut new_segments: Vec<NewSegmentTrace> = Vec::new();
@@ -198,8 +215,7 @@ impl Mapper {
             // Beyond ALGORITHM.md §2: a chain that wraps all round without a break is a closed
             // loop (its last point neighbours its first), so the fit closes it by repeating the
             // first point at the end; the reading itself is still traced once.
-            let closed_loop =
-                wraps && clusters.len() == 1 && !trace.gaps.iter().any(|g| g.is_break);
+            let closed_loop = wraps && clusters.len() == 1 && !chain_has_break;
             if closed_loop && fitted.len() >= 3 {
                 fitted.push(fitted[0]);
             }
@@ -219,13 +235,15 @@ impl Mapper {
             if chain.len() == 1 {
                 singles.push(fitted[0]);
             }
-            trace.clusters.push(ClusterTrace {
-                sensors: chain.iter().map(|q| q.reading.sensor).collect(),
-                constant_depth,
-                fitted,
-                splits,
-                new_segments: indices,
-            });
+            if self.record_trace {
+                trace.clusters.push(ClusterTrace {
+                    sensors: chain.iter().map(|q| q.reading.sensor).collect(),
+                    constant_depth,
+                    fitted,
+                    splits,
+                    new_segments: indices,
+                });
+            }
         }
 
         // §8 point memory.
@@ -318,7 +336,14 @@ impl Mapper {
             }
             trace.decisions.push(decision);
         }
-        trace.new_segments = new_segments;
+        if self.record_trace {
+            trace.new_segments = new_segments;
+        } else {
+            for d in &mut trace.decisions {
+                d.mpc_stage = Vec::new();
+                d.epc_stage = Vec::new();
+            }
+        }
 
         // §6 correlation of the new faces, in cluster order.
         if params.correlate {
@@ -367,6 +392,12 @@ impl Mapper {
             .chain(new.points.iter())
             .copied()
             .collect();
+        // Beyond ALGORITHM.md §5: a segment keeps its most recent MAX_SUPPORT_POINTS readings,
+        // so an update costs the same after an hour of driving as after a minute.
+        if points.len() > MAX_SUPPORT_POINTS {
+            points.sort_by(|x, y| y.reading.cmp(&x.reading));
+            points.truncate(MAX_SUPPORT_POINTS);
+        }
         points.sort_by(|x, y| {
             projection_param(&x.point, &a.point, &b.point)
                 .total_cmp(&projection_param(&y.point, &a.point, &b.point))

@@ -14,6 +14,6 @@ pub mod trace;
 pub mod update;
 
 pub use map::{EndPoint, Map, Segment, SegmentId, SegmentKind, SupportPoint};
-pub use mapper::{Mapper, MapperState};
+pub use mapper::{Mapper, MapperState, MAX_SUPPORT_POINTS};
 pub use params::{FitMode, Params, ParamsError, ParamsFile, Preset, SplitMode};
 pub use trace::{Outcome, Rule, StepTrace};

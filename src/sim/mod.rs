@@ -2,10 +2,12 @@
 //! seeded noise. Pure: plans come in as bytes, runs go out as values.
 
 mod beam;
+mod building;
 mod plan;
 mod simulate;
 
 pub use beam::{Hit, Model, World};
+pub use building::{building_plan, BuildingSpec};
 pub use plan::{
     interpolate_path, load_plan, plan_from_file, Plan, PlanFile, SimFile, SimSettings,
     DEFAULT_ROUGHNESS_DEG, PLAN_FORMAT,

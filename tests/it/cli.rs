@@ -88,12 +88,41 @@ fn run_until_stops_early_and_rejects_a_snapshot_past_the_end() {
 }
 
 #[test]
-fn svg_is_not_available_yet() {
+fn run_svg_writes_the_snapshot_as_a_paper_figure() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("blue.svg");
     let log = assets("blue_room.log.json");
-    check_fails(
-        &["run", log.to_str().unwrap(), "--svg", "x.svg"],
-        &["not yet available"],
+    let o = sonarmap(&[
+        "run",
+        log.to_str().unwrap(),
+        "--until",
+        "1",
+        "--svg",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let svg = std::fs::read_to_string(&out).unwrap();
+    let tree = usvg::Tree::from_str(&svg, &usvg::Options::default()).expect("valid SVG");
+    assert!(tree.size().width() > 100.0);
+    for id in [
+        "floor-plan",
+        "map",
+        "current-points",
+        "previous-snapshot",
+        "balls",
+    ] {
+        assert!(
+            svg.contains(&format!("<g id=\"{id}\"")),
+            "layer {id} missing"
+        );
+    }
+    assert!(
+        !svg.contains("<g id=\"beams\""),
+        "beams are not part of a paper figure"
     );
+    assert!(svg.contains("snapshot 1"));
+    // Nothing is left behind but the file itself.
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
 }
 
 #[test]
@@ -253,10 +282,54 @@ fn broken_inputs_exit_with_code_2_and_a_message() {
 }
 
 #[test]
-fn no_subcommand_opens_the_inspector_hook() {
-    let out = sonarmap(&[]);
-    assert_eq!(out.status.code(), Some(0));
+fn no_subcommand_opens_the_inspector_or_says_why_not() {
+    // Without a display the window cannot open: a clear error and exit code 2, no panic.
+    let out = Command::new(env!("CARGO_BIN_EXE_sonarmap"))
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("cannot open the window") && !err.contains("panicked"),
+        "{err}"
+    );
     let help = sonarmap(&["eval", "--help"]);
     assert_eq!(help.status.code(), Some(0));
     assert!(text(&help.stdout).contains("coverage_visible"));
+}
+
+#[test]
+fn diff_reports_a_match_that_becomes_a_new_face() {
+    // ALGORITHM.md §4: colinearity passes when |d| ≤ ξ/100·(D1 + (D2+D3)/2). The Blue Room's
+    // upper wall moves by a few tenths of an inch between the snapshots, so shrinking ξ to
+    // 0.05 % turns its match into a new face.
+    let dir = tempfile::tempdir().unwrap();
+    let b = dir.path().join("b.json");
+    std::fs::write(&b, r#"{"accuracy_pct": 0.05}"#).unwrap();
+    let log = assets("blue_room.log.json");
+    let o = sonarmap(&[
+        "diff",
+        log.to_str().unwrap(),
+        "--params-b",
+        b.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["snapshots"], serde_json::json!([1]));
+    let decisions = v["decisions"].as_array().unwrap();
+    assert!(!decisions.is_empty());
+    for d in decisions {
+        assert_eq!(d["kind"], "outcome");
+        assert_eq!(d["a"]["outcome"], "match");
+        assert_eq!(d["b"]["outcome"], "new_face");
+        assert_eq!(d["b"]["rule"], "no_candidate_passed");
+    }
+    assert!(v["eval_a"]["segments"].is_number() && v["eval_b"]["segments"].is_number());
+    // The same parameters on both sides differ nowhere.
+    let o = sonarmap(&["diff", log.to_str().unwrap()]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["decisions"], serde_json::json!([]));
 }

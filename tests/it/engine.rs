@@ -337,3 +337,22 @@ fn traces_serialise_with_stable_names_and_round_trip() {
     );
     assert_eq!(serde_json::to_string(&again).unwrap(), json);
 }
+
+#[test]
+fn simulated_blue_room_asset_maps_its_near_walls_without_spurious_segments() {
+    let run = sonarmap::assets::default_run().unwrap();
+    for params in [Params::paper(), Params::extended()] {
+        let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor);
+        for s in &run.snapshots {
+            mapper.step(s);
+        }
+        let plan = run.floor_plan.as_ref().unwrap();
+        let report = sonarmap::eval::evaluate(mapper.map(), &run, plan, &params);
+        assert!(report.true_segments >= 2, "{report:?}");
+        assert_eq!(report.spurious_fraction, 0.0, "{report:?}");
+        assert!(
+            report.coverage_visible.is_some_and(|c| c > 0.4),
+            "{report:?}"
+        );
+    }
+}

@@ -41,7 +41,7 @@ fn eval_figures_of_a_hand_made_map() {
     };
     let mut map = Map::default();
     // On the wall, end-points 0.01 m off: true; covers x 10..50.
-    map.segments.push(segment(
+    map.push_segment(segment(
         0,
         SegmentKind::Fitted,
         (10.0, 0.01),
@@ -49,7 +49,7 @@ fn eval_figures_of_a_hand_made_map() {
         1.0,
     ));
     // Half a metre off: spurious.
-    map.segments.push(segment(
+    map.push_segment(segment(
         1,
         SegmentKind::Fitted,
         (60.0, 0.5),
@@ -57,7 +57,7 @@ fn eval_figures_of_a_hand_made_map() {
         1.0,
     ));
     // Interpolated links do not count.
-    map.segments.push(segment(
+    map.push_segment(segment(
         2,
         SegmentKind::Interpolated,
         (50.0, 0.0),

@@ -1,5 +1,6 @@
 //! The integration tests: one binary, one module per area.
 
+mod app;
 mod cli;
 mod engine;
 mod engine_properties;

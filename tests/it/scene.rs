@@ -383,7 +383,7 @@ fn match_step(trace: &mut StepTrace, before: &Map, k: usize) -> Map {
             (Outcome::NewFace, _) => {
                 let id = after.next_segment_id;
                 after.next_segment_id += 1;
-                after.segments.push(segment_from(id, n, k));
+                after.push_segment(segment_from(id, n, k));
                 Some(id)
             }
             _ => None,

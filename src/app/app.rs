@@ -1,0 +1,839 @@
+//! The inspector's state and the one place where commands are applied.
+
+use super::command::Command;
+use super::decisions::decisions_ui;
+use super::inspector::{hover_text, inspector_ui, CompareState, InspectCtx};
+use super::layers::layers_ui;
+use super::map_view::{map_view_ui, MapViewState, ViewRequest};
+use super::menu::{handle_shortcuts, menu_bar_ui, shortcuts_window_ui};
+use super::timeline::{timeline_ui, TimelineInfo};
+use crate::export::write_svg_atomically;
+use crate::log::load_run;
+use crate::mapping::matching::{evaluate_pair, SegmentEnds};
+use crate::mapping::{Outcome, Params};
+use crate::replay::{Replay, StepView, DEFAULT_CHECKPOINT_INTERVAL};
+use crate::run::Run;
+use crate::scene::svg::{default_view, to_svg};
+use crate::scene::ViewRect;
+use crate::scene::{
+    build_scene, format_length, Layer, LayerSet, Scene, SceneId, SceneInput, ViewOptions,
+};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Arc;
+
+/// Key of the persisted [`Settings`] in eframe's storage.
+pub const SETTINGS_KEY: &str = "sonarmap.settings";
+
+/// Most recent files remembered.
+const MAX_RECENT: usize = 10;
+
+/// UI state that survives restarts. Every field has a default, and a value that does not parse
+/// is ignored (the whole struct falls back to its default), never a crash.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Settings {
+    /// Machine names ([`Layer::name`]) of the layers switched off.
+    pub hidden_layers: Vec<String>,
+    /// Recently opened files, most recent first.
+    pub recent: Vec<PathBuf>,
+    /// Playback rate, snapshots per second.
+    pub rate: f32,
+    /// Last window size in points (eframe also restores it by itself).
+    pub window_size: Option<[f32; 2]>,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            hidden_layers: vec![Layer::Beams.name().to_owned()],
+            recent: Vec::new(),
+            rate: 4.0,
+            window_size: None,
+        }
+    }
+}
+
+impl Settings {
+    /// Reads the settings from `storage`; a missing or corrupt value gives the defaults.
+    pub fn load(storage: Option<&dyn eframe::Storage>) -> Self {
+        storage
+            .and_then(|s| s.get_string(SETTINGS_KEY))
+            .and_then(|text| serde_json::from_str::<Settings>(&text).ok())
+            .map(Settings::sanitised)
+            .unwrap_or_default()
+    }
+
+    fn sanitised(mut self) -> Self {
+        if !self.rate.is_finite() || self.rate <= 0.0 {
+            self.rate = Settings::default().rate;
+        }
+        self.rate = self.rate.clamp(0.25, 60.0);
+        self.recent.truncate(MAX_RECENT);
+        self
+    }
+
+    /// The layers switched on.
+    pub fn layers(&self) -> LayerSet {
+        let mut set = LayerSet::all();
+        for name in &self.hidden_layers {
+            if let Some(layer) = Layer::from_name(name) {
+                set.set(layer, false);
+            }
+        }
+        set
+    }
+
+    fn set_layer(&mut self, layer: Layer, on: bool) {
+        self.hidden_layers.retain(|n| n != layer.name());
+        if !on {
+            self.hidden_layers.push(layer.name().to_owned());
+        }
+    }
+}
+
+/// Where the open run came from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Source {
+    /// Built into the binary (the Blue Room).
+    BuiltIn(String),
+    /// A file on disk.
+    File(PathBuf),
+    /// Bytes without a path (a dropped file).
+    Bytes(String),
+}
+
+impl Source {
+    /// Short name for the status bar and titles.
+    pub fn display_name(&self) -> String {
+        match self {
+            Source::BuiltIn(name) | Source::Bytes(name) => name.clone(),
+            Source::File(path) => path.display().to_string(),
+        }
+    }
+}
+
+/// Runs with at least this many snapshots are replayed on a background thread.
+pub const BACKGROUND_MIN_SNAPSHOTS: usize = 2000;
+
+/// A replay being built on a thread.
+struct Background {
+    source: Source,
+    keep_index: bool,
+    total: usize,
+    progress: Arc<AtomicUsize>,
+    cancel: Arc<AtomicBool>,
+    result: std::sync::mpsc::Receiver<Replay>,
+}
+
+/// A run and its replay.
+struct Loaded {
+    source: Source,
+    replay: Replay,
+    marks: Vec<usize>,
+}
+
+/// The inspector. Constructible without eframe, so tests drive it through [`SonarApp::ui`].
+pub struct SonarApp {
+    settings: Settings,
+    params: Params,
+    loaded: Loaded,
+    background: Option<Background>,
+    background_min_snapshots: usize,
+    view: Option<StepView>,
+    playing: bool,
+    play_clock_s: f64,
+    selection: SceneId,
+    compare: CompareState,
+    decision_filter: Option<Outcome>,
+    banner: Option<String>,
+    message: String,
+    map_view: MapViewState,
+    pending: Vec<Command>,
+    show_shortcuts: bool,
+    jump_text: String,
+}
+
+impl SonarApp {
+    /// The app on `run` (shown as built in), with settings from `storage` when given.
+    pub fn new(run: Run, storage: Option<&dyn eframe::Storage>) -> Self {
+        let name = run.name.clone();
+        Self::with_source(run, Source::BuiltIn(name), storage)
+    }
+
+    /// The app on `run`, which came from `source`.
+    pub fn with_source(run: Run, source: Source, storage: Option<&dyn eframe::Storage>) -> Self {
+        let params = Params::paper();
+        let loaded = Self::prepare(run, source, &params);
+        let mut app = SonarApp {
+            settings: Settings::load(storage),
+            params,
+            loaded,
+            background: None,
+            background_min_snapshots: BACKGROUND_MIN_SNAPSHOTS,
+            view: None,
+            playing: false,
+            play_clock_s: 0.0,
+            selection: SceneId::None,
+            compare: CompareState::Off,
+            decision_filter: None,
+            banner: None,
+            message: String::new(),
+            map_view: MapViewState::default(),
+            pending: Vec::new(),
+            show_shortcuts: false,
+            jump_text: String::new(),
+        };
+        app.seek(0);
+        app.message = format!("opened {}", app.loaded.source.display_name());
+        app
+    }
+
+    fn prepare(run: Run, source: Source, params: &Params) -> Loaded {
+        Self::loaded_from(Replay::new(Arc::new(run), params.clone()), source)
+    }
+
+    fn loaded_from(replay: Replay, source: Source) -> Loaded {
+        let marks = replay
+            .summaries()
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.is_notable())
+            .map(|(k, _)| k)
+            .collect();
+        Loaded {
+            source,
+            replay,
+            marks,
+        }
+    }
+
+    /// Replays runs of at least `snapshots` snapshots in the background (default
+    /// [`BACKGROUND_MIN_SNAPSHOTS`]).
+    pub fn set_background_threshold(&mut self, snapshots: usize) {
+        self.background_min_snapshots = snapshots.max(1);
+    }
+
+    /// True while a large run is being replayed in the background.
+    pub fn is_loading(&self) -> bool {
+        self.background.is_some()
+    }
+
+    /// Installs a finished background replay.
+    fn poll_background(&mut self, ctx: &egui::Context) {
+        let Some(job) = &self.background else {
+            return;
+        };
+        match job.result.try_recv() {
+            Ok(replay) => {
+                let job = self.background.take().expect("checked above");
+                self.install(Self::loaded_from(replay, job.source), job.keep_index);
+            }
+            Err(std::sync::mpsc::TryRecvError::Empty) => ctx.request_repaint(),
+            Err(std::sync::mpsc::TryRecvError::Disconnected) => {
+                self.background = None;
+                self.banner =
+                    Some("the replay stopped unexpectedly; the previous run stays open".to_owned());
+            }
+        }
+    }
+
+    /// Queues a command; it is applied at the start of the next frame.
+    pub fn push(&mut self, command: Command) {
+        self.pending.push(command);
+    }
+
+    /// The snapshot shown.
+    pub fn current(&self) -> usize {
+        self.view.as_ref().map_or(0, |v| v.index)
+    }
+
+    /// Number of snapshots of the open run.
+    pub fn len(&self) -> usize {
+        self.loaded.replay.len()
+    }
+
+    /// True when the run has no snapshot.
+    pub fn is_empty(&self) -> bool {
+        self.loaded.replay.is_empty()
+    }
+
+    /// True while playing.
+    pub fn is_playing(&self) -> bool {
+        self.playing
+    }
+
+    /// The current selection.
+    pub fn selection(&self) -> SceneId {
+        self.selection
+    }
+
+    /// The error banner's text, when shown.
+    pub fn banner(&self) -> Option<&str> {
+        self.banner.as_deref()
+    }
+
+    /// The open run.
+    pub fn run(&self) -> &Arc<Run> {
+        self.loaded.replay.run()
+    }
+
+    /// Where the open run came from.
+    pub fn source(&self) -> &Source {
+        &self.loaded.source
+    }
+
+    /// Snapshots with a timeline mark.
+    pub fn marks(&self) -> &[usize] {
+        &self.loaded.marks
+    }
+
+    /// The step shown.
+    pub fn step_view(&self) -> Option<&StepView> {
+        self.view.as_ref()
+    }
+
+    /// The layers switched on.
+    pub fn layers(&self) -> LayerSet {
+        self.settings.layers()
+    }
+
+    /// The persisted settings.
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    /// The map view's state (visible rectangle, cursor, ruler).
+    pub fn map_view(&self) -> &MapViewState {
+        &self.map_view
+    }
+
+    /// The state of "compare with…".
+    pub fn compare(&self) -> &CompareState {
+        &self.compare
+    }
+
+    /// The last status message.
+    pub fn message(&self) -> &str {
+        &self.message
+    }
+
+    /// The scene of the current step, as the map view draws it.
+    pub fn scene(&self) -> Option<Scene> {
+        self.scene_with(self.map_view.world_per_px())
+    }
+
+    fn scene_with(&self, world_per_px: f64) -> Option<Scene> {
+        let view = self.view.as_ref()?;
+        let input = SceneInput {
+            run: self.loaded.replay.run(),
+            snapshot: view.index,
+            step: &view.trace,
+            previous_step: view.previous.as_ref(),
+            map_before: &view.map_before,
+            map_after: &view.map_after,
+        };
+        let options = ViewOptions {
+            layers: self.settings.layers(),
+            world_per_px,
+        };
+        Some(build_scene(&input, &options))
+    }
+
+    fn seek(&mut self, k: usize) {
+        let k = k.min(self.len().saturating_sub(1));
+        if self.view.as_ref().is_some_and(|v| v.index == k) {
+            return;
+        }
+        self.view = self.loaded.replay.view(k);
+        // Ids of this step's clusters and new segments mean nothing in another step.
+        if matches!(
+            self.selection,
+            SceneId::Cluster(_)
+                | SceneId::NewSegment(_)
+                | SceneId::Decision { .. }
+                | SceneId::Correlation(_)
+                | SceneId::Reading { .. }
+        ) {
+            self.selection = SceneId::None;
+        }
+    }
+
+    fn open_bytes(&mut self, bytes: &[u8], source: Source, keep_index: bool) {
+        let name = source.display_name();
+        match load_run(bytes, &name) {
+            Ok(run) if run.snapshots.len() >= self.background_min_snapshots => {
+                self.start_background(run, source, keep_index);
+            }
+            Ok(run) => self.install(Self::prepare(run, source, &self.params), keep_index),
+            Err(e) => {
+                // The loader's error already names the file and the place.
+                self.banner = Some(format!("Could not open the log: {e}"));
+                self.message = "open failed; the previous run stays open".to_owned();
+            }
+        }
+    }
+
+    /// Replays a large run on a thread; the current run stays usable meanwhile.
+    fn start_background(&mut self, run: Run, source: Source, keep_index: bool) {
+        if let Some(old) = self.background.take() {
+            old.cancel.store(true, Ordering::Relaxed);
+        }
+        let total = run.snapshots.len();
+        let progress = Arc::new(AtomicUsize::new(0));
+        let cancel = Arc::new(AtomicBool::new(false));
+        let (tx, rx) = std::sync::mpsc::channel();
+        let (p, c, params) = (progress.clone(), cancel.clone(), self.params.clone());
+        std::thread::spawn(move || {
+            let built = Replay::build(
+                Arc::new(run),
+                params,
+                DEFAULT_CHECKPOINT_INTERVAL,
+                &mut |done| {
+                    p.store(done, Ordering::Relaxed);
+                    !c.load(Ordering::Relaxed)
+                },
+            );
+            if let Ok(replay) = built {
+                let _ = tx.send(replay);
+            }
+        });
+        self.message = format!("replaying {}…", source.display_name());
+        self.background = Some(Background {
+            source,
+            keep_index,
+            total,
+            progress,
+            cancel,
+            result: rx,
+        });
+    }
+
+    fn install(&mut self, loaded: Loaded, keep_index: bool) {
+        let k = self.current();
+        let name = loaded.source.display_name();
+        if let Source::File(path) = &loaded.source {
+            let path = path.clone();
+            self.remember(&path);
+        }
+        self.loaded = loaded;
+        self.view = None;
+        self.selection = SceneId::None;
+        self.compare = CompareState::Off;
+        self.playing = false;
+        self.banner = None;
+        self.seek(if keep_index { k } else { 0 });
+        if !keep_index {
+            self.map_view.request = Some(ViewRequest::Fit);
+        }
+        self.message = format!(
+            "{} {name}: {} snapshots",
+            if keep_index { "reloaded" } else { "opened" },
+            self.len()
+        );
+    }
+
+    fn open_path(&mut self, path: &Path, keep_index: bool) {
+        match std::fs::read(path) {
+            Ok(bytes) => self.open_bytes(&bytes, Source::File(path.to_path_buf()), keep_index),
+            Err(e) => {
+                self.banner = Some(format!("Could not read {}: {e}", path.display()));
+                self.message = "open failed; the previous run stays open".to_owned();
+            }
+        }
+    }
+
+    fn remember(&mut self, path: &Path) {
+        self.settings.recent.retain(|p| p != path);
+        self.settings.recent.insert(0, path.to_path_buf());
+        self.settings.recent.truncate(MAX_RECENT);
+    }
+
+    /// Writes what the map view shows to `path` as SVG (atomically).
+    pub fn export_svg(&mut self, path: &Path) -> Result<(), String> {
+        let scene = self
+            .scene_with(self.map_view.world_per_px())
+            .ok_or_else(|| "nothing to export".to_owned())?;
+        let view = self
+            .map_view
+            .visible_m
+            .unwrap_or_else(|| default_view(&scene));
+        let (w, h) = self.map_view.size_px;
+        let size = (w.max(400) + 180, h.max(300) + 60);
+        let title = format!("{} — snapshot {}", self.run().name, self.current());
+        let svg = to_svg(&scene, view, size, &title, self.run().units);
+        write_svg_atomically(path, &svg)
+            .map_err(|e| format!("Could not write {}: {e}", path.display()))
+    }
+
+    /// Applies one command (the only place the state changes).
+    pub fn apply(&mut self, command: Command) {
+        match command {
+            Command::Open(path) => self.open_path(&path, false),
+            Command::OpenBytes { name, bytes } => {
+                self.open_bytes(&bytes, Source::Bytes(name), false)
+            }
+            Command::OpenDialog => {
+                if let Some(path) = rfd::FileDialog::new()
+                    .add_filter("run log", &["json"])
+                    .pick_file()
+                {
+                    self.open_path(&path, false);
+                }
+            }
+            Command::Reload => match self.loaded.source.clone() {
+                Source::File(path) => self.open_path(&path, true),
+                _ => self.message = "the built-in run has no file to reload".to_owned(),
+            },
+            Command::Seek(k) => self.seek(k),
+            Command::Step(delta) => {
+                let k = (self.current() as i64).saturating_add(delta).max(0) as usize;
+                self.seek(k);
+            }
+            Command::First => self.seek(0),
+            Command::Last => self.seek(self.len().saturating_sub(1)),
+            Command::TogglePlay => {
+                self.playing = !self.playing;
+                self.play_clock_s = 0.0;
+                if self.playing && self.current() + 1 >= self.len() {
+                    self.seek(0);
+                }
+            }
+            Command::SetRate(rate) => {
+                if rate.is_finite() && rate > 0.0 {
+                    self.settings.rate = rate.clamp(0.25, 60.0);
+                }
+            }
+            Command::NextMark => {
+                let k = self.current();
+                match self.loaded.marks.iter().find(|&&m| m > k) {
+                    Some(&m) => self.seek(m),
+                    None => self.message = "no mark after this snapshot".to_owned(),
+                }
+            }
+            Command::PrevMark => {
+                let k = self.current();
+                match self.loaded.marks.iter().rev().find(|&&m| m < k) {
+                    Some(&m) => self.seek(m),
+                    None => self.message = "no mark before this snapshot".to_owned(),
+                }
+            }
+            Command::Select(id) => self.select(id),
+            Command::CompareWith(id) => {
+                self.compare = CompareState::Armed(id);
+                self.message = format!("compare #{id} with…: click a segment");
+            }
+            Command::CancelCompare => self.compare = CompareState::Off,
+            Command::ToggleLayer(layer) => {
+                let on = self.settings.layers().contains(layer);
+                self.settings.set_layer(layer, !on);
+            }
+            Command::FilterDecisions(filter) => self.decision_filter = filter,
+            Command::FitView => self.map_view.request = Some(ViewRequest::Fit),
+            Command::ZoomToSelection => match self.ends_of(self.selection) {
+                Some(ends) => {
+                    let length = (ends.b.point - ends.a.point).norm();
+                    let rect =
+                        ViewRect::new(ends.a.point, ends.b.point).expanded(length.max(0.5) * 0.75);
+                    self.map_view.request = Some(ViewRequest::Frame(rect));
+                }
+                None => self.message = "select a segment to zoom to it".to_owned(),
+            },
+            Command::CenterOn(p) => self.map_view.request = Some(ViewRequest::Center(p)),
+            Command::ExportDialog => {
+                let name = format!("snapshot-{}.svg", self.current());
+                if let Some(path) = rfd::FileDialog::new()
+                    .add_filter("SVG", &["svg"])
+                    .set_file_name(name)
+                    .save_file()
+                {
+                    self.apply(Command::ExportSvg(path));
+                }
+            }
+            Command::ExportSvg(path) => match self.export_svg(&path) {
+                Ok(()) => self.message = format!("exported {}", path.display()),
+                Err(e) => {
+                    self.banner = Some(e);
+                    self.message = "export failed".to_owned();
+                }
+            },
+            Command::DismissError => self.banner = None,
+            Command::ToggleShortcuts => self.show_shortcuts = !self.show_shortcuts,
+        }
+    }
+
+    fn select(&mut self, id: SceneId) {
+        if id == SceneId::None {
+            self.map_view.ruler_m = None;
+            self.compare = CompareState::Off;
+        }
+        if let CompareState::Armed(existing) = self.compare {
+            if let Some(other) = self.ends_of(id) {
+                if let Some(existing_ends) = self.ends_of(SceneId::MapSegment(existing)) {
+                    if id != SceneId::MapSegment(existing) {
+                        let eval = evaluate_pair(&self.params, &other, existing, &existing_ends);
+                        self.compare = CompareState::Done {
+                            existing,
+                            other: id,
+                            eval: Box::new(eval),
+                        };
+                        self.selection = SceneId::MapSegment(existing);
+                        self.message = format!("compared #{existing} with {}", describe_id(id));
+                        return;
+                    }
+                }
+            }
+        }
+        self.selection = id;
+    }
+
+    /// End-points of a new segment or a map segment of the current step.
+    fn ends_of(&self, id: SceneId) -> Option<SegmentEnds> {
+        let view = self.view.as_ref()?;
+        match id {
+            SceneId::NewSegment(i) | SceneId::Decision { new_segment: i, .. } => {
+                let s = view.trace.new_segments.get(i)?;
+                Some(SegmentEnds { a: s.a, b: s.b })
+            }
+            SceneId::MapSegment(id) | SceneId::Update(id) => {
+                let s = view
+                    .map_after
+                    .segment(id)
+                    .or_else(|| view.map_before.segment(id))?;
+                Some(SegmentEnds { a: s.a, b: s.b })
+            }
+            _ => None,
+        }
+    }
+
+    fn advance_playback(&mut self, ctx: &egui::Context) {
+        if !self.playing {
+            return;
+        }
+        let dt = f64::from(ctx.input(|i| i.stable_dt)).clamp(0.0, 0.5);
+        self.play_clock_s += dt;
+        let period = 1.0 / f64::from(self.settings.rate.max(0.25));
+        while self.play_clock_s >= period {
+            self.play_clock_s -= period;
+            if self.current() + 1 >= self.len() {
+                self.playing = false;
+                self.message = "reached the last snapshot".to_owned();
+                break;
+            }
+            self.seek(self.current() + 1);
+        }
+        ctx.request_repaint();
+    }
+
+    fn dropped_files(ctx: &egui::Context) -> Vec<Command> {
+        ctx.input(|i| {
+            i.raw
+                .dropped_files
+                .iter()
+                .take(1)
+                .map(|f| {
+                    let path = f.path();
+                    if path.exists() {
+                        Command::Open(path.to_path_buf())
+                    } else {
+                        let name = path.display().to_string();
+                        match f.bytes() {
+                            Ok(bytes) => Command::OpenBytes { name, bytes },
+                            Err(_) => Command::Open(path.to_path_buf()),
+                        }
+                    }
+                })
+                .collect()
+        })
+    }
+
+    /// One frame of the whole window: applies queued commands, then lays out the panels.
+    pub fn ui(&mut self, ui: &mut egui::Ui) {
+        let ctx = ui.ctx().clone();
+        for command in std::mem::take(&mut self.pending) {
+            self.apply(command);
+        }
+        self.poll_background(&ctx);
+        self.advance_playback(&ctx);
+        let mut commands = handle_shortcuts(&ctx);
+        commands.extend(Self::dropped_files(&ctx));
+        if let Some(rect) = ctx.input(|i| i.viewport().inner_rect) {
+            self.settings.window_size = Some([rect.width(), rect.height()]);
+        }
+
+        egui::Panel::top("menu_bar").show(ui, |ui| {
+            commands.extend(menu_bar_ui(ui, &self.settings.recent));
+        });
+        if let Some(text) = &self.banner {
+            let frame = egui::Frame::new()
+                .fill(egui::Color32::from_rgb(0x7a, 0x1e, 0x1e))
+                .inner_margin(6.0);
+            egui::Panel::top("error_banner")
+                .frame(frame)
+                .show(ui, |ui| {
+                    ui.horizontal(|ui| {
+                        if ui.button("Dismiss").clicked() {
+                            commands.push(Command::DismissError);
+                        }
+                        ui.add(
+                            egui::Label::new(egui::RichText::new(text).color(egui::Color32::WHITE))
+                                .wrap(),
+                        );
+                    });
+                });
+        }
+        egui::Panel::bottom("status_bar").show(ui, |ui| self.status_bar_ui(ui));
+        egui::Panel::bottom("timeline").show(ui, |ui| {
+            let info = TimelineInfo {
+                len: self.len(),
+                current: self.current(),
+                t_s: self.view.as_ref().map_or(0.0, |v| v.trace.t),
+                marks: &self.loaded.marks,
+                playing: self.playing,
+                rate: self.settings.rate,
+            };
+            commands.extend(timeline_ui(ui, &info, &mut self.jump_text));
+        });
+
+        let scene = self.scene().unwrap_or_default();
+        egui::Panel::left("layers")
+            .resizable(true)
+            .default_size(210.0)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    commands.extend(layers_ui(ui, self.settings.layers(), &scene.legend()));
+                });
+            });
+        egui::Panel::right("inspector")
+            .resizable(true)
+            .default_size(580.0)
+            .show(ui, |ui| {
+                if let Some(view) = &self.view {
+                    let ictx = InspectCtx {
+                        run: self.loaded.replay.run(),
+                        view,
+                        params: &self.params,
+                    };
+                    egui::Panel::top("decisions")
+                        .resizable(true)
+                        .default_size(190.0)
+                        .show(ui, |ui| {
+                            commands.extend(decisions_ui(
+                                ui,
+                                &ictx,
+                                self.decision_filter,
+                                self.selection,
+                            ));
+                        });
+                    egui::CentralPanel::default().show(ui, |ui| {
+                        egui::ScrollArea::both().show(ui, |ui| {
+                            commands.extend(inspector_ui(ui, &ictx, self.selection, &self.compare));
+                        });
+                    });
+                }
+            });
+        egui::CentralPanel::default().show(ui, |ui| {
+            let describe = |id: SceneId| {
+                self.view.as_ref().and_then(|view| {
+                    hover_text(
+                        &InspectCtx {
+                            run: self.loaded.replay.run(),
+                            view,
+                            params: &self.params,
+                        },
+                        id,
+                    )
+                })
+            };
+            commands.extend(map_view_ui(
+                ui,
+                &scene,
+                self.run().units,
+                &mut self.map_view,
+                self.selection,
+                &describe,
+            ));
+        });
+        if self.show_shortcuts {
+            let mut open = true;
+            shortcuts_window_ui(&ctx, &mut open);
+            if !open {
+                commands.push(Command::ToggleShortcuts);
+            }
+        }
+        for command in commands {
+            self.apply(command);
+        }
+    }
+
+    fn status_bar_ui(&self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            ui.label(self.loaded.source.display_name());
+            ui.separator();
+            if let Some(job) = &self.background {
+                ui.spinner();
+                let done = job.progress.load(Ordering::Relaxed);
+                ui.add(
+                    egui::ProgressBar::new(done as f32 / job.total.max(1) as f32)
+                        .desired_width(160.0)
+                        .text(format!(
+                            "replaying {}: {done} / {}",
+                            job.source.display_name(),
+                            job.total
+                        )),
+                );
+                ui.separator();
+            }
+            ui.label(format!(
+                "snapshot {} / {}",
+                self.current(),
+                self.len().saturating_sub(1)
+            ));
+            ui.separator();
+            let units = self.run().units;
+            match self.map_view.cursor_m {
+                Some(p) => ui.label(format!(
+                    "x {}  y {}",
+                    format_length(p.x, units),
+                    format_length(p.y, units)
+                )),
+                None => ui.label("x -  y -"),
+            };
+            if let Some(r) = self.map_view.ruler_text(units) {
+                ui.separator();
+                ui.label(format!("ruler {r}"));
+            }
+            ui.separator();
+            ui.label(&self.message);
+        });
+    }
+}
+
+/// A short name of a scene id, for messages.
+pub fn describe_id(id: SceneId) -> String {
+    match id {
+        SceneId::None => "nothing".to_owned(),
+        SceneId::Robot => "the robot".to_owned(),
+        SceneId::FloorPlan => "the floor plan".to_owned(),
+        SceneId::Reading { snapshot, sensor } => format!("reading {snapshot}/{sensor}"),
+        SceneId::Cluster(i) => format!("cluster {i}"),
+        SceneId::NewSegment(i) | SceneId::Decision { new_segment: i, .. } => {
+            format!("new segment n{i}")
+        }
+        SceneId::MapSegment(id) | SceneId::Update(id) => format!("segment #{id}"),
+        SceneId::Correlation(i) => format!("correlation {i}"),
+    }
+}
+
+impl eframe::App for SonarApp {
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        SonarApp::ui(self, ui);
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        if let Ok(text) = serde_json::to_string(&self.settings) {
+            storage.set_string(SETTINGS_KEY, text);
+        }
+    }
+}

@@ -1,0 +1,66 @@
+//! What the panels ask the app to do. Every panel returns `Command`s; the app applies them in
+//! one place per frame ([`super::SonarApp::apply`]), so keyboard, buttons and tests drive the
+//! same path.
+
+use crate::geometry::Point;
+use crate::mapping::{Outcome, SegmentId};
+use crate::scene::{Layer, SceneId};
+use std::path::PathBuf;
+
+/// One request from the UI.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Command {
+    /// Load the run log at this path (the current run stays open if it fails).
+    Open(PathBuf),
+    /// Load a run log from bytes (a file dropped without a path); the name is for errors.
+    OpenBytes {
+        /// Name shown in errors and the status bar.
+        name: String,
+        /// The file's contents.
+        bytes: Vec<u8>,
+    },
+    /// Ask for a file with the system dialog, then [`Command::Open`] it.
+    OpenDialog,
+    /// Load the current file again from disk.
+    Reload,
+    /// Show snapshot `k` (clamped to the run).
+    Seek(usize),
+    /// Move by this many snapshots (negative is back).
+    Step(i64),
+    /// Show the first snapshot.
+    First,
+    /// Show the last snapshot.
+    Last,
+    /// Start or pause playback.
+    TogglePlay,
+    /// Playback rate, snapshots per second.
+    SetRate(f32),
+    /// Seek to the next notable snapshot.
+    NextMark,
+    /// Seek to the previous notable snapshot.
+    PrevMark,
+    /// Select what the scene shows under this id (`SceneId::None` clears the selection).
+    Select(SceneId),
+    /// The next selected segment is compared with this map segment ("compare with…").
+    CompareWith(SegmentId),
+    /// Stop comparing.
+    CancelCompare,
+    /// Switch a layer on or off.
+    ToggleLayer(Layer),
+    /// Show only decisions with this outcome (`None`: all).
+    FilterDecisions(Option<Outcome>),
+    /// Fit the map view to the scene.
+    FitView,
+    /// Zoom the map view onto the selected segment.
+    ZoomToSelection,
+    /// Centre the map view on a world point (metres).
+    CenterOn(Point),
+    /// Ask for a file with the system dialog, then [`Command::ExportSvg`] to it.
+    ExportDialog,
+    /// Write what the map view shows as SVG to this path.
+    ExportSvg(PathBuf),
+    /// Hide the error banner.
+    DismissError,
+    /// Show or hide the keyboard shortcut help.
+    ToggleShortcuts,
+}

@@ -1,0 +1,141 @@
+//! The menu bar, the keyboard shortcuts and their help window.
+
+use super::command::Command;
+use egui::{Key, KeyboardShortcut, Modifiers};
+use std::path::PathBuf;
+
+/// File ▸ Open…
+pub const OPEN: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::O);
+/// File ▸ Reload.
+pub const RELOAD: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::R);
+/// File ▸ Export SVG…
+pub const EXPORT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::E);
+
+/// Every shortcut with what it does, for the help window.
+pub const SHORTCUTS: [(&str, &str); 14] = [
+    ("Ctrl+O", "open a run log"),
+    ("Ctrl+R", "reload the run log"),
+    ("Ctrl+E", "export the map view as SVG"),
+    ("Left / Right", "previous / next snapshot"),
+    ("Home / End", "first / last snapshot"),
+    ("Space", "play / pause"),
+    ("[ / ]", "previous / next mark"),
+    ("F", "fit the view"),
+    ("Z", "zoom to the selected segment"),
+    ("Esc", "clear selection and ruler"),
+    ("Shift+drag", "measure (ruler)"),
+    ("Scroll / drag", "zoom / pan the map"),
+    ("Double-click", "fit the view"),
+    ("Drop a file", "open it"),
+];
+
+/// Reads the keyboard; navigation keys only when no text field has focus.
+pub fn handle_shortcuts(ctx: &egui::Context) -> Vec<Command> {
+    let mut commands = Vec::new();
+    let typing = ctx.egui_wants_keyboard_input();
+    ctx.input_mut(|i| {
+        if i.consume_shortcut(&OPEN) {
+            commands.push(Command::OpenDialog);
+        }
+        if i.consume_shortcut(&RELOAD) {
+            commands.push(Command::Reload);
+        }
+        if i.consume_shortcut(&EXPORT) {
+            commands.push(Command::ExportDialog);
+        }
+        if typing {
+            return;
+        }
+        let keys = [
+            (Key::ArrowLeft, Command::Step(-1)),
+            (Key::ArrowRight, Command::Step(1)),
+            (Key::Home, Command::First),
+            (Key::End, Command::Last),
+            (Key::Space, Command::TogglePlay),
+            (Key::OpenBracket, Command::PrevMark),
+            (Key::CloseBracket, Command::NextMark),
+            (Key::F, Command::FitView),
+            (Key::Z, Command::ZoomToSelection),
+            (Key::Escape, Command::Select(crate::scene::SceneId::None)),
+        ];
+        for (key, command) in keys {
+            if i.consume_key(Modifiers::NONE, key) {
+                commands.push(command);
+            }
+        }
+    });
+    commands
+}
+
+/// Draws the menu bar.
+pub fn menu_bar_ui(ui: &mut egui::Ui, recent: &[PathBuf]) -> Vec<Command> {
+    let mut commands = Vec::new();
+    let ctx = ui.ctx().clone();
+    egui::MenuBar::new().ui(ui, |ui| {
+        ui.menu_button("File", |ui| {
+            if ui
+                .add(egui::Button::new("Open…").shortcut_text(ctx.format_shortcut(&OPEN)))
+                .clicked()
+            {
+                commands.push(Command::OpenDialog);
+            }
+            ui.menu_button("Open Recent", |ui| {
+                if recent.is_empty() {
+                    ui.label("no recent files");
+                }
+                for path in recent {
+                    if ui.button(path.display().to_string()).clicked() {
+                        commands.push(Command::Open(path.clone()));
+                    }
+                }
+            });
+            if ui
+                .add(egui::Button::new("Reload").shortcut_text(ctx.format_shortcut(&RELOAD)))
+                .clicked()
+            {
+                commands.push(Command::Reload);
+            }
+            ui.separator();
+            if ui
+                .add(egui::Button::new("Export SVG…").shortcut_text(ctx.format_shortcut(&EXPORT)))
+                .clicked()
+            {
+                commands.push(Command::ExportDialog);
+            }
+        });
+        ui.menu_button("View", |ui| {
+            if ui
+                .add(egui::Button::new("Fit view").shortcut_text("F"))
+                .clicked()
+            {
+                commands.push(Command::FitView);
+            }
+        });
+        ui.menu_button("Help", |ui| {
+            if ui.button("Keyboard shortcuts").clicked() {
+                commands.push(Command::ToggleShortcuts);
+            }
+        });
+    });
+    commands
+}
+
+/// The keyboard shortcut help window.
+pub fn shortcuts_window_ui(ctx: &egui::Context, open: &mut bool) {
+    egui::Window::new("Keyboard shortcuts")
+        .open(open)
+        .resizable(false)
+        .collapsible(false)
+        .show(ctx, |ui| {
+            egui::Grid::new("shortcuts")
+                .num_columns(2)
+                .striped(true)
+                .show(ui, |ui| {
+                    for (keys, what) in SHORTCUTS {
+                        ui.label(egui::RichText::new(keys).monospace().strong());
+                        ui.label(what);
+                        ui.end_row();
+                    }
+                });
+        });
+}

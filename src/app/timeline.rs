@@ -1,0 +1,173 @@
+//! The timeline: a slider over the snapshots, step and play buttons, the playback rate, a
+//! "go to" field and marks where notable things happened.
+
+use super::command::Command;
+use egui::{Color32, RichText, Sense, Stroke, Vec2};
+
+/// Playback rates offered, snapshots per second.
+pub const RATES: [f32; 6] = [1.0, 2.0, 4.0, 8.0, 15.0, 30.0];
+
+/// What the timeline shows.
+#[derive(Clone, Copy, Debug)]
+pub struct TimelineInfo<'a> {
+    /// Number of snapshots.
+    pub len: usize,
+    /// The snapshot shown.
+    pub current: usize,
+    /// Its time, seconds.
+    pub t_s: f64,
+    /// Snapshots with a mark, ascending.
+    pub marks: &'a [usize],
+    /// True while playing.
+    pub playing: bool,
+    /// Playback rate, snapshots per second.
+    pub rate: f32,
+}
+
+/// The label that shows the snapshot index (tests look for it).
+pub fn snapshot_label(current: usize, len: usize) -> String {
+    format!("Snapshot {current} / {}", len.saturating_sub(1))
+}
+
+/// Draws the timeline.
+pub fn timeline_ui(ui: &mut egui::Ui, info: &TimelineInfo, jump_text: &mut String) -> Vec<Command> {
+    let mut commands = Vec::new();
+    let last = info.len.saturating_sub(1);
+    ui.add_space(2.0);
+    ui.horizontal(|ui| {
+        if ui
+            .button("|<")
+            .on_hover_text("First snapshot (Home)")
+            .clicked()
+        {
+            commands.push(Command::First);
+        }
+        if ui
+            .button("<")
+            .on_hover_text("Previous snapshot (Left)")
+            .clicked()
+        {
+            commands.push(Command::Step(-1));
+        }
+        let play = if info.playing { "Pause" } else { "Play" };
+        if ui
+            .button(play)
+            .on_hover_text("Play or pause (Space)")
+            .clicked()
+        {
+            commands.push(Command::TogglePlay);
+        }
+        if ui
+            .button(">")
+            .on_hover_text("Next snapshot (Right)")
+            .clicked()
+        {
+            commands.push(Command::Step(1));
+        }
+        if ui
+            .button(">|")
+            .on_hover_text("Last snapshot (End)")
+            .clicked()
+        {
+            commands.push(Command::Last);
+        }
+        ui.separator();
+        ui.label(RichText::new(snapshot_label(info.current, info.len)).strong());
+        ui.label(format!("t = {:.2} s", info.t_s));
+        ui.separator();
+        if ui
+            .button("< Prev mark")
+            .on_hover_text("Previous notable snapshot ([)")
+            .clicked()
+        {
+            commands.push(Command::PrevMark);
+        }
+        if ui
+            .button("Next mark >")
+            .on_hover_text("Next notable snapshot (])")
+            .clicked()
+        {
+            commands.push(Command::NextMark);
+        }
+        ui.label(format!("{} marks", info.marks.len()));
+        ui.separator();
+        egui::ComboBox::from_id_salt("rate")
+            .selected_text(format!("{} /s", info.rate))
+            .show_ui(ui, |ui| {
+                for r in RATES {
+                    if ui
+                        .selectable_label(info.rate == r, format!("{r} /s"))
+                        .clicked()
+                    {
+                        commands.push(Command::SetRate(r));
+                    }
+                }
+            });
+        ui.separator();
+        ui.label("Go to");
+        let edit = ui.add(
+            egui::TextEdit::singleline(jump_text)
+                .desired_width(56.0)
+                .hint_text("k"),
+        );
+        if edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)) {
+            match jump_text.trim().parse::<usize>() {
+                Ok(k) => commands.push(Command::Seek(k)),
+                Err(_) => jump_text.clear(),
+            }
+        }
+    });
+    // The slider, full width, with the marks painted under it.
+    let width = ui.available_width().max(100.0);
+    let mut k = info.current;
+    let slider_width = width - 16.0;
+    ui.spacing_mut().slider_width = slider_width;
+    let slider = ui.add_enabled(
+        info.len > 1,
+        egui::Slider::new(&mut k, 0..=last.max(1)).show_value(false),
+    );
+    if slider.changed() && k != info.current {
+        commands.push(Command::Seek(k));
+    }
+    let (rect, response) = ui.allocate_exact_size(Vec2::new(slider_width, 10.0), Sense::click());
+    let left = slider.rect.left() + 6.0;
+    let right = slider.rect.right() - 6.0;
+    let x_of = |m: usize| {
+        if last == 0 {
+            left
+        } else {
+            left + (right - left) * m as f32 / last as f32
+        }
+    };
+    let painter = ui.painter_at(rect.expand2(Vec2::new(8.0, 0.0)));
+    let mark_colour = Color32::from_rgb(0xE6, 0x9F, 0x00);
+    for &m in info.marks {
+        let x = x_of(m);
+        painter.line_segment(
+            [egui::pos2(x, rect.top()), egui::pos2(x, rect.bottom())],
+            Stroke::new(2.0, mark_colour),
+        );
+    }
+    let x = x_of(info.current);
+    painter.line_segment(
+        [egui::pos2(x, rect.top()), egui::pos2(x, rect.bottom())],
+        Stroke::new(1.0, ui.visuals().strong_text_color()),
+    );
+    if response.clicked() {
+        if let Some(p) = response.interact_pointer_pos() {
+            // Jump to the nearest mark within a few pixels, else to the snapshot under it.
+            let near = info
+                .marks
+                .iter()
+                .copied()
+                .min_by(|a, b| (x_of(*a) - p.x).abs().total_cmp(&(x_of(*b) - p.x).abs()))
+                .filter(|m| (x_of(*m) - p.x).abs() < 5.0);
+            let k = near.unwrap_or_else(|| {
+                let f = ((p.x - left) / (right - left).max(1.0)).clamp(0.0, 1.0);
+                (f * last as f32).round() as usize
+            });
+            commands.push(Command::Seek(k));
+        }
+    }
+    commands
+}

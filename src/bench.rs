@@ -1,0 +1,171 @@
+//! `sonarmap bench`: throughput figures of the engine, loading, seeking and scene building,
+//! each the median of several runs. Not part of the pure core: it reads the clock.
+
+use crate::alloc_count;
+use crate::log::{load_run, save_run};
+use crate::mapping::{Mapper, Params};
+use crate::replay::Replay;
+use crate::run::Run;
+use crate::scene::{build_scene, SceneInput, ViewOptions};
+use crate::sim::{building_plan, simulate, BuildingSpec, Model};
+use serde::Serialize;
+use std::sync::Arc;
+use std::time::Instant;
+
+/// The figures, as `bench` prints them.
+#[derive(Clone, Debug, Serialize)]
+pub struct BenchReport {
+    /// Cores of the machine.
+    pub cores: usize,
+    /// Snapshots in the benchmarked run.
+    pub snapshots: usize,
+    /// Mapper steps per second with the trace off (median).
+    pub engine_snapshots_per_s_trace_off: f64,
+    /// Mapper steps per second with the full trace (median).
+    pub engine_snapshots_per_s_trace_on: f64,
+    /// Time of the last tenth of the run over the first tenth (median, trace off).
+    pub engine_last_tenth_over_first_tenth: f64,
+    /// Seconds to parse and validate the run's JSON (median).
+    pub load_s: f64,
+    /// Peak heap during loading over the file size (0 when the counting allocator is absent).
+    pub load_peak_memory_over_file_size: f64,
+    /// File size of the run's JSON, bytes.
+    pub file_bytes: usize,
+    /// Largest time to make any snapshot ready to draw, milliseconds.
+    pub seek_ms_max: f64,
+    /// Median time to make a snapshot ready to draw, milliseconds.
+    pub seek_ms_median: f64,
+    /// Snapshots between checkpoints.
+    pub checkpoint_interval: usize,
+    /// Heap held by the checkpoints, bytes (0 without the counting allocator).
+    pub checkpoint_bytes: usize,
+    /// Median time to build the scene of a snapshot with every layer on, milliseconds.
+    pub frame_ms_median: f64,
+    /// Segments in the final map.
+    pub final_segments: usize,
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    if v.is_empty() {
+        0.0
+    } else {
+        v[v.len() / 2]
+    }
+}
+
+/// A long run through a generated building: one lap simulated, then driven back and forth.
+pub fn building_run(snapshots: usize, seed: u64) -> Run {
+    let plan = building_plan(&BuildingSpec::default(), seed);
+    let lap = simulate(&plan, Model::Specular, seed);
+    let mut run = lap.clone();
+    run.name = format!("{} — {snapshots} snapshots", plan.name);
+    run.snapshots.clear();
+    let mut forward = true;
+    while run.snapshots.len() < snapshots {
+        let lap_iter: Box<dyn Iterator<Item = &crate::run::Snapshot>> = if forward {
+            Box::new(lap.snapshots.iter())
+        } else {
+            Box::new(lap.snapshots.iter().rev())
+        };
+        for s in lap_iter.take(snapshots - run.snapshots.len()) {
+            let mut s = s.clone();
+            s.t = run.snapshots.len() as f64 * 0.2;
+            run.snapshots.push(s);
+        }
+        forward = !forward;
+    }
+    run
+}
+
+/// Steps a mapper over `run`, returning total seconds and the seconds of the first and last tenth.
+fn time_engine(run: &Run, params: &Params, trace: bool) -> (f64, f64, f64) {
+    let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor).with_trace(trace);
+    let n = run.snapshots.len();
+    let tenth = (n / 10).max(1);
+    let (mut first, mut last) = (0.0, 0.0);
+    let start = Instant::now();
+    let mut mark = start;
+    for (k, s) in run.snapshots.iter().enumerate() {
+        std::hint::black_box(mapper.step(s));
+        if k + 1 == tenth {
+            first = mark.elapsed().as_secs_f64();
+        }
+        if k + 1 == n - tenth {
+            mark = Instant::now();
+        }
+    }
+    if n >= 2 * tenth {
+        last = mark.elapsed().as_secs_f64();
+    }
+    (start.elapsed().as_secs_f64(), first, last)
+}
+
+/// Measures everything on `run` (`repeats` runs each; the median is reported).
+pub fn bench(run: &Run, params: &Params, repeats: usize) -> BenchReport {
+    let repeats = repeats.max(1);
+    let n = run.snapshots.len();
+    let mut off = Vec::new();
+    let mut on = Vec::new();
+    let mut ratio = Vec::new();
+    for _ in 0..repeats {
+        let (total, first, last) = time_engine(run, params, false);
+        off.push(n as f64 / total);
+        ratio.push(if first > 0.0 { last / first } else { 0.0 });
+        let (total, _, _) = time_engine(run, params, true);
+        on.push(n as f64 / total);
+    }
+    let json = save_run(run);
+    let mut loads = Vec::new();
+    let mut peak = 0usize;
+    for _ in 0..repeats {
+        let base = alloc_count::reset_peak();
+        let start = Instant::now();
+        let loaded = load_run(json.as_bytes(), "bench");
+        loads.push(start.elapsed().as_secs_f64());
+        peak = peak.max(alloc_count::peak_bytes().saturating_sub(base));
+        drop(loaded);
+    }
+    let before = alloc_count::live_bytes();
+    let replay = Replay::new(Arc::new(run.clone()), params.clone());
+    let checkpoint_bytes = alloc_count::live_bytes().saturating_sub(before);
+    let interval = replay.checkpoint_interval();
+    // Seek to snapshots spread over the run, each the worst place after a checkpoint.
+    let targets: Vec<usize> = (0..20)
+        .map(|i| ((i * n / 20) / interval * interval + interval - 1).min(n - 1))
+        .collect();
+    let mut seeks = Vec::new();
+    let mut frames = Vec::new();
+    for &k in &targets {
+        let start = Instant::now();
+        let view = replay.view(k).expect("non-empty run");
+        seeks.push(start.elapsed().as_secs_f64() * 1e3);
+        let input = SceneInput {
+            run,
+            snapshot: k,
+            step: &view.trace,
+            previous_step: view.previous.as_ref(),
+            map_before: &view.map_before,
+            map_after: &view.map_after,
+        };
+        let start = Instant::now();
+        std::hint::black_box(build_scene(&input, &ViewOptions::all()));
+        frames.push(start.elapsed().as_secs_f64() * 1e3);
+    }
+    BenchReport {
+        cores: std::thread::available_parallelism().map_or(1, |c| c.get()),
+        snapshots: n,
+        engine_snapshots_per_s_trace_off: median(off),
+        engine_snapshots_per_s_trace_on: median(on),
+        engine_last_tenth_over_first_tenth: median(ratio),
+        load_s: median(loads),
+        load_peak_memory_over_file_size: peak as f64 / json.len() as f64,
+        file_bytes: json.len(),
+        seek_ms_max: seeks.iter().cloned().fold(0.0, f64::max),
+        seek_ms_median: median(seeks),
+        checkpoint_interval: interval,
+        checkpoint_bytes,
+        frame_ms_median: median(frames),
+        final_segments: replay.final_map().segments.len(),
+    }
+}

@@ -1,0 +1,181 @@
+//! A procedural building floor for benchmarks and long runs: rows of rooms between corridors,
+//! a door from each room to the corridor below it, pillars in some rooms, and a path that snakes
+//! along the corridors and visits every room.
+
+use super::plan::{interpolate_path, Plan, SimSettings};
+use crate::geometry::{Point, Pose};
+use crate::run::{Circle, FloorPlan, Wall};
+use crate::sonar::{SensorLayout, SensorSpec};
+use crate::units::{inches, Units};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::f64::consts::{FRAC_PI_2, PI};
+
+/// The shape of a generated building (metres).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BuildingSpec {
+    /// Rooms along x.
+    pub rooms_x: usize,
+    /// Rows of rooms along y.
+    pub rooms_y: usize,
+    /// Room width, metres.
+    pub room_w_m: f64,
+    /// Room depth, metres.
+    pub room_h_m: f64,
+    /// Corridor width, metres.
+    pub corridor_m: f64,
+    /// Door width, metres.
+    pub door_m: f64,
+    /// Largest step between snapshots, metres.
+    pub step_m: f64,
+}
+
+impl Default for BuildingSpec {
+    fn default() -> Self {
+        Self {
+            rooms_x: 10,
+            rooms_y: 4,
+            room_w_m: 4.0,
+            room_h_m: 3.5,
+            corridor_m: 2.0,
+            door_m: 1.0,
+            step_m: inches(8.0),
+        }
+    }
+}
+
+fn wall(ax: f64, ay: f64, bx: f64, by: f64) -> Wall {
+    Wall {
+        a: Point::new(ax, ay),
+        b: Point::new(bx, by),
+        roughness_rad: None,
+    }
+}
+
+/// Generates the building and its path (one lap; repeat it for longer runs). Seeded pillars.
+pub fn building_plan(spec: &BuildingSpec, seed: u64) -> Plan {
+    let BuildingSpec {
+        rooms_x,
+        rooms_y,
+        room_w_m: w,
+        room_h_m: h,
+        corridor_m: c,
+        door_m: d,
+        ..
+    } = *spec;
+    let width = 2.0 * c + rooms_x as f64 * w;
+    let height = (rooms_y + 1) as f64 * c + rooms_y as f64 * h;
+    let mut walls = vec![
+        wall(0.0, 0.0, width, 0.0),
+        wall(width, 0.0, width, height),
+        wall(width, height, 0.0, height),
+        wall(0.0, height, 0.0, 0.0),
+    ];
+    let mut circles = Vec::new();
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let x0 = c;
+    let door_x = |i: usize| x0 + (i as f64 + 0.5) * w;
+    for j in 0..rooms_y {
+        let yb = (j + 1) as f64 * c + j as f64 * h;
+        let yt = yb + h;
+        // Bottom wall with a door per room, top wall solid, walls between rooms.
+        let mut x = x0;
+        for i in 0..rooms_x {
+            walls.push(wall(x, yb, door_x(i) - d / 2.0, yb));
+            x = door_x(i) + d / 2.0;
+        }
+        walls.push(wall(x, yb, x0 + rooms_x as f64 * w, yb));
+        walls.push(wall(x0, yt, x0 + rooms_x as f64 * w, yt));
+        for i in 0..=rooms_x {
+            let xi = x0 + i as f64 * w;
+            walls.push(wall(xi, yb, xi, yt));
+        }
+        for i in 0..rooms_x {
+            if rng.random::<f64>() < 0.5 {
+                let side = if rng.random::<bool>() { 1.0 } else { -1.0 };
+                circles.push(Circle {
+                    centre: Point::new(
+                        door_x(i) + side * w * 0.3,
+                        yb + h * (0.3 + 0.4 * rng.random::<f64>()),
+                    ),
+                    radius_m: 0.15 + 0.2 * rng.random::<f64>(),
+                });
+            }
+        }
+    }
+    // The path: along corridor j under room row j, into each room and back, then up a side.
+    let mut waypoints = Vec::new();
+    for j in 0..rooms_y {
+        let yc = j as f64 * (c + h) + c / 2.0;
+        let room_y = yc + c / 2.0 + h / 2.0;
+        let rightwards = j % 2 == 0;
+        let (start_x, heading) = if rightwards {
+            (c / 2.0, 0.0)
+        } else {
+            (width - c / 2.0, PI)
+        };
+        waypoints.push(Pose::new(start_x, yc, heading));
+        let order: Vec<usize> = if rightwards {
+            (0..rooms_x).collect()
+        } else {
+            (0..rooms_x).rev().collect()
+        };
+        for i in order {
+            let x = door_x(i);
+            waypoints.push(Pose::new(x, yc, heading));
+            waypoints.push(Pose::new(x, yc, FRAC_PI_2));
+            waypoints.push(Pose::new(x, room_y, FRAC_PI_2));
+            waypoints.push(Pose::new(x, room_y, -FRAC_PI_2));
+            waypoints.push(Pose::new(x, yc, -FRAC_PI_2));
+            waypoints.push(Pose::new(x, yc, heading));
+        }
+        let end_x = if rightwards { width - c / 2.0 } else { c / 2.0 };
+        let next_yc = yc + c + h;
+        waypoints.push(Pose::new(end_x, yc, heading));
+        waypoints.push(Pose::new(end_x, yc, FRAC_PI_2));
+        waypoints.push(Pose::new(end_x, next_yc, FRAC_PI_2));
+    }
+    let poses = interpolate_path(&waypoints, Some(spec.step_m), Some(20f64.to_radians()));
+    Plan {
+        name: format!("Building floor, {rooms_x} × {rooms_y} rooms (generated, seed {seed})"),
+        note: Some(
+            "Generated by sim::building: rows of rooms between corridors, a door per room.".into(),
+        ),
+        units: Units::Metres,
+        floor_plan: FloorPlan { walls, circles },
+        roughness_rad: 8f64.to_radians(),
+        robot_radius_m: Some(inches(9.0)),
+        layout: SensorLayout::nomad_ring(inches(9.0)),
+        sensor: SensorSpec::default(),
+        poses,
+        sim: SimSettings {
+            ray_step_rad: 2.5f64.to_radians(),
+            ..SimSettings::default()
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_path_stays_inside_and_takes_small_steps() {
+        let spec = BuildingSpec {
+            rooms_x: 3,
+            rooms_y: 2,
+            ..BuildingSpec::default()
+        };
+        let plan = building_plan(&spec, 7);
+        assert_eq!(plan.floor_plan.walls.len(), 4 + 2 * (3 + 1 + 1 + 4));
+        let width = 2.0 * spec.corridor_m + 3.0 * spec.room_w_m;
+        for pair in plan.poses.windows(2) {
+            assert!(pair[0].distance_to(&pair[1]) <= spec.step_m + 1e-9);
+        }
+        assert!(plan
+            .poses
+            .iter()
+            .all(|p| p.x > 0.0 && p.x < width && p.y > 0.0));
+        assert_eq!(building_plan(&spec, 7), plan, "seeded");
+    }
+}

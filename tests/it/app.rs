@@ -1,0 +1,379 @@
+//! The inspector driven through egui_kittest (no GPU): every test goes through the app's
+//! command path or clicks widgets by label.
+
+use egui_kittest::kittest::Queryable;
+use egui_kittest::Harness;
+use sonarmap::app::{
+    decision_row_text, snapshot_label, Command, CompareState, Settings, SonarApp, SETTINGS_KEY,
+};
+use sonarmap::scene::{Layer, SceneId};
+use std::collections::HashMap;
+use std::path::PathBuf;
+
+fn asset(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("assets")
+        .join(name)
+}
+
+fn harness(app: SonarApp) -> Harness<'static, SonarApp> {
+    Harness::builder()
+        .with_size(egui::vec2(1400.0, 900.0))
+        .with_accessibility_check(false)
+        .build_ui_state(|ui, app: &mut SonarApp| app.ui(ui), app)
+}
+
+/// The app on the built-in run, then `building.log.json` opened through the command path.
+fn building() -> Harness<'static, SonarApp> {
+    let run = sonarmap::assets::default_run().expect("built-in run loads");
+    let mut h = harness(SonarApp::new(run, None));
+    h.run();
+    h.state_mut()
+        .push(Command::Open(asset("building.log.json")));
+    h.run();
+    assert!(h.state().banner().is_none(), "{:?}", h.state().banner());
+    assert!(h.state().len() > 10);
+    h
+}
+
+fn shows_index(h: &Harness<SonarApp>, k: usize) {
+    let label = snapshot_label(k, h.state().len());
+    assert!(h.query_by_label(&label).is_some(), "no label {label:?}");
+    assert_eq!(h.state().current(), k);
+}
+
+#[test]
+fn steps_forward_and_back_with_buttons_and_keys() {
+    let mut h = building();
+    shows_index(&h, 0);
+    h.get_by_label(">").click();
+    h.run();
+    shows_index(&h, 1);
+    h.key_press(egui::Key::ArrowRight);
+    h.run();
+    shows_index(&h, 2);
+    h.key_press(egui::Key::ArrowLeft);
+    h.run();
+    shows_index(&h, 1);
+    h.key_press(egui::Key::End);
+    h.run();
+    let last = h.state().len() - 1;
+    shows_index(&h, last);
+    h.get_by_label("<").click();
+    h.run();
+    shows_index(&h, last - 1);
+    h.key_press(egui::Key::Home);
+    h.run();
+    shows_index(&h, 0);
+    h.state_mut().push(Command::Seek(usize::MAX));
+    h.run();
+    shows_index(&h, last);
+}
+
+#[test]
+fn plays_then_pauses() {
+    let mut h = building();
+    h.state_mut().push(Command::SetRate(30.0));
+    h.run();
+    h.get_by_label("Play").click();
+    h.run_steps(12);
+    assert!(h.state().is_playing());
+    let k = h.state().current();
+    assert!(k > 0, "playback advanced");
+    h.get_by_label("Pause").click();
+    h.run_steps(2);
+    assert!(!h.state().is_playing());
+    let k = h.state().current();
+    h.run_steps(8);
+    assert_eq!(h.state().current(), k, "paused playback does not move");
+}
+
+#[test]
+fn jumps_to_the_next_and_previous_mark() {
+    let mut h = building();
+    let marks: Vec<usize> = h
+        .state()
+        .marks()
+        .iter()
+        .copied()
+        .filter(|&m| m > 0)
+        .collect();
+    assert!(marks.len() >= 2, "the building run has notable steps");
+    h.get_by_label("Next mark >").click();
+    h.run();
+    shows_index(&h, marks[0]);
+    h.key_press(egui::Key::CloseBracket);
+    h.run();
+    shows_index(&h, marks[1]);
+    h.get_by_label("< Prev mark").click();
+    h.run();
+    shows_index(&h, marks[0]);
+}
+
+/// The first snapshot with a decision that tested candidates, and that decision's index.
+fn step_with_candidates(h: &mut Harness<SonarApp>) -> (usize, usize) {
+    for k in 0..h.state().len() {
+        h.state_mut().apply(Command::Seek(k));
+        let view = h.state().step_view().unwrap();
+        if let Some(d) = view
+            .trace
+            .decisions
+            .iter()
+            .find(|d| !d.mpc_stage.is_empty())
+        {
+            return (k, d.new_segment);
+        }
+    }
+    panic!("no decision with candidates in the building run");
+}
+
+#[test]
+fn selecting_a_new_segment_shows_its_candidate_table() {
+    let mut h = building();
+    let (k, i) = step_with_candidates(&mut h);
+    h.state_mut().push(Command::Seek(k));
+    h.state_mut().push(Command::Select(SceneId::NewSegment(i)));
+    h.run();
+    assert!(h
+        .query_by_label(&format!("New segment n{i} (snapshot {k})"))
+        .is_some());
+    assert!(h.query_by_label("Orientation").is_some());
+    assert!(h.query_by_label("θ_o").is_some());
+    assert!(h.query_by_label("Colinearity d").is_some());
+    assert!(h.query_by_label("deciding rule").is_some());
+    let before = h.state().map_view().visible_m.unwrap();
+    h.key_press(egui::Key::Z);
+    h.run();
+    let after = h.state().map_view().visible_m.unwrap();
+    assert!(
+        after.width_m() < before.width_m(),
+        "zoomed onto the segment"
+    );
+    let verdicts = h.query_all_by_label("pass").count() + h.query_all_by_label("FAIL").count();
+    assert!(verdicts >= 3, "pass/fail cells for every test");
+}
+
+#[test]
+fn clicking_a_decision_row_selects_it() {
+    let mut h = building();
+    let (k, i) = step_with_candidates(&mut h);
+    h.state_mut().push(Command::Seek(k));
+    h.state_mut().push(Command::Select(SceneId::None));
+    h.run();
+    let d = h
+        .state()
+        .step_view()
+        .unwrap()
+        .trace
+        .decisions
+        .iter()
+        .find(|d| d.new_segment == i)
+        .unwrap()
+        .clone();
+    h.get_by_label(&decision_row_text(&d)).click();
+    h.run();
+    assert_eq!(h.state().selection(), SceneId::NewSegment(i));
+    assert!(h.query_by_label("Orientation").is_some());
+}
+
+#[test]
+fn compare_with_runs_the_three_tests() {
+    let mut h = building();
+    h.key_press(egui::Key::End);
+    h.run();
+    let ids: Vec<_> = h
+        .state()
+        .step_view()
+        .unwrap()
+        .map_after
+        .segments
+        .iter()
+        .map(|s| s.id)
+        .take(2)
+        .collect();
+    assert_eq!(ids.len(), 2);
+    h.state_mut()
+        .push(Command::Select(SceneId::MapSegment(ids[0])));
+    h.run();
+    h.get_by_label("Compare with…").click();
+    h.run();
+    assert_eq!(*h.state_compare(), CompareState::Armed(ids[0]));
+    h.state_mut()
+        .push(Command::Select(SceneId::MapSegment(ids[1])));
+    h.run();
+    assert!(
+        matches!(h.state_compare(), CompareState::Done { existing, .. } if *existing == ids[0])
+    );
+    assert!(h.query_by_label("Containment").is_some());
+    assert!(h.query_by_label("Orientation").is_some());
+}
+
+trait CompareOf {
+    fn state_compare(&self) -> &CompareState;
+}
+
+impl CompareOf for Harness<'_, SonarApp> {
+    fn state_compare(&self) -> &CompareState {
+        self.state().compare()
+    }
+}
+
+#[test]
+fn switching_a_layer_off_removes_it_from_the_scene() {
+    let mut h = building();
+    h.state_mut().push(Command::Seek(5));
+    h.run();
+    assert!(h
+        .state()
+        .scene()
+        .unwrap()
+        .layers_present()
+        .contains(Layer::Map));
+    h.get_by_label(Layer::Map.label()).click();
+    h.run();
+    assert!(!h.state().layers().contains(Layer::Map));
+    assert!(!h
+        .state()
+        .scene()
+        .unwrap()
+        .layers_present()
+        .contains(Layer::Map));
+    h.state_mut().push(Command::ToggleLayer(Layer::Map));
+    h.run();
+    assert!(h
+        .state()
+        .scene()
+        .unwrap()
+        .layers_present()
+        .contains(Layer::Map));
+}
+
+#[test]
+fn exports_the_view_as_svg() {
+    let mut h = building();
+    h.state_mut().push(Command::Seek(3));
+    h.run();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("view.svg");
+    h.state_mut().push(Command::ExportSvg(path.clone()));
+    h.run();
+    assert!(h.state().banner().is_none(), "{:?}", h.state().banner());
+    let text = std::fs::read_to_string(&path).unwrap();
+    let tree = usvg::Tree::from_str(&text, &usvg::Options::default()).expect("the export parses");
+    assert!(tree.size().width() > 100.0);
+    assert!(text.contains("snapshot 3"));
+    assert!(text.contains("id=\"map\""));
+    // A write error goes to the banner, not a panic.
+    h.state_mut().push(Command::ExportSvg(
+        dir.path().join("missing-dir").join("x.svg"),
+    ));
+    h.run();
+    assert!(h.state().banner().unwrap().contains("Could not write"));
+}
+
+#[test]
+fn a_broken_log_shows_a_banner_and_keeps_the_run() {
+    let mut h = building();
+    h.state_mut().push(Command::Seek(4));
+    h.run();
+    let name = h.state().run().name.clone();
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("broken.json");
+    std::fs::write(
+        &bad,
+        br#"{"format": "sonarmap-log", "version": 1, "units": "furlong"}"#,
+    )
+    .unwrap();
+    h.state_mut().push(Command::Open(bad));
+    h.run();
+    let banner = h.state().banner().expect("banner").to_owned();
+    assert!(banner.contains("broken.json"), "{banner}");
+    assert!(h.query_by_label_contains("Could not open").is_some());
+    assert_eq!(h.state().run().name, name);
+    shows_index(&h, 4);
+    h.get_by_label("Dismiss").click();
+    h.run();
+    assert!(h.state().banner().is_none());
+    h.state_mut()
+        .push(Command::Open(dir.path().join("does-not-exist.json")));
+    h.run();
+    assert!(h.state().banner().unwrap().contains("does-not-exist.json"));
+    assert_eq!(h.state().run().name, name);
+}
+
+#[derive(Default)]
+struct MemoryStorage(HashMap<String, String>);
+
+impl eframe::Storage for MemoryStorage {
+    fn get_string(&self, key: &str) -> Option<String> {
+        self.0.get(key).cloned()
+    }
+    fn set_string(&mut self, key: &str, value: String) {
+        self.0.insert(key.to_owned(), value);
+    }
+    fn remove_string(&mut self, key: &str) {
+        self.0.remove(key);
+    }
+    fn flush(&mut self) {}
+}
+
+#[test]
+fn settings_persist_and_corrupt_values_are_ignored() {
+    let run = sonarmap::assets::default_run().unwrap();
+    let mut app = SonarApp::new(run.clone(), None);
+    app.apply(Command::ToggleLayer(Layer::Balls));
+    app.apply(Command::Open(asset("tight_room.log.json")));
+    let mut storage = MemoryStorage::default();
+    eframe::App::save(&mut app, &mut storage);
+    let again = SonarApp::new(run.clone(), Some(&storage));
+    assert!(!again.layers().contains(Layer::Balls));
+    assert_eq!(again.settings().recent, vec![asset("tight_room.log.json")]);
+
+    let mut corrupt = MemoryStorage::default();
+    corrupt
+        .0
+        .insert(SETTINGS_KEY.to_owned(), "{not json".to_owned());
+    assert_eq!(
+        *SonarApp::new(run.clone(), Some(&corrupt)).settings(),
+        Settings::default()
+    );
+    corrupt.0.insert(
+        SETTINGS_KEY.to_owned(),
+        r#"{"rate": -3, "recent": []}"#.to_owned(),
+    );
+    let app = SonarApp::new(run, Some(&corrupt));
+    assert!(app.settings().rate > 0.0);
+}
+
+#[test]
+fn a_large_run_replays_in_the_background_and_the_old_run_stays_usable() {
+    let mut h = building();
+    h.state_mut().set_background_threshold(100);
+    let bytes = std::fs::read(asset("building.log.json")).unwrap();
+    h.state_mut().push(Command::OpenBytes {
+        name: "big.json".to_owned(),
+        bytes,
+    });
+    h.step();
+    assert!(h.state().is_loading());
+    assert_eq!(
+        *h.state().source(),
+        sonarmap::app::Source::File(asset("building.log.json")),
+        "the old run stays while replaying"
+    );
+    h.key_press(egui::Key::ArrowRight);
+    h.step();
+    assert_eq!(h.state().current(), 1, "and stays usable");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(300);
+    while h.state().is_loading() && std::time::Instant::now() < deadline {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        h.step();
+    }
+    assert!(h.state().banner().is_none(), "{:?}", h.state().banner());
+    assert!(!h.state().is_loading());
+    assert_eq!(
+        *h.state().source(),
+        sonarmap::app::Source::Bytes("big.json".to_owned())
+    );
+    assert_eq!(h.state().len(), 305);
+}
