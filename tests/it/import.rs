@@ -2,7 +2,8 @@
 //! files written here with the `mcap` crate, round trips through the run log, Stage-style
 //! Pioneer and Nomad-style runs mapped, every refusal naming its place, and no panic on any
 //! bytes (proptest).
-//! Set `SONARMAP_IMPORT_PNG=/tmp/pioneer.png` to keep the rendered Pioneer map for eyes.
+//! Set `SONARMAP_IMPORT_PNG=/tmp/pioneer.png` to keep the rendered Pioneer map for eyes (and
+//! its SVG and the Stage-style Player log beside it).
 
 use proptest::prelude::*;
 use sonarmap::geometry::Pose;
@@ -722,6 +723,9 @@ fn stage_style_pioneer_run_imports_maps_and_exports_an_svg() {
     let plan = load_plan(pioneer_plan_json().as_bytes(), "pioneer plan").unwrap();
     let truth = simulate(&plan, Model::Specular, 7);
     let text = to_player2(&truth);
+    if let Ok(path) = std::env::var("SONARMAP_IMPORT_PNG") {
+        std::fs::write(PathBuf::from(path).with_extension("log"), &text).unwrap();
+    }
     let i = import_any(text.as_bytes(), "stage.log", &ImportOptions::default()).unwrap();
     assert_eq!(i.format, Format::Player);
     let run = &i.run;
