@@ -154,21 +154,41 @@ pub fn run_to_file(run: &Run) -> LogFile {
 /// first, then one line per snapshot (diff-friendly). `load_run(save_run(run))` gives the run
 /// back to within 1e-9 of a unit.
 pub fn save_run(run: &Run) -> String {
-    let file = run_to_file(run);
-    let head = LogFile {
-        snapshots: Vec::new(),
-        ..file.clone()
-    };
+    let mut head = run_to_file(run);
+    let snapshots = std::mem::take(&mut head.snapshots);
+    let floor_plan = head.floor_plan.take();
     let mut text = serde_json::to_string_pretty(&head).expect("a log file serialises");
-    // Replace the empty snapshot list with one snapshot per line.
+    // Replace the empty snapshot list with the floor plan (one wall a line) and one snapshot
+    // a line (diff-friendly).
     let empty = "\"snapshots\": []";
     let at = text.rfind(empty).expect("the snapshots key is written");
     text.truncate(at);
+    if let Some(plan) = &floor_plan {
+        let rows = |rows: &[Vec<f64>]| {
+            let lines: Vec<String> = rows
+                .iter()
+                .map(|r| {
+                    format!(
+                        "      {}",
+                        serde_json::to_string(r).expect("numbers serialise")
+                    )
+                })
+                .collect();
+            format!("[\n{}\n    ]", lines.join(",\n"))
+        };
+        text.push_str("\"floor_plan\": {\n    \"walls\": ");
+        text.push_str(&rows(&plan.walls));
+        if !plan.circles.is_empty() {
+            text.push_str(",\n    \"circles\": ");
+            text.push_str(&rows(&plan.circles));
+        }
+        text.push_str("\n  },\n  ");
+    }
     text.push_str("\"snapshots\": [\n");
-    for (i, s) in file.snapshots.iter().enumerate() {
+    for (i, s) in snapshots.iter().enumerate() {
         text.push_str("    ");
         text.push_str(&serde_json::to_string(s).expect("a snapshot serialises"));
-        if i + 1 < file.snapshots.len() {
+        if i + 1 < snapshots.len() {
             text.push(',');
         }
         text.push('\n');

@@ -395,7 +395,7 @@ impl Mapper {
         // Beyond ALGORITHM.md §5: a segment keeps its most recent MAX_SUPPORT_POINTS readings,
         // so an update costs the same after an hour of driving as after a minute.
         if points.len() > MAX_SUPPORT_POINTS {
-            points.sort_by(|x, y| y.reading.cmp(&x.reading));
+            points.sort_by_key(|p| std::cmp::Reverse(p.reading));
             points.truncate(MAX_SUPPORT_POINTS);
         }
         points.sort_by(|x, y| {
