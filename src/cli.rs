@@ -4,7 +4,7 @@
 use anyhow::{anyhow, bail, Context, Result};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use sonarmap::eval::{evaluate, EvalReport};
-use sonarmap::log::{load_run, parse_json, save_map, save_run};
+use sonarmap::log::{parse_json, save_map, save_run};
 use sonarmap::mapping::{Mapper, Outcome, Params, ParamsFile, Preset, StepTrace};
 use sonarmap::replay::Replay;
 use sonarmap::run::Run;
@@ -38,6 +38,8 @@ pub enum Command {
     /// Compare the map of a log with its floor plan; prints one JSON object.
     #[command(long_about = EVAL_HELP)]
     Eval(EvalArgs),
+    /// Convert a recording (Player/Stage log, ROS 2 MCAP, table) to a run log.
+    Convert(crate::convert::ConvertArgs),
     /// Measure the engine, loading, seeking and scene building; prints one JSON object.
     Bench(BenchArgs),
     /// Compare the decisions of two parameter sets (A and B) on one log; prints one JSON object.
@@ -189,9 +191,9 @@ fn read(path: &Path) -> Result<Vec<u8>> {
     std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))
 }
 
-/// Reads and loads a run log.
+/// Reads a run log or any recording the importers read (content decides).
 pub fn read_run(path: &Path) -> Result<Run> {
-    Ok(load_run(&read(path)?, &path.display().to_string())?)
+    crate::convert::load_any(path)
 }
 
 /// The parameters from a preset and an optional `--params` file.
@@ -435,6 +437,7 @@ pub fn execute(command: &Command) -> Result<()> {
         Command::Run(a) => run_command(a),
         Command::Simulate(a) => simulate_command(a),
         Command::Eval(a) => eval_command(a),
+        Command::Convert(a) => crate::convert::convert_command(a),
         Command::Bench(a) => bench_command(a),
         Command::Diff(a) => diff_command(a),
     }

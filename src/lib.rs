@@ -16,6 +16,7 @@ pub mod diff;
 pub mod eval;
 pub mod export;
 pub mod geometry;
+pub mod import;
 pub mod log;
 pub mod mapping;
 pub mod replay;

@@ -1,6 +1,7 @@
 //! The `sonarmap` binary: the inspector, or a headless subcommand (FORMATS.md, command line).
 
 mod cli;
+mod convert;
 
 use clap::Parser;
 use sonarmap::app::{Command, SonarApp, Source};

@@ -5,6 +5,7 @@ mod cli;
 mod engine;
 mod engine_properties;
 mod eval;
+mod import;
 mod log;
 mod scene;
 mod sim;

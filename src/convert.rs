@@ -1,0 +1,164 @@
+//! `sonarmap convert` and [`load_any`]: reading recorded runs of any supported format from
+//! files (the importers themselves are pure, in `sonarmap::import`).
+
+use crate::cli::write_atomic;
+use anyhow::{anyhow, Context, Result};
+use clap::{Args, ValueEnum};
+use sonarmap::geometry::Pose;
+use sonarmap::import::{
+    builtin_layout, import_any, parse_layout, AngleUnit, Format, ImportOptions, Imported, Layout,
+    NamedBytes, DEFAULT_WINDOW_S,
+};
+use sonarmap::log::save_run;
+use sonarmap::run::Run;
+use sonarmap::units::Units;
+use std::path::{Path, PathBuf};
+
+/// `sonarmap convert`.
+#[derive(Debug, Args)]
+pub struct ConvertArgs {
+    /// The recording: a Player/Stage text log, a ROS 2 MCAP file, a table (or a run log).
+    pub input: PathBuf,
+    /// Where to write the run log (`sonarmap-log` v1).
+    #[arg(long, value_name = "LOG.json")]
+    pub out: PathBuf,
+    /// The sensor layout (`sonarmap-layout` file, or `pioneer_8_8` / `nomad_200`).
+    #[arg(long, value_name = "LAYOUT.json")]
+    pub layout: Option<String>,
+    /// Readings at or beyond this range are no echo (in --units).
+    #[arg(long, value_name = "R")]
+    pub max_range: Option<f64>,
+    /// Length unit of tables, --max-range, --fixed-pose and the written log (default m).
+    #[arg(long, value_enum)]
+    pub units: Option<UnitsArg>,
+    /// Heading unit of tables.
+    #[arg(long, value_enum, default_value = "deg")]
+    pub heading_unit: HeadingArg,
+    /// MCAP: the longest firing cycle of the ring, seconds.
+    #[arg(long, value_name = "S", default_value_t = DEFAULT_WINDOW_S)]
+    pub window: f64,
+    /// Tables: the poses file (`t x y heading`).
+    #[arg(long, value_name = "FILE")]
+    pub poses: Option<PathBuf>,
+    /// Without odometry: the robot's pose for every snapshot, `X,Y,HEADING_DEG`.
+    #[arg(long, value_name = "X,Y,HEADING_DEG", allow_hyphen_values = true)]
+    pub fixed_pose: Option<String>,
+}
+
+/// A length unit on the command line.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum UnitsArg {
+    /// Inches.
+    In,
+    /// Millimetres.
+    Mm,
+    /// Centimetres.
+    Cm,
+    /// Metres.
+    M,
+}
+
+/// A heading unit on the command line.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum HeadingArg {
+    /// Degrees.
+    Deg,
+    /// Radians.
+    Rad,
+}
+
+fn read(path: &Path) -> Result<Vec<u8>> {
+    std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))
+}
+
+/// Reads a `--layout`: a file, or the name of a shipped layout.
+fn read_layout(arg: &str) -> Result<Layout> {
+    let path = Path::new(arg);
+    if !path.exists() {
+        if let Some(l) = builtin_layout(arg.trim_end_matches(".layout.json")) {
+            return Ok(l);
+        }
+    }
+    Ok(parse_layout(&read(path)?, arg)?)
+}
+
+/// Reads and imports a run of any supported format with `options`; says on stderr what an
+/// import (not a plain run log) did.
+pub fn import_file(path: &Path, options: &ImportOptions) -> Result<Imported> {
+    let name = path.display().to_string();
+    let imported = import_any(&read(path)?, &name, options)?;
+    Ok(imported)
+}
+
+/// Reads a run of any supported format (content decides), with no import options.
+pub fn load_any(path: &Path) -> Result<Run> {
+    let imported = import_file(path, &ImportOptions::default())?;
+    if imported.format != Format::SonarmapLog {
+        eprintln!(
+            "{}: imported as a {}: {}",
+            path.display(),
+            imported.format.name(),
+            imported.summary
+        );
+    }
+    Ok(imported.run)
+}
+
+/// Runs `sonarmap convert`.
+pub fn convert_command(args: &ConvertArgs) -> Result<()> {
+    let units = args.units.map(|u| match u {
+        UnitsArg::In => Units::Inches,
+        UnitsArg::Mm => Units::Millimetres,
+        UnitsArg::Cm => Units::Centimetres,
+        UnitsArg::M => Units::Metres,
+    });
+    let u = units.unwrap_or(Units::Metres);
+    let max_range_m = match args.max_range {
+        Some(r) if r.is_finite() && r > 0.0 => Some(u.to_m(r)),
+        Some(r) => return Err(anyhow!("--max-range {r}: expected a range greater than 0")),
+        None => None,
+    };
+    let fixed_pose = match &args.fixed_pose {
+        None => None,
+        Some(text) => {
+            let v: Vec<f64> = text
+                .split(',')
+                .map(|p| p.trim().parse::<f64>())
+                .collect::<Result<_, _>>()
+                .ok()
+                .filter(|v: &Vec<f64>| v.len() == 3 && v.iter().all(|x| x.is_finite()))
+                .ok_or_else(|| {
+                    anyhow!("--fixed-pose {text:?}: expected three numbers X,Y,HEADING_DEG")
+                })?;
+            Some(Pose::new(u.to_m(v[0]), u.to_m(v[1]), v[2].to_radians()))
+        }
+    };
+    let poses = match &args.poses {
+        None => None,
+        Some(p) => Some(NamedBytes {
+            name: p.display().to_string(),
+            bytes: read(p)?,
+        }),
+    };
+    let options = ImportOptions {
+        layout: args.layout.as_deref().map(read_layout).transpose()?,
+        max_range_m,
+        units,
+        heading: match args.heading_unit {
+            HeadingArg::Deg => AngleUnit::Degrees,
+            HeadingArg::Rad => AngleUnit::Radians,
+        },
+        window_s: args.window,
+        fixed_pose,
+        poses,
+    };
+    let imported = import_file(&args.input, &options)?;
+    write_atomic(&args.out, &save_run(&imported.run))?;
+    println!(
+        "{} ({}): {}",
+        args.input.display(),
+        imported.format.name(),
+        imported.summary
+    );
+    Ok(())
+}

@@ -1,0 +1,127 @@
+//! The `sonarmap-layout` v1 file: a robot's sonar mounts for importers whose recordings lack
+//! them (`--layout`). It reuses the run log's `robot` and `sensor` blocks (FORMATS.md):
+//!
+//! ```json
+//! { "format": "sonarmap-layout", "version": 1, "name": "Pioneer 2/3 DX, 8 front + 8 rear",
+//!   "units": "m",
+//!   "robot": { "radius": 0.26, "sonars": [ {"x": 0.069, "y": 0.136, "heading_deg": 90}, ... ] },
+//!   "sensor": { "max_range": 5.0 },
+//!   "frames": { "sonar_0": 0, "/sonar/front_left": 1 } }
+//! ```
+//! - `format`, `version`, `units` and `robot` are required; `robot.sonars` is the ring shorthand
+//!   or the explicit list, exactly as in a run log.
+//! - `sensor` is optional (Polaroid 6500 defaults); its `max_range` is the default of
+//!   `--max-range`: readings at or beyond it become no echo.
+//! - `frames` (optional) maps a ROS `frame_id` or topic to a sensor index, for MCAP files.
+
+use super::error::ImportError;
+use crate::log::{
+    check_header, layout_from_robot, parse_json, parse_units, sensor_from_file, RobotFile,
+    SensorFile,
+};
+use crate::sonar::{SensorLayout, SensorSpec};
+use crate::units::Units;
+use serde::Deserialize;
+use std::collections::BTreeMap;
+
+/// The `format` value of a layout file.
+pub const LAYOUT_FORMAT: &str = "sonarmap-layout";
+
+/// The Pioneer 2/3 DX 8 front + 8 rear sonars, max range 5 m (`assets/pioneer_8_8.layout.json`).
+pub const PIONEER_8_8_LAYOUT_JSON: &str = include_str!("../../assets/pioneer_8_8.layout.json");
+
+/// The Nomad 200 16-ring, radius 9 in, max range 255 in (`assets/nomad_200.layout.json`).
+pub const NOMAD_200_LAYOUT_JSON: &str = include_str!("../../assets/nomad_200.layout.json");
+
+#[derive(Deserialize)]
+struct LayoutFile {
+    format: String,
+    version: serde_json::Number,
+    #[serde(default)]
+    name: Option<String>,
+    units: String,
+    robot: RobotFile,
+    #[serde(default)]
+    sensor: Option<SensorFile>,
+    #[serde(default)]
+    frames: BTreeMap<String, f64>,
+}
+
+/// A parsed layout file, in metres and radians.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Layout {
+    /// Human-readable name.
+    pub name: Option<String>,
+    /// The file's unit.
+    pub units: Units,
+    /// Sonar mounts.
+    pub layout: SensorLayout,
+    /// Robot body radius, metres.
+    pub robot_radius_m: Option<f64>,
+    /// The sensor (defaults where the file has no `sensor`).
+    pub sensor: SensorSpec,
+    /// True when the file gave `sensor.max_range`.
+    pub max_range_given: bool,
+    /// ROS frame id or topic → sensor index.
+    pub frames: BTreeMap<String, usize>,
+}
+
+/// Parses a `sonarmap-layout` v1 file; `source_name` names it in errors.
+pub fn parse_layout(bytes: &[u8], source_name: &str) -> Result<Layout, ImportError> {
+    let f = source_name;
+    let file: LayoutFile = parse_json(bytes, f)?;
+    check_header(&file.format, &file.version, LAYOUT_FORMAT, f)?;
+    let units = parse_units(&file.units, f)?;
+    let (layout, robot_radius_m) = layout_from_robot(&file.robot, units, f, "$.robot")?;
+    let sensor = sensor_from_file(file.sensor.as_ref(), units, f, "$.sensor")?;
+    let mut frames = BTreeMap::new();
+    for (name, &k) in &file.frames {
+        if !(k.fract() == 0.0 && k >= 0.0 && (k as usize) < layout.len()) {
+            return Err(super::error::at(
+                f,
+                format!("$.frames.{name}"),
+                format!(
+                    "sensor index {k} is not a sensor of the layout: expected a whole number from 0 to {}",
+                    layout.len().saturating_sub(1)
+                ),
+            ));
+        }
+        frames.insert(name.clone(), k as usize);
+    }
+    Ok(Layout {
+        name: file.name,
+        units,
+        layout,
+        robot_radius_m,
+        sensor,
+        max_range_given: file.sensor.and_then(|s| s.max_range).is_some(),
+        frames,
+    })
+}
+
+/// A shipped layout by name: `pioneer_8_8` or `nomad_200`.
+pub fn builtin_layout(name: &str) -> Option<Layout> {
+    let json = match name {
+        "pioneer_8_8" => PIONEER_8_8_LAYOUT_JSON,
+        "nomad_200" => NOMAD_200_LAYOUT_JSON,
+        _ => return None,
+    };
+    parse_layout(json.as_bytes(), name).ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shipped_layouts_parse() {
+        let p = builtin_layout("pioneer_8_8").unwrap();
+        assert_eq!(p.layout.len(), 16);
+        assert!((p.sensor.max_range_m - 5.0).abs() < 1e-12);
+        assert!(p.max_range_given);
+        let n = builtin_layout("nomad_200").unwrap();
+        assert_eq!(n.layout.len(), 16);
+        assert!((n.sensor.max_range_m - 255.0 * 0.0254).abs() < 1e-12);
+        assert!((n.robot_radius_m.unwrap() - 0.2286).abs() < 1e-12);
+    }
+}

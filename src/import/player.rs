@@ -1,0 +1,416 @@
+//! Player/Stage text logs (the `writelog` driver of Player 1.x, 2 and 3).
+//!
+//! # Accepted
+//! Lines `time host robot interface index type subtype data...` (Player 2 and 3), `#` starts
+//! a comment. Read are:
+//! - `sonar` 1:1 (ranges): `range_count r_0 .. r_{n-1}`, metres;
+//! - `sonar` 1:2 and 4:1 (geometry): `pose_count` then `x y yaw` per transducer (metres,
+//!   radians), or `x y z roll pitch yaw` per transducer (Player 3's 3-D poses);
+//! - `position2d` 1:1: `px py pa` (metres, radians), then velocities and stall (ignored).
+//!
+//! and the Player 1.x lines `time host robot interface index data_time data...`, told apart by
+//! the sixth field being a time (it has a decimal point) rather than a message type:
+//! - `sonar`: `pose_count` poses (`x y yaw` each) `range_count` ranges;
+//! - `position`: `px py pa` then velocities and stall (ignored).
+//!
+//! Other interfaces (laser, ...), other message types and any sonar or position device after
+//! the first one seen are left out (counted in the summary).
+//!
+//! # Rules
+//! - A snapshot is one sonar ranges message at the line's `time` (the first field); its pose
+//!   is interpolated from the odometry (see [`super::pose_track`]: the heading on the circle;
+//!   within 1 s before the first or after the last odometry the nearest pose is taken, further
+//!   away the snapshot is skipped with a reason).
+//! - The sensor layout is `--layout` when given, else the file's first geometry message; with
+//!   neither the import is refused (the error names `--layout`).
+//! - Player drivers report "no echo" as the maximum range: readings at or beyond `--max-range`,
+//!   else the layout's `sensor.max_range`, else 5 m (the Pioneer's and Stage's), become no echo.
+//! - A sonar or odometry line whose time is earlier than the previous one of the same device is
+//!   skipped with a warning (the recording interleaves devices; one stale line should not
+//!   lose the run).
+//! - No odometry at all: refused unless a fixed pose is given.
+//!
+//! # Refused (with the file, the line and what was expected)
+//! A line with fewer than 7 fields (6 for Player 1.x), text where a number goes, a count that
+//! does not match the number of values that follow, a negative range, a range count that
+//! differs from the geometry, non-UTF-8 bytes.
+
+use super::assemble::{assemble, sensor_with_max_range, Hardware, RawSnapshot};
+use super::error::{at, ImportError};
+use super::options::ImportOptions;
+use super::pose_track::PoseTrack;
+use super::summary::{Format, ImportSummary, Imported};
+use super::text::{count, lines, number, utf8, Line};
+use crate::geometry::Pose;
+use crate::log::MAX_SENSORS;
+use crate::sonar::{SensorLayout, SensorMount};
+use crate::units::Units;
+
+/// Player's default maximum sonar range for a Pioneer (and Stage's default ranger), metres.
+pub const PLAYER_DEFAULT_MAX_RANGE_M: f64 = 5.0;
+
+/// True when `line` looks like a Player log line (used by content detection).
+pub fn looks_like_player_line(fields: &[&str]) -> bool {
+    fields.len() >= 6
+        && fields[0].parse::<f64>().is_ok_and(f64::is_finite)
+        && fields[1].parse::<u64>().is_ok()
+        && fields[2].parse::<u64>().is_ok()
+        && fields[3]
+            .chars()
+            .next()
+            .is_some_and(|c| c.is_ascii_alphabetic())
+        && fields[3]
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_')
+        && fields[4].parse::<u64>().is_ok()
+}
+
+enum Event {
+    Ranges {
+        t: f64,
+        line: usize,
+        ranges: Vec<f64>,
+    },
+    Geometry {
+        line: usize,
+        mounts: Vec<SensorMount>,
+    },
+    Odometry {
+        t: f64,
+        line: usize,
+        pose: Pose,
+    },
+}
+
+/// Imports a Player/Stage text log. `file` names it in errors. Pure.
+pub fn import_player(
+    bytes: &[u8],
+    file: &str,
+    options: &ImportOptions,
+) -> Result<Imported, ImportError> {
+    let text = utf8(bytes, file)?;
+    let mut summary = ImportSummary::default();
+    let mut events = Vec::new();
+    let mut sonar_device: Option<String> = None;
+    let mut position_device: Option<String> = None;
+    let mut ignored = 0usize;
+    for line in lines(text, false, file)? {
+        let f = &line.fields;
+        if !looks_like_player_line(f) {
+            return Err(at(
+                file,
+                format!("line {}", line.number),
+                format!(
+                    "expected `time host robot interface index type subtype data...` (numbers, an interface name, numbers), found {:?}",
+                    super::text::clip(&f.join(" "))
+                ),
+            ));
+        }
+        let t = number(&line, 0, "the time in seconds", file)?;
+        let v1 = f[5].contains(['.', 'e', 'E']);
+        let interface = f[3];
+        let device = format!("{interface}:{}", f[4].trim_start_matches('0'));
+        let is_sonar = interface == "sonar";
+        let is_position = interface == "position2d" || (v1 && interface == "position");
+        if !is_sonar && !is_position {
+            ignored += 1;
+            continue;
+        }
+        let slot = if is_sonar {
+            &mut sonar_device
+        } else {
+            &mut position_device
+        };
+        match slot {
+            None => *slot = Some(device.clone()),
+            Some(d) if *d != device => {
+                summary.skip(
+                    format!("line {}", line.number),
+                    format!("{device}: only the first device seen, {d}, is imported"),
+                );
+                continue;
+            }
+            Some(_) => {}
+        }
+        if v1 {
+            number(&line, 5, "the data time in seconds", file)?;
+            if is_sonar {
+                let n = count(&line, 6, "the transducer pose count", MAX_SENSORS, file)?;
+                let mounts = poses(&line, 7, n, 3, file)?;
+                let at_ranges = 7 + 3 * n;
+                let m = count(&line, at_ranges, "the range count", MAX_SENSORS, file)?;
+                let ranges = values(&line, at_ranges, m, file)?;
+                if f.len() != at_ranges + 1 + m {
+                    return Err(field_count(
+                        &line,
+                        at_ranges + 1 + m,
+                        "data time, pose count, poses, range count, ranges",
+                        file,
+                    ));
+                }
+                events.push(Event::Geometry {
+                    line: line.number,
+                    mounts,
+                });
+                events.push(Event::Ranges {
+                    t,
+                    line: line.number,
+                    ranges,
+                });
+            } else {
+                events.push(Event::Odometry {
+                    t,
+                    line: line.number,
+                    pose: pose(&line, 6, file)?,
+                });
+            }
+            continue;
+        }
+        if f.len() < 7 {
+            return Err(at(
+                file,
+                format!("line {}", line.number),
+                format!(
+                    "{} fields: expected at least 7, `time host robot interface index type subtype`",
+                    f.len()
+                ),
+            ));
+        }
+        let kind = (
+            count(&line, 5, "the message type", 255, file)?,
+            count(&line, 6, "the message subtype", 255, file)?,
+        );
+        match (is_sonar, kind) {
+            (true, (1, 1)) => {
+                let n = count(&line, 7, "the range count", MAX_SENSORS, file)?;
+                let ranges = values(&line, 7, n, file)?;
+                if f.len() != 8 + n {
+                    return Err(field_count(
+                        &line,
+                        8 + n,
+                        "the range count then the ranges",
+                        file,
+                    ));
+                }
+                events.push(Event::Ranges {
+                    t,
+                    line: line.number,
+                    ranges,
+                });
+            }
+            (true, (1, 2)) | (true, (4, 1)) => {
+                let n = count(&line, 7, "the transducer pose count", MAX_SENSORS, file)?;
+                let rest = f.len() - 8;
+                let per = if rest == 6 * n && n > 0 { 6 } else { 3 };
+                let mounts = poses(&line, 8, n, per, file)?;
+                if 8 + per * n != f.len() {
+                    return Err(field_count(
+                        &line,
+                        8 + per * n,
+                        "pose count then x y yaw per transducer",
+                        file,
+                    ));
+                }
+                events.push(Event::Geometry {
+                    line: line.number,
+                    mounts,
+                });
+            }
+            (false, (1, 1)) => events.push(Event::Odometry {
+                t,
+                line: line.number,
+                pose: pose(&line, 7, file)?,
+            }),
+            _ => ignored += 1,
+        }
+    }
+    if ignored > 0 {
+        summary.warn(format!(
+            "{ignored} lines of other interfaces or message types were left out"
+        ));
+    }
+    build(events, file, options, summary)
+}
+
+fn field_count(line: &Line, expected: usize, what: &str, file: &str) -> ImportError {
+    at(
+        file,
+        format!("line {}", line.number),
+        format!("{} fields: expected {expected} ({what})", line.fields.len()),
+    )
+}
+
+/// `n` values after the count at `count_at`; for Player 2/3 ranges the line must end there.
+fn values(line: &Line, count_at: usize, n: usize, file: &str) -> Result<Vec<f64>, ImportError> {
+    let end = count_at + 1 + n;
+    if line.fields.len() < end {
+        return Err(field_count(
+            line,
+            end,
+            &format!("the count {n} then {n} ranges"),
+            file,
+        ));
+    }
+    let mut out = Vec::with_capacity(n);
+    for i in count_at + 1..end {
+        let v = number(line, i, "a range in metres", file)?;
+        if v < 0.0 {
+            return Err(at(
+                file,
+                format!("line {}, field {}", line.number, i + 1),
+                format!("range {v} is negative: expected a range of at least 0 m"),
+            ));
+        }
+        out.push(v);
+    }
+    Ok(out)
+}
+
+fn poses(
+    line: &Line,
+    from: usize,
+    n: usize,
+    per: usize,
+    file: &str,
+) -> Result<Vec<SensorMount>, ImportError> {
+    if line.fields.len() < from + per * n {
+        return Err(field_count(
+            line,
+            from + per * n,
+            &format!("the pose count {n} then x y yaw per transducer"),
+            file,
+        ));
+    }
+    (0..n)
+        .map(|k| {
+            let i = from + per * k;
+            Ok(SensorMount {
+                x_m: number(line, i, "a transducer x in metres", file)?,
+                y_m: number(line, i + 1, "a transducer y in metres", file)?,
+                heading_rad: number(line, i + per - 1, "a transducer yaw in radians", file)?,
+            })
+        })
+        .collect()
+}
+
+fn pose(line: &Line, from: usize, file: &str) -> Result<Pose, ImportError> {
+    Ok(Pose::new(
+        number(line, from, "px in metres", file)?,
+        number(line, from + 1, "py in metres", file)?,
+        number(line, from + 2, "pa in radians", file)?,
+    ))
+}
+
+fn build(
+    events: Vec<Event>,
+    file: &str,
+    options: &ImportOptions,
+    mut summary: ImportSummary,
+) -> Result<Imported, ImportError> {
+    let geometry = events.iter().find_map(|e| match e {
+        Event::Geometry { line, mounts } => Some((*line, mounts.clone())),
+        _ => None,
+    });
+    let (layout, layout_from) = match (&options.layout, geometry) {
+        (Some(l), _) => (l.layout.clone(), "the --layout file".to_string()),
+        (None, Some((line, mounts))) => {
+            if mounts.is_empty() {
+                return Err(at(
+                    file,
+                    format!("line {line}"),
+                    "the sonar geometry has no transducer: expected at least one",
+                ));
+            }
+            (
+                SensorLayout { mounts },
+                format!("the geometry on line {line}"),
+            )
+        }
+        (None, None) => {
+            return Err(ImportError::NeedsLayout {
+                file: file.to_string(),
+                what: "the log has no sonar geometry (sonar 1:2 or 4:1 lines)".to_string(),
+            })
+        }
+    };
+    let mut track = PoseTrack::default();
+    let mut raw = Vec::new();
+    let mut last_sonar_t = f64::NEG_INFINITY;
+    let mut geometry_changes = 0;
+    for e in events {
+        match e {
+            Event::Geometry { mounts, .. } => {
+                if options.layout.is_none() && mounts != layout.mounts {
+                    geometry_changes += 1;
+                }
+            }
+            Event::Odometry { t, line, pose } => {
+                if !track.push(t, pose) {
+                    summary.skip(
+                        format!("line {line}"),
+                        format!("odometry time {t} is earlier than the previous odometry's"),
+                    );
+                    summary.warn(format!("line {line}: time goes backwards; line skipped"));
+                }
+            }
+            Event::Ranges { t, line, ranges } => {
+                if ranges.len() != layout.len() {
+                    return Err(at(
+                        file,
+                        format!("line {line}"),
+                        format!(
+                            "{} ranges: expected one per sensor, {} ({layout_from})",
+                            ranges.len(),
+                            layout.len()
+                        ),
+                    ));
+                }
+                if t < last_sonar_t {
+                    summary.skip(
+                        format!("line {line}"),
+                        format!("sonar time {t} is earlier than the previous sonar message's {last_sonar_t}"),
+                    );
+                    summary.warn(format!("line {line}: time goes backwards; line skipped"));
+                    continue;
+                }
+                last_sonar_t = t;
+                raw.push(RawSnapshot {
+                    t,
+                    place: format!("line {line}"),
+                    ranges_m: ranges.into_iter().map(Some).collect(),
+                });
+            }
+        }
+    }
+    if geometry_changes > 0 {
+        summary.warn(format!(
+            "{geometry_changes} later geometry messages differ from the first; the first is used"
+        ));
+    }
+    let sensor = sensor_with_max_range(
+        options.layout.as_ref(),
+        options.max_range_m,
+        Some(PLAYER_DEFAULT_MAX_RANGE_M),
+    );
+    let hw = Hardware {
+        name: file.to_string(),
+        units: options.units.unwrap_or(Units::Metres),
+        robot_radius_m: options.layout.as_ref().and_then(|l| l.robot_radius_m),
+        layout,
+        sensor,
+    };
+    let run = assemble(
+        file,
+        raw,
+        &track,
+        options.fixed_pose,
+        "no position2d 1:1 or Player 1.x position lines",
+        hw,
+        &mut summary,
+    )?;
+    Ok(Imported {
+        run,
+        summary,
+        format: Format::Player,
+    })
+}

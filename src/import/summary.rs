@@ -1,0 +1,105 @@
+//! What an import did: counts, skipped input with reasons, warnings.
+
+use crate::run::Run;
+use std::fmt;
+
+/// The kind of input an importer read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// A `sonarmap-log` JSON run log (loaded, not imported).
+    SonarmapLog,
+    /// A Player/Stage text log (Player 1.x, 2 or 3).
+    Player,
+    /// A ROS 2 MCAP recording.
+    Mcap,
+    /// A plain table of numbers.
+    Table,
+}
+
+impl Format {
+    /// A short name for messages.
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::SonarmapLog => "sonarmap-log JSON",
+            Format::Player => "Player/Stage text log",
+            Format::Mcap => "ROS 2 MCAP",
+            Format::Table => "table",
+        }
+    }
+}
+
+/// Input that was read but not used, and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Skipped {
+    /// Where: `line 12`, `MCAP message 40 (topic /sonar_3)`.
+    pub place: String,
+    /// Why it was left out.
+    pub reason: String,
+}
+
+/// The counts of an import, printed by `sonarmap convert`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ImportSummary {
+    /// Snapshots made.
+    pub snapshots: usize,
+    /// Readings in them (one per sensor and snapshot, echoes and no echoes).
+    pub readings: usize,
+    /// Readings at or beyond the maximum range (or outside a ROS message's
+    /// `[min_range, max_range]`, or infinite) turned into no echo.
+    pub turned_no_echo: usize,
+    /// Lines or messages left out, with the reason.
+    pub skipped: Vec<Skipped>,
+    /// Anything else the user should know.
+    pub warnings: Vec<String>,
+}
+
+impl ImportSummary {
+    /// Records input left out.
+    pub fn skip(&mut self, place: impl Into<String>, reason: impl Into<String>) {
+        self.skipped.push(Skipped {
+            place: place.into(),
+            reason: reason.into(),
+        });
+    }
+
+    /// Records a warning.
+    pub fn warn(&mut self, warning: impl Into<String>) {
+        self.warnings.push(warning.into());
+    }
+}
+
+/// Shows the counts, then up to 20 skipped places and every warning, one a line.
+impl fmt::Display for ImportSummary {
+    fn fmt(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        write!(
+            f,
+            "snapshots {}, readings {}, turned into no echo {}, skipped {}, warnings {}",
+            self.snapshots,
+            self.readings,
+            self.turned_no_echo,
+            self.skipped.len(),
+            self.warnings.len()
+        )?;
+        for s in self.skipped.iter().take(20) {
+            write!(f, "\n  skipped {}: {}", s.place, s.reason)?;
+        }
+        if self.skipped.len() > 20 {
+            write!(f, "\n  ... and {} more skipped", self.skipped.len() - 20)?;
+        }
+        for w in &self.warnings {
+            write!(f, "\n  warning: {w}")?;
+        }
+        Ok(())
+    }
+}
+
+/// A run read from a recording, with what the import did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Imported {
+    /// The run, in metres.
+    pub run: Run,
+    /// What the import did.
+    pub summary: ImportSummary,
+    /// What was read.
+    pub format: Format,
+}

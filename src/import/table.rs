@@ -1,0 +1,183 @@
+//! Plain tables of numbers from lab rigs.
+//!
+//! # Accepted
+//! Fields separated by whitespace and/or commas, `#` comments, blank lines; a first line that
+//! does not start with a number is a header and is left out. Either
+//! - one file with both, `t x y heading r_0 .. r_{n-1}` per line, or
+//! - a ranges file `t r_0 .. r_{n-1}` and a poses file `t x y heading` (`--poses`): each
+//!   snapshot's pose is interpolated in the poses (see [`super::pose_track`]).
+//!
+//! The form is read off the first line's field count (`4 + n` or `1 + n`).
+//!
+//! `n` is the number of sensors of the layout (`--layout`, required). Lengths are in `--units`
+//! (default metres), headings in `--heading-unit` (default degrees). A range written `-`,
+//! `nan`, `null`, `none` or `inf` is no echo; readings at or beyond the maximum range
+//! (`--max-range`, else the layout's) become no echo. Without a poses table, `--fixed-pose`
+//! gives every snapshot the same pose.
+//!
+//! # Refused (with the file, the line and what was expected)
+//! A line whose field count is not `1 + n`, `4 + n` or `4` as the form requires, text where a
+//! number goes, a negative range, time going backwards (a table is written by one program in
+//! order: a decreasing time is an error, not a warning), no layout.
+
+use super::assemble::{assemble, sensor_with_max_range, Hardware, RawSnapshot};
+use super::error::{at, ImportError};
+use super::options::ImportOptions;
+use super::pose_track::PoseTrack;
+use super::summary::{Format, ImportSummary, Imported};
+use super::text::{lines, number, utf8, Line};
+use crate::geometry::Pose;
+use crate::units::Units;
+
+/// True when the first content line (after an optional header) is all numbers: detection.
+pub fn looks_like_table(fields: &[&str]) -> bool {
+    !fields.is_empty()
+        && fields
+            .iter()
+            .all(|f| f.parse::<f64>().is_ok() || is_no_echo(f))
+}
+
+fn is_no_echo(field: &str) -> bool {
+    matches!(
+        field.to_ascii_lowercase().as_str(),
+        "-" | "nan" | "null" | "none" | "inf" | "+inf" | "infinity"
+    )
+}
+
+/// The content lines, the header left out.
+fn table_lines<'a>(text: &'a str, file: &str) -> Result<Vec<Line<'a>>, ImportError> {
+    let mut all = lines(text, true, file)?;
+    if all
+        .first()
+        .is_some_and(|l| l.fields[0].parse::<f64>().is_err())
+    {
+        all.remove(0);
+    }
+    Ok(all)
+}
+
+fn expect_fields(line: &Line, expected: usize, form: &str, file: &str) -> Result<(), ImportError> {
+    if line.fields.len() != expected {
+        return Err(at(
+            file,
+            format!("line {}", line.number),
+            format!("{} fields: expected {expected} ({form})", line.fields.len()),
+        ));
+    }
+    Ok(())
+}
+
+fn time(line: &Line, previous: &mut f64, file: &str) -> Result<f64, ImportError> {
+    let t = number(line, 0, "the time in seconds", file)?;
+    if t < *previous {
+        return Err(at(
+            file,
+            format!("line {}, field 1", line.number),
+            format!("time {t} is earlier than the previous line's {previous}: expected times that do not decrease"),
+        ));
+    }
+    *previous = t;
+    Ok(t)
+}
+
+/// Imports a table (and the poses table of `options.poses`). `file` names it in errors. Pure.
+pub fn import_table(
+    bytes: &[u8],
+    file: &str,
+    options: &ImportOptions,
+) -> Result<Imported, ImportError> {
+    let Some(layout) = &options.layout else {
+        return Err(ImportError::NeedsLayout {
+            file: file.to_string(),
+            what: "a table has no sensor geometry".to_string(),
+        });
+    };
+    let n = layout.layout.len();
+    let units = options.units.unwrap_or(Units::Metres);
+    let heading = options.heading;
+    let text = utf8(bytes, file)?;
+    let mut summary = ImportSummary::default();
+    let mut track = PoseTrack::default();
+    let body = table_lines(text, file)?;
+    // The form is read off the first line: `1 + n` fields is ranges only, `4 + n` has poses.
+    let separate = body.first().is_some_and(|l| l.fields.len() == 1 + n);
+    if !separate && options.poses.is_some() {
+        summary.warn("--poses is ignored: the table has its own pose columns");
+    }
+    if let Some(poses) = options.poses.as_ref().filter(|_| separate) {
+        let pf = poses.name.as_str();
+        let mut previous = f64::NEG_INFINITY;
+        for line in table_lines(utf8(&poses.bytes, pf)?, pf)? {
+            expect_fields(&line, 4, "t x y heading", pf)?;
+            let t = time(&line, &mut previous, pf)?;
+            let pose = Pose::new(
+                units.to_m(number(&line, 1, "x", pf)?),
+                units.to_m(number(&line, 2, "y", pf)?),
+                heading.to_rad(number(&line, 3, "the heading", pf)?),
+            );
+            track.push(t, pose);
+        }
+    }
+    let first_range = if separate { 1 } else { 4 };
+    let form = if separate {
+        format!("t then {n} ranges, one per sensor of the layout, as on the first line")
+    } else {
+        format!("t x y heading then {n} ranges, one per sensor of the layout (or t then {n} ranges, with the poses in --poses)")
+    };
+    let mut raw = Vec::new();
+    let mut previous = f64::NEG_INFINITY;
+    for line in body {
+        expect_fields(&line, first_range + n, &form, file)?;
+        let t = time(&line, &mut previous, file)?;
+        if !separate {
+            let pose = Pose::new(
+                units.to_m(number(&line, 1, "x", file)?),
+                units.to_m(number(&line, 2, "y", file)?),
+                heading.to_rad(number(&line, 3, "the heading", file)?),
+            );
+            track.push(t, pose);
+        }
+        let mut ranges_m = Vec::with_capacity(n);
+        for i in first_range..first_range + n {
+            if is_no_echo(line.fields[i]) {
+                ranges_m.push(None);
+                continue;
+            }
+            let v = number(&line, i, "a range, or - for no echo", file)?;
+            if v < 0.0 {
+                return Err(at(
+                    file,
+                    format!("line {}, field {}", line.number, i + 1),
+                    format!("range {v} is negative: expected a range of at least 0"),
+                ));
+            }
+            ranges_m.push(Some(units.to_m(v)));
+        }
+        raw.push(RawSnapshot {
+            t,
+            place: format!("line {}", line.number),
+            ranges_m,
+        });
+    }
+    let hw = Hardware {
+        name: file.to_string(),
+        units,
+        layout: layout.layout.clone(),
+        robot_radius_m: layout.robot_radius_m,
+        sensor: sensor_with_max_range(Some(layout), options.max_range_m, None),
+    };
+    let run = assemble(
+        file,
+        raw,
+        &track,
+        options.fixed_pose,
+        "the table has no pose columns and no --poses file",
+        hw,
+        &mut summary,
+    )?;
+    Ok(Imported {
+        run,
+        summary,
+        format: Format::Table,
+    })
+}
