@@ -8,7 +8,7 @@ use super::map_view::{map_view_ui, MapViewState, ViewRequest};
 use super::menu::{handle_shortcuts, menu_bar_ui, shortcuts_window_ui};
 use super::timeline::{timeline_ui, TimelineInfo};
 use crate::export::write_svg_atomically;
-use crate::log::load_run;
+use crate::import::{import_any, ImportOptions};
 use crate::mapping::matching::{evaluate_pair, SegmentEnds};
 use crate::mapping::{Outcome, Params};
 use crate::replay::{Replay, StepView, DEFAULT_CHECKPOINT_INTERVAL};
@@ -362,13 +362,15 @@ impl SonarApp {
 
     fn open_bytes(&mut self, bytes: &[u8], source: Source, keep_index: bool) {
         let name = source.display_name();
-        match load_run(bytes, &name) {
+        // The importer is picked from the content: sonarmap-log, Player/Stage, MCAP or a table
+        // (Player logs with geometry and MCAP with /tf_static need no layout).
+        match import_any(bytes, &name, &ImportOptions::default()).map(|i| i.run) {
             Ok(run) if run.snapshots.len() >= self.background_min_snapshots => {
                 self.start_background(run, source, keep_index);
             }
             Ok(run) => self.install(Self::prepare(run, source, &self.params), keep_index),
             Err(e) => {
-                // The loader's error already names the file and the place.
+                // The importer's error already names the file and the place.
                 self.banner = Some(format!("Could not open the log: {e}"));
                 self.message = "open failed; the previous run stays open".to_owned();
             }
