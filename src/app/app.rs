@@ -51,6 +51,35 @@ pub struct Settings {
     pub builtin_bookmarks: Vec<Bookmark>,
     /// Draw the baseline's map ghosted under the current one while a baseline is pinned.
     pub baseline_ghost: bool,
+    /// The page shown in the left panel.
+    pub left_tab: LeftTab,
+}
+
+/// The pages of the left panel.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LeftTab {
+    /// Live parameters and the A/B baseline.
+    #[default]
+    Parameters,
+    /// Layer switches and legend.
+    Layers,
+    /// Bookmarks of the run.
+    Bookmarks,
+}
+
+impl LeftTab {
+    /// Every page, in the order shown.
+    pub const ALL: [LeftTab; 3] = [LeftTab::Parameters, LeftTab::Layers, LeftTab::Bookmarks];
+
+    /// The tab's label.
+    pub fn label(self) -> &'static str {
+        match self {
+            LeftTab::Parameters => "Parameters",
+            LeftTab::Layers => "Layers",
+            LeftTab::Bookmarks => "Bookmarks",
+        }
+    }
 }
 
 /// A named snapshot.
@@ -89,6 +118,7 @@ impl Default for Settings {
             params: None,
             builtin_bookmarks: Vec::new(),
             baseline_ghost: true,
+            left_tab: LeftTab::Parameters,
         }
     }
 }
@@ -1016,6 +1046,7 @@ impl SonarApp {
                     self.message = "baseline unpinned".to_owned();
                 }
             }
+            Command::ShowTab(tab) => self.settings.left_tab = tab,
             Command::ToggleBaselineGhost => {
                 self.settings.baseline_ghost = !self.settings.baseline_ghost
             }
@@ -1192,55 +1223,59 @@ impl SonarApp {
             .resizable(true)
             .default_size(290.0)
             .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| {
-                    egui::CollapsingHeader::new("Parameters")
-                        .default_open(true)
-                        .show(ui, |ui| {
-                            let fraction =
-                                |done: usize, total: usize| done as f32 / total.max(1) as f32;
-                            let info = ParamsPanelInfo {
-                                params: &self.params,
-                                units: self.loaded.replay.run().units,
-                                rerun_progress: self.background.as_ref().and_then(|j| {
-                                    matches!(j.kind, JobKind::Rerun).then(|| {
-                                        fraction(j.progress.load(Ordering::Relaxed), j.total)
-                                    })
-                                }),
-                                pinned: self.baseline.is_some(),
-                                diff_progress: self.baseline.as_ref().and_then(|b| {
-                                    b.job.as_ref().map(|j| {
-                                        fraction(j.progress.load(Ordering::Relaxed), j.total)
-                                    })
-                                }),
-                                differing: self
-                                    .baseline
+                ui.horizontal(|ui| {
+                    for tab in LeftTab::ALL {
+                        if ui
+                            .selectable_label(self.settings.left_tab == tab, tab.label())
+                            .clicked()
+                        {
+                            commands.push(Command::ShowTab(tab));
+                        }
+                    }
+                });
+                ui.separator();
+                egui::ScrollArea::vertical().show(ui, |ui| match self.settings.left_tab {
+                    LeftTab::Parameters => {
+                        let fraction =
+                            |done: usize, total: usize| done as f32 / total.max(1) as f32;
+                        let info = ParamsPanelInfo {
+                            params: &self.params,
+                            units: self.loaded.replay.run().units,
+                            rerun_progress: self.background.as_ref().and_then(|j| {
+                                matches!(j.kind, JobKind::Rerun)
+                                    .then(|| fraction(j.progress.load(Ordering::Relaxed), j.total))
+                            }),
+                            pinned: self.baseline.is_some(),
+                            diff_progress: self.baseline.as_ref().and_then(|b| {
+                                b.job
                                     .as_ref()
-                                    .and_then(|b| b.diff.as_ref())
-                                    .map(|d| d.snapshots.len()),
-                            };
-                            commands.extend(params_panel_ui(ui, &mut self.params_panel, &info));
-                            if self.baseline.is_some() {
-                                let mut ghost = self.settings.baseline_ghost;
-                                if ui.checkbox(&mut ghost, "Baseline map (ghosted)").changed() {
-                                    commands.push(Command::ToggleBaselineGhost);
-                                }
+                                    .map(|j| fraction(j.progress.load(Ordering::Relaxed), j.total))
+                            }),
+                            differing: self
+                                .baseline
+                                .as_ref()
+                                .and_then(|b| b.diff.as_ref())
+                                .map(|d| d.snapshots.len()),
+                        };
+                        commands.extend(params_panel_ui(ui, &mut self.params_panel, &info));
+                        if self.baseline.is_some() {
+                            let mut ghost = self.settings.baseline_ghost;
+                            if ui.checkbox(&mut ghost, "Baseline map (ghosted)").changed() {
+                                commands.push(Command::ToggleBaselineGhost);
                             }
-                        });
-                    egui::CollapsingHeader::new("Bookmarks")
-                        .default_open(true)
-                        .show(ui, |ui| {
-                            commands.extend(bookmarks_ui(
-                                ui,
-                                &self.bookmarks,
-                                self.current(),
-                                &mut self.bookmark_text,
-                            ));
-                        });
-                    egui::CollapsingHeader::new("Layers")
-                        .default_open(true)
-                        .show(ui, |ui| {
-                            commands.extend(layers_ui(ui, self.settings.layers(), &scene.legend()));
-                        });
+                        }
+                    }
+                    LeftTab::Bookmarks => {
+                        commands.extend(bookmarks_ui(
+                            ui,
+                            &self.bookmarks,
+                            self.current(),
+                            &mut self.bookmark_text,
+                        ));
+                    }
+                    LeftTab::Layers => {
+                        commands.extend(layers_ui(ui, self.settings.layers(), &scene.legend()));
+                    }
                 });
             });
         let differences = self.differences_here();

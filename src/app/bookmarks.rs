@@ -45,7 +45,7 @@ pub fn bookmarks_ui(
                 commands.push(Command::Seek(b.snapshot));
             }
             if ui
-                .small_button("✕")
+                .small_button("remove")
                 .on_hover_text("remove this bookmark")
                 .clicked()
             {

@@ -77,6 +77,8 @@ pub enum Command {
     PinBaseline,
     /// Stop comparing with the baseline.
     Unpin,
+    /// Show this page of the left panel.
+    ShowTab(super::app::LeftTab),
     /// Show or hide the baseline's map ghosted under the current one.
     ToggleBaselineGhost,
     /// Bookmark the current snapshot under this name.

@@ -380,7 +380,7 @@ fn readings_of(trace: &StepTrace, i: usize) -> Vec<ReadingRef> {
 
 fn short_eval(e: &PairEvaluation) -> (String, bool) {
     let overlap = e.overlap.mpc || e.overlap.containment || e.overlap.epc;
-    let mark = |p: bool| if p { "✔" } else { "✘" };
+    let mark = |p: bool| if p { "pass" } else { "FAIL" };
     let all = e.orientation.pass && e.colinearity.test.pass && overlap;
     (
         format!(

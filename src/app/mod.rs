@@ -20,8 +20,8 @@ mod params_panel;
 mod timeline;
 
 pub use app::{
-    bookmarks_path, describe_id, Bookmark, Settings, SonarApp, Source, BACKGROUND_MIN_SNAPSHOTS,
-    SETTINGS_KEY,
+    bookmarks_path, describe_id, Bookmark, LeftTab, Settings, SonarApp, Source,
+    BACKGROUND_MIN_SNAPSHOTS, SETTINGS_KEY,
 };
 pub use command::Command;
 pub use decisions::decision_row_text;
