@@ -4,6 +4,12 @@
 use std::io::{self, Write};
 use std::path::Path;
 
+/// Writes any text file atomically (a temp file beside it, then a rename): parameter sets,
+/// bookmarks. The same as [`write_svg_atomically`], named for what it does.
+pub fn write_text_atomically(path: &Path, contents: &str) -> io::Result<()> {
+    write_svg_atomically(path, contents)
+}
+
 /// Writes `contents` to `path` atomically: into a temporary file in the same directory, which
 /// is then renamed over `path`. A reader never sees a half-written file; on error the
 /// temporary file is removed and `path` is left as it was.

@@ -1,16 +1,19 @@
 //! The inspector's state and the one place where commands are applied.
 
+use super::bookmarks::bookmarks_ui;
 use super::command::Command;
 use super::decisions::decisions_ui;
 use super::inspector::{hover_text, inspector_ui, CompareState, InspectCtx};
 use super::layers::layers_ui;
 use super::map_view::{map_view_ui, MapViewState, ViewRequest};
 use super::menu::{handle_shortcuts, menu_bar_ui, shortcuts_window_ui};
+use super::params_panel::{params_panel_ui, ParamsPanelInfo, ParamsPanelState};
 use super::timeline::{timeline_ui, TimelineInfo};
-use crate::export::write_svg_atomically;
+use crate::diff::{diff_run, diff_step, DecisionDifference, RunDiff};
+use crate::export::{write_svg_atomically, write_text_atomically};
 use crate::import::{import_any, ImportOptions};
 use crate::mapping::matching::{evaluate_pair, SegmentEnds};
-use crate::mapping::{Outcome, Params};
+use crate::mapping::{Outcome, Params, ParamsFile};
 use crate::replay::{Replay, StepView, DEFAULT_CHECKPOINT_INTERVAL};
 use crate::run::Run;
 use crate::scene::svg::{default_view, to_svg};
@@ -42,7 +45,68 @@ pub struct Settings {
     pub rate: f32,
     /// Last window size in points (eframe also restores it by itself).
     pub window_size: Option<[f32; 2]>,
+    /// The last parameters applied (lengths in metres); `None`: the paper's.
+    pub params: Option<Params>,
+    /// Bookmarks of the built-in run (a log file keeps its own in a sidecar file).
+    pub builtin_bookmarks: Vec<Bookmark>,
+    /// Draw the baseline's map ghosted under the current one while a baseline is pinned.
+    pub baseline_ghost: bool,
+    /// The page shown in the left panel.
+    pub left_tab: LeftTab,
 }
+
+/// The pages of the left panel.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LeftTab {
+    /// Live parameters and the A/B baseline.
+    #[default]
+    Parameters,
+    /// Layer switches and legend.
+    Layers,
+    /// Bookmarks of the run.
+    Bookmarks,
+}
+
+impl LeftTab {
+    /// Every page, in the order shown.
+    pub const ALL: [LeftTab; 3] = [LeftTab::Parameters, LeftTab::Layers, LeftTab::Bookmarks];
+
+    /// The tab's label.
+    pub fn label(self) -> &'static str {
+        match self {
+            LeftTab::Parameters => "Parameters",
+            LeftTab::Layers => "Layers",
+            LeftTab::Bookmarks => "Bookmarks",
+        }
+    }
+}
+
+/// A named snapshot.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Bookmark {
+    /// The name given.
+    pub name: String,
+    /// The snapshot index.
+    pub snapshot: usize,
+}
+
+/// The sidecar file of bookmarks beside a log: `<log>.bookmarks.json`.
+pub fn bookmarks_path(log: &Path) -> PathBuf {
+    let mut name = log.file_name().unwrap_or_default().to_os_string();
+    name.push(".bookmarks.json");
+    log.with_file_name(name)
+}
+
+/// The sidecar file's contents.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+struct BookmarksFile {
+    format: String,
+    version: u32,
+    bookmarks: Vec<Bookmark>,
+}
+
+const BOOKMARKS_FORMAT: &str = "sonarmap-bookmarks";
 
 impl Default for Settings {
     fn default() -> Self {
@@ -51,6 +115,10 @@ impl Default for Settings {
             recent: Vec::new(),
             rate: 4.0,
             window_size: None,
+            params: None,
+            builtin_bookmarks: Vec::new(),
+            baseline_ghost: true,
+            left_tab: LeftTab::Parameters,
         }
     }
 }
@@ -58,11 +126,66 @@ impl Default for Settings {
 impl Settings {
     /// Reads the settings from `storage`; a missing or corrupt value gives the defaults.
     pub fn load(storage: Option<&dyn eframe::Storage>) -> Self {
-        storage
-            .and_then(|s| s.get_string(SETTINGS_KEY))
-            .and_then(|text| serde_json::from_str::<Settings>(&text).ok())
-            .map(Settings::sanitised)
-            .unwrap_or_default()
+        Self::load_with_notice(storage).0
+    }
+
+    /// Reads the settings from `storage`, value by value: a value that does not parse (or is
+    /// out of range) is replaced by its default and named in the notice; text that is not a
+    /// JSON object gives the defaults and a notice.
+    pub fn load_with_notice(storage: Option<&dyn eframe::Storage>) -> (Self, Option<String>) {
+        use serde_json::Value;
+        let Some(text) = storage.and_then(|s| s.get_string(SETTINGS_KEY)) else {
+            return (Settings::default(), None);
+        };
+        let stored = match serde_json::from_str::<Value>(&text) {
+            Ok(Value::Object(map)) => map,
+            Ok(_) => {
+                return (
+                    Settings::default(),
+                    Some("settings ignored: not a JSON object; using the defaults".to_owned()),
+                )
+            }
+            Err(e) => {
+                return (
+                    Settings::default(),
+                    Some(format!(
+                        "settings ignored: not JSON ({e}); using the defaults"
+                    )),
+                )
+            }
+        };
+        let mut merged = match serde_json::to_value(Settings::default()) {
+            Ok(Value::Object(map)) => map,
+            _ => return (Settings::default(), None),
+        };
+        let mut bad = Vec::new();
+        for (key, value) in stored {
+            let mut trial = merged.clone();
+            trial.insert(key.clone(), value);
+            if serde_json::from_value::<Settings>(Value::Object(trial.clone())).is_ok() {
+                merged = trial;
+            } else {
+                bad.push(key);
+            }
+        }
+        let mut settings: Settings =
+            serde_json::from_value(Value::Object(merged)).unwrap_or_default();
+        if let Some(e) = settings.params.as_ref().and_then(|p| p.validate().err()) {
+            settings.params = None;
+            bad.push(format!("params ({e})"));
+        }
+        let rate = settings.rate;
+        let settings = settings.sanitised();
+        if settings.rate != rate {
+            bad.push("rate".to_owned());
+        }
+        let notice = (!bad.is_empty()).then(|| {
+            format!(
+                "ignored corrupt settings: {}; using defaults for them",
+                bad.join(", ")
+            )
+        });
+        (settings, notice)
     }
 
     fn sanitised(mut self) -> Self {
@@ -117,14 +240,41 @@ impl Source {
 /// Runs with at least this many snapshots are replayed on a background thread.
 pub const BACKGROUND_MIN_SNAPSHOTS: usize = 2000;
 
+/// What a background replay is for.
+enum JobKind {
+    /// A run being opened.
+    Open { source: Source, keep_index: bool },
+    /// The open run under new parameters.
+    Rerun,
+}
+
 /// A replay being built on a thread.
 struct Background {
-    source: Source,
-    keep_index: bool,
+    kind: JobKind,
+    label: String,
+    started: std::time::Instant,
     total: usize,
     progress: Arc<AtomicUsize>,
     cancel: Arc<AtomicBool>,
     result: std::sync::mpsc::Receiver<Replay>,
+}
+
+/// The A/B comparison being computed on a thread.
+struct DiffJob {
+    total: usize,
+    progress: Arc<AtomicUsize>,
+    cancel: Arc<AtomicBool>,
+    result: std::sync::mpsc::Receiver<RunDiff>,
+}
+
+/// A pinned parameter set and its results.
+struct Baseline {
+    params: Params,
+    replay: Replay,
+    view: Option<StepView>,
+    /// Differences from the current parameters, when computed.
+    diff: Option<RunDiff>,
+    job: Option<DiffJob>,
 }
 
 /// A run and its replay.
@@ -153,6 +303,11 @@ pub struct SonarApp {
     pending: Vec<Command>,
     show_shortcuts: bool,
     jump_text: String,
+    params_panel: ParamsPanelState,
+    baseline: Option<Baseline>,
+    bookmarks: Vec<Bookmark>,
+    bookmark_text: String,
+    last_rerun_s: Option<f64>,
 }
 
 impl SonarApp {
@@ -164,10 +319,11 @@ impl SonarApp {
 
     /// The app on `run`, which came from `source`.
     pub fn with_source(run: Run, source: Source, storage: Option<&dyn eframe::Storage>) -> Self {
-        let params = Params::paper();
+        let (settings, notice) = Settings::load_with_notice(storage);
+        let params = settings.params.clone().unwrap_or_else(Params::paper);
         let loaded = Self::prepare(run, source, &params);
         let mut app = SonarApp {
-            settings: Settings::load(storage),
+            settings,
             params,
             loaded,
             background: None,
@@ -184,9 +340,18 @@ impl SonarApp {
             pending: Vec::new(),
             show_shortcuts: false,
             jump_text: String::new(),
+            params_panel: ParamsPanelState::default(),
+            baseline: None,
+            bookmarks: Vec::new(),
+            bookmark_text: String::new(),
+            last_rerun_s: None,
         };
         app.seek(0);
-        app.message = format!("opened {}", app.loaded.source.display_name());
+        app.load_bookmarks();
+        app.message = match notice {
+            Some(n) => n,
+            None => format!("opened {}", app.loaded.source.display_name()),
+        };
         app
     }
 
@@ -215,20 +380,303 @@ impl SonarApp {
         self.background_min_snapshots = snapshots.max(1);
     }
 
-    /// True while a large run is being replayed in the background.
+    /// True while a run is being replayed in the background (a large run opened, or a
+    /// re-run under new parameters), or while the baseline comparison is being computed.
     pub fn is_loading(&self) -> bool {
-        self.background.is_some()
+        self.background.is_some() || self.baseline.as_ref().is_some_and(|b| b.job.is_some())
     }
 
-    /// Installs a finished background replay.
+    /// The parameters asked for (the replay shown catches up when a re-run finishes).
+    pub fn params(&self) -> &Params {
+        &self.params
+    }
+
+    /// The parameters of the replay shown.
+    pub fn shown_params(&self) -> &Params {
+        self.loaded.replay.params()
+    }
+
+    /// Seconds the last re-run under new parameters took.
+    pub fn last_rerun_s(&self) -> Option<f64> {
+        self.last_rerun_s
+    }
+
+    /// The reason the parameters panel refused the value of field `name`, if it did.
+    pub fn params_error(&self, name: &str) -> Option<&str> {
+        self.params_panel.error(name)
+    }
+
+    /// True while a baseline is pinned.
+    pub fn is_pinned(&self) -> bool {
+        self.baseline.is_some()
+    }
+
+    /// The comparison with the baseline, when pinned and computed.
+    pub fn baseline_diff(&self) -> Option<&RunDiff> {
+        self.baseline.as_ref().and_then(|b| b.diff.as_ref())
+    }
+
+    /// The decisions of the current snapshot that differ from the baseline (A = baseline,
+    /// B = current); empty when no baseline is pinned.
+    pub fn differences_here(&self) -> Vec<DecisionDifference> {
+        match (&self.baseline, &self.view) {
+            (Some(Baseline { view: Some(bv), .. }), Some(v)) => diff_step(&bv.trace, &v.trace),
+            _ => Vec::new(),
+        }
+    }
+
+    /// The bookmarks of the open run.
+    pub fn bookmarks(&self) -> &[Bookmark] {
+        &self.bookmarks
+    }
+
+    /// Waits (sleeping) until no background work is left, at most `timeout`; for tests and
+    /// measurements. Returns false on timeout.
+    pub fn wait_idle(&mut self, timeout: std::time::Duration) -> bool {
+        let ctx = egui::Context::default();
+        let deadline = std::time::Instant::now() + timeout;
+        while self.is_loading() {
+            if std::time::Instant::now() > deadline {
+                return false;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(5));
+            self.poll_background(&ctx);
+        }
+        true
+    }
+
+    fn poll_diff(&mut self, ctx: &egui::Context) {
+        let Some(baseline) = &mut self.baseline else {
+            return;
+        };
+        let Some(job) = &baseline.job else {
+            return;
+        };
+        match job.result.try_recv() {
+            Ok(diff) => {
+                self.message = format!(
+                    "{} snapshots differ from the baseline",
+                    diff.snapshots.len()
+                );
+                baseline.diff = Some(diff);
+                baseline.job = None;
+            }
+            Err(std::sync::mpsc::TryRecvError::Empty) => ctx.request_repaint(),
+            Err(std::sync::mpsc::TryRecvError::Disconnected) => baseline.job = None,
+        }
+    }
+
+    /// Starts comparing the baseline with the replay shown, on a thread.
+    fn start_diff(&mut self) {
+        let current = self.loaded.replay.params().clone();
+        let run = self.loaded.replay.run().clone();
+        let Some(baseline) = &mut self.baseline else {
+            return;
+        };
+        if let Some(old) = baseline.job.take() {
+            old.cancel.store(true, Ordering::Relaxed);
+        }
+        if baseline.params == current {
+            baseline.diff = Some(RunDiff::default());
+            return;
+        }
+        baseline.diff = None;
+        let total = run.snapshots.len();
+        let progress = Arc::new(AtomicUsize::new(0));
+        let cancel = Arc::new(AtomicBool::new(false));
+        let (tx, rx) = std::sync::mpsc::channel();
+        let (p, c, a) = (progress.clone(), cancel.clone(), baseline.params.clone());
+        std::thread::spawn(move || {
+            let diff = diff_run(&run, &a, &current, &mut |done| {
+                p.store(done, Ordering::Relaxed);
+                !c.load(Ordering::Relaxed)
+            });
+            if !c.load(Ordering::Relaxed) {
+                let _ = tx.send(diff);
+            }
+        });
+        baseline.job = Some(DiffJob {
+            total,
+            progress,
+            cancel,
+            result: rx,
+        });
+    }
+
+    /// Installs a re-run of the open run: same snapshot, the selection when it still exists.
+    fn install_rerun(&mut self, replay: Replay) {
+        let k = self.current();
+        let selection = self.selection;
+        self.loaded = Self::loaded_from(replay, self.loaded.source.clone());
+        self.view = None;
+        self.seek(k);
+        self.selection = if self.exists(selection) {
+            selection
+        } else {
+            SceneId::None
+        };
+        if matches!(self.compare, CompareState::Done { .. }) {
+            self.compare = CompareState::Off;
+        }
+        self.start_diff();
+    }
+
+    /// True when `id` names something of the step shown.
+    fn exists(&self, id: SceneId) -> bool {
+        let Some(view) = &self.view else {
+            return false;
+        };
+        match id {
+            SceneId::None | SceneId::Robot | SceneId::FloorPlan | SceneId::Reading { .. } => true,
+            SceneId::NewSegment(i) => i < view.trace.new_segments.len(),
+            SceneId::Decision { new_segment, .. } => view
+                .trace
+                .decisions
+                .iter()
+                .any(|d| d.new_segment == new_segment),
+            SceneId::MapSegment(id) | SceneId::Update(id) => {
+                view.map_after.segment(id).is_some() || view.map_before.segment(id).is_some()
+            }
+            SceneId::Cluster(_) | SceneId::Correlation(_) => false,
+        }
+    }
+
+    /// Applies new parameters: validated, remembered, and the run replayed in the background.
+    fn set_params(&mut self, params: Params) {
+        if let Err(e) = params.validate() {
+            self.message = format!("parameters refused: {e}");
+            return;
+        }
+        self.params = params.clone();
+        self.settings.params = (params != Params::paper()).then_some(params);
+        let run = self.loaded.replay.run().clone();
+        if let Some(b) = &mut self.baseline {
+            if let Some(old) = b.job.take() {
+                old.cancel.store(true, Ordering::Relaxed);
+            }
+            b.diff = None;
+        }
+        self.start_background(run, JobKind::Rerun);
+    }
+
+    fn load_params(&mut self, path: &Path) {
+        let result = std::fs::read_to_string(path)
+            .map_err(|e| e.to_string())
+            .and_then(|text| serde_json::from_str::<ParamsFile>(&text).map_err(|e| e.to_string()))
+            .and_then(|file| Params::paper().with_file(&file).map_err(|e| e.to_string()));
+        match result {
+            Ok(params) => {
+                self.set_params(params);
+                self.message = format!("loaded parameters from {}", path.display());
+            }
+            Err(e) => {
+                self.banner = Some(format!(
+                    "Could not load parameters from {}: {e}",
+                    path.display()
+                ));
+                self.message = "parameters unchanged".to_owned();
+            }
+        }
+    }
+
+    fn save_params(&mut self, path: &Path) {
+        let file = self.params.to_file(self.run().units);
+        let result = serde_json::to_string_pretty(&file)
+            .map_err(|e| e.to_string())
+            .and_then(|text| {
+                write_text_atomically(path, &(text + "\n")).map_err(|e| e.to_string())
+            });
+        match result {
+            Ok(()) => self.message = format!("saved parameters to {}", path.display()),
+            Err(e) => {
+                self.banner = Some(format!("Could not write {}: {e}", path.display()));
+                self.message = "saving the parameters failed".to_owned();
+            }
+        }
+    }
+
+    fn pin_baseline(&mut self) {
+        let replay = self.loaded.replay.clone();
+        self.baseline = Some(Baseline {
+            params: replay.params().clone(),
+            view: self.view.clone(),
+            replay,
+            diff: None,
+            job: None,
+        });
+        self.start_diff();
+        self.message = "pinned the current parameters as the baseline".to_owned();
+    }
+
+    fn load_bookmarks(&mut self) {
+        self.bookmarks = match &self.loaded.source {
+            Source::BuiltIn(_) => self.settings.builtin_bookmarks.clone(),
+            Source::Bytes(_) => Vec::new(),
+            Source::File(path) => {
+                let side = bookmarks_path(path);
+                match std::fs::read_to_string(&side) {
+                    Err(_) => Vec::new(),
+                    Ok(text) => match serde_json::from_str::<BookmarksFile>(&text) {
+                        Ok(f) if f.format == BOOKMARKS_FORMAT => f.bookmarks,
+                        _ => {
+                            self.message =
+                                format!("ignored unreadable bookmarks file {}", side.display());
+                            Vec::new()
+                        }
+                    },
+                }
+            }
+        };
+    }
+
+    fn save_bookmarks(&mut self) {
+        match self.loaded.source.clone() {
+            Source::BuiltIn(_) => self.settings.builtin_bookmarks = self.bookmarks.clone(),
+            Source::Bytes(_) => {
+                self.message = "bookmarks of a dropped file are kept until it closes".to_owned()
+            }
+            Source::File(path) => {
+                let side = bookmarks_path(&path);
+                let file = BookmarksFile {
+                    format: BOOKMARKS_FORMAT.to_owned(),
+                    version: 1,
+                    bookmarks: self.bookmarks.clone(),
+                };
+                let result = serde_json::to_string_pretty(&file)
+                    .map_err(|e| e.to_string())
+                    .and_then(|t| {
+                        write_text_atomically(&side, &(t + "\n")).map_err(|e| e.to_string())
+                    });
+                if let Err(e) = result {
+                    self.banner = Some(format!("Could not write {}: {e}", side.display()));
+                }
+            }
+        }
+    }
+
+    /// Installs a finished background replay or comparison.
     fn poll_background(&mut self, ctx: &egui::Context) {
+        self.poll_diff(ctx);
         let Some(job) = &self.background else {
             return;
         };
         match job.result.try_recv() {
             Ok(replay) => {
                 let job = self.background.take().expect("checked above");
-                self.install(Self::loaded_from(replay, job.source), job.keep_index);
+                match job.kind {
+                    JobKind::Open { source, keep_index } => {
+                        self.install(Self::loaded_from(replay, source), keep_index)
+                    }
+                    JobKind::Rerun => {
+                        let s = job.started.elapsed().as_secs_f64();
+                        self.last_rerun_s = Some(s);
+                        self.install_rerun(replay);
+                        self.message = format!(
+                            "re-ran {} snapshots with the new parameters in {s:.2} s",
+                            self.len()
+                        );
+                    }
+                }
             }
             Err(std::sync::mpsc::TryRecvError::Empty) => ctx.request_repaint(),
             Err(std::sync::mpsc::TryRecvError::Disconnected) => {
@@ -347,6 +795,9 @@ impl SonarApp {
             return;
         }
         self.view = self.loaded.replay.view(k);
+        if let Some(b) = &mut self.baseline {
+            b.view = b.replay.view(k);
+        }
         // Ids of this step's clusters and new segments mean nothing in another step.
         if matches!(
             self.selection,
@@ -366,7 +817,7 @@ impl SonarApp {
         // (Player logs with geometry and MCAP with /tf_static need no layout).
         match import_any(bytes, &name, &ImportOptions::default()).map(|i| i.run) {
             Ok(run) if run.snapshots.len() >= self.background_min_snapshots => {
-                self.start_background(run, source, keep_index);
+                self.start_background(Arc::new(run), JobKind::Open { source, keep_index });
             }
             Ok(run) => self.install(Self::prepare(run, source, &self.params), keep_index),
             Err(e) => {
@@ -378,7 +829,7 @@ impl SonarApp {
     }
 
     /// Replays a large run on a thread; the current run stays usable meanwhile.
-    fn start_background(&mut self, run: Run, source: Source, keep_index: bool) {
+    fn start_background(&mut self, run: Arc<Run>, kind: JobKind) {
         if let Some(old) = self.background.take() {
             old.cancel.store(true, Ordering::Relaxed);
         }
@@ -388,23 +839,23 @@ impl SonarApp {
         let (tx, rx) = std::sync::mpsc::channel();
         let (p, c, params) = (progress.clone(), cancel.clone(), self.params.clone());
         std::thread::spawn(move || {
-            let built = Replay::build(
-                Arc::new(run),
-                params,
-                DEFAULT_CHECKPOINT_INTERVAL,
-                &mut |done| {
-                    p.store(done, Ordering::Relaxed);
-                    !c.load(Ordering::Relaxed)
-                },
-            );
+            let built = Replay::build(run, params, DEFAULT_CHECKPOINT_INTERVAL, &mut |done| {
+                p.store(done, Ordering::Relaxed);
+                !c.load(Ordering::Relaxed)
+            });
             if let Ok(replay) = built {
                 let _ = tx.send(replay);
             }
         });
-        self.message = format!("replaying {}…", source.display_name());
+        let label = match &kind {
+            JobKind::Open { source, .. } => format!("replaying {}", source.display_name()),
+            JobKind::Rerun => "re-running with new parameters".to_owned(),
+        };
+        self.message = format!("{label}…");
         self.background = Some(Background {
-            source,
-            keep_index,
+            kind,
+            label,
+            started: std::time::Instant::now(),
             total,
             progress,
             cancel,
@@ -421,6 +872,12 @@ impl SonarApp {
         }
         self.loaded = loaded;
         self.view = None;
+        if let Some(b) = self.baseline.take() {
+            if let Some(job) = b.job {
+                job.cancel.store(true, Ordering::Relaxed);
+            }
+        }
+        self.load_bookmarks();
         self.selection = SceneId::None;
         self.compare = CompareState::Off;
         self.playing = false;
@@ -562,6 +1019,57 @@ impl SonarApp {
             },
             Command::DismissError => self.banner = None,
             Command::ToggleShortcuts => self.show_shortcuts = !self.show_shortcuts,
+            Command::SetParams(params) => self.set_params(params),
+            Command::LoadParamsDialog => {
+                if let Some(path) = rfd::FileDialog::new()
+                    .add_filter("parameters", &["json"])
+                    .pick_file()
+                {
+                    self.load_params(&path);
+                }
+            }
+            Command::SaveParamsDialog => {
+                if let Some(path) = rfd::FileDialog::new()
+                    .add_filter("parameters", &["json"])
+                    .set_file_name("params.json")
+                    .save_file()
+                {
+                    self.save_params(&path);
+                }
+            }
+            Command::LoadParams(path) => self.load_params(&path),
+            Command::SaveParams(path) => self.save_params(&path),
+            Command::PinBaseline => self.pin_baseline(),
+            Command::Unpin => {
+                if let Some(b) = self.baseline.take() {
+                    if let Some(job) = b.job {
+                        job.cancel.store(true, Ordering::Relaxed);
+                    }
+                    self.message = "baseline unpinned".to_owned();
+                }
+            }
+            Command::ShowTab(tab) => self.settings.left_tab = tab,
+            Command::ToggleBaselineGhost => {
+                self.settings.baseline_ghost = !self.settings.baseline_ghost
+            }
+            Command::AddBookmark(name) => {
+                let k = self.current();
+                let name = match name.trim() {
+                    "" => format!("snapshot {k}"),
+                    n => n.to_owned(),
+                };
+                self.message = format!("bookmarked snapshot {k} as {name:?}");
+                self.bookmarks.push(Bookmark { name, snapshot: k });
+                self.bookmarks.sort_by_key(|b| b.snapshot);
+                self.save_bookmarks();
+            }
+            Command::RemoveBookmark(i) => {
+                if i < self.bookmarks.len() {
+                    let b = self.bookmarks.remove(i);
+                    self.message = format!("removed bookmark {:?}", b.name);
+                    self.save_bookmarks();
+                }
+            }
         }
     }
 
@@ -574,7 +1082,12 @@ impl SonarApp {
             if let Some(other) = self.ends_of(id) {
                 if let Some(existing_ends) = self.ends_of(SceneId::MapSegment(existing)) {
                     if id != SceneId::MapSegment(existing) {
-                        let eval = evaluate_pair(&self.params, &other, existing, &existing_ends);
+                        let eval = evaluate_pair(
+                            self.loaded.replay.params(),
+                            &other,
+                            existing,
+                            &existing_ends,
+                        );
                         self.compare = CompareState::Done {
                             existing,
                             other: id,
@@ -665,7 +1178,11 @@ impl SonarApp {
         }
 
         egui::Panel::top("menu_bar").show(ui, |ui| {
-            commands.extend(menu_bar_ui(ui, &self.settings.recent));
+            commands.extend(menu_bar_ui(
+                ui,
+                &self.settings.recent,
+                self.baseline.is_some(),
+            ));
         });
         if let Some(text) = &self.banner {
             let frame = egui::Frame::new()
@@ -692,6 +1209,11 @@ impl SonarApp {
                 current: self.current(),
                 t_s: self.view.as_ref().map_or(0.0, |v| v.trace.t),
                 marks: &self.loaded.marks,
+                baseline_marks: self
+                    .baseline
+                    .as_ref()
+                    .and_then(|b| b.diff.as_ref())
+                    .map(|d| d.snapshots.as_slice()),
                 playing: self.playing,
                 rate: self.settings.rate,
             };
@@ -701,12 +1223,64 @@ impl SonarApp {
         let scene = self.scene().unwrap_or_default();
         egui::Panel::left("layers")
             .resizable(true)
-            .default_size(210.0)
+            .default_size(290.0)
             .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| {
-                    commands.extend(layers_ui(ui, self.settings.layers(), &scene.legend()));
+                ui.horizontal(|ui| {
+                    for tab in LeftTab::ALL {
+                        if ui
+                            .selectable_label(self.settings.left_tab == tab, tab.label())
+                            .clicked()
+                        {
+                            commands.push(Command::ShowTab(tab));
+                        }
+                    }
+                });
+                ui.separator();
+                egui::ScrollArea::vertical().show(ui, |ui| match self.settings.left_tab {
+                    LeftTab::Parameters => {
+                        let fraction =
+                            |done: usize, total: usize| done as f32 / total.max(1) as f32;
+                        let info = ParamsPanelInfo {
+                            params: &self.params,
+                            units: self.loaded.replay.run().units,
+                            rerun_progress: self.background.as_ref().and_then(|j| {
+                                matches!(j.kind, JobKind::Rerun)
+                                    .then(|| fraction(j.progress.load(Ordering::Relaxed), j.total))
+                            }),
+                            pinned: self.baseline.is_some(),
+                            diff_progress: self.baseline.as_ref().and_then(|b| {
+                                b.job
+                                    .as_ref()
+                                    .map(|j| fraction(j.progress.load(Ordering::Relaxed), j.total))
+                            }),
+                            differing: self
+                                .baseline
+                                .as_ref()
+                                .and_then(|b| b.diff.as_ref())
+                                .map(|d| d.snapshots.len()),
+                        };
+                        commands.extend(params_panel_ui(ui, &mut self.params_panel, &info));
+                        if self.baseline.is_some() {
+                            let mut ghost = self.settings.baseline_ghost;
+                            if ui.checkbox(&mut ghost, "Baseline map (ghosted)").changed() {
+                                commands.push(Command::ToggleBaselineGhost);
+                            }
+                        }
+                    }
+                    LeftTab::Bookmarks => {
+                        commands.extend(bookmarks_ui(
+                            ui,
+                            &self.bookmarks,
+                            self.current(),
+                            &mut self.bookmark_text,
+                        ));
+                    }
+                    LeftTab::Layers => {
+                        commands.extend(layers_ui(ui, self.settings.layers(), &scene.legend()));
+                    }
                 });
             });
+        let differences = self.differences_here();
         egui::Panel::right("inspector")
             .resizable(true)
             .default_size(580.0)
@@ -715,7 +1289,11 @@ impl SonarApp {
                     let ictx = InspectCtx {
                         run: self.loaded.replay.run(),
                         view,
-                        params: &self.params,
+                        params: self.loaded.replay.params(),
+                        baseline: self
+                            .baseline
+                            .as_ref()
+                            .and_then(|b| b.view.as_ref().map(|v| (&b.params, v))),
                     };
                     egui::Panel::top("decisions")
                         .resizable(true)
@@ -726,6 +1304,7 @@ impl SonarApp {
                                 &ictx,
                                 self.decision_filter,
                                 self.selection,
+                                self.baseline.as_ref().map(|_| differences.as_slice()),
                             ));
                         });
                     egui::CentralPanel::default().show(ui, |ui| {
@@ -742,7 +1321,8 @@ impl SonarApp {
                         &InspectCtx {
                             run: self.loaded.replay.run(),
                             view,
-                            params: &self.params,
+                            params: self.loaded.replay.params(),
+                            baseline: None,
                         },
                         id,
                     )
@@ -755,6 +1335,11 @@ impl SonarApp {
                 &mut self.map_view,
                 self.selection,
                 &describe,
+                self.baseline
+                    .as_ref()
+                    .filter(|_| self.settings.baseline_ghost)
+                    .and_then(|b| b.view.as_ref())
+                    .map(|v| &v.map_after),
             ));
         });
         if self.show_shortcuts {
@@ -779,11 +1364,7 @@ impl SonarApp {
                 ui.add(
                     egui::ProgressBar::new(done as f32 / job.total.max(1) as f32)
                         .desired_width(160.0)
-                        .text(format!(
-                            "replaying {}: {done} / {}",
-                            job.source.display_name(),
-                            job.total
-                        )),
+                        .text(format!("{}: {done} / {}", job.label, job.total)),
                 );
                 ui.separator();
             }

@@ -3,7 +3,7 @@
 //! same path.
 
 use crate::geometry::Point;
-use crate::mapping::{Outcome, SegmentId};
+use crate::mapping::{Outcome, Params, SegmentId};
 use crate::scene::{Layer, SceneId};
 use std::path::PathBuf;
 
@@ -63,4 +63,26 @@ pub enum Command {
     DismissError,
     /// Show or hide the keyboard shortcut help.
     ToggleShortcuts,
+    /// Re-run the run with these parameters (refused if they do not validate).
+    SetParams(Params),
+    /// Ask for a parameter file with the system dialog, then [`Command::LoadParams`] it.
+    LoadParamsDialog,
+    /// Ask for a path with the system dialog, then [`Command::SaveParams`] to it.
+    SaveParamsDialog,
+    /// Load a `--params` file (FORMATS.md) on top of the paper's values and re-run.
+    LoadParams(PathBuf),
+    /// Write the current parameters as a `--params` file in the run's units (atomically).
+    SaveParams(PathBuf),
+    /// Keep the current parameters and their replay as the baseline of an A/B comparison.
+    PinBaseline,
+    /// Stop comparing with the baseline.
+    Unpin,
+    /// Show this page of the left panel.
+    ShowTab(super::app::LeftTab),
+    /// Show or hide the baseline's map ghosted under the current one.
+    ToggleBaselineGhost,
+    /// Bookmark the current snapshot under this name.
+    AddBookmark(String),
+    /// Remove the bookmark at this position of the list.
+    RemoveBookmark(usize),
 }

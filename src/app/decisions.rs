@@ -3,6 +3,8 @@
 
 use super::command::Command;
 use super::inspector::{centre_of, outcome_name, InspectCtx};
+use super::timeline::BASELINE_COLOUR;
+use crate::diff::{DecisionDifference, DecisionSide, DifferenceKind};
 use crate::mapping::trace::DecisionTrace;
 use crate::mapping::{Outcome, Rule};
 use crate::scene::SceneId;
@@ -38,12 +40,32 @@ pub fn decision_row_text(d: &DecisionTrace) -> String {
     )
 }
 
-/// Draws the list.
+fn side_text(side: &DecisionSide) -> String {
+    format!(
+        "{}{}",
+        outcome_name(side.outcome),
+        side.existing.map_or(String::new(), |e| format!(" #{e}"))
+    )
+}
+
+/// The note beside a decision that differs from the baseline (A = baseline, B = current).
+pub fn baseline_note(d: &DecisionDifference) -> String {
+    match (d.kind, &d.a) {
+        (DifferenceKind::OnlyInB, _) | (_, None) => {
+            "≠ baseline: not fitted under the baseline".to_owned()
+        }
+        (_, Some(a)) => format!("≠ baseline: was {}", side_text(a)),
+    }
+}
+
+/// Draws the list. `differences` (when a baseline is pinned) are this snapshot's decisions
+/// that differ from it, A = baseline, B = current.
 pub fn decisions_ui(
     ui: &mut egui::Ui,
     ctx: &InspectCtx,
     filter: Option<Outcome>,
     selection: SceneId,
+    differences: Option<&[DecisionDifference]>,
 ) -> Vec<Command> {
     let mut commands = Vec::new();
     let decisions = &ctx.view.trace.decisions;
@@ -75,15 +97,45 @@ pub fn decisions_ui(
                 .filter(|d| filter.is_none_or(|o| d.outcome == o))
             {
                 let selected = matches!(selection, SceneId::NewSegment(i) if i == d.new_segment);
-                if ui
-                    .selectable_label(selected, decision_row_text(d))
-                    .clicked()
-                {
+                let differs = differences.and_then(|all| {
+                    all.iter()
+                        .find(|x| x.b.is_some_and(|b| b.new_segment == d.new_segment))
+                });
+                let text = match differs {
+                    Some(x) => {
+                        RichText::new(format!("{}   {}", decision_row_text(d), baseline_note(x)))
+                            .color(BASELINE_COLOUR)
+                    }
+                    None => RichText::new(decision_row_text(d)),
+                };
+                if ui.selectable_label(selected, text).clicked() {
                     let id = SceneId::NewSegment(d.new_segment);
                     commands.push(Command::Select(id));
                     if let Some(p) = centre_of(ctx.view, id) {
                         commands.push(Command::CenterOn(p));
                     }
+                }
+            }
+            for x in differences
+                .unwrap_or_default()
+                .iter()
+                .filter(|x| x.kind == DifferenceKind::OnlyInA)
+            {
+                if let Some(a) = &x.a {
+                    ui.label(
+                        RichText::new(format!(
+                            "≠ baseline only: n{} {} (not fitted now)",
+                            a.new_segment,
+                            side_text(a)
+                        ))
+                        .color(BASELINE_COLOUR)
+                        .italics(),
+                    );
+                }
+            }
+            if let Some(all) = differences {
+                if all.is_empty() && !decisions.is_empty() {
+                    ui.label(RichText::new("= baseline: every decision is the same").weak());
                 }
             }
         });

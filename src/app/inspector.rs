@@ -7,11 +7,13 @@
 use super::command::Command;
 use crate::geometry::Point;
 use crate::mapping::map::EndPoint;
+use crate::mapping::map::ReadingRef;
+use crate::mapping::matching::{evaluate_pair, SegmentEnds};
 use crate::mapping::trace::{
     CorrelationKind, DecisionTrace, DiscardReason, EndOrigin, EndRole, PairEvaluation,
     SegmentSource, SplitTrace, Test,
 };
-use crate::mapping::{Outcome, Params, Rule, SegmentId, SegmentKind};
+use crate::mapping::{Outcome, Params, Rule, SegmentId, SegmentKind, StepTrace};
 use crate::replay::StepView;
 use crate::run::Run;
 use crate::scene::{format_length, SceneId};
@@ -32,6 +34,8 @@ pub struct InspectCtx<'a> {
     pub view: &'a StepView,
     /// The mapping parameters.
     pub params: &'a Params,
+    /// The pinned baseline's parameters and its step at the same snapshot.
+    pub baseline: Option<(&'a Params, &'a StepView)>,
 }
 
 impl InspectCtx<'_> {
@@ -329,7 +333,12 @@ fn decision_ui(
     if d.mpc_stage.is_empty() {
         ui.label("The map had no candidate segment.");
     } else {
-        candidates_table_ui(ui, ctx, d, commands);
+        egui::ScrollArea::horizontal()
+            .id_salt("candidates_scroll")
+            .show(ui, |ui| candidates_table_ui(ui, ctx, d, commands));
+    }
+    if let Some((params, view)) = ctx.baseline {
+        baseline_tests_ui(ui, ctx, d, params, view);
     }
     heading(ui, "Outcome");
     egui::Grid::new("outcome").num_columns(2).show(ui, |ui| {
@@ -355,6 +364,135 @@ fn decision_ui(
             commands.push(Command::Select(SceneId::MapSegment(e)));
         }
     }
+}
+
+/// The readings of new segment `i` of `trace`, sorted (how A/B pairs segments).
+fn readings_of(trace: &StepTrace, i: usize) -> Vec<ReadingRef> {
+    let mut r: Vec<ReadingRef> = trace
+        .new_segments
+        .get(i)
+        .map(|s| s.points.iter().map(|p| p.reading).collect())
+        .unwrap_or_default();
+    r.sort_unstable();
+    r.dedup();
+    r
+}
+
+fn short_eval(e: &PairEvaluation) -> (String, bool) {
+    let overlap = e.overlap.mpc || e.overlap.containment || e.overlap.epc;
+    let mark = |p: bool| if p { "pass" } else { "FAIL" };
+    let all = e.orientation.pass && e.colinearity.test.pass && overlap;
+    (
+        format!(
+            "θ {} {:.1}°  col {}  ovl {}",
+            mark(e.orientation.pass),
+            e.orientation.value.to_degrees(),
+            mark(e.colinearity.test.pass),
+            mark(overlap)
+        ),
+        all,
+    )
+}
+
+/// The same candidates' tests under the pinned baseline, beside the current ones. The new
+/// segment is paired with the baseline's by its readings; each candidate is evaluated under
+/// the baseline's parameters against the baseline map's segment with the same id.
+fn baseline_tests_ui(
+    ui: &mut egui::Ui,
+    ctx: &InspectCtx,
+    d: &DecisionTrace,
+    bparams: &Params,
+    bview: &StepView,
+) {
+    heading(ui, "Against the baseline");
+    let readings = readings_of(&ctx.view.trace, d.new_segment);
+    let paired =
+        (0..bview.trace.new_segments.len()).find(|&j| readings_of(&bview.trace, j) == readings);
+    let bdecision = paired.and_then(|j| bview.trace.decisions.iter().find(|b| b.new_segment == j));
+    ui.label(match bdecision {
+        Some(b) => RichText::new(format!(
+            "baseline: n{} {} {} ({})  —  now: {} {}",
+            b.new_segment,
+            outcome_name(b.outcome),
+            b.existing.map_or("-".to_owned(), |e| format!("#{e}")),
+            rule_name(b.rule),
+            outcome_name(d.outcome),
+            d.existing.map_or("-".to_owned(), |e| format!("#{e}")),
+        ))
+        .color(if b.outcome == d.outcome && b.existing == d.existing {
+            ui.visuals().text_color()
+        } else {
+            super::timeline::BASELINE_COLOUR
+        }),
+        None => RichText::new("the baseline did not fit this segment (same readings)")
+            .color(super::timeline::BASELINE_COLOUR),
+    });
+    let new_ends = match paired.and_then(|j| bview.trace.new_segments.get(j)) {
+        Some(s) => SegmentEnds { a: s.a, b: s.b },
+        None => {
+            let s = &ctx.view.trace.new_segments[d.new_segment];
+            SegmentEnds { a: s.a, b: s.b }
+        }
+    };
+    let mut ids: Vec<SegmentId> = d.mpc_stage.iter().map(|c| c.evaluation.existing).collect();
+    if let Some(b) = bdecision {
+        for c in &b.mpc_stage {
+            if !ids.contains(&c.evaluation.existing) {
+                ids.push(c.evaluation.existing);
+            }
+        }
+    }
+    egui::ScrollArea::horizontal()
+        .id_salt("baseline_scroll")
+        .show(ui, |ui| {
+            egui::Grid::new("baseline_tests")
+                .striped(true)
+                .num_columns(3)
+                .show(ui, |ui| {
+                    for h in ["Candidate", "now", "baseline"] {
+                        ui.label(RichText::new(h).strong());
+                    }
+                    ui.end_row();
+                    for id in ids {
+                        ui.label(format!("#{id}"));
+                        match d.mpc_stage.iter().find(|c| c.evaluation.existing == id) {
+                            Some(c) => {
+                                let (t, pass) = short_eval(&c.evaluation);
+                                coloured(ui, t, pass);
+                            }
+                            None => {
+                                ui.label(RichText::new("not a candidate").weak());
+                            }
+                        }
+                        match bview.map_before.segment(id) {
+                            Some(seg) => {
+                                let e = evaluate_pair(
+                                    bparams,
+                                    &new_ends,
+                                    id,
+                                    &SegmentEnds { a: seg.a, b: seg.b },
+                                );
+                                let (t, pass) = short_eval(&e);
+                                coloured(ui, t, pass);
+                            }
+                            None => {
+                                ui.label(RichText::new("not in the baseline map").weak());
+                            }
+                        }
+                        ui.end_row();
+                    }
+                });
+        });
+    ui.label(
+        RichText::new(format!(
+            "baseline: ξ = {} %  θ_o = {:.1}°  t_gap = {}",
+            bparams.accuracy_pct,
+            bparams.orientation_rad.to_degrees(),
+            ctx.len(bparams.t_gap_m)
+        ))
+        .weak()
+        .small(),
+    );
 }
 
 fn test_cells(ui: &mut egui::Ui, value: String, threshold: String, t: &Test) {

@@ -6,12 +6,16 @@
 
 use super::command::Command;
 use crate::geometry::Point;
+use crate::mapping::Map;
 use crate::scene::{
     format_length, MarkerShape, Primitive, Rgba, Scene, SceneId, Shape, Style, TextAlign, ViewRect,
 };
 use crate::units::Units;
 use egui::{Align2, Color32, RichText, Stroke};
 use egui_plot::{Line, LineStyle, Plot, PlotBounds, PlotPoint, PlotPoints, Points, Polygon, Text};
+
+/// Colour of the baseline's map drawn ghosted.
+pub const GHOST: Color32 = Color32::from_rgba_premultiplied(0x70, 0x70, 0x70, 0xa0);
 
 /// Hover and hit tolerance, screen pixels.
 const HIT_TOLERANCE_PX: f64 = 7.0;
@@ -281,6 +285,7 @@ pub fn map_view_ui(
     state: &mut MapViewState,
     selected: SceneId,
     describe: &dyn Fn(SceneId) -> Option<String>,
+    ghost: Option<&Map>,
 ) -> Vec<Command> {
     let mut commands = Vec::new();
     let m_per_unit = units.metres_per_unit();
@@ -354,6 +359,25 @@ pub fn map_view_ui(
                 ));
             }
             None => {}
+        }
+        if let Some(map) = ghost {
+            // The baseline's map under everything else: dashed grey.
+            for seg in &map.segments {
+                plot_ui.line(
+                    Line::new(
+                        "",
+                        PlotPoints::new(vec![
+                            [seg.a.point.x * s, seg.a.point.y * s],
+                            [seg.b.point.x * s, seg.b.point.y * s],
+                        ]),
+                    )
+                    .color(GHOST)
+                    .width(2.5)
+                    .style(LineStyle::Dashed { length: 8.0 })
+                    .allow_hover(false)
+                    .id(("baseline_ghost", seg.id)),
+                );
+            }
         }
         for (n, prim) in scene.primitives.iter().enumerate() {
             draw_primitive(plot_ui, prim, n, s, wpp, false);

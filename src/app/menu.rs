@@ -11,11 +11,16 @@ pub const RELOAD: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, K
 /// File ▸ Export SVG…
 pub const EXPORT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::E);
 
+/// Bookmark the current snapshot.
+pub const BOOKMARK: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::B);
+
 /// Every shortcut with what it does, for the help window.
-pub const SHORTCUTS: [(&str, &str); 14] = [
+pub const SHORTCUTS: [(&str, &str); 16] = [
     ("Ctrl+O", "open a run log"),
     ("Ctrl+R", "reload the run log"),
     ("Ctrl+E", "export the map view as SVG"),
+    ("Ctrl+B", "bookmark the current snapshot"),
+    ("Enter", "apply a parameter / go to a snapshot (in a field)"),
     ("Left / Right", "previous / next snapshot"),
     ("Home / End", "first / last snapshot"),
     ("Space", "play / pause"),
@@ -43,6 +48,9 @@ pub fn handle_shortcuts(ctx: &egui::Context) -> Vec<Command> {
         if i.consume_shortcut(&EXPORT) {
             commands.push(Command::ExportDialog);
         }
+        if i.consume_shortcut(&BOOKMARK) {
+            commands.push(Command::AddBookmark(String::new()));
+        }
         if typing {
             return;
         }
@@ -67,8 +75,8 @@ pub fn handle_shortcuts(ctx: &egui::Context) -> Vec<Command> {
     commands
 }
 
-/// Draws the menu bar.
-pub fn menu_bar_ui(ui: &mut egui::Ui, recent: &[PathBuf]) -> Vec<Command> {
+/// Draws the menu bar; `pinned` is true while a baseline is pinned.
+pub fn menu_bar_ui(ui: &mut egui::Ui, recent: &[PathBuf], pinned: bool) -> Vec<Command> {
     let mut commands = Vec::new();
     let ctx = ui.ctx().clone();
     egui::MenuBar::new().ui(ui, |ui| {
@@ -104,11 +112,58 @@ pub fn menu_bar_ui(ui: &mut egui::Ui, recent: &[PathBuf]) -> Vec<Command> {
             }
         });
         ui.menu_button("View", |ui| {
+            let items = [
+                ("Fit view", "F", Command::FitView),
+                ("Zoom to selection", "Z", Command::ZoomToSelection),
+                (
+                    "Clear selection",
+                    "Esc",
+                    Command::Select(crate::scene::SceneId::None),
+                ),
+                ("Previous snapshot", "Left", Command::Step(-1)),
+                ("Next snapshot", "Right", Command::Step(1)),
+                ("First snapshot", "Home", Command::First),
+                ("Last snapshot", "End", Command::Last),
+                ("Play / pause", "Space", Command::TogglePlay),
+                ("Previous mark", "[", Command::PrevMark),
+                ("Next mark", "]", Command::NextMark),
+            ];
+            for (name, keys, command) in items {
+                if ui
+                    .add(egui::Button::new(name).shortcut_text(keys))
+                    .clicked()
+                {
+                    commands.push(command);
+                }
+            }
+            ui.separator();
             if ui
-                .add(egui::Button::new("Fit view").shortcut_text("F"))
+                .add(
+                    egui::Button::new("Bookmark this snapshot")
+                        .shortcut_text(ctx.format_shortcut(&BOOKMARK)),
+                )
                 .clicked()
             {
-                commands.push(Command::FitView);
+                commands.push(Command::AddBookmark(String::new()));
+            }
+        });
+        ui.menu_button("Parameters", |ui| {
+            if ui.button("Load parameters…").clicked() {
+                commands.push(Command::LoadParamsDialog);
+            }
+            if ui.button("Save parameters…").clicked() {
+                commands.push(Command::SaveParamsDialog);
+            }
+            if ui.button("Reset to the paper's defaults").clicked() {
+                commands.push(Command::SetParams(crate::mapping::Params::paper()));
+            }
+            ui.separator();
+            if pinned {
+                if ui.button("Unpin baseline").clicked() {
+                    commands.push(Command::Unpin);
+                }
+            } else if ui.button("Pin as baseline").clicked() {
+                commands.push(Command::PinBaseline);
             }
         });
         ui.menu_button("Help", |ui| {

@@ -3,23 +3,31 @@
 //!
 //! Codemap: `app` (state, commands applied, persistence), `command`, `map_view` (the scene in
 //! egui_plot, hover, selection, ruler), `timeline`, `inspector` (the selection's trace),
-//! `decisions` (this snapshot's decisions), `layers` (layer switches and legend), `menu`.
+//! `decisions` (this snapshot's decisions, marked where they differ from a pinned baseline),
+//! `layers` (layer switches and legend), `params_panel` (live parameters, presets, A/B pin),
+//! `bookmarks`, `menu`.
 
 #[allow(clippy::module_inception)]
 mod app;
+mod bookmarks;
 mod command;
 mod decisions;
 mod inspector;
 mod layers;
 mod map_view;
 mod menu;
+mod params_panel;
 mod timeline;
 
-pub use app::{describe_id, Settings, SonarApp, Source, BACKGROUND_MIN_SNAPSHOTS, SETTINGS_KEY};
+pub use app::{
+    bookmarks_path, describe_id, Bookmark, LeftTab, Settings, SonarApp, Source,
+    BACKGROUND_MIN_SNAPSHOTS, SETTINGS_KEY,
+};
 pub use command::Command;
 pub use decisions::decision_row_text;
 pub use inspector::{outcome_name, CompareState};
 pub use map_view::{MapViewState, ViewRequest};
+pub use params_panel::{format_number, ParamsPanelState};
 pub use timeline::snapshot_label;
 
 /// Opens the inspector window on `app` (blocks until the window closes).

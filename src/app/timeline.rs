@@ -4,6 +4,9 @@
 use super::command::Command;
 use egui::{Color32, RichText, Sense, Stroke, Vec2};
 
+/// Colour of what differs from the pinned baseline (timeline marks, decision notes).
+pub const BASELINE_COLOUR: Color32 = Color32::from_rgb(0xcc, 0x44, 0xdd);
+
 /// Playback rates offered, snapshots per second.
 pub const RATES: [f32; 6] = [1.0, 2.0, 4.0, 8.0, 15.0, 30.0];
 
@@ -18,6 +21,8 @@ pub struct TimelineInfo<'a> {
     pub t_s: f64,
     /// Snapshots with a mark, ascending.
     pub marks: &'a [usize],
+    /// Snapshots where a decision differs from the pinned baseline, when known.
+    pub baseline_marks: Option<&'a [usize]>,
     /// True while playing.
     pub playing: bool,
     /// Playback rate, snapshots per second.
@@ -90,6 +95,12 @@ pub fn timeline_ui(ui: &mut egui::Ui, info: &TimelineInfo, jump_text: &mut Strin
             commands.push(Command::NextMark);
         }
         ui.label(format!("{} marks", info.marks.len()));
+        if let Some(diff) = info.baseline_marks {
+            ui.label(
+                RichText::new(format!("≠ baseline: {} snapshots", diff.len()))
+                    .color(BASELINE_COLOUR),
+            );
+        }
         ui.separator();
         egui::ComboBox::from_id_salt("rate")
             .selected_text(format!("{} /s", info.rate))
@@ -146,6 +157,16 @@ pub fn timeline_ui(ui: &mut egui::Ui, info: &TimelineInfo, jump_text: &mut Strin
         painter.line_segment(
             [egui::pos2(x, rect.top()), egui::pos2(x, rect.bottom())],
             Stroke::new(2.0, mark_colour),
+        );
+    }
+    for &m in info.baseline_marks.unwrap_or_default() {
+        let x = x_of(m);
+        painter.line_segment(
+            [
+                egui::pos2(x, rect.center().y),
+                egui::pos2(x, rect.bottom() + 3.0),
+            ],
+            Stroke::new(2.0, BASELINE_COLOUR),
         );
     }
     let x = x_of(info.current);

@@ -229,6 +229,8 @@ fn switching_a_layer_off_removes_it_from_the_scene() {
         .unwrap()
         .layers_present()
         .contains(Layer::Map));
+    h.get_by_label("Layers").click();
+    h.run();
     h.get_by_label(Layer::Map.label()).click();
     h.run();
     assert!(!h.state().layers().contains(Layer::Map));
@@ -376,4 +378,257 @@ fn a_large_run_replays_in_the_background_and_the_old_run_stays_usable() {
         sonarmap::app::Source::Bytes("big.json".to_owned())
     );
     assert_eq!(h.state().len(), 305);
+}
+
+// ---- Live parameters, A/B comparison, bookmarks (issue 6) ----
+
+/// Steps the harness until no background work is left (re-runs, comparisons), then settles.
+fn settle(h: &mut Harness<'static, SonarApp>) {
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(300);
+    loop {
+        h.step();
+        if !h.state().is_loading() {
+            break;
+        }
+        assert!(
+            std::time::Instant::now() < deadline,
+            "background work never ended"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    h.run();
+}
+
+/// Replaces the text of the parameter field labelled `label` and presses Enter.
+fn set_field(h: &mut Harness<'static, SonarApp>, label: &str, text: &str) {
+    h.get_by_label(label).focus();
+    h.run();
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::A);
+    h.run();
+    h.get_by_label(label).type_text(text);
+    h.run();
+    h.key_press(egui::Key::Enter);
+    h.step();
+    settle(h);
+}
+
+/// The decision rows of every snapshot of the building run under `params`.
+fn rows(params: &sonarmap::mapping::Params) -> Vec<Vec<String>> {
+    let run = sonarmap::log::load_run(
+        &std::fs::read(asset("building.log.json")).unwrap(),
+        "building",
+    )
+    .unwrap();
+    let mut mapper = sonarmap::mapping::Mapper::new(params.clone(), run.layout.clone(), run.sensor);
+    run.snapshots
+        .iter()
+        .map(|s| {
+            mapper
+                .step(s)
+                .decisions
+                .iter()
+                .map(decision_row_text)
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn changing_t_gap_in_the_panel_changes_the_decisions_list() {
+    let mut h = building();
+    let paper = sonarmap::mapping::Params::paper();
+    let before = rows(&paper);
+    // The first of these t_gap values (inches) that changes a decision row, and a row that
+    // exists under one value only (it appears or disappears with the change).
+    let (t_gap_in, small, k, row, appears) = [5.0, 12.0, 24.0, 80.0, 200.0]
+        .into_iter()
+        .find_map(|t_gap_in: f64| {
+            let mut small = paper.clone();
+            small.t_gap_m = sonarmap::units::inches(t_gap_in);
+            let after = rows(&small);
+            (0..before.len()).find_map(|k| {
+                let new = after[k].iter().find(|r| !before[k].contains(r));
+                let gone = before[k].iter().find(|r| !after[k].contains(r));
+                new.map(|r| (r.clone(), true))
+                    .or(gone.map(|r| (r.clone(), false)))
+                    .map(|(r, appears)| (t_gap_in, small.clone(), k, r, appears))
+            })
+        })
+        .expect("some t_gap changes a decision");
+    h.state_mut().push(Command::Seek(k));
+    h.run();
+    assert_eq!(h.query_by_label(&row).is_some(), !appears, "{row:?} before");
+    set_field(&mut h, "t_gap", &t_gap_in.to_string());
+    assert_eq!(h.state().current(), k, "the snapshot is kept");
+    assert!(
+        (h.state().shown_params().t_gap_m - small.t_gap_m).abs() < 1e-12,
+        "t_gap applied in inches"
+    );
+    assert_eq!(h.query_by_label(&row).is_some(), appears, "{row:?} after");
+    assert!(h.state().last_rerun_s().is_some());
+
+    // An invalid value is refused in the field with the reason; nothing changes.
+    set_field(&mut h, "t_gap", "-3");
+    let reason = h.state().params_error("t_gap").expect("refused");
+    assert!(reason.contains("t_gap"), "{reason}");
+    assert!(h.query_by_label_contains("refused:").is_some());
+    assert!((h.state().params().t_gap_m - small.t_gap_m).abs() < 1e-12);
+    set_field(&mut h, "θ_o (°)", "95");
+    assert!(h.state().params_error("orientation_deg").is_some());
+    assert_eq!(h.state().params().orientation_rad, paper.orientation_rad);
+
+    h.get_by_label("Reset to the paper's defaults").click();
+    h.step();
+    settle(&mut h);
+    assert_eq!(*h.state().shown_params(), paper);
+    assert_eq!(h.query_by_label(&row).is_some(), !appears);
+}
+
+#[test]
+fn pinning_a_baseline_then_changing_theta_marks_the_differing_decisions() {
+    let mut h = building();
+    h.get_by_label("Pin as baseline").click();
+    h.step();
+    settle(&mut h);
+    assert!(h.state().is_pinned());
+    assert_eq!(
+        h.state().baseline_diff().map(|d| d.snapshots.len()),
+        Some(0)
+    );
+    set_field(&mut h, "θ_o (°)", "3");
+    let diff = h
+        .state()
+        .baseline_diff()
+        .expect("comparison computed")
+        .clone();
+    assert!(!diff.snapshots.is_empty(), "θ_o = 3° changes some decision");
+    let label = format!("≠ baseline: {} snapshots", diff.snapshots.len());
+    assert!(
+        h.query_by_label(&label).is_some(),
+        "timeline shows {label:?}"
+    );
+
+    let k = diff.snapshots[0];
+    h.state_mut().push(Command::Seek(k));
+    h.run();
+    let here = h.state().differences_here();
+    assert!(!here.is_empty());
+    assert!(
+        h.query_all_by_label_contains("≠ baseline").next().is_some(),
+        "a decision row is marked"
+    );
+    // The inspector shows the baseline's tests beside the current ones.
+    if let Some(b) = here.iter().find_map(|d| d.b) {
+        h.state_mut()
+            .push(Command::Select(SceneId::NewSegment(b.new_segment)));
+        h.run();
+        assert!(h.query_by_label("Against the baseline").is_some());
+    }
+    h.get_by_label("Unpin baseline").click();
+    h.run();
+    assert!(!h.state().is_pinned());
+    assert!(h.query_all_by_label_contains("≠ baseline").next().is_none());
+}
+
+#[test]
+fn a_parameter_set_saves_and_loads_in_the_params_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("tuned.json");
+    let mut h = building();
+    set_field(&mut h, "t_gap", "20");
+    set_field(&mut h, "ξ accuracy (%)", "4.5");
+    let tuned = h.state().params().clone();
+    h.state_mut().push(Command::SaveParams(path.clone()));
+    h.run();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let file: sonarmap::mapping::ParamsFile = serde_json::from_str(&text).unwrap();
+    assert_eq!(file.t_gap, Some(20.0), "{text}");
+    assert_eq!(file.units.as_deref(), Some("in"));
+    h.get_by_label("Paper").click();
+    h.step();
+    settle(&mut h);
+    assert_eq!(*h.state().params(), sonarmap::mapping::Params::paper());
+    h.state_mut().push(Command::LoadParams(path.clone()));
+    h.step();
+    settle(&mut h);
+    let loaded = h.state().shown_params();
+    assert!((loaded.t_gap_m - tuned.t_gap_m).abs() < 1e-12);
+    assert_eq!(loaded.accuracy_pct, 4.5);
+    // A broken file is refused with a banner; the parameters stay.
+    std::fs::write(&path, r#"{"t_gap": -1}"#).unwrap();
+    h.state_mut().push(Command::LoadParams(path.clone()));
+    h.run();
+    assert!(h.state().banner().unwrap().contains("t_gap"));
+    assert!((h.state().params().t_gap_m - tuned.t_gap_m).abs() < 1e-12);
+    // The last parameters persist.
+    let mut storage = MemoryStorage::default();
+    eframe::App::save(h.state_mut(), &mut storage);
+    let run = sonarmap::assets::default_run().unwrap();
+    let again = SonarApp::new(run, Some(&storage));
+    assert_eq!(again.params().t_gap_m, tuned.t_gap_m);
+}
+
+#[test]
+fn a_corrupt_settings_value_is_ignored_with_a_notice() {
+    let run = sonarmap::assets::default_run().unwrap();
+    let mut storage = MemoryStorage::default();
+    storage.0.insert(
+        SETTINGS_KEY.to_owned(),
+        r#"{"rate": "fast", "hidden_layers": 7, "recent": ["/tmp/a.json"], "params": {"t_gap_m": 1}}"#
+            .to_owned(),
+    );
+    let mut h = harness(SonarApp::new(run.clone(), Some(&storage)));
+    h.run();
+    let message = h.state().message().to_owned();
+    for bad in ["rate", "hidden_layers", "params"] {
+        assert!(message.contains(bad), "{message}");
+    }
+    assert!(h.query_by_label(&message).is_some(), "status bar shows it");
+    assert_eq!(
+        h.state().settings().recent,
+        vec![PathBuf::from("/tmp/a.json")],
+        "good values kept"
+    );
+    assert_eq!(h.state().settings().rate, Settings::default().rate);
+    storage
+        .0
+        .insert(SETTINGS_KEY.to_owned(), "{not json".to_owned());
+    let app = SonarApp::new(run, Some(&storage));
+    assert!(
+        app.message().contains("settings ignored"),
+        "{}",
+        app.message()
+    );
+}
+
+#[test]
+fn bookmarks_are_added_jumped_to_and_saved_beside_the_log() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("building.log.json");
+    std::fs::copy(asset("building.log.json"), &log).unwrap();
+    let run = sonarmap::assets::default_run().unwrap();
+    let mut h = harness(SonarApp::new(run.clone(), None));
+    h.run();
+    h.state_mut().push(Command::Open(log.clone()));
+    h.state_mut().push(Command::Seek(7));
+    h.run();
+    h.get_by_label("Bookmarks").click();
+    h.run();
+    h.get_by_label("Add bookmark").click();
+    h.run();
+    assert_eq!(h.state().bookmarks().len(), 1);
+    let side = sonarmap::app::bookmarks_path(&log);
+    assert_eq!(side, dir.path().join("building.log.json.bookmarks.json"));
+    let text = std::fs::read_to_string(&side).expect("sidecar written");
+    assert!(text.contains("\"snapshot\": 7"), "{text}");
+    h.key_press(egui::Key::Home);
+    h.run();
+    assert_eq!(h.state().current(), 0);
+    h.get_by_label("snapshot 7 (7)").click();
+    h.run();
+    assert_eq!(h.state().current(), 7);
+    // A colleague opening the same log sees them.
+    let mut other = SonarApp::new(run, None);
+    other.apply(Command::Open(log));
+    assert_eq!(other.bookmarks(), h.state().bookmarks());
 }

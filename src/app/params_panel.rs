@@ -1,0 +1,391 @@
+//! The parameters panel: every mapping parameter of ALGORITHM.md §7 and §8, edited in the run's
+//! units with the paper's value beside each. A value is applied only when the whole parameter
+//! set with it passes [`Params::validate`]; otherwise the field keeps the text and shows why.
+
+use super::command::Command;
+use crate::mapping::{FitMode, Params, SplitMode};
+use crate::units::Units;
+use egui::{Color32, RichText};
+use std::collections::BTreeMap;
+
+/// Colour of a refused value's reason.
+const ERROR: Color32 = Color32::from_rgb(0xe0, 0x40, 0x40);
+
+/// What a numeric field holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    /// A plain number (percent, count).
+    Plain,
+    /// A length, shown in the run's units.
+    Length,
+    /// An angle, shown in degrees.
+    Degrees,
+    /// A whole number.
+    Count,
+}
+
+/// The numeric fields: file name, label, kind.
+const FIELDS: [(&str, &str, Kind); 10] = [
+    ("accuracy_pct", "ξ accuracy (%)", Kind::Plain),
+    ("d_max", "d_max", Kind::Length),
+    ("min_range", "min_range", Kind::Length),
+    ("t_gap", "t_gap", Kind::Length),
+    ("orientation_deg", "θ_o (°)", Kind::Degrees),
+    ("split_fixed", "split length", Kind::Length),
+    ("max_step", "max_step", Kind::Length),
+    ("memory_snapshots", "memory_snapshots", Kind::Count),
+    ("memory_gap", "memory_gap", Kind::Length),
+    ("memory_min_points", "memory_min_points", Kind::Count),
+];
+
+/// The value of field `name` of `p` in the units the panel shows (run units, degrees).
+fn value_of(p: &Params, name: &str, units: Units) -> f64 {
+    match name {
+        "accuracy_pct" => p.accuracy_pct,
+        "d_max" => units.from_m(p.d_max_m),
+        "min_range" => units.from_m(p.min_range_m),
+        "t_gap" => units.from_m(p.t_gap_m),
+        "orientation_deg" => p.orientation_rad.to_degrees(),
+        "split_fixed" => match p.split {
+            SplitMode::Fixed(v) => units.from_m(v),
+            SplitMode::Resolution => 0.0,
+        },
+        "max_step" => units.from_m(p.max_step_m),
+        "memory_snapshots" => p.memory_snapshots as f64,
+        "memory_gap" => units.from_m(p.memory_gap_m),
+        "memory_min_points" => p.memory_min_points as f64,
+        _ => f64::NAN,
+    }
+}
+
+/// `p` with field `name` set to `v` (in the panel's units).
+fn with_value(p: &Params, name: &str, v: f64, units: Units) -> Params {
+    let mut p = p.clone();
+    let count = |v: f64| if v >= 0.0 { v as usize } else { 0 };
+    match name {
+        "accuracy_pct" => p.accuracy_pct = v,
+        "d_max" => p.d_max_m = units.to_m(v),
+        "min_range" => p.min_range_m = units.to_m(v),
+        "t_gap" => p.t_gap_m = units.to_m(v),
+        "orientation_deg" => p.orientation_rad = v.to_radians(),
+        "split_fixed" => p.split = SplitMode::Fixed(units.to_m(v)),
+        "max_step" => p.max_step_m = units.to_m(v),
+        "memory_snapshots" => p.memory_snapshots = count(v),
+        "memory_gap" => p.memory_gap_m = units.to_m(v),
+        "memory_min_points" => p.memory_min_points = count(v),
+        _ => {}
+    }
+    p
+}
+
+/// A number without trailing zeros (at most 4 decimals).
+pub fn format_number(v: f64) -> String {
+    let s = format!("{v:.4}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".to_owned()
+    } else {
+        s.to_owned()
+    }
+}
+
+/// Parses a field's text; the reason when it cannot be used.
+fn parse(text: &str, kind: Kind) -> Result<f64, String> {
+    let v: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{}` is not a number", text.trim()))?;
+    if !v.is_finite() {
+        return Err("must be a finite number".to_owned());
+    }
+    if kind == Kind::Count && (v < 0.0 || v.fract() != 0.0) {
+        return Err("must be a whole number of at least 0".to_owned());
+    }
+    Ok(v)
+}
+
+/// The panel's editing state (not persisted): the text of every field and the reason a value
+/// was refused.
+#[derive(Clone, Debug, Default)]
+pub struct ParamsPanelState {
+    texts: BTreeMap<&'static str, String>,
+    errors: BTreeMap<&'static str, String>,
+    shown_for: Option<(Params, Units)>,
+}
+
+impl ParamsPanelState {
+    /// The reason the value of field `name` was refused, if it was.
+    pub fn error(&self, name: &str) -> Option<&str> {
+        self.errors.get(name).map(String::as_str)
+    }
+
+    fn sync(&mut self, params: &Params, units: Units) {
+        if self
+            .shown_for
+            .as_ref()
+            .is_some_and(|(p, u)| p == params && *u == units)
+        {
+            return;
+        }
+        self.errors.clear();
+        for (name, _, _) in FIELDS {
+            let v = value_of(params, name, units);
+            self.texts.insert(name, format_number(v));
+        }
+        self.shown_for = Some((params.clone(), units));
+    }
+}
+
+/// What the panel shows besides the parameters.
+#[derive(Clone, Copy, Debug)]
+pub struct ParamsPanelInfo<'a> {
+    /// The parameters asked for (possibly still being replayed).
+    pub params: &'a Params,
+    /// The run's units.
+    pub units: Units,
+    /// Fraction done while re-running.
+    pub rerun_progress: Option<f32>,
+    /// True while a baseline is pinned.
+    pub pinned: bool,
+    /// Fraction done of the baseline comparison, while it runs.
+    pub diff_progress: Option<f32>,
+    /// Snapshots where a decision differs from the baseline (when known).
+    pub differing: Option<usize>,
+}
+
+/// Draws the panel.
+pub fn params_panel_ui(
+    ui: &mut egui::Ui,
+    state: &mut ParamsPanelState,
+    info: &ParamsPanelInfo,
+) -> Vec<Command> {
+    let mut commands = Vec::new();
+    let params = info.params;
+    let units = info.units;
+    state.sync(params, units);
+    let paper = Params::paper();
+    if let Some(f) = info.rerun_progress {
+        ui.add(
+            egui::ProgressBar::new(f)
+                .show_percentage()
+                .text(format!("re-running… {:.0}%", f * 100.0)),
+        );
+    }
+    ui.horizontal_wrapped(|ui| {
+        if ui
+            .button("Paper")
+            .on_hover_text("The paper's values (ALGORITHM.md §7)")
+            .clicked()
+        {
+            commands.push(Command::SetParams(Params::paper()));
+        }
+        if ui
+            .button("Extended")
+            .on_hover_text("The paper plus the extensions of ALGORITHM.md §8")
+            .clicked()
+        {
+            commands.push(Command::SetParams(Params::extended()));
+        }
+        if ui.button("Load…").clicked() {
+            commands.push(Command::LoadParamsDialog);
+        }
+        if ui.button("Save…").clicked() {
+            commands.push(Command::SaveParamsDialog);
+        }
+    });
+    if ui
+        .add_enabled(
+            *params != paper,
+            egui::Button::new("Reset to the paper's defaults"),
+        )
+        .clicked()
+    {
+        commands.push(Command::SetParams(Params::paper()));
+    }
+    let submit = |candidate: Params, commands: &mut Vec<Command>| -> Result<(), String> {
+        candidate.validate().map_err(|e| e.to_string())?;
+        if candidate != *params {
+            commands.push(Command::SetParams(candidate));
+        }
+        Ok(())
+    };
+    egui::Grid::new("params_grid")
+        .num_columns(3)
+        .striped(true)
+        .show(ui, |ui| {
+            ui.label(RichText::new("parameter").weak());
+            ui.label(RichText::new(format!("value ({})", units.symbol())).weak());
+            ui.label(RichText::new("paper").weak());
+            ui.end_row();
+            for (name, label, kind) in FIELDS {
+                if name == "split_fixed" {
+                    // The split mode, then its length when fixed.
+                    ui.label("split");
+                    ui.horizontal(|ui| {
+                        let fixed = matches!(params.split, SplitMode::Fixed(_));
+                        if ui.selectable_label(!fixed, "resolution").clicked() && fixed {
+                            let mut p = params.clone();
+                            p.split = SplitMode::Resolution;
+                            let _ = submit(p, &mut commands);
+                        }
+                        if ui.selectable_label(fixed, "fixed").clicked() && !fixed {
+                            let mut p = params.clone();
+                            p.split = SplitMode::Fixed(crate::units::inches(2.0));
+                            let _ = submit(p, &mut commands);
+                        }
+                    });
+                    ui.label(RichText::new("resolution").weak());
+                    ui.end_row();
+                    if !matches!(params.split, SplitMode::Fixed(_)) {
+                        continue;
+                    }
+                }
+                let label_response = ui.label(label);
+                let text = state.texts.entry(name).or_default();
+                let edit = ui.add(
+                    egui::TextEdit::singleline(text)
+                        .desired_width(70.0)
+                        .id_salt(("param", name)),
+                );
+                let edit = edit.labelled_by(label_response.id);
+                let paper_text = match kind {
+                    Kind::Length => format!(
+                        "{} {}",
+                        format_number(value_of(&paper, name, units)),
+                        units.symbol()
+                    ),
+                    _ => format_number(value_of(&paper, name, units)),
+                };
+                ui.label(RichText::new(paper_text).weak());
+                ui.end_row();
+                if edit.lost_focus() {
+                    let text = text.clone();
+                    let result = parse(&text, kind).and_then(|v| {
+                        if (v - value_of(params, name, units)).abs() <= 1e-12 * v.abs().max(1.0) {
+                            Ok(())
+                        } else {
+                            submit(with_value(params, name, v, units), &mut commands)
+                        }
+                    });
+                    match result {
+                        Ok(()) => {
+                            state.errors.remove(name);
+                        }
+                        Err(e) => {
+                            state.errors.insert(name, e);
+                        }
+                    }
+                }
+                if let Some(e) = state.errors.get(name) {
+                    ui.label("");
+                    ui.add(
+                        egui::Label::new(RichText::new(format!("refused: {e}")).color(ERROR))
+                            .wrap(),
+                    );
+                    ui.label("");
+                    ui.end_row();
+                }
+            }
+            ui.label("fit");
+            ui.horizontal(|ui| {
+                for (mode, name) in [
+                    (FitMode::EndPoints, "end points"),
+                    (FitMode::TotalLeastSquares, "least squares"),
+                ] {
+                    if ui.selectable_label(params.fit == mode, name).clicked() && params.fit != mode
+                    {
+                        let mut p = params.clone();
+                        p.fit = mode;
+                        let _ = submit(p, &mut commands);
+                    }
+                }
+            });
+            ui.label(RichText::new("end points").weak());
+            ui.end_row();
+            for (name, get, set, paper_value) in [
+                (
+                    "correlation",
+                    params.correlate,
+                    (|p: &mut Params, v| p.correlate = v) as fn(&mut Params, bool),
+                    paper.correlate,
+                ),
+                (
+                    "constant_depth",
+                    params.constant_depth,
+                    |p: &mut Params, v| p.constant_depth = v,
+                    paper.constant_depth,
+                ),
+            ] {
+                ui.label(name);
+                let mut on = get;
+                if ui.checkbox(&mut on, "").changed() {
+                    let mut p = params.clone();
+                    set(&mut p, on);
+                    let _ = submit(p, &mut commands);
+                }
+                ui.label(RichText::new(if paper_value { "on" } else { "off" }).weak());
+                ui.end_row();
+            }
+        });
+    ui.separator();
+    ui.horizontal_wrapped(|ui| {
+        if info.pinned {
+            if ui
+                .button("Unpin baseline")
+                .on_hover_text("Stop comparing with the baseline")
+                .clicked()
+            {
+                commands.push(Command::Unpin);
+            }
+            if let Some(f) = info.diff_progress {
+                ui.add(
+                    egui::ProgressBar::new(f)
+                        .desired_width(100.0)
+                        .text("comparing…"),
+                );
+            } else if let Some(n) = info.differing {
+                ui.label(
+                    RichText::new(format!("{n} snapshots differ from the baseline"))
+                        .color(super::timeline::BASELINE_COLOUR),
+                );
+            }
+        } else if ui
+            .button("Pin as baseline")
+            .on_hover_text("Keep these parameters and their results to compare later changes with")
+            .clicked()
+        {
+            commands.push(Command::PinBaseline);
+        }
+    });
+    commands
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_lose_trailing_zeros() {
+        assert_eq!(format_number(42.0000000001), "42");
+        assert_eq!(format_number(0.25), "0.25");
+        assert_eq!(format_number(-0.0), "0");
+    }
+
+    #[test]
+    fn fields_round_trip_through_the_panel_units() {
+        let p = Params::paper();
+        for (name, _, _) in FIELDS {
+            if name == "split_fixed" {
+                continue;
+            }
+            let v = value_of(&p, name, Units::Centimetres);
+            let back = with_value(&p, name, v, Units::Centimetres);
+            assert!(back.validate().is_ok(), "{name}");
+        }
+        assert_eq!(
+            format_number(value_of(&p, "t_gap", Units::Inches)),
+            "42",
+            "t_gap in inches"
+        );
+    }
+}
