@@ -147,14 +147,7 @@ pub fn bench(run: &Run, params: &Params, repeats: usize) -> BenchReport {
         let start = Instant::now();
         let view = replay.view(k).expect("non-empty run");
         seeks.push(start.elapsed().as_secs_f64() * 1e3);
-        let input = SceneInput {
-            run,
-            snapshot: k,
-            step: &view.trace,
-            previous_step: view.previous.as_ref(),
-            map_before: &view.map_before,
-            map_after: &view.map_after,
-        };
+        let input = SceneInput::from_view(run, &view);
         let start = Instant::now();
         let scene = build_scene(&input, &ViewOptions::all());
         frames.push(start.elapsed().as_secs_f64() * 1e3);

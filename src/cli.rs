@@ -367,14 +367,7 @@ pub fn paper_figure_layers() -> LayerSet {
 pub fn paper_figure_svg(run: &Run, params: &Params, k: usize) -> String {
     let replay = Replay::new(Arc::new(run.clone()), params.clone());
     let view = replay.view(k).expect("k is within the run");
-    let input = SceneInput {
-        run,
-        snapshot: k,
-        step: &view.trace,
-        previous_step: view.previous.as_ref(),
-        map_before: &view.map_before,
-        map_after: &view.map_after,
-    };
+    let input = SceneInput::from_view(run, &view);
     let options = ViewOptions {
         layers: paper_figure_layers(),
         world_per_px: 0.0,

@@ -61,26 +61,22 @@ fn fate(l: &Labelled, role: EndRole, compared_with: EndOrigin) -> EndPointFate {
     }
 }
 
+/// The four end-points of an update with their origins: `e_L`, `e_R`, `n_L`, `n_R`.
+fn labelled(e: [EndPoint; 2], n_left: EndPoint, n_right: EndPoint) -> [Labelled; 4] {
+    let l = |origin, end| Labelled { origin, end };
+    [
+        l(EndOrigin::ExistingLeft, e[0]),
+        l(EndOrigin::ExistingRight, e[1]),
+        l(EndOrigin::NewLeft, n_left),
+        l(EndOrigin::NewRight, n_right),
+    ]
+}
+
 /// MATCH (MPC) update, Figure 1: `u_L`, `u_R` are the more confident of `{e_L, n_L}` and
 /// `{e_R, n_R}`; `l_u` runs through them; the two others are projected on `l_u` and the result
 /// is the longest segment on `l_u` covering all four projections.
 pub fn update_match(e: [EndPoint; 2], n_left: EndPoint, n_right: EndPoint) -> UpdateGeometry {
-    let el = Labelled {
-        origin: EndOrigin::ExistingLeft,
-        end: e[0],
-    };
-    let er = Labelled {
-        origin: EndOrigin::ExistingRight,
-        end: e[1],
-    };
-    let nl = Labelled {
-        origin: EndOrigin::NewLeft,
-        end: n_left,
-    };
-    let nr = Labelled {
-        origin: EndOrigin::NewRight,
-        end: n_right,
-    };
+    let [el, er, nl, nr] = labelled(e, n_left, n_right);
     let (ul, low_l) = more_confident(&el, &nl);
     let (ur, low_r) = more_confident(&er, &nr);
     let all = [e[0].point, e[1].point, n_left.point, n_right.point];
@@ -145,22 +141,7 @@ pub fn update_extension(
     n_right: EndPoint,
     inside: Side,
 ) -> UpdateGeometry {
-    let el = Labelled {
-        origin: EndOrigin::ExistingLeft,
-        end: e[0],
-    };
-    let er = Labelled {
-        origin: EndOrigin::ExistingRight,
-        end: e[1],
-    };
-    let nl = Labelled {
-        origin: EndOrigin::NewLeft,
-        end: n_left,
-    };
-    let nr = Labelled {
-        origin: EndOrigin::NewRight,
-        end: n_right,
-    };
+    let [el, er, nl, nr] = labelled(e, n_left, n_right);
     // (existing inner, new inner, existing outer, new outer)
     let (e_in, n_in, e_out, n_out) = match inside {
         Side::Left => (&er, &nl, &el, &nr),

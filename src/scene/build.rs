@@ -30,6 +30,20 @@ pub struct SceneInput<'a> {
     pub map_after: &'a Map,
 }
 
+impl<'a> SceneInput<'a> {
+    /// The input for a replayed snapshot of `run`.
+    pub fn from_view(run: &'a Run, view: &'a crate::replay::StepView) -> Self {
+        SceneInput {
+            run,
+            snapshot: view.index,
+            step: &view.trace,
+            previous_step: view.previous.as_ref(),
+            map_before: &view.map_before,
+            map_after: &view.map_after,
+        }
+    }
+}
+
 /// What to draw and at what level of detail.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ViewOptions {
