@@ -774,14 +774,7 @@ impl SonarApp {
 
     fn scene_with(&self, world_per_px: f64) -> Option<Scene> {
         let view = self.view.as_ref()?;
-        let input = SceneInput {
-            run: self.loaded.replay.run(),
-            snapshot: view.index,
-            step: &view.trace,
-            previous_step: view.previous.as_ref(),
-            map_before: &view.map_before,
-            map_after: &view.map_after,
-        };
+        let input = SceneInput::from_view(self.loaded.replay.run(), view);
         let options = ViewOptions {
             layers: self.settings.layers(),
             world_per_px,
