@@ -17,7 +17,8 @@ static ALLOCATOR: sonarmap::alloc_count::CountingAllocator =
 /// opens the Blue Room with the error in the banner.
 ///
 /// For screenshots only: `SONARMAP_SNAPSHOT=k` starts at snapshot `k`, `SONARMAP_SELECT=n3`
-/// selects new segment 3 (`s5`: map segment 5).
+/// selects new segment 3 (`s5`: map segment 5), `SONARMAP_BASELINE_THETA=5` pins the
+/// parameters the app starts with as the baseline and re-runs with θ_o = 5°.
 fn open_app(log: Option<PathBuf>) -> anyhow::Result<()> {
     let builtin = sonarmap::assets::default_run()?;
     let mut startup = Vec::new();
@@ -29,6 +30,15 @@ fn open_app(log: Option<PathBuf>) -> anyhow::Result<()> {
         .and_then(|v| v.parse().ok())
     {
         startup.push(Command::Seek(k));
+    }
+    if let Some(theta_deg) = std::env::var("SONARMAP_BASELINE_THETA")
+        .ok()
+        .and_then(|v| v.parse::<f64>().ok())
+    {
+        startup.push(Command::PinBaseline);
+        let mut params = sonarmap::mapping::Params::paper();
+        params.orientation_rad = theta_deg.to_radians();
+        startup.push(Command::SetParams(params));
     }
     if let Ok(sel) = std::env::var("SONARMAP_SELECT") {
         let id = match (sel.get(..1), sel.get(1..).and_then(|n| n.parse().ok())) {
