@@ -36,7 +36,7 @@ pub fn correlate_face(
         .unwrap_or_default();
     let mut best: Option<(f64, usize, usize, usize, usize)> = None; // (d, new idx, new end, existing idx, existing end)
     for &nid in &new_ids {
-        let Ok(ni) = map.segments.binary_search_by_key(&nid, |s| s.id) else {
+        let Some(ni) = map.position(nid) else {
             continue;
         };
         let n = &map.segments[ni];
@@ -44,7 +44,7 @@ pub fn correlate_face(
         let near: Vec<usize> = [n.a.point, n.b.point]
             .iter()
             .flat_map(|p| map.segments_near(p, params.t_gap_m))
-            .filter_map(|id| map.segments.binary_search_by_key(&id, |s| s.id).ok())
+            .filter_map(|id| map.position(id))
             .collect::<std::collections::BTreeSet<_>>()
             .into_iter()
             .collect();

@@ -5,7 +5,7 @@
 
 use super::map::SegmentId;
 use crate::geometry::Point;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 /// Cell edge, metres.
 const CELL_M: f64 = 1.0;
@@ -14,11 +14,22 @@ const MAX_SPAN_CELLS: i64 = 256;
 
 type Cell = (i64, i64);
 
+/// Where a segment is filed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Filing {
+    /// Under every cell of this box `[x0, y0, x1, y1]`.
+    Cells([i64; 4]),
+    /// In the oversize list.
+    Oversize,
+}
+
 /// Segments filed by grid cell.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SegmentGrid {
-    cells: HashMap<Cell, Vec<SegmentId>>,
-    boxes: HashMap<SegmentId, [i64; 4]>,
+    cells: FxHashMap<Cell, Vec<SegmentId>>,
+    /// Filing of each segment, indexed by id (ids are dense and never reused).
+    filings: Vec<Option<Filing>>,
+    filed: usize,
     oversize: Vec<SegmentId>,
 }
 
@@ -49,40 +60,62 @@ impl SegmentGrid {
         let min = Point::new(a.x.min(b.x), a.y.min(b.y));
         let max = Point::new(a.x.max(b.x), a.y.max(b.y));
         let finite = [a.x, a.y, b.x, b.y].iter().all(|v| v.is_finite());
-        match cell_box(&min, &max).filter(|_| finite) {
+        let filing = match cell_box(&min, &max).filter(|_| finite) {
             Some(bx) => {
                 for cx in bx[0]..=bx[2] {
                     for cy in bx[1]..=bx[3] {
                         self.cells.entry((cx, cy)).or_default().push(id);
                     }
                 }
-                self.boxes.insert(id, bx);
+                Filing::Cells(bx)
             }
-            None => self.oversize.push(id),
+            None => {
+                self.oversize.push(id);
+                Filing::Oversize
+            }
+        };
+        let slot = id as usize;
+        if self.filings.len() <= slot {
+            self.filings.resize(slot + 1, None);
         }
+        self.filings[slot] = Some(filing);
+        self.filed += 1;
     }
 
     /// Removes segment `id`.
     pub fn remove(&mut self, id: SegmentId) {
-        if let Some(bx) = self.boxes.remove(&id) {
-            for cx in bx[0]..=bx[2] {
-                for cy in bx[1]..=bx[3] {
-                    if let Some(list) = self.cells.get_mut(&(cx, cy)) {
-                        list.retain(|&s| s != id);
-                        if list.is_empty() {
-                            self.cells.remove(&(cx, cy));
+        let Some(filing) = self.filings.get_mut(id as usize).and_then(Option::take) else {
+            return;
+        };
+        self.filed -= 1;
+        match filing {
+            Filing::Cells(bx) => {
+                for cx in bx[0]..=bx[2] {
+                    for cy in bx[1]..=bx[3] {
+                        if let Some(list) = self.cells.get_mut(&(cx, cy)) {
+                            list.retain(|&s| s != id);
+                            if list.is_empty() {
+                                self.cells.remove(&(cx, cy));
+                            }
                         }
                     }
                 }
             }
-        } else {
-            self.oversize.retain(|&s| s != id);
+            Filing::Oversize => self.oversize.retain(|&s| s != id),
         }
     }
 
     /// Every segment whose bounding box may meet the box `[min, max]`, sorted by id, no repeats.
     pub fn query(&self, min: &Point, max: &Point) -> Vec<SegmentId> {
-        let mut out = self.oversize.clone();
+        let mut out = Vec::new();
+        self.query_into(min, max, &mut out);
+        out
+    }
+
+    /// [`SegmentGrid::query`] into `out` (cleared first), to reuse its allocation.
+    pub fn query_into(&self, min: &Point, max: &Point, out: &mut Vec<SegmentId>) {
+        out.clear();
+        out.extend_from_slice(&self.oversize);
         match cell_box(min, max) {
             Some(bx)
                 if ((bx[2] - bx[0] + 1) * (bx[3] - bx[1] + 1)) as usize <= self.cells.len() =>
@@ -95,12 +128,27 @@ impl SegmentGrid {
                     }
                 }
             }
-            // A query box larger than the filled grid: walk the cells instead.
-            _ => out.extend(self.boxes.keys().copied()),
+            // A query box larger than the filled grid: every filed segment.
+            _ => out.extend(
+                self.filings
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, f)| f.is_some())
+                    .map(|(id, _)| id as SegmentId),
+            ),
         }
         out.sort_unstable();
         out.dedup();
-        out
+    }
+
+    /// Number of segments filed.
+    pub fn len(&self) -> usize {
+        self.filed
+    }
+
+    /// True when nothing is filed.
+    pub fn is_empty(&self) -> bool {
+        self.filed == 0
     }
 }
 

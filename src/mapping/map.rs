@@ -69,13 +69,30 @@ pub struct Segment {
     pub object: ObjectId,
     /// Snapshot that created it.
     pub created: usize,
-    /// Snapshots that updated it, in order.
+    /// Snapshots that updated it, in order (the most recent [`MAX_UPDATES_KEPT`]).
     pub updated: Vec<usize>,
     /// Supporting readings (shared between checkpoints until changed).
     pub points: Arc<Vec<SupportPoint>>,
 }
 
+/// Update snapshots a segment remembers. Beyond ALGORITHM.md: a wall seen for an hour is
+/// updated thousands of times; keeping every index would make each copy of the segment (a
+/// checkpoint taking it over) cost more the longer the run.
+pub const MAX_UPDATES_KEPT: usize = 64;
+
 impl Segment {
+    /// Records an update by `snapshot` (once per snapshot; the oldest record goes past
+    /// [`MAX_UPDATES_KEPT`]).
+    pub fn note_update(&mut self, snapshot: usize) {
+        if self.updated.last() == Some(&snapshot) {
+            return;
+        }
+        if self.updated.len() >= MAX_UPDATES_KEPT {
+            self.updated.remove(0);
+        }
+        self.updated.push(snapshot);
+    }
+
     /// Mid-point.
     pub fn mid(&self) -> Point {
         nalgebra::center(&self.a.point, &self.b.point)
@@ -128,7 +145,14 @@ pub struct Map {
     /// Spatial index of the segments (rebuilt by [`Map::rebuild_index`] after deserialising).
     #[serde(skip)]
     index: SegmentGrid,
+    /// Position in `segments` of each id ([`NO_SLOT`] when absent), kept with the index; empty
+    /// without it (lookups then search `segments`).
+    #[serde(skip)]
+    slot_of: Vec<u32>,
 }
+
+/// `Map::slot_of` entry of an id not in the map.
+const NO_SLOT: u32 = u32::MAX;
 
 impl Map {
     /// A map holding `segments` (sorted by id), one face and one object per segment, indexed.
@@ -154,19 +178,25 @@ impl Map {
         map
     }
 
+    /// Position of segment `id` in `segments`.
+    pub fn position(&self, id: SegmentId) -> Option<usize> {
+        if self.slot_of.is_empty() {
+            return self.segments.binary_search_by_key(&id, |s| s.id).ok();
+        }
+        match self.slot_of.get(id as usize) {
+            Some(&slot) if slot != NO_SLOT => Some(slot as usize),
+            _ => None,
+        }
+    }
+
     /// The segment with `id`.
     pub fn segment(&self, id: SegmentId) -> Option<&Segment> {
-        self.segments
-            .binary_search_by_key(&id, |s| s.id)
-            .ok()
-            .map(|i| &*self.segments[i])
+        self.position(id).map(|i| &*self.segments[i])
     }
 
     /// The segment with `id`, mutable.
     pub fn segment_mut(&mut self, id: SegmentId) -> Option<&mut Segment> {
-        self.segments
-            .binary_search_by_key(&id, |s| s.id)
-            .ok()
+        self.position(id)
             .map(move |i| Arc::make_mut(&mut self.segments[i]))
     }
 
@@ -228,7 +258,37 @@ impl Map {
         self.note_ends(&segment.a, &segment.b);
         self.index
             .insert(segment.id, &segment.a.point, &segment.b.point);
+        self.set_slot(segment.id, self.segments.len());
         self.segments.push(Arc::new(segment));
+    }
+
+    fn set_slot(&mut self, id: SegmentId, slot: usize) {
+        let i = id as usize;
+        if self.slot_of.len() <= i {
+            self.slot_of.resize(i + 1, NO_SLOT);
+        }
+        self.slot_of[i] = slot as u32;
+    }
+
+    /// Removes segment `id` from the map, its face (a face left empty goes too) and the index.
+    pub(crate) fn remove_segment(&mut self, id: SegmentId) {
+        let Some(i) = self.position(id) else {
+            return;
+        };
+        let face = self.segments.remove(i).face;
+        self.index.remove(id);
+        if !self.slot_of.is_empty() {
+            self.slot_of[id as usize] = NO_SLOT;
+            for (slot, s) in self.segments.iter().enumerate().skip(i) {
+                self.slot_of[s.id as usize] = slot as u32;
+            }
+        }
+        if let Ok(f) = self.faces.binary_search_by_key(&face, |f| f.id) {
+            self.faces[f].segments.retain(|&s| s != id);
+            if self.faces[f].segments.is_empty() {
+                self.faces.remove(f);
+            }
+        }
     }
 
     /// Moves the end-points of segment `id` (keeping the index current).
@@ -252,11 +312,20 @@ impl Map {
     /// Ids of the segments that may lie within `radius_m` of `p` (a superset), sorted.
     /// A non-finite radius returns every segment.
     pub fn segments_near(&self, p: &Point, radius_m: f64) -> Vec<SegmentId> {
+        let mut out = Vec::new();
+        self.segments_near_into(p, radius_m, &mut out);
+        out
+    }
+
+    /// [`Map::segments_near`] into `out` (cleared first), to reuse its allocation.
+    pub fn segments_near_into(&self, p: &Point, radius_m: f64, out: &mut Vec<SegmentId>) {
         if !radius_m.is_finite() {
-            return self.segments.iter().map(|s| s.id).collect();
+            out.clear();
+            out.extend(self.segments.iter().map(|s| s.id));
+            return;
         }
         let r = nalgebra::Vector2::new(radius_m, radius_m);
-        self.index.query(&(p - r), &(p + r))
+        self.index.query_into(&(p - r), &(p + r), out);
     }
 
     /// A copy without the spatial index (for checkpoints); [`Map::rebuild_index`] restores it.
@@ -270,14 +339,18 @@ impl Map {
             next_object_id: self.next_object_id,
             max_end_range_m: self.max_end_range_m,
             index: SegmentGrid::default(),
+            slot_of: Vec::new(),
         }
     }
 
     /// Files every segment in the spatial index afresh.
     pub fn rebuild_index(&mut self) {
         self.index = SegmentGrid::default();
-        for s in &self.segments {
+        self.slot_of.clear();
+        for slot in 0..self.segments.len() {
+            let s = Arc::clone(&self.segments[slot]);
             self.index.insert(s.id, &s.a.point, &s.b.point);
+            self.set_slot(s.id, slot);
         }
     }
 }

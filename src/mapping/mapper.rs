@@ -6,20 +6,18 @@ use super::extensions::{memory_step, reduce_constant_depth};
 use super::fit::{piece_end_points, split_recursive, split_tolerance};
 use super::map::{EndPoint, FaceId, Map, Segment, SegmentId, SegmentKind, SupportPoint};
 use super::matching::{decide, Candidate, SegmentEnds};
+use super::merge::absorb_duplicates;
 use super::params::Params;
 use super::readings::convert_readings;
 use super::trace::{
     ClusterTrace, NewSegmentTrace, Outcome, RefitTrace, SegmentSource, Side, StepTrace, Test,
     UpdateTrace, Warning,
 };
-use super::update::{update_extension, update_match, UpdateGeometry};
+use super::update::{merge_support_points, update_extension, update_match, UpdateGeometry};
 use crate::geometry::{distance_to_line, projection_param, Pose};
 use crate::run::Snapshot;
 use crate::sonar::{SensorLayout, SensorSpec};
 use std::sync::Arc;
-
-/// Supporting readings a segment keeps (the most recent ones).
-pub const MAX_SUPPORT_POINTS: usize = 64;
 
 /// Runs the paper's algorithm snapshot by snapshot.
 #[derive(Clone, Debug)]
@@ -33,6 +31,8 @@ pub struct Mapper {
     next_snapshot: usize,
     brute_force: bool,
     record_trace: bool,
+    /// Reused buffer of segment ids for index queries (no allocation per query).
+    scratch_ids: Vec<SegmentId>,
 }
 
 /// The mutable state a checkpoint needs to resume a [`Mapper`].
@@ -60,6 +60,7 @@ impl Mapper {
             next_snapshot: 0,
             brute_force: false,
             record_trace: true,
+            scratch_ids: Vec::new(),
         }
     }
 
@@ -86,7 +87,7 @@ impl Mapper {
     /// MPC: `≤ thr`; EPC: `≤ thr + 2h`; containment (only with orientation, angle ≤ θ_o):
     /// `≤ h·(1 + tan θ_o) + thr / cos θ_o`. Segments farther than the largest bound cannot
     /// pass, fail only orientation, or match, so they are not tested.
-    fn candidates_for(&self, new: &SegmentEnds) -> Vec<Candidate> {
+    fn candidates_for(&mut self, new: &SegmentEnds) -> Vec<Candidate> {
         let mid = new.mid();
         let radius_m = if self.brute_force {
             f64::INFINITY
@@ -103,10 +104,11 @@ impl Mapper {
             // A little slack for rounding: pruning must never drop a candidate that passes.
             (thr + 2.0 * h).max(containment) * (1.0 + 1e-9) + 1e-9
         };
-        self.map
-            .segments_near(&mid, radius_m)
-            .into_iter()
-            .filter_map(|id| self.map.segment(id))
+        let mut ids = std::mem::take(&mut self.scratch_ids);
+        self.map.segments_near_into(&mid, radius_m, &mut ids);
+        let candidates = ids
+            .iter()
+            .filter_map(|&id| self.map.segment(id))
             .filter(|s| {
                 s.kind == SegmentKind::Fitted
                     && (radius_m.is_infinite() || s.distance_to(&mid) <= radius_m)
@@ -116,7 +118,9 @@ impl Mapper {
                 ends: SegmentEnds { a: s.a, b: s.b },
                 outermost: self.map.is_outermost(s.id),
             })
-            .collect()
+            .collect();
+        self.scratch_ids = ids;
+        candidates
     }
 
     /// The map as it stands.
@@ -268,19 +272,25 @@ impl Mapper {
             .map(|seg| self.candidates_for(&SegmentEnds { a: seg.a, b: seg.b }))
             .collect();
         let mut face_of_source: Vec<(SegmentSource, FaceId)> = Vec::new();
+        let mut absorbed_into: Vec<(SegmentId, SegmentId)> = Vec::new();
         let mut new_faces: Vec<FaceId> = Vec::new();
         for ((ni, seg), mut cands) in new_segments.iter().enumerate().zip(candidate_sets) {
             let ends = SegmentEnds { a: seg.a, b: seg.b };
             let mut decision = decide(params, ni, &ends, &mut cands);
             match decision.outcome {
                 Outcome::Match | Outcome::Extension => {
-                    let target = decision.existing.expect("a match names its segment");
+                    let named = decision.existing.expect("a match names its segment");
                     let evaluation = &decision
                         .mpc_stage
                         .iter()
-                        .find(|c| c.evaluation.existing == target)
+                        .find(|c| c.evaluation.existing == named)
                         .expect("tested")
                         .evaluation;
+                    // A segment fused into another earlier in this snapshot: update that one.
+                    let mut target = named;
+                    while let Some(&(_, into)) = absorbed_into.iter().find(|(s, _)| *s == target) {
+                        target = into;
+                    }
                     let inside = if decision.outcome == Outcome::Extension {
                         evaluation.overlap.epc_end
                     } else {
@@ -290,6 +300,7 @@ impl Mapper {
                     if let Some(update) =
                         self.apply_update(target, ni, seg, nl, nr, decision.outcome, inside, index)
                     {
+                        absorbed_into.extend(update.absorbed.iter().map(|x| (x.segment, x.into)));
                         trace.updates.push(update);
                     }
                     decision.result = Some(target);
@@ -385,24 +396,7 @@ impl Mapper {
             None => update_match(before, nl, nr),
         };
         let [a, b] = geometry.ends;
-        // Supporting points, old and new, ordered along l_u.
-        let mut points: Vec<SupportPoint> = seg
-            .points
-            .iter()
-            .chain(new.points.iter())
-            .copied()
-            .collect();
-        // Beyond ALGORITHM.md §5: a segment keeps its most recent MAX_SUPPORT_POINTS readings,
-        // so an update costs the same after an hour of driving as after a minute.
-        if points.len() > MAX_SUPPORT_POINTS {
-            points.sort_by_key(|p| std::cmp::Reverse(p.reading));
-            points.truncate(MAX_SUPPORT_POINTS);
-        }
-        points.sort_by(|x, y| {
-            projection_param(&x.point, &a.point, &b.point)
-                .total_cmp(&projection_param(&y.point, &a.point, &b.point))
-                .then(x.reading.cmp(&y.reading))
-        });
+        let points = merge_support_points(&seg.points, &new.points, &a, &b);
         let worst = points
             .iter()
             .map(|q| {
@@ -426,15 +420,17 @@ impl Mapper {
             fates: geometry.fates,
             fallback_tls: geometry.fallback_tls,
             refit: None,
+            absorbed: Vec::new(),
         };
         let seg = self.map.segment_mut(target)?;
-        if seg.updated.last() != Some(&snapshot) {
-            seg.updated.push(snapshot);
-        }
+        seg.note_update(snapshot);
         let stands = worst.is_none_or(|w| w.pass);
         if stands {
             seg.points = Arc::new(points);
             self.map.set_ends(target, a, b);
+            if params.merge_duplicates {
+                update.absorbed = absorb_duplicates(&mut self.map, &params, target, &[], &mut self.scratch_ids);
+            }
             return Some(update);
         }
         // The update's line does not explain its points: fit them afresh (§3); the first piece
@@ -474,6 +470,18 @@ impl Mapper {
                 .position(|&s| s == target)
                 .map_or(f.segments.len(), |p| p + 1);
             f.segments.splice(at..at, piece_ids[1..].iter().copied());
+        }
+        if params.merge_duplicates {
+            for &piece in &piece_ids {
+                let absorbed = absorb_duplicates(
+                    &mut self.map,
+                    &params,
+                    piece,
+                    &piece_ids,
+                    &mut self.scratch_ids,
+                );
+                update.absorbed.extend(absorbed);
+            }
         }
         update.refit = Some(RefitTrace {
             worst: worst.expect("failed test exists"),

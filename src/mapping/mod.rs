@@ -8,12 +8,14 @@ pub mod index;
 pub mod map;
 mod mapper;
 pub mod matching;
+pub mod merge;
 pub mod params;
 pub mod readings;
 pub mod trace;
 pub mod update;
 
 pub use map::{EndPoint, Map, Segment, SegmentId, SegmentKind, SupportPoint};
-pub use mapper::{Mapper, MapperState, MAX_SUPPORT_POINTS};
+pub use mapper::{Mapper, MapperState};
+pub use update::MAX_SUPPORT_POINTS;
 pub use params::{FitMode, Params, ParamsError, ParamsFile, Preset, SplitMode};
 pub use trace::{Outcome, Rule, StepTrace};

@@ -74,6 +74,9 @@ pub struct Params {
     pub memory_min_points: usize,
     /// Constant-depth groups on or off (ALGORITHM.md §8).
     pub constant_depth: bool,
+    /// Fuse map segments that match an updated segment into it (beyond the paper; see
+    /// `mapping::merge`).
+    pub merge_duplicates: bool,
 }
 
 impl Default for Params {
@@ -99,14 +102,16 @@ impl Params {
             memory_gap_m: inches(12.0),
             memory_min_points: 3,
             constant_depth: false,
+            merge_duplicates: false,
         }
     }
 
-    /// The paper plus both extensions of ALGORITHM.md §8.
+    /// The paper plus both extensions of ALGORITHM.md §8 and the merging of duplicates.
     pub fn extended() -> Self {
         Self {
             memory_snapshots: 10,
             constant_depth: true,
+            merge_duplicates: true,
             ..Self::paper()
         }
     }
@@ -226,6 +231,9 @@ impl Params {
         if let Some(v) = file.constant_depth {
             p.constant_depth = v;
         }
+        if let Some(v) = file.merge_duplicates {
+            p.merge_duplicates = v;
+        }
         p.validate()?;
         Ok(p)
     }
@@ -252,6 +260,7 @@ impl Params {
             memory_gap: Some(len(self.memory_gap_m)),
             memory_min_points: Some(self.memory_min_points),
             constant_depth: Some(self.constant_depth),
+            merge_duplicates: Some(self.merge_duplicates),
         }
     }
 }
@@ -335,6 +344,8 @@ pub struct ParamsFile {
     pub memory_min_points: Option<usize>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub constant_depth: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub merge_duplicates: Option<bool>,
 }
 
 #[cfg(test)]
@@ -349,9 +360,11 @@ mod tests {
         assert!((p.orientation_rad.to_degrees() - 15.0).abs() < 1e-9);
         assert_eq!(p.memory_snapshots, 0);
         assert!(!p.constant_depth);
+        assert!(!p.merge_duplicates);
         let e = Params::extended();
         assert_eq!(e.memory_snapshots, 10);
         assert!(e.constant_depth);
+        assert!(e.merge_duplicates);
         assert!(p.validate().is_ok() && e.validate().is_ok());
     }
 

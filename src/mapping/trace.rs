@@ -394,6 +394,27 @@ pub struct UpdateTrace {
     pub fallback_tls: bool,
     /// The post-update split test failed and the points were refitted.
     pub refit: Option<RefitTrace>,
+    /// Map segments fused into the updated one afterwards (`merge_duplicates`), in order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub absorbed: Vec<AbsorbTrace>,
+}
+
+/// A map segment fused into an updated segment because it matched it (`merge_duplicates`,
+/// an extension beyond the paper: see `mapping::merge`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AbsorbTrace {
+    /// The segment that left the map.
+    pub segment: SegmentId,
+    /// The segment it was fused into (the updated one, or a piece of its refit).
+    pub into: SegmentId,
+    /// Its end-points.
+    pub ends: [EndPoint; 2],
+    /// It as `l_n` against the updated segment as `l_e`: a MATCH.
+    pub evaluation: PairEvaluation,
+    /// The updated segment before the fusion.
+    pub before: [EndPoint; 2],
+    /// The updated segment after the fusion (the §5 MATCH rule).
+    pub after: [EndPoint; 2],
 }
 
 /// Why correlation did not make a corner.

@@ -3,12 +3,44 @@
 //! End-points are compared by range: the smaller `D` is the higher confidence; on a tie the
 //! existing end-point wins. A projected end-point keeps the range of the reading it came from.
 
-use super::map::EndPoint;
+use super::map::{EndPoint, SupportPoint};
 use super::trace::{EndOrigin, EndPointFate, EndRole, Side};
 use crate::geometry::{fit_line_tls, lerp, projection_param, Point};
 
 /// Defining points closer than this (metres) are "nearly coinciding" (§5 fallback).
 const COINCIDENT_M: f64 = 1e-6;
+
+/// Supporting readings a segment keeps (the most recent ones).
+pub const MAX_SUPPORT_POINTS: usize = 64;
+
+/// The supporting points of an updated segment running from `a` to `b`: `old` and `new`
+/// together, ordered along it (ties by reading).
+///
+/// Beyond ALGORITHM.md §5: only the most recent [`MAX_SUPPORT_POINTS`] are kept, so an update
+/// costs the same after an hour of driving as after a minute.
+pub fn merge_support_points(
+    old: &[SupportPoint],
+    new: &[SupportPoint],
+    a: &EndPoint,
+    b: &EndPoint,
+) -> Vec<SupportPoint> {
+    let mut keyed: Vec<(f64, SupportPoint)> = old
+        .iter()
+        .chain(new)
+        .map(|q| (0.0, *q))
+        .collect();
+    if keyed.len() > MAX_SUPPORT_POINTS {
+        keyed.select_nth_unstable_by_key(MAX_SUPPORT_POINTS - 1, |(_, q)| {
+            std::cmp::Reverse(q.reading)
+        });
+        keyed.truncate(MAX_SUPPORT_POINTS);
+    }
+    for (t, q) in &mut keyed {
+        *t = projection_param(&q.point, &a.point, &b.point);
+    }
+    keyed.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.reading.cmp(&y.1.reading)));
+    keyed.into_iter().map(|(_, q)| q).collect()
+}
 
 /// The result of the update rule, before the post-update split test.
 #[derive(Clone, Debug, PartialEq)]
