@@ -85,8 +85,8 @@ pub fn distance_to_segment(p: &Point, a: &Point, b: &Point) -> f64 {
 /// Angle between two undirected lines with directions `u` and `v`, in `[0, π/2]`.
 /// Directions that differ by 180° are the same line (§3.3.1 orientation test, modulo 180°).
 pub fn line_angle_between(u: &Vec2, v: &Vec2) -> f64 {
-    let a = u.y.atan2(u.x) - v.y.atan2(v.x);
-    let m = a.rem_euclid(std::f64::consts::PI);
+    // The angle between the directions, in [0, π], from one atan2.
+    let m = (u.x * v.y - u.y * v.x).abs().atan2(u.dot(v));
     m.min(std::f64::consts::PI - m)
 }
 

@@ -328,6 +328,17 @@ impl Map {
         self.index.query_into(&(p - r), &(p + r), out);
     }
 
+    /// Ids of the segments whose bounding box may meet the box `[min, max]` (a superset),
+    /// sorted, into `out` (cleared first). A non-finite box returns every segment.
+    pub fn segments_in_box_into(&self, min: &Point, max: &Point, out: &mut Vec<SegmentId>) {
+        if [min.x, min.y, max.x, max.y].iter().any(|v| !v.is_finite()) {
+            out.clear();
+            out.extend(self.segments.iter().map(|s| s.id));
+            return;
+        }
+        self.index.query_into(min, max, out);
+    }
+
     /// A copy without the spatial index (for checkpoints); [`Map::rebuild_index`] restores it.
     pub fn without_index(&self) -> Map {
         Map {

@@ -14,7 +14,7 @@ use super::trace::{
     UpdateTrace, Warning,
 };
 use super::update::{merge_support_points, update_extension, update_match, UpdateGeometry};
-use crate::geometry::{distance_to_line, projection_param, Pose};
+use crate::geometry::{distance_to_line, projection_param, Point, Pose};
 use crate::run::Snapshot;
 use crate::sonar::{SensorLayout, SensorSpec};
 use std::sync::Arc;
@@ -82,14 +82,22 @@ impl Mapper {
     /// The map segments that could pass a test against `new` (ALGORITHM.md §4 pruning).
     ///
     /// Every passing case needs colinearity (`|d| ≤ thr`, `thr ≤ ξ/100·(D_max + (D2+D3)/2)`
-    /// with `D_max` the largest end-point range in the map) and an overlap, which bounds the
-    /// distance from `l_n`'s mid-point `m` to `l_e` (`h` = half `l_n`'s length):
-    /// MPC: `≤ thr`; EPC: `≤ thr + 2h`; containment (only with orientation, angle ≤ θ_o):
-    /// `≤ h·(1 + tan θ_o) + thr / cos θ_o`. Segments farther than the largest bound cannot
-    /// pass, fail only orientation, or match, so they are not tested.
+    /// with `D_max` the largest end-point range in the map; `d` from `l_n`'s mid-point `m` to
+    /// `l_e`'s line) and an overlap. With `h` half `l_n`'s length and `φ` the angle between
+    /// the lines:
+    /// - MPC: `m` projects into `l_e`, so `l_e` passes within `thr` of `m`;
+    /// - EPC: an end-point `e = m ± h·u_n` projects into `l_e`, so `l_e` passes within
+    ///   `|d| + h·sin φ ≤ thr + h` of `e`;
+    /// - containment (it only counts with orientation, `φ ≤ θ_o`): an end-point `p` of `l_e`
+    ///   projects into `l_n`; writing `p = f + s·u_e` with `f` the foot of `m` on `l_e`'s line,
+    ///   `|s| ≤ (h + thr)/cos φ`, so `p` lies within `thr + (h + thr)·tan θ_o` of `l_n`.
+    ///
+    /// So a segment that can pass, fail only orientation, or match meets the box around `l_n`
+    /// widened by `R = max(thr + h, thr + (h + thr)·tan θ_o)`, and lies within `R + h` of `m`;
+    /// only those are tested.
     fn candidates_for(&mut self, new: &SegmentEnds) -> Vec<Candidate> {
         let mid = new.mid();
-        let radius_m = if self.brute_force {
+        let reach_m = if self.brute_force {
             f64::INFINITY
         } else {
             let h = (new.b.point - new.a.point).norm() / 2.0;
@@ -97,28 +105,34 @@ impl Mapper {
                 * (self.map.max_end_range_m + (new.a.range_m + new.b.range_m) / 2.0);
             let theta = self.params.orientation_rad;
             let containment = if theta < 89f64.to_radians() {
-                h * (1.0 + theta.tan()) + thr / theta.cos()
+                thr + (h + thr) * theta.tan()
             } else {
                 f64::INFINITY
             };
             // A little slack for rounding: pruning must never drop a candidate that passes.
-            (thr + 2.0 * h).max(containment) * (1.0 + 1e-9) + 1e-9
+            (thr + h).max(containment) * (1.0 + 1e-9) + 1e-9
         };
+        let radius_m = reach_m + (new.b.point - new.a.point).norm() / 2.0;
+        let widen = nalgebra::Vector2::new(reach_m, reach_m);
+        let (a, b) = (new.a.point, new.b.point);
+        let min = Point::new(a.x.min(b.x), a.y.min(b.y)) - widen;
+        let max = Point::new(a.x.max(b.x), a.y.max(b.y)) + widen;
         let mut ids = std::mem::take(&mut self.scratch_ids);
-        self.map.segments_near_into(&mid, radius_m, &mut ids);
-        let candidates = ids
-            .iter()
-            .filter_map(|&id| self.map.segment(id))
-            .filter(|s| {
-                s.kind == SegmentKind::Fitted
-                    && (radius_m.is_infinite() || s.distance_to(&mid) <= radius_m)
-            })
-            .map(|s| Candidate {
-                id: s.id,
-                ends: SegmentEnds { a: s.a, b: s.b },
-                outermost: self.map.is_outermost(s.id),
-            })
-            .collect();
+        self.map.segments_in_box_into(&min, &max, &mut ids);
+        let mut candidates = Vec::with_capacity(ids.len());
+        candidates.extend(
+            ids.iter()
+                .filter_map(|&id| self.map.segment(id))
+                .filter(|s| {
+                    s.kind == SegmentKind::Fitted
+                        && (radius_m.is_infinite() || s.distance_to(&mid) <= radius_m)
+                })
+                .map(|s| Candidate {
+                    id: s.id,
+                    ends: SegmentEnds { a: s.a, b: s.b },
+                    outermost: self.map.is_outermost(s.id),
+                }),
+        );
         self.scratch_ids = ids;
         candidates
     }
@@ -428,8 +442,15 @@ impl Mapper {
         if stands {
             seg.points = Arc::new(points);
             self.map.set_ends(target, a, b);
-            if params.merge_duplicates {
-                update.absorbed = absorb_duplicates(&mut self.map, &params, target, &[], &mut self.scratch_ids);
+            // Only a segment that grew past its old end-points can have come to overlap
+            // another one.
+            let grew = [a, b].iter().any(|e| {
+                let t = projection_param(&e.point, &before[0].point, &before[1].point);
+                !(-1e-9..=1.0 + 1e-9).contains(&t)
+            });
+            if params.merge_duplicates && grew {
+                update.absorbed =
+                    absorb_duplicates(&mut self.map, &params, target, &[], &mut self.scratch_ids);
             }
             return Some(update);
         }

@@ -6,7 +6,8 @@
 //! neighbours (the MATCH result covers all four projections) and the post-update refit leaves
 //! pieces behind, so a wall seen a thousand times collects overlapping copies, which cost every
 //! later snapshot more candidates. With this extension, after every update the map segments that
-//! the paper's own test calls the same face as the updated segment are fused into it: a fitted
+//! the paper's own test calls the same face as the updated segment are fused into it (after an
+//! update that moved an end-point outwards, and after a refit): a fitted
 //! segment `T` whose §4 evaluation as `l_n` against the updated segment as `l_e` is a MATCH
 //! (orientation, colinearity, mid-point overlap or containment) is applied to it by the §5
 //! MATCH rule (Figure 1) and leaves the map; its supporting readings join the updated segment's.
@@ -16,7 +17,7 @@ use super::matching::{evaluate_pair, SegmentEnds};
 use super::params::Params;
 use super::trace::AbsorbTrace;
 use super::update::{merge_support_points, update_match};
-use crate::geometry::distance_to_segment;
+use crate::geometry::{distance_to_segment, Point};
 use std::sync::Arc;
 
 /// Fuses into segment `into` every fitted segment (other than `into` and `exclude`) that
@@ -24,7 +25,8 @@ use std::sync::Arc;
 /// is a reusable buffer.
 ///
 /// Searched: the segments whose mid-point lies within the largest colinearity threshold of
-/// `into` (every MPC match does: its mid-point projects inside `into` within the threshold),
+/// `into` (every MPC match does: its mid-point projects inside `into` within the threshold;
+/// such a segment meets `into`'s bounding box widened by that threshold),
 /// nearest first, ties by id. A longer segment that contains `into` is found when it is itself
 /// updated.
 pub fn absorb_duplicates(
@@ -53,23 +55,28 @@ fn absorb_one(
         a: target.a,
         b: target.b,
     };
-    let mid = target.mid();
-    let reach_m = params.accuracy_pct / 100.0
-        * (target.a.range_m.max(target.b.range_m) + map.max_end_range_m);
-    let radius_m = (target.length() / 2.0 + reach_m) * (1.0 + 1e-9) + 1e-9;
-    map.segments_near_into(&mid, radius_m, scratch);
-    let mut near: Vec<(f64, SegmentId)> = scratch
-        .iter()
-        .copied()
-        .filter(|&id| id != into && !exclude.contains(&id))
-        .filter_map(|id| map.segment(id))
-        .filter(|s| s.kind == SegmentKind::Fitted)
-        .map(|s| {
-            let d = distance_to_segment(&s.mid(), &existing.a.point, &existing.b.point);
-            (d, s.id)
-        })
-        .filter(|&(d, _)| d <= reach_m * (1.0 + 1e-9) + 1e-9)
-        .collect();
+    let reach_m = (params.accuracy_pct / 100.0
+        * (target.a.range_m.max(target.b.range_m) + map.max_end_range_m))
+        * (1.0 + 1e-9)
+        + 1e-9;
+    let (a, b) = (existing.a.point, existing.b.point);
+    let widen = nalgebra::Vector2::new(reach_m, reach_m);
+    let min = Point::new(a.x.min(b.x), a.y.min(b.y)) - widen;
+    let max = Point::new(a.x.max(b.x), a.y.max(b.y)) + widen;
+    map.segments_in_box_into(&min, &max, scratch);
+    let mut near: Vec<(f64, SegmentId)> = Vec::new();
+    for &id in scratch.iter() {
+        if id == into || exclude.contains(&id) {
+            continue;
+        }
+        let Some(s) = map.segment(id).filter(|s| s.kind == SegmentKind::Fitted) else {
+            continue;
+        };
+        let d = distance_to_segment(&s.mid(), &a, &b);
+        if d <= reach_m {
+            near.push((d, id));
+        }
+    }
     near.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
     for (_, id) in near {
         let other = map.segment(id)?;
@@ -154,7 +161,10 @@ mod tests {
         assert!(absorbed[0].evaluation.overlap.mpc);
         assert!(map.segment(1).is_none(), "the copy left the map");
         assert!(map.face(1).is_none(), "its emptied face too");
-        assert!(map.segment(2).is_some(), "a crossing wall fails orientation");
+        assert!(
+            map.segment(2).is_some(),
+            "a crossing wall fails orientation"
+        );
         // Figure 1 on equal ranges keeps the existing end-points (ties) and extends the segment
         // to the copy's right end projected on y = 0.
         let s = map.segment(0).unwrap();
@@ -182,6 +192,9 @@ mod tests {
             0,
             "excluded segments are never absorbed"
         );
-        assert_eq!(absorb_duplicates(&mut map, &Params::paper(), 0, &[], &mut Vec::new()).len(), 1);
+        assert_eq!(
+            absorb_duplicates(&mut map, &Params::paper(), 0, &[], &mut Vec::new()).len(),
+            1
+        );
     }
 }

@@ -16,6 +16,6 @@ pub mod update;
 
 pub use map::{EndPoint, Map, Segment, SegmentId, SegmentKind, SupportPoint};
 pub use mapper::{Mapper, MapperState};
-pub use update::MAX_SUPPORT_POINTS;
 pub use params::{FitMode, Params, ParamsError, ParamsFile, Preset, SplitMode};
 pub use trace::{Outcome, Rule, StepTrace};
+pub use update::MAX_SUPPORT_POINTS;

@@ -24,21 +24,24 @@ pub fn merge_support_points(
     a: &EndPoint,
     b: &EndPoint,
 ) -> Vec<SupportPoint> {
-    let mut keyed: Vec<(f64, SupportPoint)> = old
-        .iter()
-        .chain(new)
-        .map(|q| (0.0, *q))
-        .collect();
-    if keyed.len() > MAX_SUPPORT_POINTS {
-        keyed.select_nth_unstable_by_key(MAX_SUPPORT_POINTS - 1, |(_, q)| {
-            std::cmp::Reverse(q.reading)
-        });
-        keyed.truncate(MAX_SUPPORT_POINTS);
-    }
-    for (t, q) in &mut keyed {
-        *t = projection_param(&q.point, &a.point, &b.point);
-    }
-    keyed.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.reading.cmp(&y.1.reading)));
+    let total = old.len() + new.len();
+    // The oldest reading kept: everything from it on is among the most recent.
+    let oldest_kept = (total > MAX_SUPPORT_POINTS).then(|| {
+        let mut readings: Vec<_> = old.iter().chain(new).map(|q| q.reading).collect();
+        let (_, nth, _) =
+            readings.select_nth_unstable_by_key(MAX_SUPPORT_POINTS - 1, |&r| std::cmp::Reverse(r));
+        *nth
+    });
+    let mut keyed: Vec<(f64, SupportPoint)> = Vec::with_capacity(total);
+    keyed.extend(
+        old.iter()
+            .chain(new)
+            .filter(|q| oldest_kept.is_none_or(|r| q.reading >= r))
+            .map(|q| (projection_param(&q.point, &a.point, &b.point), *q)),
+    );
+    // Stable sort: the old points are already in order along a nearby line, so the input is a
+    // couple of sorted runs.
+    keyed.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.reading.cmp(&y.1.reading)));
     keyed.into_iter().map(|(_, q)| q).collect()
 }
 

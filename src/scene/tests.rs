@@ -201,7 +201,7 @@ fn fixture() -> Fixture {
         fates: vec![],
         fallback_tls: false,
         refit: None,
-            absorbed: Vec::new(),
+        absorbed: Vec::new(),
     }];
     step.correlations = vec![CorrelationTrace {
         face: 1,

@@ -377,7 +377,7 @@ fn match_step(trace: &mut StepTrace, before: &Map, k: usize) -> Map {
                     fates: vec![],
                     fallback_tls: false,
                     refit: None,
-            absorbed: Vec::new(),
+                    absorbed: Vec::new(),
                 });
                 Some(e)
             }
