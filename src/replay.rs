@@ -79,9 +79,9 @@ pub struct StepView {
     pub trace: StepTrace,
     /// The trace of step `k - 1` (its points are drawn as the previous snapshot's).
     pub previous: Option<StepTrace>,
-    /// The map before step `k`.
+    /// The map before step `k` (without its spatial index: [`Map::rebuild_index`] restores it).
     pub map_before: Map,
-    /// The map after step `k`.
+    /// The map after step `k` (without its spatial index).
     pub map_after: Map,
 }
 
@@ -205,24 +205,25 @@ impl Replay {
             let prev = m.step(&self.run.snapshots[k - 1]);
             (m, Some(prev))
         };
-        let map_before = mapper.map().clone();
+        // Copies share the segments; the index is left out (drawing does not search).
+        let map_before = mapper.map().without_index();
         let trace = mapper.step(&self.run.snapshots[k]);
         Some(StepView {
             index: k,
             trace,
             previous,
             map_before,
-            map_after: mapper.map().clone(),
+            map_after: mapper.map().without_index(),
         })
     }
 
-    /// The map after snapshot `k`.
+    /// The map after snapshot `k` (without its spatial index).
     pub fn map_at(&self, k: usize) -> Map {
         let mut mapper = self.mapper_before(k.min(self.len()));
         if k < self.len() {
             mapper.step(&self.run.snapshots[k]);
         }
-        mapper.map().clone()
+        mapper.map().without_index()
     }
 }
 

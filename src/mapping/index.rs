@@ -109,21 +109,30 @@ impl SegmentGrid {
     pub fn query(&self, min: &Point, max: &Point) -> Vec<SegmentId> {
         let mut out = Vec::new();
         self.query_into(min, max, &mut out);
+        out.sort_unstable();
         out
     }
 
-    /// [`SegmentGrid::query`] into `out` (cleared first), to reuse its allocation.
+    /// [`SegmentGrid::query`] into `out` (cleared first, to reuse its allocation), in no
+    /// particular order. A segment filed under several cells of the query is reported once: by
+    /// the cell where its box and the query's first meet (its lowest x, then y), so no sort or
+    /// dedup is needed.
     pub fn query_into(&self, min: &Point, max: &Point, out: &mut Vec<SegmentId>) {
         out.clear();
         out.extend_from_slice(&self.oversize);
         match cell_box(min, max) {
-            Some(bx)
-                if ((bx[2] - bx[0] + 1) * (bx[3] - bx[1] + 1)) as usize <= self.cells.len() =>
-            {
-                for cx in bx[0]..=bx[2] {
-                    for cy in bx[1]..=bx[3] {
-                        if let Some(list) = self.cells.get(&(cx, cy)) {
-                            out.extend_from_slice(list);
+            Some(q) if ((q[2] - q[0] + 1) * (q[3] - q[1] + 1)) as usize <= self.cells.len() => {
+                for cx in q[0]..=q[2] {
+                    for cy in q[1]..=q[3] {
+                        let Some(list) = self.cells.get(&(cx, cy)) else {
+                            continue;
+                        };
+                        for &id in list {
+                            if let Some(Some(Filing::Cells(b))) = self.filings.get(id as usize) {
+                                if cx == b[0].max(q[0]) && cy == b[1].max(q[1]) {
+                                    out.push(id);
+                                }
+                            }
                         }
                     }
                 }
@@ -133,12 +142,10 @@ impl SegmentGrid {
                 self.filings
                     .iter()
                     .enumerate()
-                    .filter(|(_, f)| f.is_some())
+                    .filter(|(_, f)| matches!(f, Some(Filing::Cells(_))))
                     .map(|(id, _)| id as SegmentId),
             ),
         }
-        out.sort_unstable();
-        out.dedup();
     }
 
     /// Number of segments filed.

@@ -126,12 +126,12 @@ pub struct MemoryPoint {
 }
 
 /// The map after some snapshots.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Map {
     /// Segments ordered by id, shared between clones until one changes (cheap checkpoints).
     pub segments: Vec<Arc<Segment>>,
-    /// Faces ordered by id.
-    pub faces: Vec<Face>,
+    /// Faces ordered by id (shared between clones until one changes).
+    pub faces: Vec<Arc<Face>>,
     /// Readings held by point memory.
     pub memory: Vec<MemoryPoint>,
     /// Next unused segment id.
@@ -151,6 +151,19 @@ pub struct Map {
     slot_of: Vec<u32>,
 }
 
+/// Maps are equal when their contents are; the index is derived from them.
+impl PartialEq for Map {
+    fn eq(&self, other: &Self) -> bool {
+        self.segments == other.segments
+            && self.faces == other.faces
+            && self.memory == other.memory
+            && self.next_segment_id == other.next_segment_id
+            && self.next_face_id == other.next_face_id
+            && self.next_object_id == other.next_object_id
+            && self.max_end_range_m == other.max_end_range_m
+    }
+}
+
 /// `Map::slot_of` entry of an id not in the map.
 const NO_SLOT: u32 = u32::MAX;
 
@@ -164,13 +177,13 @@ impl Map {
             map.next_face_id = map.next_face_id.max(s.face + 1);
             map.next_object_id = map.next_object_id.max(s.object + 1);
             match map.faces.binary_search_by_key(&s.face, |f| f.id) {
-                Ok(i) => map.faces[i].segments.push(s.id),
+                Ok(i) => Arc::make_mut(&mut map.faces[i]).segments.push(s.id),
                 Err(i) => map.faces.insert(
                     i,
-                    Face {
+                    Arc::new(Face {
                         id: s.face,
                         segments: vec![s.id],
-                    },
+                    }),
                 ),
             }
             map.push_segment(s);
@@ -205,7 +218,7 @@ impl Map {
         self.faces
             .binary_search_by_key(&id, |f| f.id)
             .ok()
-            .map(|i| &self.faces[i])
+            .map(|i| &*self.faces[i])
     }
 
     /// The face with `id`, mutable.
@@ -213,7 +226,7 @@ impl Map {
         self.faces
             .binary_search_by_key(&id, |f| f.id)
             .ok()
-            .map(move |i| &mut self.faces[i])
+            .map(move |i| Arc::make_mut(&mut self.faces[i]))
     }
 
     /// True when segment `id` holds an outermost end-point of its face (first or last in it).
@@ -238,10 +251,10 @@ impl Map {
     pub(crate) fn new_face(&mut self) -> FaceId {
         let id = self.next_face_id;
         self.next_face_id += 1;
-        self.faces.push(Face {
+        self.faces.push(Arc::new(Face {
             id,
             segments: Vec::new(),
-        });
+        }));
         id
     }
 
@@ -284,7 +297,9 @@ impl Map {
             }
         }
         if let Ok(f) = self.faces.binary_search_by_key(&face, |f| f.id) {
-            self.faces[f].segments.retain(|&s| s != id);
+            Arc::make_mut(&mut self.faces[f])
+                .segments
+                .retain(|&s| s != id);
             if self.faces[f].segments.is_empty() {
                 self.faces.remove(f);
             }
@@ -314,10 +329,12 @@ impl Map {
     pub fn segments_near(&self, p: &Point, radius_m: f64) -> Vec<SegmentId> {
         let mut out = Vec::new();
         self.segments_near_into(p, radius_m, &mut out);
+        out.sort_unstable();
         out
     }
 
-    /// [`Map::segments_near`] into `out` (cleared first), to reuse its allocation.
+    /// [`Map::segments_near`] into `out` (cleared first, to reuse its allocation), in no
+    /// particular order.
     pub fn segments_near_into(&self, p: &Point, radius_m: f64, out: &mut Vec<SegmentId>) {
         if !radius_m.is_finite() {
             out.clear();
@@ -328,8 +345,8 @@ impl Map {
         self.index.query_into(&(p - r), &(p + r), out);
     }
 
-    /// Ids of the segments whose bounding box may meet the box `[min, max]` (a superset),
-    /// sorted, into `out` (cleared first). A non-finite box returns every segment.
+    /// Ids of the segments whose bounding box may meet the box `[min, max]` (a superset), in no
+    /// particular order, into `out` (cleared first). A non-finite box returns every segment.
     pub fn segments_in_box_into(&self, min: &Point, max: &Point, out: &mut Vec<SegmentId>) {
         if [min.x, min.y, max.x, max.y].iter().any(|v| !v.is_finite()) {
             out.clear();

@@ -117,22 +117,34 @@ pub fn evaluate_pair(
 }
 
 /// Orders candidates as §4 asks: by distance from `l_n`'s mid-point to the segment, ties by id.
+/// Returns the distances in the new order.
 pub fn order_candidates(new: &SegmentEnds, candidates: &mut [Candidate]) -> Vec<f64> {
     let mid = new.mid();
-    let mut keyed: Vec<(f64, Candidate)> = candidates
+    let distance = |c: &Candidate| distance_to_segment(&mid, &c.ends.a.point, &c.ends.b.point);
+    let mut keyed: Vec<(f64, SegmentId, u32)> = candidates
+        .iter()
+        .enumerate()
+        .map(|(i, c)| (distance(c), c.id, i as u32))
+        .collect();
+    keyed.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+    let original = candidates.to_vec();
+    for (slot, &(_, _, i)) in candidates.iter_mut().zip(&keyed) {
+        *slot = original[i as usize];
+    }
+    keyed.into_iter().map(|(d, _, _)| d).collect()
+}
+
+/// The candidate that comes first in the §4 order (nearest to `l_n`'s mid-point, ties by id),
+/// with its distance.
+fn nearest_candidate(new: &SegmentEnds, candidates: &[Candidate]) -> Option<(f64, Candidate)> {
+    let mid = new.mid();
+    candidates
         .iter()
         .map(|c| {
-            (
-                distance_to_segment(&mid, &c.ends.a.point, &c.ends.b.point),
-                *c,
-            )
+            let d = distance_to_segment(&mid, &c.ends.a.point, &c.ends.b.point);
+            (d, *c)
         })
-        .collect();
-    keyed.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.id.cmp(&y.1.id)));
-    for (slot, (_, c)) in candidates.iter_mut().zip(&keyed) {
-        *slot = *c;
-    }
-    keyed.into_iter().map(|(d, _)| d).collect()
+        .min_by(|x, y| x.0.total_cmp(&y.0).then(x.1.id.cmp(&y.1.id)))
 }
 
 /// Decides what becomes of new segment `new_index` (ALGORITHM.md §4).
@@ -148,6 +160,31 @@ pub fn decide(
     new: &SegmentEnds,
     candidates: &mut [Candidate],
 ) -> DecisionTrace {
+    // Most new segments match the nearest candidate: try it before ordering the rest (the
+    // outcome and the trace are the same as with the full order).
+    if let Some((distance_m, c)) = nearest_candidate(new, candidates) {
+        let evaluation = evaluate_pair(params, new, c.id, &c.ends);
+        if evaluation.is_match() {
+            let rule = if evaluation.overlap.mpc {
+                Rule::MidPointOverlap
+            } else {
+                Rule::Containment
+            };
+            return DecisionTrace {
+                new_segment: new_index,
+                mpc_stage: vec![CandidateTrace {
+                    distance_m,
+                    outermost: c.outermost,
+                    evaluation,
+                }],
+                epc_stage: Vec::new(),
+                outcome: Outcome::Match,
+                rule,
+                existing: Some(c.id),
+                result: None,
+            };
+        }
+    }
     let distances = order_candidates(new, candidates);
     let mut decision = DecisionTrace {
         new_segment: new_index,
