@@ -63,11 +63,17 @@ fn median(mut v: Vec<f64>) -> f64 {
 pub fn building_run(snapshots: usize, seed: u64) -> Run {
     let plan = building_plan(&BuildingSpec::default(), seed);
     let lap = simulate(&plan, Model::Specular, seed);
+    back_and_forth(&lap, snapshots)
+}
+
+/// `lap` driven forwards, backwards, forwards… until the run has `snapshots` snapshots, one
+/// every 0.2 s (an empty lap gives an empty run).
+pub fn back_and_forth(lap: &Run, snapshots: usize) -> Run {
     let mut run = lap.clone();
-    run.name = format!("{} — {snapshots} snapshots", plan.name);
+    run.name = format!("{} — {snapshots} snapshots", lap.name);
     run.snapshots.clear();
     let mut forward = true;
-    while run.snapshots.len() < snapshots {
+    while run.snapshots.len() < snapshots && !lap.snapshots.is_empty() {
         let lap_iter: Box<dyn Iterator<Item = &crate::run::Snapshot>> = if forward {
             Box::new(lap.snapshots.iter())
         } else {

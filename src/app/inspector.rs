@@ -775,6 +775,17 @@ fn map_segment_ui(
                 r.pieces
             ));
         }
+        for a in &u.absorbed {
+            let c = &a.evaluation.colinearity.test;
+            ui.label(format!(
+                "merged duplicate s{} into s{} (merge_duplicates): it matches (angle {:.1}°, d {} ≤ {})",
+                a.segment,
+                a.into,
+                a.evaluation.orientation.value.to_degrees(),
+                ctx.len(c.value),
+                ctx.len(c.threshold),
+            ));
+        }
     }
     let deciding: Vec<_> = view
         .trace

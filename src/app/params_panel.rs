@@ -315,6 +315,12 @@ pub fn params_panel_ui(
                     |p: &mut Params, v| p.constant_depth = v,
                     paper.constant_depth,
                 ),
+                (
+                    "merge_duplicates",
+                    params.merge_duplicates,
+                    |p: &mut Params, v| p.merge_duplicates = v,
+                    paper.merge_duplicates,
+                ),
             ] {
                 ui.label(name);
                 let mut on = get;

@@ -337,6 +337,15 @@ impl Builder<'_, '_> {
                 b: u.before[1].point,
             };
             self.push(Layer::Updates, Role::UpdateBefore, id, before);
+            // Duplicates merged into it: their old geometry, ghosted like the segment's own.
+            for absorbed in &u.absorbed {
+                let shape = Shape::Segment {
+                    a: absorbed.ends[0].point,
+                    b: absorbed.ends[1].point,
+                };
+                let id = SceneId::Update(absorbed.into);
+                self.push(Layer::Updates, Role::UpdateBefore, id, shape);
+            }
             for f in &u.fates {
                 if let Some(p) = f.projection {
                     let shape = Shape::Segment {

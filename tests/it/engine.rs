@@ -356,3 +356,63 @@ fn simulated_blue_room_asset_maps_its_near_walls_without_spurious_segments() {
         );
     }
 }
+
+/// Segments in the map after each snapshot of the building asset driven back and forth, and
+/// every step's trace.
+fn long_run_segment_counts(params: Params, snapshots: usize) -> (Vec<usize>, Vec<StepTrace>) {
+    let bytes = std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/building.log.json"
+    ))
+    .expect("asset");
+    let lap = sonarmap::log::load_run(&bytes, "building.log.json").expect("valid asset");
+    let run = sonarmap::bench::back_and_forth(&lap, snapshots);
+    let mut mapper = Mapper::new(params, run.layout.clone(), run.sensor).with_trace(false);
+    let mut counts = Vec::new();
+    let mut traces = Vec::new();
+    for s in &run.snapshots {
+        traces.push(mapper.step(s));
+        counts.push(mapper.map().segments.len());
+    }
+    (counts, traces)
+}
+
+#[test]
+fn merging_duplicates_keeps_a_revisited_building_from_piling_up() {
+    let n = 8 * 305;
+    let paper = Params::paper();
+    let merged = Params {
+        merge_duplicates: true,
+        ..Params::paper()
+    };
+    let (plain, _) = long_run_segment_counts(paper, n);
+    let (fused, traces) = long_run_segment_counts(merged, n);
+    // Both have seen the whole floor after the first lap; the literal rules keep adding refit
+    // pieces on revisited walls, the merge keeps the map near its size.
+    let growth = |c: &[usize]| c[n - 1] - c[n / 2 - 1];
+    eprintln!(
+        "segments at {}, {}: paper {} {}, merged {} {}",
+        n / 2,
+        n,
+        plain[n / 2 - 1],
+        plain[n - 1],
+        fused[n / 2 - 1],
+        fused[n - 1]
+    );
+    assert!(
+        growth(&fused) * 3 < growth(&plain),
+        "second-half growth: merged {} vs paper {}",
+        growth(&fused),
+        growth(&plain)
+    );
+    assert!(fused[n - 1] * 10 < plain[n - 1] * 7);
+    // Every merge is traced as a MATCH of the duplicate against the segment it went into.
+    let absorbed: Vec<_> = traces
+        .iter()
+        .flat_map(|t| t.updates.iter().flat_map(|u| u.absorbed.iter()))
+        .collect();
+    assert!(!absorbed.is_empty());
+    assert!(absorbed
+        .iter()
+        .all(|a| a.evaluation.is_match() && a.segment != a.into));
+}
