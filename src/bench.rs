@@ -2,6 +2,7 @@
 //! each the median of several runs. Not part of the pure core: it reads the clock.
 
 use crate::alloc_count;
+use crate::app::HeadlessMapView;
 use crate::log::{load_run, save_run};
 use crate::mapping::{Mapper, Params};
 use crate::replay::Replay;
@@ -40,8 +41,14 @@ pub struct BenchReport {
     pub checkpoint_interval: usize,
     /// Heap held by the checkpoints, bytes (0 without the counting allocator).
     pub checkpoint_bytes: usize,
-    /// Median time to build the scene of a snapshot with every layer on, milliseconds.
+    /// Median time to make the map view's frame of a snapshot with every layer on and the
+    /// whole map in a 1600 × 1000 view: scene build (with the view's level of detail), the
+    /// inspector's egui_plot drawing, and egui's tessellation into meshes; milliseconds.
     pub frame_ms_median: f64,
+    /// The scene-build part of that frame (median), milliseconds.
+    pub scene_build_ms_median: f64,
+    /// Largest number of mesh vertices those frames tessellated.
+    pub frame_vertices_max: usize,
     /// Median time to write the SVG of a snapshot with every layer on (whole content in view), ms.
     pub svg_ms_median: f64,
     /// Largest size of those SVGs, bytes.
@@ -147,6 +154,8 @@ pub fn bench(run: &Run, params: &Params, repeats: usize) -> BenchReport {
         .collect();
     let mut seeks = Vec::new();
     let mut frames = Vec::new();
+    let mut builds = Vec::new();
+    let mut vertices_max = 0;
     let mut svgs = Vec::new();
     let mut svg_bytes_max = 0;
     for &k in &targets {
@@ -154,9 +163,28 @@ pub fn bench(run: &Run, params: &Params, repeats: usize) -> BenchReport {
         let view = replay.view(k).expect("non-empty run");
         seeks.push(start.elapsed().as_secs_f64() * 1e3);
         let input = SceneInput::from_view(run, &view);
+        // Settle the view on the whole map (the plot fits itself over a couple of frames), as
+        // the inspector is after a jump; then time a frame as it would draw it.
+        let mut map_view = HeadlessMapView::new(1600.0, 1000.0);
+        for _ in 0..3 {
+            let options = ViewOptions {
+                world_per_px: map_view.world_per_px(),
+                ..ViewOptions::all()
+            };
+            map_view.frame(&build_scene(&input, &options), run.units);
+        }
+        let options = ViewOptions {
+            world_per_px: map_view.world_per_px(),
+            ..ViewOptions::all()
+        };
         let start = Instant::now();
-        let scene = build_scene(&input, &ViewOptions::all());
+        let scene = build_scene(&input, &options);
+        let built = start.elapsed().as_secs_f64() * 1e3;
+        let stats = map_view.frame(&scene, run.units);
         frames.push(start.elapsed().as_secs_f64() * 1e3);
+        builds.push(built);
+        vertices_max = vertices_max.max(stats.vertices);
+        let scene = build_scene(&input, &ViewOptions::all());
         let start = Instant::now();
         let svg = to_svg(
             &scene,
@@ -182,6 +210,8 @@ pub fn bench(run: &Run, params: &Params, repeats: usize) -> BenchReport {
         checkpoint_interval: interval,
         checkpoint_bytes,
         frame_ms_median: median(frames),
+        scene_build_ms_median: median(builds),
+        frame_vertices_max: vertices_max,
         svg_ms_median: median(svgs),
         svg_bytes_max,
         final_segments: replay.final_map().segments.len(),

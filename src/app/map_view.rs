@@ -5,14 +5,13 @@
 //! inches); the scene and everything stored here are in metres.
 
 use super::command::Command;
+use super::scene_item::ScenePlotItem;
 use crate::geometry::Point;
 use crate::mapping::Map;
-use crate::scene::{
-    format_length, MarkerShape, Primitive, Rgba, Scene, SceneId, Shape, Style, TextAlign, ViewRect,
-};
+use crate::scene::{format_length, Scene, SceneId, ViewRect};
 use crate::units::Units;
-use egui::{Align2, Color32, RichText, Stroke};
-use egui_plot::{Line, LineStyle, Plot, PlotBounds, PlotPoint, PlotPoints, Points, Polygon, Text};
+use egui::{Color32, RichText};
+use egui_plot::{Line, LineStyle, Plot, PlotBounds, PlotPoints, Points};
 
 /// Colour of the baseline's map drawn ghosted.
 pub const GHOST: Color32 = Color32::from_rgba_premultiplied(0x70, 0x70, 0x70, 0xa0);
@@ -66,197 +65,7 @@ impl MapViewState {
     }
 }
 
-/// The colour with the style's opacity applied.
-pub fn colour(c: Rgba, opacity: f32) -> Color32 {
-    let a = (f32::from(c.a) * opacity.clamp(0.0, 1.0)).round() as u8;
-    Color32::from_rgba_unmultiplied(c.r, c.g, c.b, a)
-}
-
-fn line_style(style: &Style) -> LineStyle {
-    match style.dash_px {
-        [] | [_] => LineStyle::Solid,
-        [on, off, ..] if *on <= 2.0 => LineStyle::Dotted {
-            spacing: (on + off).max(3.0),
-        },
-        [on, ..] => LineStyle::Dashed {
-            length: on.max(2.0),
-        },
-    }
-}
-
-fn plot_marker(shape: MarkerShape) -> egui_plot::MarkerShape {
-    match shape {
-        MarkerShape::Dot | MarkerShape::Ring => egui_plot::MarkerShape::Circle,
-        MarkerShape::Cross => egui_plot::MarkerShape::Cross,
-        MarkerShape::Plus => egui_plot::MarkerShape::Plus,
-        MarkerShape::Square => egui_plot::MarkerShape::Square,
-        MarkerShape::Triangle => egui_plot::MarkerShape::Up,
-        MarkerShape::Diamond => egui_plot::MarkerShape::Diamond,
-    }
-}
-
-fn circle_points(centre: &Point, radius: f64, s: f64) -> Vec<[f64; 2]> {
-    const N: usize = 40;
-    (0..N)
-        .map(|i| {
-            let a = std::f64::consts::TAU * i as f64 / N as f64;
-            [
-                (centre.x + radius * a.cos()) * s,
-                (centre.y + radius * a.sin()) * s,
-            ]
-        })
-        .collect()
-}
-
-/// Adds one primitive to the plot; `s` converts metres to plot units, `wpp` is metres per
-/// pixel, `emphasis` draws it as a selection highlight instead.
-fn draw_primitive(
-    plot_ui: &mut egui_plot::PlotUi,
-    prim: &Primitive,
-    n: usize,
-    s: f64,
-    wpp: f64,
-    emphasis: bool,
-) {
-    let style = &prim.style;
-    let (stroke_colour, width, line) = if emphasis {
-        (
-            Color32::from_rgba_unmultiplied(255, 255, 255, 150),
-            style.stroke_width_px.max(1.0) + 6.0,
-            LineStyle::Solid,
-        )
-    } else {
-        (
-            style
-                .stroke
-                .map_or(Color32::TRANSPARENT, |c| colour(c, style.opacity)),
-            style.stroke_width_px,
-            line_style(style),
-        )
-    };
-    let fill = style.fill.map(|c| colour(c, style.opacity));
-    let pt = |p: &Point| [p.x * s, p.y * s];
-    let id = ("prim", n, emphasis);
-    match &prim.shape {
-        Shape::Circle { centre, radius_m } => {
-            let poly = Polygon::new("", PlotPoints::new(circle_points(centre, *radius_m, s)))
-                .stroke(Stroke::new(width, stroke_colour))
-                .fill_color(if emphasis {
-                    Color32::TRANSPARENT
-                } else {
-                    fill.unwrap_or(Color32::TRANSPARENT)
-                })
-                .style(line)
-                .allow_hover(false)
-                .id(id);
-            plot_ui.polygon(poly);
-        }
-        Shape::Wedge {
-            apex,
-            heading_rad,
-            half_angle_rad,
-            radius_m,
-        } => {
-            let mut pts = vec![pt(apex)];
-            const N: usize = 16;
-            for i in 0..=N {
-                let a = heading_rad - half_angle_rad + 2.0 * half_angle_rad * i as f64 / N as f64;
-                pts.push([
-                    (apex.x + radius_m * a.cos()) * s,
-                    (apex.y + radius_m * a.sin()) * s,
-                ]);
-            }
-            let poly = Polygon::new("", PlotPoints::new(pts))
-                .stroke(Stroke::new(width, stroke_colour))
-                .fill_color(if emphasis {
-                    Color32::TRANSPARENT
-                } else {
-                    fill.unwrap_or(Color32::TRANSPARENT)
-                })
-                .allow_hover(false)
-                .id(id);
-            plot_ui.polygon(poly);
-        }
-        Shape::Segment { a, b } => {
-            let l = Line::new("", PlotPoints::new(vec![pt(a), pt(b)]))
-                .color(stroke_colour)
-                .width(width)
-                .style(line)
-                .allow_hover(false)
-                .id(id);
-            plot_ui.line(l);
-        }
-        Shape::Polyline { points, closed } => {
-            let mut pts: Vec<[f64; 2]> = points.iter().map(pt).collect();
-            if *closed && points.len() > 2 {
-                pts.push(pt(&points[0]));
-            }
-            let l = Line::new("", PlotPoints::new(pts))
-                .color(stroke_colour)
-                .width(width)
-                .style(line)
-                .allow_hover(false)
-                .id(id);
-            plot_ui.line(l);
-        }
-        Shape::Marker { at, shape } => {
-            let c = if emphasis {
-                stroke_colour
-            } else if shape.is_open() {
-                style
-                    .stroke
-                    .or(style.fill)
-                    .map_or(Color32::GRAY, |c| colour(c, style.opacity))
-            } else {
-                fill.or(style.stroke.map(|c| colour(c, style.opacity)))
-                    .unwrap_or(Color32::GRAY)
-            };
-            let size = style.marker_size_px.max(3.0) + if emphasis { 6.0 } else { 0.0 };
-            let p = Points::new("", vec![pt(at)])
-                .shape(plot_marker(*shape))
-                .radius(size / 2.0)
-                .filled(!shape.is_open())
-                .color(c)
-                .allow_hover(false)
-                .id(id);
-            plot_ui.add(p);
-        }
-        Shape::Text {
-            anchor,
-            text,
-            offset_px,
-            align,
-        } => {
-            if emphasis {
-                return;
-            }
-            let at = PlotPoint::new(
-                (anchor.x + f64::from(offset_px[0]) * wpp) * s,
-                (anchor.y + f64::from(offset_px[1]) * wpp) * s,
-            );
-            let c = style
-                .fill
-                .or(style.stroke)
-                .map_or(Color32::GRAY, |c| colour(c, style.opacity));
-            let anchor = match align {
-                TextAlign::Start => Align2::LEFT_BOTTOM,
-                TextAlign::Middle => Align2::CENTER_BOTTOM,
-                TextAlign::End => Align2::RIGHT_BOTTOM,
-            };
-            let t = Text::new(
-                "",
-                at,
-                RichText::new(text)
-                    .size(style.marker_size_px.max(8.0))
-                    .color(c),
-            )
-            .anchor(anchor)
-            .allow_hover(false)
-            .id(id);
-            plot_ui.text(t);
-        }
-    }
-}
+pub use super::scene_item::colour;
 
 /// True when a primitive with id `id` belongs to the selection `selected`.
 pub fn is_selected(id: SceneId, selected: SceneId) -> bool {
@@ -317,7 +126,6 @@ pub fn map_view_ui(
     });
     let shift = ui.input(|i| i.modifiers.shift);
     let measuring = state.ruler_tool || shift;
-    let wpp = state.world_per_px();
     let request = state.request.take();
     let ruler = state.ruler_m;
     let x_units = units;
@@ -379,13 +187,13 @@ pub fn map_view_ui(
                 );
             }
         }
-        for (n, prim) in scene.primitives.iter().enumerate() {
-            draw_primitive(plot_ui, prim, n, s, wpp, false);
-        }
-        for (n, prim) in scene.primitives.iter().enumerate() {
-            if is_selected(prim.id, selected) {
-                draw_primitive(plot_ui, prim, n, s, wpp, true);
-            }
+        plot_ui.add(ScenePlotItem::new(scene, s));
+        let halo: Vec<usize> = (scene.primitives.iter().enumerate())
+            .filter(|(_, p)| is_selected(p.id, selected))
+            .map(|(n, _)| n)
+            .collect();
+        if !halo.is_empty() {
+            plot_ui.add(ScenePlotItem::halo(scene, s, halo));
         }
         if let Some((a, b)) = ruler {
             let c = Color32::from_rgb(0xd0, 0x20, 0x80);

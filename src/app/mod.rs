@@ -5,18 +5,21 @@
 //! egui_plot, hover, selection, ruler), `timeline`, `inspector` (the selection's trace),
 //! `decisions` (this snapshot's decisions, marked where they differ from a pinned baseline),
 //! `layers` (layer switches and legend), `params_panel` (live parameters, presets, A/B pin),
-//! `bookmarks`, `menu`.
+//! `bookmarks`, `menu`, `headless` (the map view without a window, for `bench`), `scene_item` (the scene as one plot
+//! item).
 
 #[allow(clippy::module_inception)]
 mod app;
 mod bookmarks;
 mod command;
 mod decisions;
+mod headless;
 mod inspector;
 mod layers;
 mod map_view;
 mod menu;
 mod params_panel;
+mod scene_item;
 mod timeline;
 
 pub use app::{
@@ -25,6 +28,7 @@ pub use app::{
 };
 pub use command::Command;
 pub use decisions::decision_row_text;
+pub use headless::{FrameStats, HeadlessMapView};
 pub use inspector::{outcome_name, CompareState};
 pub use map_view::{MapViewState, ViewRequest};
 pub use params_panel::{format_number, ParamsPanelState};
