@@ -119,8 +119,14 @@ fn time_engine(run: &Run, params: &Params, trace: bool) -> (f64, f64, f64) {
     (start.elapsed().as_secs_f64(), first, last)
 }
 
-/// Measures everything on `run` (`repeats` runs each; the median is reported).
-pub fn bench(run: &Run, params: &Params, repeats: usize) -> BenchReport {
+/// Measures everything on `run` (`repeats` runs each; the median is reported), the replay
+/// keeping a checkpoint every `checkpoint_interval` snapshots.
+pub fn bench(
+    run: &Run,
+    params: &Params,
+    repeats: usize,
+    checkpoint_interval: usize,
+) -> BenchReport {
     let repeats = repeats.max(1);
     let n = run.snapshots.len();
     let mut off = Vec::new();
@@ -145,7 +151,13 @@ pub fn bench(run: &Run, params: &Params, repeats: usize) -> BenchReport {
         drop(loaded);
     }
     let before = alloc_count::live_bytes();
-    let replay = Replay::new(Arc::new(run.clone()), params.clone());
+    let replay = Replay::build(
+        Arc::new(run.clone()),
+        params.clone(),
+        checkpoint_interval,
+        &mut |_| true,
+    )
+    .expect("never cancelled");
     let checkpoint_bytes = alloc_count::live_bytes().saturating_sub(before);
     let interval = replay.checkpoint_interval();
     // Seek to snapshots spread over the run, each the worst place after a checkpoint.

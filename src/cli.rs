@@ -31,7 +31,7 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Run the mapper over a log and write the map and the trace.
+    /// Run the mapper over one log or several (in parallel) and write the maps and traces.
     Run(RunArgs),
     /// Make a run log from a floor plan with the sonar simulator.
     Simulate(SimulateArgs),
@@ -40,7 +40,7 @@ pub enum Command {
     Eval(EvalArgs),
     /// Convert a recording (Player/Stage log, ROS 2 MCAP, table) to a run log.
     Convert(crate::convert::ConvertArgs),
-    /// Measure the engine, loading, seeking and scene building; prints one JSON object.
+    /// Measure the engine, loading, seeking and drawing; prints one JSON object per log.
     Bench(BenchArgs),
     /// Compare the decisions of two parameter sets (A and B) on one log; prints one JSON object.
     #[command(long_about = DIFF_HELP)]
@@ -69,9 +69,19 @@ pub struct DiffArgs {
 
 /// `bench` options.
 #[derive(Debug, Args)]
+#[command(
+    after_help = "With no log, a building floor is generated with the simulator and driven \
+back and forth (--snapshots). With one log, one JSON object (pretty-printed); with several, one \
+JSON object per line (JSON Lines) in the order given, each with a `log` key, measured one after \
+another so that no two timings share a core.
+
+The cost of a snapshot depends on the preset: the paper keeps every refit piece, so on a run that \
+revisits its walls the map, and each snapshot's cost, keeps growing (see README, Long runs); \
+`--preset extended` (or a params file with \"merge_duplicates\": true) fuses the duplicates."
+)]
 pub struct BenchArgs {
-    /// The run log to measure (default: a generated building floor, driven back and forth).
-    pub log: Option<PathBuf>,
+    /// The run logs to measure (default: a generated building floor, driven back and forth).
+    pub logs: Vec<PathBuf>,
     /// Snapshots of the generated run.
     #[arg(long, default_value_t = 100_000)]
     pub snapshots: usize,
@@ -81,6 +91,9 @@ pub struct BenchArgs {
     /// Runs of each measurement (the median is printed).
     #[arg(long, default_value_t = 3)]
     pub repeats: usize,
+    /// Snapshots between the replay's checkpoints (default: the inspector's).
+    #[arg(long, default_value_t = sonarmap::replay::DEFAULT_CHECKPOINT_INTERVAL)]
+    pub checkpoint_interval: usize,
     /// Mapping parameters.
     #[command(flatten)]
     pub params: ParamArgs,
@@ -129,24 +142,39 @@ pub struct ParamArgs {
 
 /// `sonarmap run`.
 #[derive(Debug, Args)]
+#[command(
+    after_help = "Several logs run in parallel on all cores; each prints its summary line \
+prefixed by its path, in the order given. A log that fails prints its error on stderr and the \
+others go on; the exit code is then 2. With several logs the outputs go to --out-dir: for a log \
+LOG/stem.json (or any other extension) the map is DIR/stem.map.json, the SVG DIR/stem.svg and, \
+with --trace, the trace DIR/stem.trace.json. Two logs with the same stem are refused before any \
+work."
+)]
 pub struct RunArgs {
-    /// The run log.
-    pub log: PathBuf,
+    /// The run logs.
+    #[arg(required = true, num_args = 1..)]
+    pub logs: Vec<PathBuf>,
     /// Mapping parameters.
     #[command(flatten)]
     pub params: ParamArgs,
     /// Apply snapshots 0..=N only (default: all).
     #[arg(long, value_name = "N")]
     pub until: Option<usize>,
-    /// Write the map here (`sonarmap-map` v1, the log's units).
+    /// Write the map here (`sonarmap-map` v1, the log's units); one log only.
     #[arg(long, value_name = "M.json")]
     pub out_map: Option<PathBuf>,
-    /// Write the step traces here (JSON, metres).
+    /// Write the step traces here (JSON, metres); one log only.
     #[arg(long, value_name = "T.json")]
     pub out_trace: Option<PathBuf>,
-    /// Write an SVG of the map here.
+    /// Write an SVG of the map here; one log only.
     #[arg(long, value_name = "V.svg")]
     pub svg: Option<PathBuf>,
+    /// Write every log's map and SVG (and trace, with --trace) into this directory.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["out_map", "out_trace", "svg"])]
+    pub out_dir: Option<PathBuf>,
+    /// With --out-dir: also write each log's trace.
+    #[arg(long, requires = "out_dir")]
+    pub trace: bool,
 }
 
 /// `sonarmap simulate`.
@@ -315,18 +343,148 @@ impl std::fmt::Display for Summary {
     }
 }
 
+/// Where one log's outputs go.
+#[derive(Clone, Debug, Default)]
+struct RunOutputs {
+    map: Option<PathBuf>,
+    trace: Option<PathBuf>,
+    svg: Option<PathBuf>,
+}
+
 fn run_command(args: &RunArgs) -> Result<()> {
-    let run = read_run(&args.log)?;
     let params = read_params(&args.params)?;
-    let params_for_svg = params.clone();
-    let (mapper, traces, summary) = map_run(&run, params, args.until, args.out_trace.is_some())?;
-    if let Some(path) = &args.out_map {
+    let outputs: Vec<RunOutputs> = match &args.out_dir {
+        None if args.logs.len() > 1
+            && (args.out_map.is_some() || args.out_trace.is_some() || args.svg.is_some()) =>
+        {
+            bail!("with several logs, write the outputs with --out-dir DIR")
+        }
+        None => vec![
+            RunOutputs {
+                map: args.out_map.clone(),
+                trace: args.out_trace.clone(),
+                svg: args.svg.clone(),
+            };
+            args.logs.len()
+        ],
+        Some(dir) => {
+            let stems: Vec<String> = args
+                .logs
+                .iter()
+                .map(|p| log_stem(p))
+                .collect::<Result<_>>()?;
+            for (i, stem) in stems.iter().enumerate() {
+                if let Some(j) = stems[..i].iter().position(|s| s == stem) {
+                    bail!(
+                        "{} and {} would both write {}/{stem}.*: rename one",
+                        args.logs[j].display(),
+                        args.logs[i].display(),
+                        dir.display()
+                    );
+                }
+            }
+            std::fs::create_dir_all(dir)
+                .with_context(|| format!("cannot create {}", dir.display()))?;
+            stems
+                .iter()
+                .map(|stem| RunOutputs {
+                    map: Some(dir.join(format!("{stem}.map.json"))),
+                    trace: args.trace.then(|| dir.join(format!("{stem}.trace.json"))),
+                    svg: Some(dir.join(format!("{stem}.svg"))),
+                })
+                .collect()
+        }
+    };
+    if args.logs.len() == 1 {
+        let summary = run_one(&args.logs[0], &params, args.until, &outputs[0])?;
+        return emit(&summary);
+    }
+    let results = parallel_map(args.logs.len(), |i| {
+        run_one(&args.logs[i], &params, args.until, &outputs[i])
+    });
+    let mut failed = 0;
+    for (path, result) in args.logs.iter().zip(results) {
+        match result {
+            Ok(summary) => emit(&format!("{}: {summary}", path.display()))?,
+            Err(e) => {
+                failed += 1;
+                report_failure(path, &e);
+            }
+        }
+    }
+    if failed > 0 {
+        bail!("{failed} of {} logs failed", args.logs.len());
+    }
+    Ok(())
+}
+
+/// Prints a failed log's error on stderr, naming the log unless the error already does.
+fn report_failure(path: &Path, e: &anyhow::Error) {
+    let message = format!("{e:#}");
+    let name = path.display().to_string();
+    if message.contains(&name) {
+        eprintln!("{message}");
+    } else {
+        eprintln!("{name}: {message}");
+    }
+}
+
+/// The file name of `path` up to its first dot (`runs/hall.log.json` → `hall`).
+fn log_stem(path: &Path) -> Result<String> {
+    let name = path
+        .file_name()
+        .and_then(|n| n.to_str())
+        .with_context(|| format!("{} has no usable file name", path.display()))?;
+    let stem = name
+        .split('.')
+        .next()
+        .filter(|s| !s.is_empty())
+        .unwrap_or(name);
+    Ok(stem.to_owned())
+}
+
+/// `f(0)`, …, `f(n - 1)` on all cores (a shared queue; results in index order).
+fn parallel_map<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
+    let workers = std::thread::available_parallelism()
+        .map_or(1, |c| c.get())
+        .min(n)
+        .max(1);
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let slots: Vec<std::sync::Mutex<Option<T>>> =
+        (0..n).map(|_| std::sync::Mutex::new(None)).collect();
+    std::thread::scope(|scope| {
+        for _ in 0..workers {
+            scope.spawn(|| loop {
+                let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                if i >= n {
+                    break;
+                }
+                let value = f(i);
+                *slots[i].lock().unwrap_or_else(|e| e.into_inner()) = Some(value);
+            });
+        }
+    });
+    slots
+        .into_iter()
+        .map(|m| {
+            m.into_inner()
+                .unwrap_or_else(|e| e.into_inner())
+                .expect("every index ran")
+        })
+        .collect()
+}
+
+/// Maps one log and writes what `out` asks; returns its summary line.
+fn run_one(path: &Path, params: &Params, until: Option<usize>, out: &RunOutputs) -> Result<String> {
+    let run = read_run(path)?;
+    let (mapper, traces, summary) = map_run(&run, params.clone(), until, out.trace.is_some())?;
+    if let Some(path) = &out.map {
         write_atomic(
             path,
             &save_map(mapper.map(), run.units, summary.snapshots - 1),
         )?;
     }
-    if let Some(path) = &args.out_trace {
+    if let Some(path) = &out.trace {
         #[derive(serde::Serialize)]
         struct TraceFile<'a> {
             format: &'static str,
@@ -342,14 +500,10 @@ fn run_command(args: &RunArgs) -> Result<()> {
         };
         write_atomic(path, &serde_json::to_string(&file)?)?;
     }
-    if let Some(path) = &args.svg {
-        write_atomic(
-            path,
-            &paper_figure_svg(&run, &params_for_svg, summary.snapshots - 1),
-        )?;
+    if let Some(path) = &out.svg {
+        write_atomic(path, &paper_figure_svg(&run, params, summary.snapshots - 1))?;
     }
-    emit(&summary.to_string())?;
-    Ok(())
+    Ok(summary.to_string())
 }
 
 /// The layers of a paper figure: ground truth, both snapshots' points, balls, fitted and map
@@ -437,19 +591,53 @@ pub fn execute(command: &Command) -> Result<()> {
 }
 
 fn bench_command(args: &BenchArgs) -> Result<()> {
-    let run = match &args.log {
-        Some(path) => read_run(path)?,
-        None => sonarmap::bench::building_run(args.snapshots, 1),
-    };
-    if run.snapshots.is_empty() {
-        bail!("the run has no snapshot to measure");
-    }
-    if let Some(path) = &args.write_log {
-        write_atomic(path, &save_run(&run))?;
-    }
     let params = read_params(&args.params)?;
-    let report = sonarmap::bench::bench(&run, &params, args.repeats);
-    emit(&serde_json::to_string_pretty(&report)?)?;
+    let measure = |run: &Run| -> Result<sonarmap::bench::BenchReport> {
+        if run.snapshots.is_empty() {
+            bail!("the run has no snapshot to measure");
+        }
+        Ok(sonarmap::bench::bench(
+            run,
+            &params,
+            args.repeats,
+            args.checkpoint_interval,
+        ))
+    };
+    if args.logs.len() <= 1 {
+        let run = match args.logs.first() {
+            Some(path) => read_run(path)?,
+            None => sonarmap::bench::building_run(args.snapshots, 1),
+        };
+        if let Some(path) = &args.write_log {
+            write_atomic(path, &save_run(&run))?;
+        }
+        return emit(&serde_json::to_string_pretty(&measure(&run)?)?);
+    }
+    if args.write_log.is_some() {
+        bail!("--write-log writes the generated run: give no log with it");
+    }
+    #[derive(serde::Serialize)]
+    struct Line<'a> {
+        log: String,
+        #[serde(flatten)]
+        report: &'a sonarmap::bench::BenchReport,
+    }
+    let mut failed = 0;
+    for path in &args.logs {
+        match read_run(path).and_then(|run| measure(&run)) {
+            Ok(report) => emit(&serde_json::to_string(&Line {
+                log: path.display().to_string(),
+                report: &report,
+            })?)?,
+            Err(e) => {
+                failed += 1;
+                report_failure(path, &e);
+            }
+        }
+    }
+    if failed > 0 {
+        bail!("{failed} of {} logs failed", args.logs.len());
+    }
     Ok(())
 }
 

@@ -51,11 +51,15 @@ impl HeadlessMapView {
             ..Default::default()
         };
         let state = &mut self.state;
-        let output = self.ctx.run_ui(input, |ui| {
+        let mut output = self.ctx.run_ui(input, |ui| {
             map_view_ui(ui, scene, units, state, SceneId::None, &|_| None, None);
         });
-        let shapes = output.shapes.len();
-        let meshes = self.ctx.tessellate(output.shapes, output.pixels_per_point);
+        let clipped = std::mem::take(&mut output.shapes);
+        let pixels_per_point = output.pixels_per_point;
+        // No renderer holds textures here: the font atlas updates are dropped.
+        output.drop_without_applying_deltas();
+        let shapes = clipped.len();
+        let meshes = self.ctx.tessellate(clipped, pixels_per_point);
         let vertices = meshes
             .iter()
             .map(|m| match &m.primitive {

@@ -333,3 +333,97 @@ fn diff_reports_a_match_that_becomes_a_new_face() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["decisions"], serde_json::json!([]));
 }
+
+#[test]
+fn run_sweeps_several_logs_into_out_dir_and_reports_a_bad_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let bad = dir.path().join("broken.json");
+    std::fs::write(&bad, "{\"format\": \"sonarmap-log\", \"version\": 1").unwrap();
+    let blue = assets("blue_room.log.json");
+    let tight = assets("tight_room.log.json");
+    let args = [
+        blue.to_str().unwrap(),
+        bad.to_str().unwrap(),
+        tight.to_str().unwrap(),
+        "--out-dir",
+        out.to_str().unwrap(),
+        "--trace",
+    ];
+    let result = sonarmap(&[&["run"], &args[..]].concat());
+    assert_eq!(result.status.code(), Some(2));
+    let err = text(&result.stderr);
+    assert!(
+        err.contains("broken.json") && err.contains("1 of 3 logs failed"),
+        "{err}"
+    );
+    // The good logs' summaries, in the order given, each named by its log.
+    let lines: Vec<String> = text(&result.stdout).lines().map(str::to_owned).collect();
+    assert_eq!(lines.len(), 2, "{lines:?}");
+    assert!(lines[0].starts_with(blue.to_str().unwrap()) && lines[0].contains("segments 2"));
+    assert!(lines[1].starts_with(tight.to_str().unwrap()));
+    for name in ["blue_room", "tight_room"] {
+        for ext in ["map.json", "trace.json", "svg"] {
+            let path = out.join(format!("{name}.{ext}"));
+            assert!(path.is_file(), "{} missing", path.display());
+        }
+    }
+    let names: Vec<_> = std::fs::read_dir(&out).unwrap().collect();
+    assert_eq!(names.len(), 6, "no broken.* and no temporary file");
+}
+
+#[test]
+fn run_refuses_two_logs_with_one_stem_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let other = dir.path().join("blue_room.json");
+    std::fs::copy(assets("blue_room.log.json"), &other).unwrap();
+    let out = dir.path().join("out");
+    check_fails(
+        &[
+            "run",
+            assets("blue_room.log.json").to_str().unwrap(),
+            other.to_str().unwrap(),
+            "--out-dir",
+            out.to_str().unwrap(),
+        ],
+        &["blue_room.json", "blue_room.*"],
+    );
+    assert!(!out.exists(), "nothing was written");
+    // Single-file outputs need one log.
+    check_fails(
+        &[
+            "run",
+            assets("blue_room.log.json").to_str().unwrap(),
+            assets("tight_room.log.json").to_str().unwrap(),
+            "--out-map",
+            dir.path().join("m.json").to_str().unwrap(),
+        ],
+        &["--out-dir"],
+    );
+}
+
+#[test]
+fn bench_over_several_logs_prints_one_json_line_each() {
+    let blue = assets("blue_room.log.json");
+    let tight = assets("tight_room.log.json");
+    let out = sonarmap(&[
+        "bench",
+        blue.to_str().unwrap(),
+        tight.to_str().unwrap(),
+        "--repeats",
+        "1",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let lines: Vec<serde_json::Value> = text(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("one JSON object a line"))
+        .collect();
+    assert_eq!(lines.len(), 2);
+    assert_eq!(lines[0]["log"], blue.to_str().unwrap());
+    assert_eq!(lines[1]["log"], tight.to_str().unwrap());
+    for l in &lines {
+        assert_eq!(l["snapshots"], 2);
+        assert!(l["frame_ms_median"].as_f64().unwrap() > 0.0);
+        assert!(l["frame_vertices_max"].as_u64().unwrap() > 0);
+    }
+}
