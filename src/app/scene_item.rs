@@ -110,7 +110,7 @@ fn paint(
                 .stroke
                 .map_or(Color32::TRANSPARENT, |c| colour(c, style.opacity)),
             style.stroke_width_px,
-            &style.dash_px,
+            style.dash_px,
         )
     };
     let fill = if halo {
