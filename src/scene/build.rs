@@ -2,6 +2,7 @@
 //! every frame in the app. Each layer is built only when it is switched on, and in drawing
 //! order, so the output needs no sorting.
 
+use super::declutter::Declutter;
 use super::layer::{Layer, LayerSet};
 use super::primitive::{MarkerShape, Primitive, SceneId, Shape, TextAlign};
 use super::style::{decision_marker, palette, Role};
@@ -181,7 +182,19 @@ impl Builder<'_, '_> {
     }
 
     fn map_before(&mut self) {
+        // Under the map after the step, an unchanged segment is hidden by itself: with the map
+        // layer on, only what the step moved or removed is drawn.
+        let only_changed = self.options.layers.contains(Layer::Map);
+        let after = &self.input.map_after;
         for s in &self.input.map_before.segments {
+            if only_changed {
+                let same = after
+                    .segment(s.id)
+                    .is_some_and(|t| t.a.point == s.a.point && t.b.point == s.b.point);
+                if same {
+                    continue;
+                }
+            }
             let shape = Shape::Segment {
                 a: s.a.point,
                 b: s.b.point,
@@ -360,6 +373,8 @@ impl Builder<'_, '_> {
 
     fn map_after(&mut self) {
         let min_len_m = self.px(6.0);
+        // End-point dots closer than 3 px to one already drawn add nothing at this zoom.
+        let mut dots = Declutter::new(self.options.world_per_px, 3.0, 3.0);
         for s in &self.input.map_after.segments {
             let id = SceneId::MapSegment(s.id);
             let role = match s.kind {
@@ -377,6 +392,9 @@ impl Builder<'_, '_> {
             );
             if s.kind == SegmentKind::Fitted && s.length() >= min_len_m {
                 for at in [s.a.point, s.b.point] {
+                    if !dots.claim(&at) {
+                        continue;
+                    }
                     self.push(
                         Layer::Map,
                         Role::MapEndPoint,
@@ -620,8 +638,10 @@ impl Builder<'_, '_> {
 
     fn labels(&mut self) {
         let min_len_m = self.px(12.0);
+        // One map label per label-sized patch of screen: overlapping labels cannot be read.
+        let mut patches = Declutter::new(self.options.world_per_px, 40.0, 14.0);
         for s in &self.input.map_after.segments {
-            if s.length() < min_len_m {
+            if s.length() < min_len_m || !patches.claim(&s.mid()) {
                 continue;
             }
             let shape = Shape::Text {

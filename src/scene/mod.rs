@@ -9,6 +9,7 @@
 //! World coordinates are metres with y up; renderers flip y.
 
 mod build;
+mod declutter;
 mod layer;
 mod primitive;
 mod query;

@@ -445,3 +445,55 @@ fn level_of_detail_drops_sub_pixel_balls() {
         2
     );
 }
+
+#[test]
+fn map_before_shows_only_what_the_step_changed_under_the_map() {
+    let mut f = fixture();
+    // Segment 0 moved this step; segment 7 did not.
+    let still = seg(7, (-1.0, -1.0), (-1.0, 1.0));
+    f.before = Map::from_segments(vec![seg(0, (1.45, -0.3), (1.45, 0.3)), still.clone()]);
+    f.after = Map::from_segments(vec![seg(0, (1.5, -0.4), (1.5, 0.4)), still]);
+    let ids = |s: &Scene| -> Vec<SceneId> { s.layer(Layer::MapBefore).map(|p| p.id).collect() };
+    let scene = build(&f, &ViewOptions::all(), true);
+    assert_eq!(ids(&scene), vec![SceneId::MapSegment(0)]);
+    // Without the map on top, the whole map before is drawn.
+    let scene = build(&f, &ViewOptions::all().with_layer(Layer::Map, false), true);
+    assert_eq!(
+        ids(&scene),
+        vec![SceneId::MapSegment(0), SceneId::MapSegment(7)]
+    );
+}
+
+#[test]
+fn zoomed_out_end_point_dots_and_labels_do_not_pile_up() {
+    let mut f = fixture();
+    // Fifty copies of one wall, 0.2 mm apart.
+    f.after = Map::from_segments(
+        (0..50)
+            .map(|i| seg(i, (1.0 + 0.0002 * f64::from(i), -1.0), (1.0, 1.0)))
+            .collect(),
+    );
+    let zoomed_out = ViewOptions {
+        world_per_px: 0.01,
+        ..ViewOptions::all()
+    };
+    let scene = build(&f, &zoomed_out, true);
+    let dots = scene
+        .layer(Layer::Map)
+        .filter(|p| p.role == Role::MapEndPoint)
+        .count();
+    assert_eq!(dots, 2, "one dot per end at 1 cm per pixel");
+    let labels = scene
+        .layer(Layer::Labels)
+        .filter(|p| matches!(p.id, SceneId::MapSegment(_)))
+        .count();
+    assert_eq!(labels, 1);
+    let close_up = build(&f, &ViewOptions::all(), true);
+    assert_eq!(
+        close_up
+            .layer(Layer::Map)
+            .filter(|p| p.role == Role::MapEndPoint)
+            .count(),
+        100
+    );
+}
