@@ -231,11 +231,16 @@ impl Map {
 
     /// True when segment `id` holds an outermost end-point of its face (first or last in it).
     pub fn is_outermost(&self, id: SegmentId) -> bool {
-        let Some(seg) = self.segment(id) else {
-            return false;
-        };
+        self.segment(id)
+            .is_some_and(|seg| self.is_outermost_segment(seg))
+    }
+
+    /// [`Map::is_outermost`] for a segment at hand.
+    pub fn is_outermost_segment(&self, seg: &Segment) -> bool {
         match self.face(seg.face) {
-            Some(face) => face.segments.first() == Some(&id) || face.segments.last() == Some(&id),
+            Some(face) => {
+                face.segments.first() == Some(&seg.id) || face.segments.last() == Some(&seg.id)
+            }
             None => true,
         }
     }

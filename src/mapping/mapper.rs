@@ -130,7 +130,7 @@ impl Mapper {
                 .map(|s| Candidate {
                     id: s.id,
                     ends: SegmentEnds { a: s.a, b: s.b },
-                    outermost: self.map.is_outermost(s.id),
+                    outermost: self.map.is_outermost_segment(s),
                 }),
         );
         self.scratch_ids = ids;
