@@ -373,9 +373,14 @@ impl Builder<'_, '_> {
 
     fn map_after(&mut self) {
         let min_len_m = self.px(6.0);
-        // End-point dots closer than 3 px to one already drawn add nothing at this zoom.
+        // End-point dots in a 3 px cell that already has one add nothing at this zoom.
         let mut dots = Declutter::new(self.options.world_per_px, 3.0, 3.0);
+        // A segment whose ends fall within 2 px of one already drawn looks the same.
+        let mut lines = Declutter::new(self.options.world_per_px, 2.0, 2.0);
         for s in &self.input.map_after.segments {
+            if !lines.claim_line(&s.a.point, &s.b.point) {
+                continue;
+            }
             let id = SceneId::MapSegment(s.id);
             let role = match s.kind {
                 SegmentKind::Fitted => Role::MapFitted,

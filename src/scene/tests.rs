@@ -465,7 +465,7 @@ fn map_before_shows_only_what_the_step_changed_under_the_map() {
 }
 
 #[test]
-fn zoomed_out_end_point_dots_and_labels_do_not_pile_up() {
+fn zoomed_out_copies_of_a_segment_its_dots_and_labels_are_drawn_once() {
     let mut f = fixture();
     // Fifty copies of one wall, 0.2 mm apart.
     f.after = Map::from_segments(
@@ -483,6 +483,11 @@ fn zoomed_out_end_point_dots_and_labels_do_not_pile_up() {
         .filter(|p| p.role == Role::MapEndPoint)
         .count();
     assert_eq!(dots, 2, "one dot per end at 1 cm per pixel");
+    let lines = scene
+        .layer(Layer::Map)
+        .filter(|p| p.role == Role::MapFitted)
+        .count();
+    assert_eq!(lines, 1, "the copies coincide on screen");
     let labels = scene
         .layer(Layer::Labels)
         .filter(|p| matches!(p.id, SceneId::MapSegment(_)))
