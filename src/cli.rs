@@ -400,12 +400,23 @@ fn run_command(args: &RunArgs) -> Result<()> {
         return emit(&summary);
     }
     let results = parallel_map(args.logs.len(), |i| {
-        run_one(&args.logs[i], &params, args.until, &outputs[i])
+        // A bug that panics on one log must not take the sweep's other results with it.
+        let one = || run_one(&args.logs[i], &params, args.until, &outputs[i]);
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(one))
+            .unwrap_or_else(|_| Err(anyhow::anyhow!("the mapper panicked on this log")))
+            .map(|summary| format!("{}: {summary}", args.logs[i].display()))
     });
-    let mut failed = 0;
-    for (path, result) in args.logs.iter().zip(results) {
+    emit_each(args.logs.iter().map(PathBuf::as_path).zip(results))
+}
+
+/// Prints each log's line on stdout, or its error on stderr, in order; fails (exit 2) when
+/// any log failed, after all were reported.
+fn emit_each<'a>(results: impl Iterator<Item = (&'a Path, Result<String>)>) -> Result<()> {
+    let (mut total, mut failed) = (0, 0);
+    for (path, result) in results {
+        total += 1;
         match result {
-            Ok(summary) => emit(&format!("{}: {summary}", path.display()))?,
+            Ok(line) => emit(&line)?,
             Err(e) => {
                 failed += 1;
                 report_failure(path, &e);
@@ -413,7 +424,7 @@ fn run_command(args: &RunArgs) -> Result<()> {
         }
     }
     if failed > 0 {
-        bail!("{failed} of {} logs failed", args.logs.len());
+        bail!("{failed} of {total} logs failed");
     }
     Ok(())
 }
@@ -622,23 +633,18 @@ fn bench_command(args: &BenchArgs) -> Result<()> {
         #[serde(flatten)]
         report: &'a sonarmap::bench::BenchReport,
     }
-    let mut failed = 0;
-    for path in &args.logs {
-        match read_run(path).and_then(|run| measure(&run)) {
-            Ok(report) => emit(&serde_json::to_string(&Line {
-                log: path.display().to_string(),
-                report: &report,
-            })?)?,
-            Err(e) => {
-                failed += 1;
-                report_failure(path, &e);
-            }
-        }
-    }
-    if failed > 0 {
-        bail!("{failed} of {} logs failed", args.logs.len());
-    }
-    Ok(())
+    // One after another: timings must not share a core.
+    emit_each(args.logs.iter().map(|path| {
+        let line = read_run(path)
+            .and_then(|run| measure(&run))
+            .and_then(|report| {
+                Ok(serde_json::to_string(&Line {
+                    log: path.display().to_string(),
+                    report: &report,
+                })?)
+            });
+        (path.as_path(), line)
+    }))
 }
 
 fn diff_command(args: &DiffArgs) -> Result<()> {

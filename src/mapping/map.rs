@@ -350,6 +350,21 @@ impl Map {
         self.index.query_into(&(p - r), &(p + r), out);
     }
 
+    /// Ids of the segments that may come within `reach_m` of the segment `a`–`b` (their boxes
+    /// meet its box widened by `reach_m`; a superset), in no particular order, into `out`.
+    pub fn segments_along_into(
+        &self,
+        a: &Point,
+        b: &Point,
+        reach_m: f64,
+        out: &mut Vec<SegmentId>,
+    ) {
+        let widen = nalgebra::Vector2::new(reach_m, reach_m);
+        let min = Point::new(a.x.min(b.x), a.y.min(b.y)) - widen;
+        let max = Point::new(a.x.max(b.x), a.y.max(b.y)) + widen;
+        self.segments_in_box_into(&min, &max, out);
+    }
+
     /// Ids of the segments whose bounding box may meet the box `[min, max]` (a superset), in no
     /// particular order, into `out` (cleared first). A non-finite box returns every segment.
     pub fn segments_in_box_into(&self, min: &Point, max: &Point, out: &mut Vec<SegmentId>) {

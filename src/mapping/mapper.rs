@@ -14,7 +14,7 @@ use super::trace::{
     UpdateTrace, Warning,
 };
 use super::update::{merge_support_points, update_extension, update_match, UpdateGeometry};
-use crate::geometry::{distance_to_line, projection_param, Point, Pose};
+use crate::geometry::{distance_to_line, projection_param, Pose};
 use crate::run::Snapshot;
 use crate::sonar::{SensorLayout, SensorSpec};
 use std::sync::Arc;
@@ -113,12 +113,9 @@ impl Mapper {
             (thr + h).max(containment) * (1.0 + 1e-9) + 1e-9
         };
         let radius_m = reach_m + (new.b.point - new.a.point).norm() / 2.0;
-        let widen = nalgebra::Vector2::new(reach_m, reach_m);
-        let (a, b) = (new.a.point, new.b.point);
-        let min = Point::new(a.x.min(b.x), a.y.min(b.y)) - widen;
-        let max = Point::new(a.x.max(b.x), a.y.max(b.y)) + widen;
         let mut ids = std::mem::take(&mut self.scratch_ids);
-        self.map.segments_in_box_into(&min, &max, &mut ids);
+        self.map
+            .segments_along_into(&new.a.point, &new.b.point, reach_m, &mut ids);
         let mut candidates = Vec::with_capacity(ids.len());
         candidates.extend(
             ids.iter()

@@ -17,7 +17,7 @@ use super::matching::{evaluate_pair, SegmentEnds};
 use super::params::Params;
 use super::trace::AbsorbTrace;
 use super::update::{merge_support_points, update_match};
-use crate::geometry::{distance_to_segment, Point};
+use crate::geometry::distance_to_segment;
 use std::sync::Arc;
 
 /// Fuses into segment `into` every fitted segment (other than `into` and `exclude`) that
@@ -60,10 +60,7 @@ fn absorb_one(
         * (1.0 + 1e-9)
         + 1e-9;
     let (a, b) = (existing.a.point, existing.b.point);
-    let widen = nalgebra::Vector2::new(reach_m, reach_m);
-    let min = Point::new(a.x.min(b.x), a.y.min(b.y)) - widen;
-    let max = Point::new(a.x.max(b.x), a.y.max(b.y)) + widen;
-    map.segments_in_box_into(&min, &max, scratch);
+    map.segments_along_into(&a, &b, reach_m, scratch);
     let mut near: Vec<(f64, SegmentId)> = Vec::new();
     for &id in scratch.iter() {
         if id == into || exclude.contains(&id) {

@@ -19,7 +19,7 @@ impl Declutter {
     pub fn new(world_per_px: f64, width_px: f64, height_px: f64) -> Self {
         let on = world_per_px > 0.0 && world_per_px.is_finite();
         Self {
-            cell_m: on.then(|| (world_per_px * width_px, world_per_px * height_px)),
+            cell_m: on.then_some((world_per_px * width_px, world_per_px * height_px)),
             taken: FxHashSet::default(),
             taken_pairs: FxHashSet::default(),
         }
