@@ -21,6 +21,8 @@ pub struct BenchReport {
     pub cores: usize,
     /// Snapshots in the benchmarked run.
     pub snapshots: usize,
+    /// The parameters measured (a `--params` file's fields, in metres and degrees).
+    pub params: crate::mapping::ParamsFile,
     /// Mapper steps per second with the trace off (median).
     pub engine_snapshots_per_s_trace_off: f64,
     /// Mapper steps per second with the full trace (median).
@@ -209,6 +211,7 @@ pub fn bench(
         svg_bytes_max = svg_bytes_max.max(svg.len());
     }
     BenchReport {
+        params: params.to_file(crate::units::Units::Metres),
         cores: std::thread::available_parallelism().map_or(1, |c| c.get()),
         snapshots: n,
         engine_snapshots_per_s_trace_off: median(off),

@@ -423,6 +423,7 @@ fn bench_over_several_logs_prints_one_json_line_each() {
     assert_eq!(lines[1]["log"], tight.to_str().unwrap());
     for l in &lines {
         assert_eq!(l["snapshots"], 2);
+        assert_eq!(l["params"]["merge_duplicates"], false, "the paper preset");
         assert!(l["frame_ms_median"].as_f64().unwrap() > 0.0);
         assert!(l["frame_vertices_max"].as_u64().unwrap() > 0);
     }
