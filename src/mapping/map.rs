@@ -149,6 +149,10 @@ pub struct Map {
     /// without it (lookups then search `segments`).
     #[serde(skip)]
     slot_of: Vec<u32>,
+    /// The ids of `faces`, in order, kept with the index (a search without following
+    /// pointers); left behind (and unused) when it no longer has one id per face.
+    #[serde(skip)]
+    face_ids: Vec<FaceId>,
 }
 
 /// Maps are equal when their contents are; the index is derived from them.
@@ -188,7 +192,17 @@ impl Map {
             }
             map.push_segment(s);
         }
+        map.face_ids = map.faces.iter().map(|f| f.id).collect();
         map
+    }
+
+    /// Position of face `id` in `faces`.
+    fn face_position(&self, id: FaceId) -> Option<usize> {
+        if self.face_ids.len() == self.faces.len() {
+            self.face_ids.binary_search(&id).ok()
+        } else {
+            self.faces.binary_search_by_key(&id, |f| f.id).ok()
+        }
     }
 
     /// Position of segment `id` in `segments`.
@@ -215,17 +229,12 @@ impl Map {
 
     /// The face with `id`.
     pub fn face(&self, id: FaceId) -> Option<&Face> {
-        self.faces
-            .binary_search_by_key(&id, |f| f.id)
-            .ok()
-            .map(|i| &*self.faces[i])
+        self.face_position(id).map(|i| &*self.faces[i])
     }
 
     /// The face with `id`, mutable.
     pub fn face_mut(&mut self, id: FaceId) -> Option<&mut Face> {
-        self.faces
-            .binary_search_by_key(&id, |f| f.id)
-            .ok()
+        self.face_position(id)
             .map(move |i| Arc::make_mut(&mut self.faces[i]))
     }
 
@@ -256,6 +265,9 @@ impl Map {
     pub(crate) fn new_face(&mut self) -> FaceId {
         let id = self.next_face_id;
         self.next_face_id += 1;
+        if self.face_ids.len() == self.faces.len() {
+            self.face_ids.push(id);
+        }
         self.faces.push(Arc::new(Face {
             id,
             segments: Vec::new(),
@@ -301,11 +313,14 @@ impl Map {
                 self.slot_of[s.id as usize] = slot as u32;
             }
         }
-        if let Ok(f) = self.faces.binary_search_by_key(&face, |f| f.id) {
+        if let Some(f) = self.face_position(face) {
             Arc::make_mut(&mut self.faces[f])
                 .segments
                 .retain(|&s| s != id);
             if self.faces[f].segments.is_empty() {
+                if self.face_ids.len() == self.faces.len() {
+                    self.face_ids.remove(f);
+                }
                 self.faces.remove(f);
             }
         }
@@ -388,6 +403,7 @@ impl Map {
             max_end_range_m: self.max_end_range_m,
             index: SegmentGrid::default(),
             slot_of: Vec::new(),
+            face_ids: Vec::new(),
         }
     }
 
@@ -395,6 +411,7 @@ impl Map {
     pub fn rebuild_index(&mut self) {
         self.index = SegmentGrid::default();
         self.slot_of.clear();
+        self.face_ids = self.faces.iter().map(|f| f.id).collect();
         for slot in 0..self.segments.len() {
             let s = Arc::clone(&self.segments[slot]);
             self.index.insert(s.id, &s.a.point, &s.b.point);

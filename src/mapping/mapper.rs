@@ -127,7 +127,6 @@ impl Mapper {
                 .map(|s| Candidate {
                     id: s.id,
                     ends: SegmentEnds { a: s.a, b: s.b },
-                    outermost: self.map.is_outermost_segment(s),
                 }),
         );
         self.scratch_ids = ids;
@@ -287,7 +286,8 @@ impl Mapper {
         let mut new_faces: Vec<FaceId> = Vec::new();
         for ((ni, seg), mut cands) in new_segments.iter().enumerate().zip(candidate_sets) {
             let ends = SegmentEnds { a: seg.a, b: seg.b };
-            let mut decision = decide(params, ni, &ends, &mut cands);
+            let map = &self.map;
+            let mut decision = decide(params, ni, &ends, &mut cands, &|id| map.is_outermost(id));
             match decision.outcome {
                 Outcome::Match | Outcome::Extension => {
                     let named = decision.existing.expect("a match names its segment");

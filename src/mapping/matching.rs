@@ -33,8 +33,6 @@ pub struct Candidate {
     pub id: SegmentId,
     /// Its geometry before this snapshot.
     pub ends: SegmentEnds,
-    /// Holds an outermost end-point of its face.
-    pub outermost: bool,
 }
 
 fn inside(t: f64) -> bool {
@@ -154,11 +152,15 @@ fn nearest_candidate(new: &SegmentEnds, candidates: &[Candidate]) -> Option<(f64
 /// order: the first pass is an EXTENSION. Otherwise, when some candidate fails only the
 /// orientation test (colinearity and MPC or EPC pass; containment does not count), the new
 /// segment is DISMISSED. Otherwise it is a NEW FACE.
+///
+/// `is_outermost(id)` tells whether a candidate holds an outermost end-point of its face; it is
+/// asked only for the candidates actually tested.
 pub fn decide(
     params: &Params,
     new_index: usize,
     new: &SegmentEnds,
     candidates: &mut [Candidate],
+    is_outermost: &dyn Fn(SegmentId) -> bool,
 ) -> DecisionTrace {
     // Most new segments match the nearest candidate: try it before ordering the rest (the
     // outcome and the trace are the same as with the full order).
@@ -174,7 +176,7 @@ pub fn decide(
                 new_segment: new_index,
                 mpc_stage: vec![CandidateTrace {
                     distance_m,
-                    outermost: c.outermost,
+                    outermost: is_outermost(c.id),
                     evaluation,
                 }],
                 epc_stage: Vec::new(),
@@ -209,7 +211,7 @@ pub fn decide(
         };
         decision.mpc_stage.push(CandidateTrace {
             distance_m,
-            outermost: c.outermost,
+            outermost: is_outermost(c.id),
             evaluation,
         });
         if is_match {
@@ -329,21 +331,21 @@ mod tests {
         assert!(!none.mpc && !none.epc && !none.containment);
     }
 
-    fn cand(id: SegmentId, e: SegmentEnds, outermost: bool) -> Candidate {
-        Candidate {
-            id,
-            ends: e,
-            outermost,
-        }
+    fn cand(id: SegmentId, e: SegmentEnds) -> Candidate {
+        Candidate { id, ends: e }
+    }
+
+    fn all_outermost(_: SegmentId) -> bool {
+        true
     }
 
     #[test]
     fn match_is_taken_nearest_first_and_extension_needs_an_outermost_segment() {
         let p = Params::paper();
         let n = ends(0.0, 0.0, 50.0, 10.0, 0.0, 50.0);
-        let far = cand(1, ends(-5.0, 1.0, 50.0, 15.0, 1.0, 50.0), true);
-        let near = cand(2, ends(-5.0, 0.1, 50.0, 15.0, 0.1, 50.0), true);
-        let d = decide(&p, 0, &n, &mut [far, near]);
+        let far = cand(1, ends(-5.0, 1.0, 50.0, 15.0, 1.0, 50.0));
+        let near = cand(2, ends(-5.0, 0.1, 50.0, 15.0, 0.1, 50.0));
+        let d = decide(&p, 0, &n, &mut [far, near], &all_outermost);
         assert_eq!(
             (d.outcome, d.rule, d.existing),
             (Outcome::Match, Rule::MidPointOverlap, Some(2))
@@ -351,11 +353,13 @@ mod tests {
         assert_eq!(d.mpc_stage.len(), 1, "the first pass ends the search");
 
         let partial = ends(8.0, 0.0, 50.0, 30.0, 0.0, 50.0);
-        let inner = cand(3, partial, false);
-        let d = decide(&p, 0, &n, &mut [inner]);
-        assert_eq!(d.outcome, Outcome::NewFace);
-        let outer = cand(3, partial, true);
-        let d = decide(&p, 0, &n, &mut [outer]);
+        let d = decide(&p, 0, &n, &mut [cand(3, partial)], &|_| false);
+        assert_eq!(
+            d.outcome,
+            Outcome::NewFace,
+            "an inner segment cannot be extended"
+        );
+        let d = decide(&p, 0, &n, &mut [cand(3, partial)], &all_outermost);
         assert_eq!(
             (d.outcome, d.rule, d.existing),
             (Outcome::Extension, Rule::EndPointOverlap, Some(3))
@@ -377,7 +381,7 @@ mod tests {
             2.0 * dir.sin(),
             50.0,
         );
-        let d = decide(&p, 0, &n, &mut [cand(7, e, true)]);
+        let d = decide(&p, 0, &n, &mut [cand(7, e)], &all_outermost);
         assert_eq!(
             (d.outcome, d.rule, d.existing),
             (Outcome::Dismissed, Rule::OrientationOnlyFailure, Some(7))
@@ -394,12 +398,12 @@ mod tests {
         let ev = evaluate_pair(&p, &n, 7, &e);
         assert!(!ev.overlap.mpc && !ev.overlap.epc && ev.overlap.containment);
         assert!(ev.colinearity.test.pass && !ev.orientation.pass);
-        let d = decide(&p, 0, &n, &mut [cand(7, e, true)]);
+        let d = decide(&p, 0, &n, &mut [cand(7, e)], &all_outermost);
         assert_eq!(
             (d.outcome, d.rule),
             (Outcome::NewFace, Rule::NoCandidatePassed)
         );
-        let d = decide(&p, 0, &n, &mut []);
+        let d = decide(&p, 0, &n, &mut [], &all_outermost);
         assert_eq!(d.rule, Rule::NoCandidates);
     }
 }
