@@ -127,6 +127,7 @@ impl Mapper {
                 .map(|s| Candidate {
                     id: s.id,
                     ends: SegmentEnds { a: s.a, b: s.b },
+                    outermost: None,
                 }),
         );
         self.scratch_ids = ids;
@@ -277,19 +278,30 @@ impl Mapper {
         }
 
         // §4 matching against the map as it stood before this snapshot, §5 updates.
-        let candidate_sets: Vec<Vec<Candidate>> = new_segments
+        let mut candidate_sets: Vec<Vec<Candidate>> = new_segments
             .iter()
             .map(|seg| self.candidates_for(&SegmentEnds { a: seg.a, b: seg.b }))
             .collect();
+        // Whether a candidate is outermost is asked of the live map, and only for the
+        // candidates tested, until an update first changes the map's faces; just before that,
+        // the answers for the candidates still to come are fixed as the map stood.
+        let mut faces_fixed = false;
         let mut face_of_source: Vec<(SegmentSource, FaceId)> = Vec::new();
         let mut absorbed_into: Vec<(SegmentId, SegmentId)> = Vec::new();
         let mut new_faces: Vec<FaceId> = Vec::new();
-        for ((ni, seg), mut cands) in new_segments.iter().enumerate().zip(candidate_sets) {
+        for (ni, seg) in new_segments.iter().enumerate() {
+            let mut cands = std::mem::take(&mut candidate_sets[ni]);
             let ends = SegmentEnds { a: seg.a, b: seg.b };
             let map = &self.map;
             let mut decision = decide(params, ni, &ends, &mut cands, &|id| map.is_outermost(id));
             match decision.outcome {
                 Outcome::Match | Outcome::Extension => {
+                    if !faces_fixed {
+                        for c in candidate_sets[ni + 1..].iter_mut().flatten() {
+                            c.outermost = Some(self.map.is_outermost(c.id));
+                        }
+                        faces_fixed = true;
+                    }
                     let named = decision.existing.expect("a match names its segment");
                     let evaluation = &decision
                         .mpc_stage

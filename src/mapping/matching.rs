@@ -33,6 +33,9 @@ pub struct Candidate {
     pub id: SegmentId,
     /// Its geometry before this snapshot.
     pub ends: SegmentEnds,
+    /// Holds an outermost end-point of its face, as the map stood before this snapshot: known
+    /// once the snapshot has changed the map, `None` while the live map still says it.
+    pub outermost: Option<bool>,
 }
 
 fn inside(t: f64) -> bool {
@@ -153,8 +156,8 @@ fn nearest_candidate(new: &SegmentEnds, candidates: &[Candidate]) -> Option<(f64
 /// orientation test (colinearity and MPC or EPC pass; containment does not count), the new
 /// segment is DISMISSED. Otherwise it is a NEW FACE.
 ///
-/// `is_outermost(id)` tells whether a candidate holds an outermost end-point of its face; it is
-/// asked only for the candidates actually tested.
+/// `is_outermost(id)` answers for candidates whose `outermost` is `None`; it is asked only for
+/// the candidates actually tested.
 pub fn decide(
     params: &Params,
     new_index: usize,
@@ -162,6 +165,7 @@ pub fn decide(
     candidates: &mut [Candidate],
     is_outermost: &dyn Fn(SegmentId) -> bool,
 ) -> DecisionTrace {
+    let outermost = |c: &Candidate| c.outermost.unwrap_or_else(|| is_outermost(c.id));
     // Most new segments match the nearest candidate: try it before ordering the rest (the
     // outcome and the trace are the same as with the full order).
     if let Some((distance_m, c)) = nearest_candidate(new, candidates) {
@@ -176,7 +180,7 @@ pub fn decide(
                 new_segment: new_index,
                 mpc_stage: vec![CandidateTrace {
                     distance_m,
-                    outermost: is_outermost(c.id),
+                    outermost: outermost(&c),
                     evaluation,
                 }],
                 epc_stage: Vec::new(),
@@ -211,7 +215,7 @@ pub fn decide(
         };
         decision.mpc_stage.push(CandidateTrace {
             distance_m,
-            outermost: is_outermost(c.id),
+            outermost: outermost(c),
             evaluation,
         });
         if is_match {
@@ -331,21 +335,26 @@ mod tests {
         assert!(!none.mpc && !none.epc && !none.containment);
     }
 
-    fn cand(id: SegmentId, e: SegmentEnds) -> Candidate {
-        Candidate { id, ends: e }
+    fn cand(id: SegmentId, e: SegmentEnds, outermost: bool) -> Candidate {
+        Candidate {
+            id,
+            ends: e,
+            outermost: Some(outermost),
+        }
     }
 
-    fn all_outermost(_: SegmentId) -> bool {
-        true
+    /// The candidates here carry their status; the map is never asked.
+    fn unasked(_: SegmentId) -> bool {
+        unreachable!("outermost is known")
     }
 
     #[test]
     fn match_is_taken_nearest_first_and_extension_needs_an_outermost_segment() {
         let p = Params::paper();
         let n = ends(0.0, 0.0, 50.0, 10.0, 0.0, 50.0);
-        let far = cand(1, ends(-5.0, 1.0, 50.0, 15.0, 1.0, 50.0));
-        let near = cand(2, ends(-5.0, 0.1, 50.0, 15.0, 0.1, 50.0));
-        let d = decide(&p, 0, &n, &mut [far, near], &all_outermost);
+        let far = cand(1, ends(-5.0, 1.0, 50.0, 15.0, 1.0, 50.0), true);
+        let near = cand(2, ends(-5.0, 0.1, 50.0, 15.0, 0.1, 50.0), true);
+        let d = decide(&p, 0, &n, &mut [far, near], &unasked);
         assert_eq!(
             (d.outcome, d.rule, d.existing),
             (Outcome::Match, Rule::MidPointOverlap, Some(2))
@@ -353,13 +362,11 @@ mod tests {
         assert_eq!(d.mpc_stage.len(), 1, "the first pass ends the search");
 
         let partial = ends(8.0, 0.0, 50.0, 30.0, 0.0, 50.0);
-        let d = decide(&p, 0, &n, &mut [cand(3, partial)], &|_| false);
-        assert_eq!(
-            d.outcome,
-            Outcome::NewFace,
-            "an inner segment cannot be extended"
-        );
-        let d = decide(&p, 0, &n, &mut [cand(3, partial)], &all_outermost);
+        let inner = cand(3, partial, false);
+        let d = decide(&p, 0, &n, &mut [inner], &unasked);
+        assert_eq!(d.outcome, Outcome::NewFace);
+        let outer = cand(3, partial, true);
+        let d = decide(&p, 0, &n, &mut [outer], &unasked);
         assert_eq!(
             (d.outcome, d.rule, d.existing),
             (Outcome::Extension, Rule::EndPointOverlap, Some(3))
@@ -381,7 +388,7 @@ mod tests {
             2.0 * dir.sin(),
             50.0,
         );
-        let d = decide(&p, 0, &n, &mut [cand(7, e)], &all_outermost);
+        let d = decide(&p, 0, &n, &mut [cand(7, e, true)], &unasked);
         assert_eq!(
             (d.outcome, d.rule, d.existing),
             (Outcome::Dismissed, Rule::OrientationOnlyFailure, Some(7))
@@ -398,12 +405,12 @@ mod tests {
         let ev = evaluate_pair(&p, &n, 7, &e);
         assert!(!ev.overlap.mpc && !ev.overlap.epc && ev.overlap.containment);
         assert!(ev.colinearity.test.pass && !ev.orientation.pass);
-        let d = decide(&p, 0, &n, &mut [cand(7, e)], &all_outermost);
+        let d = decide(&p, 0, &n, &mut [cand(7, e, true)], &unasked);
         assert_eq!(
             (d.outcome, d.rule),
             (Outcome::NewFace, Rule::NoCandidatePassed)
         );
-        let d = decide(&p, 0, &n, &mut [], &all_outermost);
+        let d = decide(&p, 0, &n, &mut [], &unasked);
         assert_eq!(d.rule, Rule::NoCandidates);
     }
 }
