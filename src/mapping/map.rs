@@ -149,10 +149,6 @@ pub struct Map {
     /// without it (lookups then search `segments`).
     #[serde(skip)]
     slot_of: Vec<u32>,
-    /// The ids of `faces`, in order, kept with the index (a search without following
-    /// pointers); left behind (and unused) when it no longer has one id per face.
-    #[serde(skip)]
-    face_ids: Vec<FaceId>,
 }
 
 /// Maps are equal when their contents are; the index is derived from them.
@@ -192,17 +188,12 @@ impl Map {
             }
             map.push_segment(s);
         }
-        map.face_ids = map.faces.iter().map(|f| f.id).collect();
         map
     }
 
     /// Position of face `id` in `faces`.
     fn face_position(&self, id: FaceId) -> Option<usize> {
-        if self.face_ids.len() == self.faces.len() {
-            self.face_ids.binary_search(&id).ok()
-        } else {
-            self.faces.binary_search_by_key(&id, |f| f.id).ok()
-        }
+        self.faces.binary_search_by_key(&id, |f| f.id).ok()
     }
 
     /// Position of segment `id` in `segments`.
@@ -265,9 +256,6 @@ impl Map {
     pub(crate) fn new_face(&mut self) -> FaceId {
         let id = self.next_face_id;
         self.next_face_id += 1;
-        if self.face_ids.len() == self.faces.len() {
-            self.face_ids.push(id);
-        }
         self.faces.push(Arc::new(Face {
             id,
             segments: Vec::new(),
@@ -318,9 +306,6 @@ impl Map {
                 .segments
                 .retain(|&s| s != id);
             if self.faces[f].segments.is_empty() {
-                if self.face_ids.len() == self.faces.len() {
-                    self.face_ids.remove(f);
-                }
                 self.faces.remove(f);
             }
         }
@@ -403,7 +388,6 @@ impl Map {
             max_end_range_m: self.max_end_range_m,
             index: SegmentGrid::default(),
             slot_of: Vec::new(),
-            face_ids: Vec::new(),
         }
     }
 
@@ -411,7 +395,6 @@ impl Map {
     pub fn rebuild_index(&mut self) {
         self.index = SegmentGrid::default();
         self.slot_of.clear();
-        self.face_ids = self.faces.iter().map(|f| f.id).collect();
         for slot in 0..self.segments.len() {
             let s = Arc::clone(&self.segments[slot]);
             self.index.insert(s.id, &s.a.point, &s.b.point);
