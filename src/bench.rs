@@ -145,14 +145,15 @@ pub fn bench(
     let mut loads = Vec::new();
     let mut peak = 0usize;
     for _ in 0..repeats {
-        let base = alloc_count::reset_peak();
+        alloc_count::start_counting();
         let start = Instant::now();
         let loaded = load_run(json.as_bytes(), "bench");
         loads.push(start.elapsed().as_secs_f64());
-        peak = peak.max(alloc_count::peak_bytes().saturating_sub(base));
+        alloc_count::stop_counting();
+        peak = peak.max(alloc_count::peak_counted_bytes().max(0) as usize);
         drop(loaded);
     }
-    let before = alloc_count::live_bytes();
+    alloc_count::start_counting();
     let replay = Replay::build(
         Arc::new(run.clone()),
         params.clone(),
@@ -160,7 +161,8 @@ pub fn bench(
         &mut |_| true,
     )
     .expect("never cancelled");
-    let checkpoint_bytes = alloc_count::live_bytes().saturating_sub(before);
+    alloc_count::stop_counting();
+    let checkpoint_bytes = alloc_count::counted_bytes().max(0) as usize;
     let interval = replay.checkpoint_interval();
     // Seek to snapshots spread over the run, each the worst place after a checkpoint.
     let targets: Vec<usize> = (0..20)
