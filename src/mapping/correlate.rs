@@ -9,9 +9,10 @@ use std::sync::Arc;
 /// Correlates new face `face` with the rest of the map.
 ///
 /// Only end-points within `t_gap` are searched (through the spatial index), so when none is,
-/// the trace has no `d_min`. `d_min` is the smallest distance from an end-point of the face's segments to an end-point of
-/// a fitted segment of another face (ties: first new segment, then its end `a` before `b`, then
-/// the existing segment's id and end). When `d_min ≤ t_gap`: if the two lines are not parallel
+/// the trace has no `d_min` (and a `d_min` it has always passes). `d_min` is the smallest
+/// distance from an end-point of the face's segments to an end-point of a fitted segment of
+/// another face (ties: first new segment, then its end `a` before `b`, then the existing
+/// segment's id and end). When `d_min ≤ t_gap`: if the two lines are not parallel
 /// (angle `> θ_o`) and their intersection lies within `t_gap` of both closest end-points, both
 /// end-points move to the intersection (a corner); otherwise a connecting "interpolated"
 /// segment joins them. Either way the face joins the existing segment's object. Moved
@@ -55,7 +56,8 @@ pub fn correlate_face(
             for (nend, np) in [n.a.point, n.b.point].iter().enumerate() {
                 for (eend, ep) in [e.a.point, e.b.point].iter().enumerate() {
                     let d = (np - ep).norm();
-                    if best.is_none_or(|b| d < b.0) {
+                    // Beyond t_gap is out of the search, whatever the index returned.
+                    if d <= params.t_gap_m && best.is_none_or(|b| d < b.0) {
                         best = Some((d, ni, nend, ei, eend));
                     }
                 }

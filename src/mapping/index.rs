@@ -1,7 +1,7 @@
 //! A uniform grid over map segments for candidate search (ALGORITHM.md §4 allows pruning by a
 //! bound that provably fails a test). Segments are filed under every cell their bounding box
-//! touches; a query returns every segment filed under a cell the query box touches, so it never
-//! misses a segment whose bounding box meets the box.
+//! touches; a query returns the segments filed under the cells the query box touches whose own
+//! bounding box meets the query box, so it never misses one.
 
 use super::map::SegmentId;
 use crate::geometry::Point;
@@ -17,8 +17,9 @@ type Cell = (i64, i64);
 /// Where a segment is filed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Filing {
-    /// Under every cell of this box `[x0, y0, x1, y1]`.
-    Cells([i64; 4]),
+    /// Under every cell of the cell box `cells` (`[x0, y0, x1, y1]`); `world` is the segment's
+    /// bounding box `[min x, min y, max x, max y]`, metres, tested against a query's box.
+    Cells { cells: [i64; 4], world: [f64; 4] },
     /// In the oversize list.
     Oversize,
 }
@@ -67,7 +68,10 @@ impl SegmentGrid {
                         self.cells.entry((cx, cy)).or_default().push(id);
                     }
                 }
-                Filing::Cells(bx)
+                Filing::Cells {
+                    cells: bx,
+                    world: [min.x, min.y, max.x, max.y],
+                }
             }
             None => {
                 self.oversize.push(id);
@@ -89,7 +93,7 @@ impl SegmentGrid {
         };
         self.filed -= 1;
         match filing {
-            Filing::Cells(bx) => {
+            Filing::Cells { cells: bx, .. } => {
                 for cx in bx[0]..=bx[2] {
                     for cy in bx[1]..=bx[3] {
                         if let Some(list) = self.cells.get_mut(&(cx, cy)) {
@@ -105,7 +109,8 @@ impl SegmentGrid {
         }
     }
 
-    /// Every segment whose bounding box may meet the box `[min, max]`, sorted by id, no repeats.
+    /// Every segment whose bounding box meets the box `[min, max]` (and every oversize one),
+    /// sorted by id, no repeats.
     pub fn query(&self, min: &Point, max: &Point) -> Vec<SegmentId> {
         let mut out = Vec::new();
         self.query_into(min, max, &mut out);
@@ -116,10 +121,11 @@ impl SegmentGrid {
     /// [`SegmentGrid::query`] into `out` (cleared first, to reuse its allocation), in no
     /// particular order. A segment filed under several cells of the query is reported once: by
     /// the cell where its box and the query's first meet (its lowest x, then y), so no sort or
-    /// dedup is needed.
+    /// dedup is needed. Oversize segments are always reported.
     pub fn query_into(&self, min: &Point, max: &Point, out: &mut Vec<SegmentId>) {
         out.clear();
         out.extend_from_slice(&self.oversize);
+        let meets = |w: &[f64; 4]| w[0] <= max.x && w[2] >= min.x && w[1] <= max.y && w[3] >= min.y;
         match cell_box(min, max) {
             Some(q) if ((q[2] - q[0] + 1) * (q[3] - q[1] + 1)) as usize <= self.cells.len() => {
                 for cx in q[0]..=q[2] {
@@ -128,8 +134,10 @@ impl SegmentGrid {
                             continue;
                         };
                         for &id in list {
-                            if let Some(Some(Filing::Cells(b))) = self.filings.get(id as usize) {
-                                if cx == b[0].max(q[0]) && cy == b[1].max(q[1]) {
+                            if let Some(Some(Filing::Cells { cells: b, world })) =
+                                self.filings.get(id as usize)
+                            {
+                                if cx == b[0].max(q[0]) && cy == b[1].max(q[1]) && meets(world) {
                                     out.push(id);
                                 }
                             }
@@ -142,7 +150,7 @@ impl SegmentGrid {
                 self.filings
                     .iter()
                     .enumerate()
-                    .filter(|(_, f)| matches!(f, Some(Filing::Cells(_))))
+                    .filter(|(_, f)| matches!(f, Some(Filing::Cells { world, .. }) if meets(world)))
                     .map(|(id, _)| id as SegmentId),
             ),
         }
@@ -170,8 +178,13 @@ mod tests {
         g.insert(2, &Point::new(10.0, 10.0), &Point::new(11.0, 10.0));
         g.insert(3, &Point::new(f64::NAN, 0.0), &Point::new(1.0, 1.0));
         assert_eq!(
-            g.query(&Point::new(2.0, 0.0), &Point::new(2.2, 0.2)),
+            g.query(&Point::new(2.0, 0.0), &Point::new(2.2, 0.6)),
             vec![1, 3]
+        );
+        // Same cell, but segment 1's box (y = 0.5) stays above the query's.
+        assert_eq!(
+            g.query(&Point::new(2.0, 0.0), &Point::new(2.2, 0.2)),
+            vec![3]
         );
         assert_eq!(
             g.query(&Point::new(-100.0, -100.0), &Point::new(100.0, 100.0)),

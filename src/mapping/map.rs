@@ -145,10 +145,19 @@ pub struct Map {
     /// Spatial index of the segments (rebuilt by [`Map::rebuild_index`] after deserialising).
     #[serde(skip)]
     index: SegmentGrid,
-    /// Position in `segments` of each id ([`NO_SLOT`] when absent), kept with the index; empty
-    /// without it (lookups then search `segments`).
+    /// Position in `segments` of each id ([`NO_SLOT`] when absent) as of when it was last set,
+    /// kept with the index; empty without it (lookups then search `segments`). A removal moves
+    /// the later segments one place down without touching their entries, so an entry may be
+    /// up to `removals_since_reslot` too high (see [`Map::position`]).
     #[serde(skip)]
     slot_of: Vec<u32>,
+    /// Removals since every `slot_of` entry was last exact.
+    #[serde(skip)]
+    removals_since_reslot: usize,
+    /// While a step runs ([`Map::begin_face_journal`]): each face as it stood before the step
+    /// first changed it, so a step can still ask what the map was before it.
+    #[serde(skip)]
+    face_journal: Option<Vec<Arc<Face>>>,
 }
 
 /// Maps are equal when their contents are; the index is derived from them.
@@ -166,6 +175,10 @@ impl PartialEq for Map {
 
 /// `Map::slot_of` entry of an id not in the map.
 const NO_SLOT: u32 = u32::MAX;
+
+/// Removals after which every `Map::slot_of` entry is set afresh (a lookup then searches at
+/// most this many places more).
+const MAX_REMOVALS_BEFORE_RESLOT: usize = 16;
 
 impl Map {
     /// A map holding `segments` (sorted by id), one face and one object per segment, indexed.
@@ -201,10 +214,20 @@ impl Map {
         if self.slot_of.is_empty() {
             return self.segments.binary_search_by_key(&id, |s| s.id).ok();
         }
-        match self.slot_of.get(id as usize) {
-            Some(&slot) if slot != NO_SLOT => Some(slot as usize),
-            _ => None,
+        let slot = match self.slot_of.get(id as usize) {
+            Some(&slot) if slot != NO_SLOT => slot as usize,
+            _ => return None,
+        };
+        // The entry is exact unless removals moved the segment down since it was set.
+        if self.segments.get(slot).is_some_and(|s| s.id == id) {
+            return Some(slot);
         }
+        let low = slot.saturating_sub(self.removals_since_reslot);
+        let high = (slot + 1).min(self.segments.len());
+        self.segments[low..high]
+            .binary_search_by_key(&id, |s| s.id)
+            .ok()
+            .map(|i| low + i)
     }
 
     /// The segment with `id`.
@@ -225,8 +248,46 @@ impl Map {
 
     /// The face with `id`, mutable.
     pub fn face_mut(&mut self, id: FaceId) -> Option<&mut Face> {
-        self.face_position(id)
-            .map(move |i| Arc::make_mut(&mut self.faces[i]))
+        let i = self.face_position(id)?;
+        self.journal_face(i);
+        Some(Arc::make_mut(&mut self.faces[i]))
+    }
+
+    /// Starts remembering faces as they stand now, before their first change (see
+    /// [`Map::was_outermost`]); any earlier journal is dropped.
+    pub(crate) fn begin_face_journal(&mut self) {
+        self.face_journal = Some(Vec::new());
+    }
+
+    /// Stops remembering faces.
+    pub(crate) fn end_face_journal(&mut self) {
+        self.face_journal = None;
+    }
+
+    /// Keeps face `faces[i]` as it stands, unless the journal already holds it.
+    fn journal_face(&mut self, i: usize) {
+        if let Some(journal) = &mut self.face_journal {
+            let face = &self.faces[i];
+            if !journal.iter().any(|f| f.id == face.id) {
+                journal.push(Arc::clone(face));
+            }
+        }
+    }
+
+    /// True when segment `id` of face `face` held an outermost end-point of it when the face
+    /// journal began (the map as it stood before the step; [`Map::is_outermost`] without a
+    /// journal).
+    pub fn was_outermost(&self, id: SegmentId, face: FaceId) -> bool {
+        let before = self
+            .face_journal
+            .iter()
+            .flatten()
+            .find(|f| f.id == face)
+            .map(|f| &**f);
+        match before.or_else(|| self.face(face)) {
+            Some(f) => f.segments.first() == Some(&id) || f.segments.last() == Some(&id),
+            None => true,
+        }
     }
 
     /// True when segment `id` holds an outermost end-point of its face (first or last in it).
@@ -297,11 +358,18 @@ impl Map {
         self.index.remove(id);
         if !self.slot_of.is_empty() {
             self.slot_of[id as usize] = NO_SLOT;
-            for (slot, s) in self.segments.iter().enumerate().skip(i) {
-                self.slot_of[s.id as usize] = slot as u32;
+            // Re-slot the later segments only now and then: a lookup searches the few places
+            // an entry can have slipped by, and a re-slot reads every later segment.
+            self.removals_since_reslot += 1;
+            if self.removals_since_reslot > MAX_REMOVALS_BEFORE_RESLOT {
+                for (slot, s) in self.segments.iter().enumerate() {
+                    self.slot_of[s.id as usize] = slot as u32;
+                }
+                self.removals_since_reslot = 0;
             }
         }
         if let Some(f) = self.face_position(face) {
+            self.journal_face(f);
             Arc::make_mut(&mut self.faces[f])
                 .segments
                 .retain(|&s| s != id);
@@ -388,6 +456,8 @@ impl Map {
             max_end_range_m: self.max_end_range_m,
             index: SegmentGrid::default(),
             slot_of: Vec::new(),
+            removals_since_reslot: 0,
+            face_journal: None,
         }
     }
 
@@ -395,10 +465,60 @@ impl Map {
     pub fn rebuild_index(&mut self) {
         self.index = SegmentGrid::default();
         self.slot_of.clear();
+        self.removals_since_reslot = 0;
         for slot in 0..self.segments.len() {
             let s = Arc::clone(&self.segments[slot]);
             self.index.insert(s.id, &s.a.point, &s.b.point);
             self.set_slot(s.id, slot);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn segment(id: SegmentId) -> Segment {
+        let end = |x: f64| EndPoint {
+            point: Point::new(x, id as f64),
+            range_m: 1.0,
+        };
+        Segment {
+            id,
+            kind: SegmentKind::Fitted,
+            a: end(0.0),
+            b: end(1.0),
+            face: id,
+            object: id,
+            created: 0,
+            updated: Vec::new(),
+            points: Arc::new(Vec::new()),
+        }
+    }
+
+    #[test]
+    fn lookups_find_every_segment_through_many_removals_and_pushes() {
+        let mut map = Map::from_segments((0..200).map(segment).collect());
+        let mut present: Vec<SegmentId> = (0..200).collect();
+        let mut next = 200;
+        // Remove every third segment from the front half, push a new one now and then, and
+        // check every id after each change against a plain search.
+        for round in 0..60 {
+            let victim = present[(round * 3) % (present.len() / 2)];
+            map.remove_segment(victim);
+            present.retain(|&id| id != victim);
+            if round % 4 == 0 {
+                map.next_segment_id = next + 1;
+                map.push_segment(segment(next));
+                present.push(next);
+                next += 1;
+            }
+            for id in 0..next {
+                let expected = present.binary_search(&id).ok();
+                assert_eq!(map.position(id), expected, "id {id} after round {round}");
+                assert_eq!(map.segment(id).map(|s| s.id), expected.map(|_| id));
+            }
+        }
+        assert_eq!(map.segments.len(), present.len());
     }
 }

@@ -127,7 +127,7 @@ impl Mapper {
                 .map(|s| Candidate {
                     id: s.id,
                     ends: SegmentEnds { a: s.a, b: s.b },
-                    outermost: None,
+                    face: s.face,
                 }),
         );
         self.scratch_ids = ids;
@@ -282,10 +282,9 @@ impl Mapper {
             .iter()
             .map(|seg| self.candidates_for(&SegmentEnds { a: seg.a, b: seg.b }))
             .collect();
-        // Whether a candidate is outermost is asked of the live map, and only for the
-        // candidates tested, until an update first changes the map's faces; just before that,
-        // the answers for the candidates still to come are fixed as the map stood.
-        let mut faces_fixed = false;
+        // Whether a candidate is outermost is asked as the map stood before this snapshot: the
+        // map keeps each face as it was before the step first changes it.
+        self.map.begin_face_journal();
         let mut face_of_source: Vec<(SegmentSource, FaceId)> = Vec::new();
         let mut absorbed_into: Vec<(SegmentId, SegmentId)> = Vec::new();
         let mut new_faces: Vec<FaceId> = Vec::new();
@@ -293,15 +292,10 @@ impl Mapper {
             let mut cands = std::mem::take(&mut candidate_sets[ni]);
             let ends = SegmentEnds { a: seg.a, b: seg.b };
             let map = &self.map;
-            let mut decision = decide(params, ni, &ends, &mut cands, &|id| map.is_outermost(id));
+            let was_outermost = |id, face| map.was_outermost(id, face);
+            let mut decision = decide(params, ni, &ends, &mut cands, &was_outermost);
             match decision.outcome {
                 Outcome::Match | Outcome::Extension => {
-                    if !faces_fixed {
-                        for c in candidate_sets[ni + 1..].iter_mut().flatten() {
-                            c.outermost = Some(self.map.is_outermost(c.id));
-                        }
-                        faces_fixed = true;
-                    }
                     let named = decision.existing.expect("a match names its segment");
                     let evaluation = &decision
                         .mpc_stage
@@ -370,6 +364,7 @@ impl Mapper {
             }
             trace.decisions.push(decision);
         }
+        self.map.end_face_journal();
         if self.record_trace {
             trace.new_segments = new_segments;
         } else {

@@ -1,6 +1,6 @@
 //! Matching a new segment against the map (paper §3.3.1; ALGORITHM.md §4).
 
-use super::map::{EndPoint, SegmentId};
+use super::map::{EndPoint, FaceId, SegmentId};
 use super::params::Params;
 use super::trace::{
     CandidateTrace, ColinearityTest, DecisionTrace, Outcome, OverlapTest, PairEvaluation, Rule,
@@ -33,9 +33,8 @@ pub struct Candidate {
     pub id: SegmentId,
     /// Its geometry before this snapshot.
     pub ends: SegmentEnds,
-    /// Holds an outermost end-point of its face, as the map stood before this snapshot: known
-    /// once the snapshot has changed the map, `None` while the live map still says it.
-    pub outermost: Option<bool>,
+    /// Its face.
+    pub face: FaceId,
 }
 
 fn inside(t: f64) -> bool {
@@ -156,16 +155,16 @@ fn nearest_candidate(new: &SegmentEnds, candidates: &[Candidate]) -> Option<(f64
 /// orientation test (colinearity and MPC or EPC pass; containment does not count), the new
 /// segment is DISMISSED. Otherwise it is a NEW FACE.
 ///
-/// `is_outermost(id)` answers for candidates whose `outermost` is `None`; it is asked only for
-/// the candidates actually tested.
+/// `was_outermost(id, face)` says whether a candidate held an outermost end-point of its face
+/// as the map stood before this snapshot; it is asked only for the candidates actually tested.
 pub fn decide(
     params: &Params,
     new_index: usize,
     new: &SegmentEnds,
     candidates: &mut [Candidate],
-    is_outermost: &dyn Fn(SegmentId) -> bool,
+    was_outermost: &dyn Fn(SegmentId, FaceId) -> bool,
 ) -> DecisionTrace {
-    let outermost = |c: &Candidate| c.outermost.unwrap_or_else(|| is_outermost(c.id));
+    let outermost = |c: &Candidate| was_outermost(c.id, c.face);
     // Most new segments match the nearest candidate: try it before ordering the rest (the
     // outcome and the trace are the same as with the full order).
     if let Some((distance_m, c)) = nearest_candidate(new, candidates) {
@@ -335,17 +334,17 @@ mod tests {
         assert!(!none.mpc && !none.epc && !none.containment);
     }
 
+    /// A candidate in face 1 (where every segment is outermost) or face 0 (where none is).
     fn cand(id: SegmentId, e: SegmentEnds, outermost: bool) -> Candidate {
         Candidate {
             id,
             ends: e,
-            outermost: Some(outermost),
+            face: FaceId::from(outermost),
         }
     }
 
-    /// The candidates here carry their status; the map is never asked.
-    fn unasked(_: SegmentId) -> bool {
-        unreachable!("outermost is known")
+    fn outermost_in_face_1(_: SegmentId, face: FaceId) -> bool {
+        face == 1
     }
 
     #[test]
@@ -354,7 +353,7 @@ mod tests {
         let n = ends(0.0, 0.0, 50.0, 10.0, 0.0, 50.0);
         let far = cand(1, ends(-5.0, 1.0, 50.0, 15.0, 1.0, 50.0), true);
         let near = cand(2, ends(-5.0, 0.1, 50.0, 15.0, 0.1, 50.0), true);
-        let d = decide(&p, 0, &n, &mut [far, near], &unasked);
+        let d = decide(&p, 0, &n, &mut [far, near], &outermost_in_face_1);
         assert_eq!(
             (d.outcome, d.rule, d.existing),
             (Outcome::Match, Rule::MidPointOverlap, Some(2))
@@ -363,10 +362,10 @@ mod tests {
 
         let partial = ends(8.0, 0.0, 50.0, 30.0, 0.0, 50.0);
         let inner = cand(3, partial, false);
-        let d = decide(&p, 0, &n, &mut [inner], &unasked);
+        let d = decide(&p, 0, &n, &mut [inner], &outermost_in_face_1);
         assert_eq!(d.outcome, Outcome::NewFace);
         let outer = cand(3, partial, true);
-        let d = decide(&p, 0, &n, &mut [outer], &unasked);
+        let d = decide(&p, 0, &n, &mut [outer], &outermost_in_face_1);
         assert_eq!(
             (d.outcome, d.rule, d.existing),
             (Outcome::Extension, Rule::EndPointOverlap, Some(3))
@@ -388,7 +387,7 @@ mod tests {
             2.0 * dir.sin(),
             50.0,
         );
-        let d = decide(&p, 0, &n, &mut [cand(7, e, true)], &unasked);
+        let d = decide(&p, 0, &n, &mut [cand(7, e, true)], &outermost_in_face_1);
         assert_eq!(
             (d.outcome, d.rule, d.existing),
             (Outcome::Dismissed, Rule::OrientationOnlyFailure, Some(7))
@@ -405,12 +404,12 @@ mod tests {
         let ev = evaluate_pair(&p, &n, 7, &e);
         assert!(!ev.overlap.mpc && !ev.overlap.epc && ev.overlap.containment);
         assert!(ev.colinearity.test.pass && !ev.orientation.pass);
-        let d = decide(&p, 0, &n, &mut [cand(7, e, true)], &unasked);
+        let d = decide(&p, 0, &n, &mut [cand(7, e, true)], &outermost_in_face_1);
         assert_eq!(
             (d.outcome, d.rule),
             (Outcome::NewFace, Rule::NoCandidatePassed)
         );
-        let d = decide(&p, 0, &n, &mut [], &unasked);
+        let d = decide(&p, 0, &n, &mut [], &outermost_in_face_1);
         assert_eq!(d.rule, Rule::NoCandidates);
     }
 }

@@ -32,16 +32,36 @@ pub fn merge_support_points(
             readings.select_nth_unstable_by_key(MAX_SUPPORT_POINTS - 1, |&r| std::cmp::Reverse(r));
         *nth
     });
+    let kept = |q: &&SupportPoint| oldest_kept.is_none_or(|r| q.reading >= r);
+    let keyed_point = |q: &SupportPoint| (projection_param(&q.point, &a.point, &b.point), *q);
     let mut keyed: Vec<(f64, SupportPoint)> = Vec::with_capacity(total);
-    keyed.extend(
-        old.iter()
-            .chain(new)
-            .filter(|q| oldest_kept.is_none_or(|r| q.reading >= r))
-            .map(|q| (projection_param(&q.point, &a.point, &b.point), *q)),
-    );
-    // Stable sort: the old points are already in order along a nearby line, so the input is a
-    // couple of sorted runs.
-    keyed.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.reading.cmp(&y.1.reading)));
+    keyed.extend(old.iter().filter(kept).map(keyed_point));
+    let old_kept = keyed.len();
+    keyed.extend(new.iter().filter(kept).map(keyed_point));
+    let order = |x: &(f64, SupportPoint), y: &(f64, SupportPoint)| {
+        x.0.total_cmp(&y.0).then(x.1.reading.cmp(&y.1.reading))
+    };
+    let (old_run, new_run) = keyed.split_at(old_kept);
+    let in_order =
+        |run: &[(f64, SupportPoint)]| run.windows(2).all(|w| order(&w[0], &w[1]).is_le());
+    if in_order(old_run) && in_order(new_run) {
+        // The usual case (old points in order along a nearby line, new ones along the chain):
+        // one merge of the two runs, the same order a stable sort gives (ties: old first).
+        let mut merged = Vec::with_capacity(keyed.len());
+        let (mut i, mut j) = (0, 0);
+        while i < old_run.len() && j < new_run.len() {
+            if order(&new_run[j], &old_run[i]).is_lt() {
+                merged.push(new_run[j].1);
+                j += 1;
+            } else {
+                merged.push(old_run[i].1);
+                i += 1;
+            }
+        }
+        merged.extend(old_run[i..].iter().chain(&new_run[j..]).map(|(_, q)| *q));
+        return merged;
+    }
+    keyed.sort_by(order);
     keyed.into_iter().map(|(_, q)| q).collect()
 }
 
@@ -223,6 +243,62 @@ pub fn update_extension(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mapping::map::ReadingRef;
+    use proptest::prelude::*;
+
+    /// The specification: keep the most recent, then a stable sort by (position, reading).
+    fn merged_by_sorting(
+        old: &[SupportPoint],
+        new: &[SupportPoint],
+        a: &EndPoint,
+        b: &EndPoint,
+    ) -> Vec<SupportPoint> {
+        let mut all: Vec<SupportPoint> = old.iter().chain(new).copied().collect();
+        let mut newest: Vec<ReadingRef> = all.iter().map(|q| q.reading).collect();
+        newest.sort_unstable_by(|x, y| y.cmp(x));
+        if let Some(&oldest) = newest.get(MAX_SUPPORT_POINTS - 1) {
+            all.retain(|q| q.reading >= oldest);
+        }
+        let key = |q: &SupportPoint| projection_param(&q.point, &a.point, &b.point);
+        all.sort_by(|x, y| key(x).total_cmp(&key(y)).then(x.reading.cmp(&y.reading)));
+        all
+    }
+
+    fn support_points(xs: Vec<(i8, u8)>, first_snapshot: usize) -> Vec<SupportPoint> {
+        xs.into_iter()
+            .enumerate()
+            .map(|(i, (x, sensor))| SupportPoint {
+                // Few positions and readings, so that ties are common.
+                point: Point::new(f64::from(x) / 8.0, 0.01 * f64::from(sensor)),
+                range_m: 1.0,
+                reading: ReadingRef {
+                    snapshot: first_snapshot + i / 8,
+                    sensor: usize::from(sensor % 3),
+                },
+            })
+            .collect()
+    }
+
+    proptest! {
+        #[test]
+        fn merging_support_points_equals_keeping_the_newest_and_sorting(
+            old in proptest::collection::vec((-8i8..8, 0u8..6), 0..70),
+            new in proptest::collection::vec((-8i8..8, 0u8..6), 0..20),
+            sort_old in any::<bool>(),
+            interleave in any::<bool>(),
+        ) {
+            let (a, b) = (ep(-3.0, 0.0, 1.0), ep(3.0, 0.0, 1.0));
+            let mut old = support_points(old, 0);
+            if sort_old {
+                old = merged_by_sorting(&old, &[], &a, &b);
+            }
+            let new = support_points(new, if interleave { 3 } else { 100 });
+            prop_assert_eq!(
+                merge_support_points(&old, &new, &a, &b),
+                merged_by_sorting(&old, &new, &a, &b)
+            );
+        }
+    }
 
     fn ep(x: f64, y: f64, d: f64) -> EndPoint {
         EndPoint {
