@@ -96,7 +96,6 @@ impl Mapper {
     /// widened by `R = max(thr + h, thr + (h + thr)·tan θ_o)`, and lies within `R + h` of `m`;
     /// only those are tested.
     fn candidates_for(&mut self, new: &SegmentEnds) -> Vec<Candidate> {
-        let mid = new.mid();
         let reach_m = if self.brute_force {
             f64::INFINITY
         } else {
@@ -120,15 +119,9 @@ impl Mapper {
         candidates.extend(
             ids.iter()
                 .filter_map(|&id| self.map.segment(id))
-                .filter(|s| {
-                    s.kind == SegmentKind::Fitted
-                        && (radius_m.is_infinite() || s.distance_to(&mid) <= radius_m)
-                })
-                .map(|s| Candidate {
-                    id: s.id,
-                    ends: SegmentEnds { a: s.a, b: s.b },
-                    face: s.face,
-                }),
+                .filter(|s| s.kind == SegmentKind::Fitted)
+                .map(|s| Candidate::new(new, s.id, SegmentEnds { a: s.a, b: s.b }, s.face))
+                .filter(|c| radius_m.is_infinite() || c.distance_m <= radius_m),
         );
         self.scratch_ids = ids;
         candidates

@@ -35,6 +35,28 @@ pub struct Candidate {
     pub ends: SegmentEnds,
     /// Its face.
     pub face: FaceId,
+    /// Distance from `l_n`'s mid-point to it, metres (the §4 order).
+    pub distance_m: f64,
+}
+
+impl Candidate {
+    /// Map segment `id` (`ends`, of face `face`) as a candidate for `new`.
+    pub fn new(new: &SegmentEnds, id: SegmentId, ends: SegmentEnds, face: FaceId) -> Self {
+        Self {
+            id,
+            ends,
+            face,
+            distance_m: distance_to_segment(&new.mid(), &ends.a.point, &ends.b.point),
+        }
+    }
+
+    /// True when `self` comes before `other` in the §4 order (nearer, ties by id).
+    fn precedes(&self, other: &Candidate) -> bool {
+        self.distance_m
+            .total_cmp(&other.distance_m)
+            .then(self.id.cmp(&other.id))
+            .is_lt()
+    }
 }
 
 fn inside(t: f64) -> bool {
@@ -117,34 +139,15 @@ pub fn evaluate_pair(
 }
 
 /// Orders candidates as §4 asks: by distance from `l_n`'s mid-point to the segment, ties by id.
-/// Returns the distances in the new order.
-pub fn order_candidates(new: &SegmentEnds, candidates: &mut [Candidate]) -> Vec<f64> {
-    let mid = new.mid();
-    let distance = |c: &Candidate| distance_to_segment(&mid, &c.ends.a.point, &c.ends.b.point);
-    let mut keyed: Vec<(f64, SegmentId, u32)> = candidates
-        .iter()
-        .enumerate()
-        .map(|(i, c)| (distance(c), c.id, i as u32))
-        .collect();
-    keyed.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
-    let original = candidates.to_vec();
-    for (slot, &(_, _, i)) in candidates.iter_mut().zip(&keyed) {
-        *slot = original[i as usize];
-    }
-    keyed.into_iter().map(|(d, _, _)| d).collect()
+pub fn order_candidates(candidates: &mut [Candidate]) {
+    candidates.sort_unstable_by(|x, y| x.distance_m.total_cmp(&y.distance_m).then(x.id.cmp(&y.id)));
 }
 
-/// The candidate that comes first in the §4 order (nearest to `l_n`'s mid-point, ties by id),
-/// with its distance.
-fn nearest_candidate(new: &SegmentEnds, candidates: &[Candidate]) -> Option<(f64, Candidate)> {
-    let mid = new.mid();
+/// The candidate that comes first in the §4 order (nearest to `l_n`'s mid-point, ties by id).
+fn nearest_candidate(candidates: &[Candidate]) -> Option<&Candidate> {
     candidates
         .iter()
-        .map(|c| {
-            let d = distance_to_segment(&mid, &c.ends.a.point, &c.ends.b.point);
-            (d, *c)
-        })
-        .min_by(|x, y| x.0.total_cmp(&y.0).then(x.1.id.cmp(&y.1.id)))
+        .reduce(|best, c| if c.precedes(best) { c } else { best })
 }
 
 /// Decides what becomes of new segment `new_index` (ALGORITHM.md §4).
@@ -167,7 +170,7 @@ pub fn decide(
     let outermost = |c: &Candidate| was_outermost(c.id, c.face);
     // Most new segments match the nearest candidate: try it before ordering the rest (the
     // outcome and the trace are the same as with the full order).
-    if let Some((distance_m, c)) = nearest_candidate(new, candidates) {
+    if let Some(c) = nearest_candidate(candidates) {
         let evaluation = evaluate_pair(params, new, c.id, &c.ends);
         if evaluation.is_match() {
             let rule = if evaluation.overlap.mpc {
@@ -178,8 +181,8 @@ pub fn decide(
             return DecisionTrace {
                 new_segment: new_index,
                 mpc_stage: vec![CandidateTrace {
-                    distance_m,
-                    outermost: outermost(&c),
+                    distance_m: c.distance_m,
+                    outermost: outermost(c),
                     evaluation,
                 }],
                 epc_stage: Vec::new(),
@@ -190,7 +193,7 @@ pub fn decide(
             };
         }
     }
-    let distances = order_candidates(new, candidates);
+    order_candidates(candidates);
     let mut decision = DecisionTrace {
         new_segment: new_index,
         mpc_stage: Vec::with_capacity(candidates.len()),
@@ -204,7 +207,7 @@ pub fn decide(
         existing: None,
         result: None,
     };
-    for (c, &distance_m) in candidates.iter().zip(&distances) {
+    for c in candidates.iter() {
         let evaluation = evaluate_pair(params, new, c.id, &c.ends);
         let is_match = evaluation.is_match();
         let rule = if evaluation.overlap.mpc {
@@ -213,7 +216,7 @@ pub fn decide(
             Rule::Containment
         };
         decision.mpc_stage.push(CandidateTrace {
-            distance_m,
+            distance_m: c.distance_m,
             outermost: outermost(c),
             evaluation,
         });
@@ -335,12 +338,8 @@ mod tests {
     }
 
     /// A candidate in face 1 (where every segment is outermost) or face 0 (where none is).
-    fn cand(id: SegmentId, e: SegmentEnds, outermost: bool) -> Candidate {
-        Candidate {
-            id,
-            ends: e,
-            face: FaceId::from(outermost),
-        }
+    fn cand(new: &SegmentEnds, id: SegmentId, e: SegmentEnds, outermost: bool) -> Candidate {
+        Candidate::new(new, id, e, FaceId::from(outermost))
     }
 
     fn outermost_in_face_1(_: SegmentId, face: FaceId) -> bool {
@@ -351,8 +350,8 @@ mod tests {
     fn match_is_taken_nearest_first_and_extension_needs_an_outermost_segment() {
         let p = Params::paper();
         let n = ends(0.0, 0.0, 50.0, 10.0, 0.0, 50.0);
-        let far = cand(1, ends(-5.0, 1.0, 50.0, 15.0, 1.0, 50.0), true);
-        let near = cand(2, ends(-5.0, 0.1, 50.0, 15.0, 0.1, 50.0), true);
+        let far = cand(&n, 1, ends(-5.0, 1.0, 50.0, 15.0, 1.0, 50.0), true);
+        let near = cand(&n, 2, ends(-5.0, 0.1, 50.0, 15.0, 0.1, 50.0), true);
         let d = decide(&p, 0, &n, &mut [far, near], &outermost_in_face_1);
         assert_eq!(
             (d.outcome, d.rule, d.existing),
@@ -361,10 +360,10 @@ mod tests {
         assert_eq!(d.mpc_stage.len(), 1, "the first pass ends the search");
 
         let partial = ends(8.0, 0.0, 50.0, 30.0, 0.0, 50.0);
-        let inner = cand(3, partial, false);
+        let inner = cand(&n, 3, partial, false);
         let d = decide(&p, 0, &n, &mut [inner], &outermost_in_face_1);
         assert_eq!(d.outcome, Outcome::NewFace);
-        let outer = cand(3, partial, true);
+        let outer = cand(&n, 3, partial, true);
         let d = decide(&p, 0, &n, &mut [outer], &outermost_in_face_1);
         assert_eq!(
             (d.outcome, d.rule, d.existing),
@@ -387,7 +386,7 @@ mod tests {
             2.0 * dir.sin(),
             50.0,
         );
-        let d = decide(&p, 0, &n, &mut [cand(7, e, true)], &outermost_in_face_1);
+        let d = decide(&p, 0, &n, &mut [cand(&n, 7, e, true)], &outermost_in_face_1);
         assert_eq!(
             (d.outcome, d.rule, d.existing),
             (Outcome::Dismissed, Rule::OrientationOnlyFailure, Some(7))
@@ -404,7 +403,7 @@ mod tests {
         let ev = evaluate_pair(&p, &n, 7, &e);
         assert!(!ev.overlap.mpc && !ev.overlap.epc && ev.overlap.containment);
         assert!(ev.colinearity.test.pass && !ev.orientation.pass);
-        let d = decide(&p, 0, &n, &mut [cand(7, e, true)], &outermost_in_face_1);
+        let d = decide(&p, 0, &n, &mut [cand(&n, 7, e, true)], &outermost_in_face_1);
         assert_eq!(
             (d.outcome, d.rule),
             (Outcome::NewFace, Rule::NoCandidatePassed)
