@@ -3,7 +3,7 @@
 //! touches; a query returns the segments filed under the cells the query box touches whose own
 //! bounding box meets the query box, so it never misses one.
 
-use super::map::SegmentId;
+use super::map::{EndPoint, FaceId, SegmentId};
 use crate::geometry::Point;
 use rustc_hash::FxHashMap;
 
@@ -14,14 +14,35 @@ const MAX_SPAN_CELLS: i64 = 256;
 
 type Cell = (i64, i64);
 
+/// What the grid keeps of a segment: enough for a candidate search to go without reaching for
+/// the segment itself (its end-points, face and kind never change without a new filing).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IndexedSegment {
+    /// First end-point.
+    pub a: EndPoint,
+    /// Second end-point.
+    pub b: EndPoint,
+    /// Its face.
+    pub face: FaceId,
+    /// Fitted from readings (not a link made by correlation).
+    pub fitted: bool,
+}
+
 /// Where a segment is filed.
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Filing {
-    /// Under every cell of the cell box `cells` (`[x0, y0, x1, y1]`); `world` is the segment's
-    /// bounding box `[min x, min y, max x, max y]`, metres, tested against a query's box.
-    Cells { cells: [i64; 4], world: [f64; 4] },
+enum Place {
+    /// Under every cell of this cell box `[x0, y0, x1, y1]`.
+    Cells([i64; 4]),
     /// In the oversize list.
     Oversize,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Filing {
+    place: Place,
+    /// The segment's bounding box `[min x, min y, max x, max y]`, metres.
+    world: [f64; 4],
+    segment: IndexedSegment,
 }
 
 /// Segments filed by grid cell.
@@ -55,34 +76,36 @@ fn cell_box(min: &Point, max: &Point) -> Option<[i64; 4]> {
 }
 
 impl SegmentGrid {
-    /// Files segment `id` running from `a` to `b` (replacing any earlier filing).
-    pub fn insert(&mut self, id: SegmentId, a: &Point, b: &Point) {
+    /// Files segment `id` (replacing any earlier filing).
+    pub fn insert(&mut self, id: SegmentId, segment: IndexedSegment) {
         self.remove(id);
+        let (a, b) = (segment.a.point, segment.b.point);
         let min = Point::new(a.x.min(b.x), a.y.min(b.y));
         let max = Point::new(a.x.max(b.x), a.y.max(b.y));
         let finite = [a.x, a.y, b.x, b.y].iter().all(|v| v.is_finite());
-        let filing = match cell_box(&min, &max).filter(|_| finite) {
+        let place = match cell_box(&min, &max).filter(|_| finite) {
             Some(bx) => {
                 for cx in bx[0]..=bx[2] {
                     for cy in bx[1]..=bx[3] {
                         self.cells.entry((cx, cy)).or_default().push(id);
                     }
                 }
-                Filing::Cells {
-                    cells: bx,
-                    world: [min.x, min.y, max.x, max.y],
-                }
+                Place::Cells(bx)
             }
             None => {
                 self.oversize.push(id);
-                Filing::Oversize
+                Place::Oversize
             }
         };
         let slot = id as usize;
         if self.filings.len() <= slot {
             self.filings.resize(slot + 1, None);
         }
-        self.filings[slot] = Some(filing);
+        self.filings[slot] = Some(Filing {
+            place,
+            world: [min.x, min.y, max.x, max.y],
+            segment,
+        });
         self.filed += 1;
     }
 
@@ -92,8 +115,8 @@ impl SegmentGrid {
             return;
         };
         self.filed -= 1;
-        match filing {
-            Filing::Cells { cells: bx, .. } => {
+        match filing.place {
+            Place::Cells(bx) => {
                 for cx in bx[0]..=bx[2] {
                     for cy in bx[1]..=bx[3] {
                         if let Some(list) = self.cells.get_mut(&(cx, cy)) {
@@ -105,7 +128,7 @@ impl SegmentGrid {
                     }
                 }
             }
-            Filing::Oversize => self.oversize.retain(|&s| s != id),
+            Place::Oversize => self.oversize.retain(|&s| s != id),
         }
     }
 
@@ -119,12 +142,26 @@ impl SegmentGrid {
     }
 
     /// [`SegmentGrid::query`] into `out` (cleared first, to reuse its allocation), in no
-    /// particular order. A segment filed under several cells of the query is reported once: by
-    /// the cell where its box and the query's first meet (its lowest x, then y), so no sort or
-    /// dedup is needed. Oversize segments are always reported.
+    /// particular order.
     pub fn query_into(&self, min: &Point, max: &Point, out: &mut Vec<SegmentId>) {
         out.clear();
-        out.extend_from_slice(&self.oversize);
+        self.visit_box(min, max, |id, _| out.push(id));
+    }
+
+    /// Calls `visit` once for every segment [`SegmentGrid::query`] returns, in no particular
+    /// order. A segment filed under several cells of the query is visited by the cell where its
+    /// box and the query's first meet (its lowest x, then y), so no sort or dedup is needed.
+    pub fn visit_box(
+        &self,
+        min: &Point,
+        max: &Point,
+        mut visit: impl FnMut(SegmentId, &IndexedSegment),
+    ) {
+        for &id in &self.oversize {
+            if let Some(Some(f)) = self.filings.get(id as usize) {
+                visit(id, &f.segment);
+            }
+        }
         let meets = |w: &[f64; 4]| w[0] <= max.x && w[2] >= min.x && w[1] <= max.y && w[3] >= min.y;
         match cell_box(min, max) {
             Some(q) if ((q[2] - q[0] + 1) * (q[3] - q[1] + 1)) as usize <= self.cells.len() => {
@@ -134,11 +171,12 @@ impl SegmentGrid {
                             continue;
                         };
                         for &id in list {
-                            if let Some(Some(Filing::Cells { cells: b, world })) =
-                                self.filings.get(id as usize)
-                            {
-                                if cx == b[0].max(q[0]) && cy == b[1].max(q[1]) && meets(world) {
-                                    out.push(id);
+                            let Some(Some(f)) = self.filings.get(id as usize) else {
+                                continue;
+                            };
+                            if let Place::Cells(b) = f.place {
+                                if cx == b[0].max(q[0]) && cy == b[1].max(q[1]) && meets(&f.world) {
+                                    visit(id, &f.segment);
                                 }
                             }
                         }
@@ -146,13 +184,15 @@ impl SegmentGrid {
                 }
             }
             // A query box larger than the filled grid: every filed segment.
-            _ => out.extend(
-                self.filings
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, f)| matches!(f, Some(Filing::Cells { world, .. }) if meets(world)))
-                    .map(|(id, _)| id as SegmentId),
-            ),
+            _ => {
+                for (id, f) in self.filings.iter().enumerate() {
+                    if let Some(f) = f {
+                        if matches!(f.place, Place::Cells(_)) && meets(&f.world) {
+                            visit(id as SegmentId, &f.segment);
+                        }
+                    }
+                }
+            }
         }
     }
 
@@ -171,12 +211,25 @@ impl SegmentGrid {
 mod tests {
     use super::*;
 
+    fn filed(a: Point, b: Point) -> IndexedSegment {
+        let end = |point| EndPoint {
+            point,
+            range_m: 1.0,
+        };
+        IndexedSegment {
+            a: end(a),
+            b: end(b),
+            face: 0,
+            fitted: true,
+        }
+    }
+
     #[test]
     fn query_finds_segments_through_the_box_and_forgets_removed_ones() {
         let mut g = SegmentGrid::default();
-        g.insert(1, &Point::new(0.5, 0.5), &Point::new(3.5, 0.5));
-        g.insert(2, &Point::new(10.0, 10.0), &Point::new(11.0, 10.0));
-        g.insert(3, &Point::new(f64::NAN, 0.0), &Point::new(1.0, 1.0));
+        g.insert(1, filed(Point::new(0.5, 0.5), Point::new(3.5, 0.5)));
+        g.insert(2, filed(Point::new(10.0, 10.0), Point::new(11.0, 10.0)));
+        g.insert(3, filed(Point::new(f64::NAN, 0.0), Point::new(1.0, 1.0)));
         assert_eq!(
             g.query(&Point::new(2.0, 0.0), &Point::new(2.2, 0.6)),
             vec![1, 3]
@@ -190,7 +243,7 @@ mod tests {
             g.query(&Point::new(-100.0, -100.0), &Point::new(100.0, 100.0)),
             vec![1, 2, 3]
         );
-        g.insert(1, &Point::new(20.0, 20.0), &Point::new(21.0, 20.0));
+        g.insert(1, filed(Point::new(20.0, 20.0), Point::new(21.0, 20.0)));
         assert_eq!(
             g.query(&Point::new(2.0, 0.0), &Point::new(2.2, 0.2)),
             vec![3]

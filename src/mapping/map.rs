@@ -1,7 +1,7 @@
 //! The map: line segments with their end-point ranges, faces and objects (paper §3.3).
 //! A `Map` is a plain value; cloning it is how the replay checkpoints.
 
-use super::index::SegmentGrid;
+use super::index::{IndexedSegment, SegmentGrid};
 use crate::geometry::{distance_to_segment, Point};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -91,6 +91,16 @@ impl Segment {
             self.updated.remove(0);
         }
         self.updated.push(snapshot);
+    }
+
+    /// What the spatial index keeps of it.
+    fn indexed(&self) -> IndexedSegment {
+        IndexedSegment {
+            a: self.a,
+            b: self.b,
+            face: self.face,
+            fitted: self.kind == SegmentKind::Fitted,
+        }
     }
 
     /// Mid-point.
@@ -335,8 +345,7 @@ impl Map {
     pub fn push_segment(&mut self, segment: Segment) {
         debug_assert!(self.segments.last().is_none_or(|s| s.id < segment.id));
         self.note_ends(&segment.a, &segment.b);
-        self.index
-            .insert(segment.id, &segment.a.point, &segment.b.point);
+        self.index.insert(segment.id, segment.indexed());
         self.set_slot(segment.id, self.segments.len());
         self.segments.push(Arc::new(segment));
     }
@@ -385,7 +394,8 @@ impl Map {
         if let Some(s) = self.segment_mut(id) {
             s.a = a;
             s.b = b;
-            self.index.insert(id, &a.point, &b.point);
+            let indexed = s.indexed();
+            self.index.insert(id, indexed);
         }
     }
 
@@ -427,10 +437,29 @@ impl Map {
         reach_m: f64,
         out: &mut Vec<SegmentId>,
     ) {
+        out.clear();
+        self.visit_segments_along(a, b, reach_m, |id, _| out.push(id));
+    }
+
+    /// Calls `visit` for every segment [`Map::segments_along_into`] returns, with what the index
+    /// keeps of it (no lookup of the segment itself). A non-finite reach visits every segment.
+    pub fn visit_segments_along(
+        &self,
+        a: &Point,
+        b: &Point,
+        reach_m: f64,
+        mut visit: impl FnMut(SegmentId, &IndexedSegment),
+    ) {
         let widen = nalgebra::Vector2::new(reach_m, reach_m);
         let min = Point::new(a.x.min(b.x), a.y.min(b.y)) - widen;
         let max = Point::new(a.x.max(b.x), a.y.max(b.y)) + widen;
-        self.segments_in_box_into(&min, &max, out);
+        if [min.x, min.y, max.x, max.y].iter().any(|v| !v.is_finite()) {
+            for s in &self.segments {
+                visit(s.id, &s.indexed());
+            }
+            return;
+        }
+        self.index.visit_box(&min, &max, visit);
     }
 
     /// Ids of the segments whose bounding box may meet the box `[min, max]` (a superset), in no
@@ -468,7 +497,7 @@ impl Map {
         self.removals_since_reslot = 0;
         for slot in 0..self.segments.len() {
             let s = Arc::clone(&self.segments[slot]);
-            self.index.insert(s.id, &s.a.point, &s.b.point);
+            self.index.insert(s.id, s.indexed());
             self.set_slot(s.id, slot);
         }
     }

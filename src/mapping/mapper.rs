@@ -112,18 +112,16 @@ impl Mapper {
             (thr + h).max(containment) * (1.0 + 1e-9) + 1e-9
         };
         let radius_m = reach_m + (new.b.point - new.a.point).norm() / 2.0;
-        let mut ids = std::mem::take(&mut self.scratch_ids);
+        let mut candidates = Vec::new();
         self.map
-            .segments_along_into(&new.a.point, &new.b.point, reach_m, &mut ids);
-        let mut candidates = Vec::with_capacity(ids.len());
-        candidates.extend(
-            ids.iter()
-                .filter_map(|&id| self.map.segment(id))
-                .filter(|s| s.kind == SegmentKind::Fitted)
-                .map(|s| Candidate::new(new, s.id, SegmentEnds { a: s.a, b: s.b }, s.face))
-                .filter(|c| radius_m.is_infinite() || c.distance_m <= radius_m),
-        );
-        self.scratch_ids = ids;
+            .visit_segments_along(&new.a.point, &new.b.point, reach_m, |id, s| {
+                if s.fitted {
+                    let c = Candidate::new(new, id, SegmentEnds { a: s.a, b: s.b }, s.face);
+                    if radius_m.is_infinite() || c.distance_m <= radius_m {
+                        candidates.push(c);
+                    }
+                }
+            });
         candidates
     }
 
