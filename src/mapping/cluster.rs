@@ -5,26 +5,23 @@ use super::trace::GapTrace;
 
 /// Splits the kept points into clusters.
 ///
-/// `kept` are the kept points of one snapshot; `order` is the layout's bearing order of sensor
-/// indices and `wraps` whether the last sensor neighbours the first ([`crate::sonar::SensorLayout::bearing_order`]).
+/// `kept` are the kept points of one snapshot; `rank_of_sensor` gives each sensor's place in
+/// the layout's bearing order ([`sensor_ranks`]) and `wraps` says whether the last sensor
+/// neighbours the first ([`crate::sonar::SensorLayout::bearing_order`]).
 /// Neighbours are consecutive kept points in that order; a cluster ends where their distance
 /// exceeds `t_gap_m` (strictly). With a wrapping layout the chain is circular: when it has at
 /// least one break, clusters start just after a break, so a face across sensor 0 stays whole.
 /// Returns the clusters (indices into `kept`, in chain order) and every neighbour gap.
 pub fn cluster_points(
     kept: &[SupportPoint],
-    order: &[usize],
+    rank_of_sensor: &[usize],
     wraps: bool,
     t_gap_m: f64,
 ) -> (Vec<Vec<usize>>, Vec<GapTrace>) {
-    let mut position_of_sensor = vec![usize::MAX; order.iter().copied().max().map_or(0, |m| m + 1)];
-    for (pos, &sensor) in order.iter().enumerate() {
-        position_of_sensor[sensor] = pos;
-    }
     let mut chain: Vec<usize> = (0..kept.len()).collect();
     chain.sort_by_key(|&i| {
         (
-            position_of_sensor
+            rank_of_sensor
                 .get(kept[i].reading.sensor)
                 .copied()
                 .unwrap_or(usize::MAX),
@@ -69,6 +66,15 @@ pub fn cluster_points(
     (clusters, gaps)
 }
 
+/// Each sensor's place in the bearing order `order` (`usize::MAX` for a sensor not in it).
+pub fn sensor_ranks(order: &[usize]) -> Vec<usize> {
+    let mut rank = vec![usize::MAX; order.iter().copied().max().map_or(0, |m| m + 1)];
+    for (pos, &sensor) in order.iter().enumerate() {
+        rank[sensor] = pos;
+    }
+    rank
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -89,7 +95,7 @@ mod tests {
     #[test]
     fn a_gap_of_exactly_t_gap_does_not_break() {
         let kept = vec![pt(0, 0.0, 0.0), pt(1, 1.0, 0.0), pt(2, 2.0000001, 0.0)];
-        let (clusters, gaps) = cluster_points(&kept, &[0, 1, 2], false, 1.0);
+        let (clusters, gaps) = cluster_points(&kept, &sensor_ranks(&[0, 1, 2]), false, 1.0);
         assert_eq!(clusters, vec![vec![0, 1], vec![2]]);
         assert!(!gaps[0].is_break && gaps[1].is_break);
         assert!((gaps[1].distance_m - 1.0000001).abs() < 1e-12);
@@ -105,7 +111,7 @@ mod tests {
             pt(15, 1.0, -0.4),
         ];
         let order: Vec<usize> = (0..16).collect();
-        let (clusters, gaps) = cluster_points(&kept, &order, true, 1.0);
+        let (clusters, gaps) = cluster_points(&kept, &sensor_ranks(&order), true, 1.0);
         assert_eq!(gaps.len(), 4);
         assert_eq!(clusters, vec![vec![2], vec![3, 0, 1]]);
     }

@@ -1,6 +1,6 @@
 //! The mapper: one snapshot in, the map updated and the step's trace out (paper §3).
 
-use super::cluster::cluster_points;
+use super::cluster::{cluster_points, sensor_ranks};
 use super::correlate::correlate_face;
 use super::extensions::{memory_step, reduce_constant_depth};
 use super::fit::{piece_end_points, split_recursive, split_tolerance};
@@ -25,7 +25,8 @@ pub struct Mapper {
     params: Params,
     layout: SensorLayout,
     sensor: SensorSpec,
-    bearing_order: (Vec<usize>, bool),
+    /// Each sensor's place in the layout's bearing order, and whether that order wraps.
+    bearing_ranks: (Vec<usize>, bool),
     map: Map,
     last_pose: Option<Pose>,
     next_snapshot: usize,
@@ -33,6 +34,8 @@ pub struct Mapper {
     record_trace: bool,
     /// Reused buffer of segment ids for index queries (no allocation per query).
     scratch_ids: Vec<SegmentId>,
+    /// Reused buffer of one step's candidates, every new segment's set one after another.
+    scratch_candidates: Vec<Candidate>,
 }
 
 /// The mutable state a checkpoint needs to resume a [`Mapper`].
@@ -49,18 +52,20 @@ pub struct MapperState {
 impl Mapper {
     /// A mapper with an empty map. `params` should be valid (see [`Params::validate`]).
     pub fn new(params: Params, layout: SensorLayout, sensor: SensorSpec) -> Self {
-        let bearing_order = layout.bearing_order();
+        let (order, wraps) = layout.bearing_order();
+        let bearing_ranks = (sensor_ranks(&order), wraps);
         Self {
             params,
             layout,
             sensor,
-            bearing_order,
+            bearing_ranks,
             map: Map::default(),
             last_pose: None,
             next_snapshot: 0,
             brute_force: false,
             record_trace: true,
             scratch_ids: Vec::new(),
+            scratch_candidates: Vec::new(),
         }
     }
 
@@ -95,7 +100,7 @@ impl Mapper {
     /// So a segment that can pass, fail only orientation, or match meets the box around `l_n`
     /// widened by `R = max(thr + h, thr + (h + thr)·tan θ_o)`, and lies within `R + h` of `m`;
     /// only those are tested.
-    fn candidates_for(&mut self, new: &SegmentEnds) -> Vec<Candidate> {
+    fn candidates_for(&self, new: &SegmentEnds, candidates: &mut Vec<Candidate>) {
         let reach_m = if self.brute_force {
             f64::INFINITY
         } else {
@@ -112,7 +117,6 @@ impl Mapper {
             (thr + h).max(containment) * (1.0 + 1e-9) + 1e-9
         };
         let radius_m = reach_m + (new.b.point - new.a.point).norm() / 2.0;
-        let mut candidates = Vec::new();
         self.map
             .visit_segments_along(&new.a.point, &new.b.point, reach_m, |id, s| {
                 if s.fitted {
@@ -122,7 +126,6 @@ impl Mapper {
                     }
                 }
             });
-        candidates
     }
 
     /// The map as it stands.
@@ -198,8 +201,8 @@ impl Mapper {
             params,
         );
         trace.readings = readings;
-        let (order, wraps) = (&self.bearing_order.0, self.bearing_order.1);
-        let (clusters, gaps) = cluster_points(&kept, order, wraps, params.t_gap_m);
+        let (ranks, wraps) = (&self.bearing_ranks.0, self.bearing_ranks.1);
+        let (clusters, gaps) = cluster_points(&kept, ranks, wraps, params.t_gap_m);
         let chain_has_break = gaps.iter().any(|g| g.is_break);
         if self.record_trace {
             trace.gaps = gaps;
@@ -213,10 +216,16 @@ impl Mapper {
             for q in &chain {
                 trace.readings[q.reading.sensor].cluster = Some(ci);
             }
+            let chain_len = chain.len();
+            let sensors: Vec<usize> = if self.record_trace {
+                chain.iter().map(|q| q.reading.sensor).collect()
+            } else {
+                Vec::new()
+            };
             let (mut fitted, constant_depth) = if params.constant_depth {
                 reduce_constant_depth(&chain, params.accuracy_pct)
             } else {
-                (chain.clone(), Vec::new())
+                (chain, Vec::new())
             };
             // Beyond ALGORITHM.md §2: a chain that wraps all round without a break is a closed
             // loop (its last point neighbours its first), so the fit closes it by repeating the
@@ -238,12 +247,12 @@ impl Mapper {
                     points: fitted[first..=last].to_vec(),
                 });
             }
-            if chain.len() == 1 {
+            if chain_len == 1 {
                 singles.push(fitted[0]);
             }
             if self.record_trace {
                 trace.clusters.push(ClusterTrace {
-                    sensors: chain.iter().map(|q| q.reading.sensor).collect(),
+                    sensors,
                     constant_depth,
                     fitted,
                     splits,
@@ -269,10 +278,14 @@ impl Mapper {
         }
 
         // §4 matching against the map as it stood before this snapshot, §5 updates.
-        let mut candidate_sets: Vec<Vec<Candidate>> = new_segments
-            .iter()
-            .map(|seg| self.candidates_for(&SegmentEnds { a: seg.a, b: seg.b }))
-            .collect();
+        let mut candidates = std::mem::take(&mut self.scratch_candidates);
+        candidates.clear();
+        let mut candidate_sets = Vec::with_capacity(new_segments.len());
+        for seg in &new_segments {
+            let start = candidates.len();
+            self.candidates_for(&SegmentEnds { a: seg.a, b: seg.b }, &mut candidates);
+            candidate_sets.push(start..candidates.len());
+        }
         // Whether a candidate is outermost is asked as the map stood before this snapshot: the
         // map keeps each face as it was before the step first changes it.
         self.map.begin_face_journal();
@@ -280,11 +293,11 @@ impl Mapper {
         let mut absorbed_into: Vec<(SegmentId, SegmentId)> = Vec::new();
         let mut new_faces: Vec<FaceId> = Vec::new();
         for (ni, seg) in new_segments.iter().enumerate() {
-            let mut cands = std::mem::take(&mut candidate_sets[ni]);
+            let cands = &mut candidates[candidate_sets[ni].clone()];
             let ends = SegmentEnds { a: seg.a, b: seg.b };
             let map = &self.map;
             let was_outermost = |id, face| map.was_outermost(id, face);
-            let mut decision = decide(params, ni, &ends, &mut cands, &was_outermost);
+            let mut decision = decide(params, ni, &ends, cands, &was_outermost);
             match decision.outcome {
                 Outcome::Match | Outcome::Extension => {
                     let named = decision.existing.expect("a match names its segment");
@@ -356,6 +369,7 @@ impl Mapper {
             trace.decisions.push(decision);
         }
         self.map.end_face_journal();
+        self.scratch_candidates = candidates;
         if self.record_trace {
             trace.new_segments = new_segments;
         } else {
