@@ -32,8 +32,6 @@ pub struct Mapper {
     next_snapshot: usize,
     brute_force: bool,
     record_trace: bool,
-    /// Reused buffer of segment ids for index queries (no allocation per query).
-    scratch_ids: Vec<SegmentId>,
     /// Reused buffer of one step's candidates, every new segment's set one after another.
     scratch_candidates: Vec<Candidate>,
 }
@@ -64,7 +62,6 @@ impl Mapper {
             next_snapshot: 0,
             brute_force: false,
             record_trace: true,
-            scratch_ids: Vec::new(),
             scratch_candidates: Vec::new(),
         }
     }
@@ -458,8 +455,7 @@ impl Mapper {
                 !(-1e-9..=1.0 + 1e-9).contains(&t)
             });
             if params.merge_duplicates && grew {
-                update.absorbed =
-                    absorb_duplicates(&mut self.map, &params, target, &[], &mut self.scratch_ids);
+                update.absorbed = absorb_duplicates(&mut self.map, &params, target, &[]);
             }
             return Some(update);
         }
@@ -503,13 +499,7 @@ impl Mapper {
         }
         if params.merge_duplicates {
             for &piece in &piece_ids {
-                let absorbed = absorb_duplicates(
-                    &mut self.map,
-                    &params,
-                    piece,
-                    &piece_ids,
-                    &mut self.scratch_ids,
-                );
+                let absorbed = absorb_duplicates(&mut self.map, &params, piece, &piece_ids);
                 update.absorbed.extend(absorbed);
             }
         }

@@ -12,7 +12,7 @@
 //! (orientation, colinearity, mid-point overlap or containment) is applied to it by the §5
 //! MATCH rule (Figure 1) and leaves the map; its supporting readings join the updated segment's.
 
-use super::map::{EndPoint, Map, SegmentId, SegmentKind};
+use super::map::{EndPoint, Map, SegmentId};
 use super::matching::{evaluate_pair, SegmentEnds};
 use super::params::Params;
 use super::trace::AbsorbTrace;
@@ -21,8 +21,7 @@ use crate::geometry::distance_to_segment;
 use std::sync::Arc;
 
 /// Fuses into segment `into` every fitted segment (other than `into` and `exclude`) that
-/// matches it, one at a time until none does; returns what was absorbed, in order. `scratch`
-/// is a reusable buffer.
+/// matches it, one at a time until none does; returns what was absorbed, in order.
 ///
 /// Searched: the segments whose mid-point lies within the largest colinearity threshold of
 /// `into` (every MPC match does: its mid-point projects inside `into` within the threshold;
@@ -34,10 +33,9 @@ pub fn absorb_duplicates(
     params: &Params,
     into: SegmentId,
     exclude: &[SegmentId],
-    scratch: &mut Vec<SegmentId>,
 ) -> Vec<AbsorbTrace> {
     let mut absorbed = Vec::new();
-    while let Some(trace) = absorb_one(map, params, into, exclude, scratch) {
+    while let Some(trace) = absorb_one(map, params, into, exclude) {
         absorbed.push(trace);
     }
     absorbed
@@ -48,7 +46,6 @@ fn absorb_one(
     params: &Params,
     into: SegmentId,
     exclude: &[SegmentId],
-    scratch: &mut Vec<SegmentId>,
 ) -> Option<AbsorbTrace> {
     let target = map.segment(into)?;
     let existing = SegmentEnds {
@@ -60,32 +57,23 @@ fn absorb_one(
         * (1.0 + 1e-9)
         + 1e-9;
     let (a, b) = (existing.a.point, existing.b.point);
-    map.segments_along_into(&a, &b, reach_m, scratch);
-    let mut near: Vec<(f64, SegmentId)> = Vec::new();
-    for &id in scratch.iter() {
-        if id == into || exclude.contains(&id) {
-            continue;
+    let mut near: Vec<(f64, SegmentId, SegmentEnds)> = Vec::new();
+    map.visit_segments_along(&a, &b, reach_m, |id, s| {
+        if id == into || !s.fitted || exclude.contains(&id) {
+            return;
         }
-        let Some(s) = map.segment(id).filter(|s| s.kind == SegmentKind::Fitted) else {
-            continue;
-        };
-        let d = distance_to_segment(&s.mid(), &a, &b);
+        let d = distance_to_segment(&nalgebra::center(&s.a.point, &s.b.point), &a, &b);
         if d <= reach_m {
-            near.push((d, id));
+            near.push((d, id, SegmentEnds { a: s.a, b: s.b }));
         }
-    }
+    });
     near.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
-    for (_, id) in near {
-        let other = map.segment(id)?;
-        let ends = SegmentEnds {
-            a: other.a,
-            b: other.b,
-        };
+    for (_, id, ends) in near {
         let evaluation = evaluate_pair(params, &ends, into, &existing);
         if !evaluation.is_match() {
             continue;
         }
-        let other_points = Arc::clone(&other.points);
+        let other_points = Arc::clone(&map.segment(id)?.points);
         let geometry = update_match(
             [existing.a, existing.b],
             evaluation.new_left,
@@ -116,6 +104,7 @@ mod tests {
     use super::*;
     use crate::geometry::Point;
     use crate::mapping::map::{ReadingRef, Segment, SupportPoint};
+    use crate::mapping::SegmentKind;
 
     fn segment(id: SegmentId, face: u32, a: (f64, f64), b: (f64, f64), range_m: f64) -> Segment {
         let end = |(x, y): (f64, f64)| EndPoint {
@@ -152,7 +141,7 @@ mod tests {
             segment(1, 1, (1.0, 0.01), (2.6, 0.01), 1.0),
             segment(2, 2, (1.0, -1.0), (1.0, 1.0), 1.0),
         ]);
-        let absorbed = absorb_duplicates(&mut map, &Params::paper(), 0, &[], &mut Vec::new());
+        let absorbed = absorb_duplicates(&mut map, &Params::paper(), 0, &[]);
         assert_eq!(absorbed.len(), 1);
         assert_eq!(absorbed[0].segment, 1);
         assert!(absorbed[0].evaluation.overlap.mpc);
@@ -177,7 +166,7 @@ mod tests {
             segment(0, 0, (0.0, 0.0), (2.0, 0.0), 1.0),
             segment(1, 1, (0.5, 0.07), (1.5, 0.07), 1.0),
         ]);
-        assert!(absorb_duplicates(&mut map, &Params::paper(), 0, &[], &mut Vec::new()).is_empty());
+        assert!(absorb_duplicates(&mut map, &Params::paper(), 0, &[]).is_empty());
         assert_eq!(map.segments.len(), 2);
         // At 5.9 cm it passes.
         let mut map = Map::from_segments(vec![
@@ -185,12 +174,12 @@ mod tests {
             segment(1, 1, (0.5, 0.059), (1.5, 0.059), 1.0),
         ]);
         assert_eq!(
-            absorb_duplicates(&mut map, &Params::paper(), 0, &[1], &mut Vec::new()).len(),
+            absorb_duplicates(&mut map, &Params::paper(), 0, &[1]).len(),
             0,
             "excluded segments are never absorbed"
         );
         assert_eq!(
-            absorb_duplicates(&mut map, &Params::paper(), 0, &[], &mut Vec::new()).len(),
+            absorb_duplicates(&mut map, &Params::paper(), 0, &[]).len(),
             1
         );
     }

@@ -41,13 +41,23 @@ pub fn merge_support_points(
     let order = |x: &(f64, SupportPoint), y: &(f64, SupportPoint)| {
         x.0.total_cmp(&y.0).then(x.1.reading.cmp(&y.1.reading))
     };
-    let (old_run, new_run) = keyed.split_at(old_kept);
-    let in_order =
-        |run: &[(f64, SupportPoint)]| run.windows(2).all(|w| order(&w[0], &w[1]).is_le());
-    if in_order(old_run) && in_order(new_run) {
+    let (old_run, new_run) = keyed.split_at_mut(old_kept);
+    // A run in strictly descending order (points listed against a→b) is turned round: the same
+    // order a sort gives, since no two of its elements tie.
+    let ascending = |run: &mut [(f64, SupportPoint)]| {
+        if run.windows(2).all(|w| order(&w[0], &w[1]).is_le()) {
+            return true;
+        }
+        if run.windows(2).all(|w| order(&w[0], &w[1]).is_gt()) {
+            run.reverse();
+            return true;
+        }
+        false
+    };
+    if ascending(old_run) && ascending(new_run) {
         // The usual case (old points in order along a nearby line, new ones along the chain):
         // one merge of the two runs, the same order a stable sort gives (ties: old first).
-        let mut merged = Vec::with_capacity(keyed.len());
+        let mut merged = Vec::with_capacity(old_run.len() + new_run.len());
         let (mut i, mut j) = (0, 0);
         while i < old_run.len() && j < new_run.len() {
             if order(&new_run[j], &old_run[i]).is_lt() {
@@ -284,15 +294,22 @@ mod tests {
         fn merging_support_points_equals_keeping_the_newest_and_sorting(
             old in proptest::collection::vec((-8i8..8, 0u8..6), 0..70),
             new in proptest::collection::vec((-8i8..8, 0u8..6), 0..20),
-            sort_old in any::<bool>(),
+            old_order in 0u8..3,
+            new_order in 0u8..3,
             interleave in any::<bool>(),
         ) {
             let (a, b) = (ep(-3.0, 0.0, 1.0), ep(3.0, 0.0, 1.0));
-            let mut old = support_points(old, 0);
-            if sort_old {
-                old = merged_by_sorting(&old, &[], &a, &b);
-            }
-            let new = support_points(new, if interleave { 3 } else { 100 });
+            // 0: as drawn, 1: along a→b, 2: against it.
+            let arrange = |points: Vec<SupportPoint>, how: u8| match how {
+                0 => points,
+                1 => merged_by_sorting(&points, &[], &a, &b),
+                _ => merged_by_sorting(&points, &[], &a, &b).into_iter().rev().collect(),
+            };
+            let old = arrange(support_points(old, 0), old_order);
+            let new = arrange(
+                support_points(new, if interleave { 3 } else { 100 }),
+                new_order,
+            );
             prop_assert_eq!(
                 merge_support_points(&old, &new, &a, &b),
                 merged_by_sorting(&old, &new, &a, &b)
