@@ -277,7 +277,8 @@ pub fn map_run(
         Some(n) => n,
         None => last,
     };
-    let mut mapper = Mapper::new(params, run.layout.clone(), run.sensor);
+    // The summary needs only readings and decisions, which the slim trace keeps.
+    let mut mapper = Mapper::new(params, run.layout.clone(), run.sensor).with_trace(keep_traces);
     let mut traces = Vec::new();
     let mut summary = Summary::default();
     for snapshot in &run.snapshots[..=until] {

@@ -54,15 +54,21 @@ pub fn cluster_points(
     } else {
         0
     };
-    let mut clusters = vec![vec![chain[start]]];
+    // Sized up front: one allocation per cluster, none for growth.
+    let breaks = gaps.iter().filter(|g| g.is_break).count();
+    let mut clusters = Vec::with_capacity(breaks + 1);
+    let mut cluster = Vec::with_capacity(n);
+    cluster.push(chain[start]);
     for step in 1..n {
         let pos = (start + step) % n;
         let link = (pos + n - 1) % n;
         if gaps[link].is_break {
-            clusters.push(Vec::new());
+            let rest = n - step;
+            clusters.push(std::mem::replace(&mut cluster, Vec::with_capacity(rest)));
         }
-        clusters.last_mut().expect("non-empty").push(chain[pos]);
+        cluster.push(chain[pos]);
     }
+    clusters.push(cluster);
     (clusters, gaps)
 }
 

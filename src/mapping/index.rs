@@ -45,10 +45,32 @@ struct Filing {
     segment: IndexedSegment,
 }
 
+/// A segment as one cell lists it: enough to pass over it without reading its filing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct CellEntry {
+    id: SegmentId,
+    /// The cell is in the first column / first row of the segment's cell box.
+    first_column: bool,
+    first_row: bool,
+    /// The segment's bounding box rounded outwards to `f32` (a box that contains the exact
+    /// one, so a test against it never rejects a segment the exact test keeps).
+    world: [f32; 4],
+}
+
+/// `v` as an `f32` no greater than it (no less with `up`).
+fn f32_outward(v: f64, up: bool) -> f32 {
+    let r = v as f32;
+    match (f64::from(r) < v, f64::from(r) > v) {
+        (true, _) if up => r.next_up(),
+        (_, true) if !up => r.next_down(),
+        _ => r,
+    }
+}
+
 /// Segments filed by grid cell.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SegmentGrid {
-    cells: FxHashMap<Cell, Vec<SegmentId>>,
+    cells: FxHashMap<Cell, Vec<CellEntry>>,
     /// Filing of each segment, indexed by id (ids are dense and never reused).
     filings: Vec<Option<Filing>>,
     filed: usize,
@@ -85,9 +107,20 @@ impl SegmentGrid {
         let finite = [a.x, a.y, b.x, b.y].iter().all(|v| v.is_finite());
         let place = match cell_box(&min, &max).filter(|_| finite) {
             Some(bx) => {
+                let world = [
+                    f32_outward(min.x, false),
+                    f32_outward(min.y, false),
+                    f32_outward(max.x, true),
+                    f32_outward(max.y, true),
+                ];
                 for cx in bx[0]..=bx[2] {
                     for cy in bx[1]..=bx[3] {
-                        self.cells.entry((cx, cy)).or_default().push(id);
+                        self.cells.entry((cx, cy)).or_default().push(CellEntry {
+                            id,
+                            first_column: cx == bx[0],
+                            first_row: cy == bx[1],
+                            world,
+                        });
                     }
                 }
                 Place::Cells(bx)
@@ -120,7 +153,7 @@ impl SegmentGrid {
                 for cx in bx[0]..=bx[2] {
                     for cy in bx[1]..=bx[3] {
                         if let Some(list) = self.cells.get_mut(&(cx, cy)) {
-                            list.retain(|&s| s != id);
+                            list.retain(|e| e.id != id);
                             if list.is_empty() {
                                 self.cells.remove(&(cx, cy));
                             }
@@ -170,13 +203,19 @@ impl SegmentGrid {
                         let Some(list) = self.cells.get(&(cx, cy)) else {
                             continue;
                         };
-                        for &id in list {
-                            let Some(Some(f)) = self.filings.get(id as usize) else {
+                        let (query_column, query_row) = (cx == q[0], cy == q[1]);
+                        for e in list {
+                            // Visited from the first cell where the boxes meet: the segment's
+                            // own first column (row) or the query's, whichever is later.
+                            let first_meet =
+                                (query_column || e.first_column) && (query_row || e.first_row);
+                            let w = e.world.map(f64::from);
+                            if !first_meet || !meets(&w) {
                                 continue;
-                            };
-                            if let Place::Cells(b) = f.place {
-                                if cx == b[0].max(q[0]) && cy == b[1].max(q[1]) && meets(&f.world) {
-                                    visit(id, &f.segment);
+                            }
+                            if let Some(Some(f)) = self.filings.get(e.id as usize) {
+                                if meets(&f.world) {
+                                    visit(e.id, &f.segment);
                                 }
                             }
                         }

@@ -278,6 +278,8 @@ impl Mapper {
         let mut candidates = std::mem::take(&mut self.scratch_candidates);
         candidates.clear();
         let mut candidate_sets = Vec::with_capacity(new_segments.len());
+        trace.decisions.reserve_exact(new_segments.len());
+        trace.updates.reserve_exact(new_segments.len());
         for seg in &new_segments {
             let start = candidates.len();
             self.candidates_for(&SegmentEnds { a: seg.a, b: seg.b }, &mut candidates);

@@ -52,10 +52,7 @@ impl Candidate {
 
     /// True when `self` comes before `other` in the §4 order (nearer, ties by id).
     fn precedes(&self, other: &Candidate) -> bool {
-        self.distance_m
-            .total_cmp(&other.distance_m)
-            .then(self.id.cmp(&other.id))
-            .is_lt()
+        in_order(self, other).is_lt()
     }
 }
 
@@ -138,9 +135,25 @@ pub fn evaluate_pair(
     }
 }
 
-/// Orders candidates as §4 asks: by distance from `l_n`'s mid-point to the segment, ties by id.
-pub fn order_candidates(candidates: &mut [Candidate]) {
-    candidates.sort_unstable_by(|x, y| x.distance_m.total_cmp(&y.distance_m).then(x.id.cmp(&y.id)));
+/// The §4 order of candidates: by distance from `l_n`'s mid-point to the segment, ties by id
+/// (a total order: ids are unique).
+fn in_order(x: &Candidate, y: &Candidate) -> std::cmp::Ordering {
+    x.distance_m.total_cmp(&y.distance_m).then(x.id.cmp(&y.id))
+}
+
+/// Orders the next candidates after the first `ordered` (already in order): as many again as
+/// are ordered, at least 8. Returns how many are in order now. Testing stops at the first
+/// MATCH, so a long candidate list is ordered only as far as it is tested, and ordering all of
+/// it still costs O(n log n).
+fn order_next(candidates: &mut [Candidate], ordered: usize) -> usize {
+    let total = candidates.len();
+    let end = (ordered + ordered.max(8)).min(total);
+    let rest = &mut candidates[ordered..];
+    if end < total {
+        rest.select_nth_unstable_by(end - ordered - 1, in_order);
+    }
+    rest[..end - ordered].sort_unstable_by(in_order);
+    end
 }
 
 /// The candidate that comes first in the §4 order (nearest to `l_n`'s mid-point, ties by id).
@@ -193,7 +206,6 @@ pub fn decide(
             };
         }
     }
-    order_candidates(candidates);
     let mut decision = DecisionTrace {
         new_segment: new_index,
         mpc_stage: Vec::with_capacity(candidates.len()),
@@ -207,7 +219,12 @@ pub fn decide(
         existing: None,
         result: None,
     };
-    for c in candidates.iter() {
+    let mut ordered = 0;
+    for i in 0..candidates.len() {
+        if i == ordered {
+            ordered = order_next(candidates, ordered);
+        }
+        let c = &candidates[i];
         let evaluation = evaluate_pair(params, new, c.id, &c.ends);
         let is_match = evaluation.is_match();
         let rule = if evaluation.overlap.mpc {
@@ -410,5 +427,40 @@ mod tests {
         );
         let d = decide(&p, 0, &n, &mut [], &outermost_in_face_1);
         assert_eq!(d.rule, Rule::NoCandidates);
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn ordering_step_by_step_gives_the_full_order(
+            distances in proptest::collection::vec(0u8..6, 0..80),
+            tested in 0usize..80,
+        ) {
+            // Few distinct distances, so ties by id are common.
+            let n = ends(0.0, 0.0, 1.0, 1.0, 0.0, 1.0);
+            let mut candidates: Vec<Candidate> = distances
+                .iter()
+                .enumerate()
+                .map(|(i, &d)| Candidate {
+                    id: (distances.len() - i) as SegmentId,
+                    ends: n,
+                    face: 0,
+                    distance_m: f64::from(d) / 2.0,
+                })
+                .collect();
+            let mut full = candidates.clone();
+            full.sort_by(in_order);
+            let tested = tested.min(candidates.len());
+            let mut ordered = 0;
+            for i in 0..tested {
+                if i == ordered {
+                    ordered = order_next(&mut candidates, ordered);
+                }
+            }
+            proptest::prop_assert!(ordered >= tested);
+            proptest::prop_assert_eq!(&candidates[..tested], &full[..tested]);
+            let mut ids: Vec<SegmentId> = candidates.iter().map(|c| c.id).collect();
+            ids.sort_unstable();
+            proptest::prop_assert_eq!(ids, (1..=distances.len() as SegmentId).collect::<Vec<_>>());
+        }
     }
 }

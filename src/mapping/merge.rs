@@ -57,7 +57,7 @@ fn absorb_one(
         * (1.0 + 1e-9)
         + 1e-9;
     let (a, b) = (existing.a.point, existing.b.point);
-    let mut near: Vec<(f64, SegmentId, SegmentEnds)> = Vec::new();
+    let mut near: Vec<(f64, SegmentId, SegmentEnds)> = Vec::with_capacity(16);
     map.visit_segments_along(&a, &b, reach_m, |id, s| {
         if id == into || !s.fitted || exclude.contains(&id) {
             return;
