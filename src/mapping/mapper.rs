@@ -296,7 +296,7 @@ impl Mapper {
             let ends = SegmentEnds { a: seg.a, b: seg.b };
             let map = &self.map;
             let was_outermost = |id, face| map.was_outermost(id, face);
-            let mut decision = decide(params, ni, &ends, cands, &was_outermost, self.record_trace);
+            let mut decision = decide(params, ni, &ends, cands, &was_outermost);
             match decision.outcome {
                 Outcome::Match | Outcome::Extension => {
                     let named = decision.existing.expect("a match names its segment");
