@@ -34,12 +34,34 @@ impl Pose {
 
     /// Maps a point given in the robot frame into the world frame.
     pub fn world_from_robot(&self, point_in_robot: &Point) -> Point {
-        self.position() + Rotation2::new(self.heading_rad) * point_in_robot.coords
+        self.robot_frame().to_world(point_in_robot)
+    }
+
+    /// The robot frame at this pose, its rotation computed once for many points.
+    pub fn robot_frame(&self) -> RobotFrame {
+        RobotFrame {
+            origin_in_world: self.position(),
+            rotation: Rotation2::new(self.heading_rad),
+        }
     }
 
     /// Distance between the positions of two poses.
     pub fn distance_to(&self, other: &Pose) -> f64 {
         (self.position() - other.position()).norm()
+    }
+}
+
+/// The robot frame placed in the world (see [`Pose::robot_frame`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RobotFrame {
+    origin_in_world: Point,
+    rotation: Rotation2<f64>,
+}
+
+impl RobotFrame {
+    /// Maps a point given in the robot frame into the world frame.
+    pub fn to_world(&self, point_in_robot: &Point) -> Point {
+        self.origin_in_world + self.rotation * point_in_robot.coords
     }
 }
 

@@ -1,6 +1,6 @@
 //! Sensor layouts and the reading → point conversion (paper §2, §3.1; ALGORITHM.md §1).
 
-use crate::geometry::{normalize_angle_positive, unit, Point, Pose};
+use crate::geometry::{normalize_angle_positive, unit, Point, Pose, Vec2};
 use serde::{Deserialize, Serialize};
 
 /// One sonar's mount pose in the robot frame.
@@ -89,9 +89,22 @@ impl SensorLayout {
     /// World point of an echo at `range_m` on sensor `k`'s beam axis (β = 0):
     /// `p = R + Rot(γ)·(m_k + D·(cos θ_k, sin θ_k))`.
     pub fn point_in_world(&self, pose: &Pose, k: usize, range_m: f64) -> Point {
+        pose.world_from_robot(&self.beam_axis(k).point_at(range_m))
+    }
+
+    /// Sensor `k`'s beam axis in the robot frame.
+    pub fn beam_axis(&self, k: usize) -> BeamAxis {
         let m = &self.mounts[k];
-        let in_robot = Point::new(m.x_m, m.y_m) + unit(m.heading_rad) * range_m;
-        pose.world_from_robot(&in_robot)
+        BeamAxis {
+            origin_in_robot: Point::new(m.x_m, m.y_m),
+            direction_in_robot: unit(m.heading_rad),
+        }
+    }
+
+    /// Every sensor's beam axis, in sensor order (to convert many readings without a sine
+    /// and cosine each).
+    pub fn beam_axes(&self) -> Vec<BeamAxis> {
+        (0..self.len()).map(|k| self.beam_axis(k)).collect()
     }
 
     /// World pose of sensor `k` (its position and beam heading).
@@ -99,6 +112,22 @@ impl SensorLayout {
         let m = &self.mounts[k];
         let p = pose.world_from_robot(&Point::new(m.x_m, m.y_m));
         Pose::new(p.x, p.y, pose.heading_rad + m.heading_rad)
+    }
+}
+
+/// A sensor's beam axis (β = 0) in the robot frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BeamAxis {
+    /// The mount position.
+    pub origin_in_robot: Point,
+    /// Unit vector along the beam.
+    pub direction_in_robot: Vec2,
+}
+
+impl BeamAxis {
+    /// The point at `range_m` along the axis, in the robot frame.
+    pub fn point_at(&self, range_m: f64) -> Point {
+        self.origin_in_robot + self.direction_in_robot * range_m
     }
 }
 

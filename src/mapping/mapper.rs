@@ -16,7 +16,7 @@ use super::trace::{
 use super::update::{merge_support_points, update_extension, update_match, UpdateGeometry};
 use crate::geometry::{distance_to_line, projection_param, Pose};
 use crate::run::Snapshot;
-use crate::sonar::{SensorLayout, SensorSpec};
+use crate::sonar::{BeamAxis, SensorLayout, SensorSpec};
 use std::sync::Arc;
 
 /// Runs the paper's algorithm snapshot by snapshot.
@@ -27,6 +27,8 @@ pub struct Mapper {
     sensor: SensorSpec,
     /// Each sensor's place in the layout's bearing order, and whether that order wraps.
     bearing_ranks: (Vec<usize>, bool),
+    /// Each sensor's beam axis in the robot frame.
+    beam_axes: Vec<BeamAxis>,
     map: Map,
     last_pose: Option<Pose>,
     next_snapshot: usize,
@@ -52,11 +54,13 @@ impl Mapper {
     pub fn new(params: Params, layout: SensorLayout, sensor: SensorSpec) -> Self {
         let (order, wraps) = layout.bearing_order();
         let bearing_ranks = (sensor_ranks(&order), wraps);
+        let beam_axes = layout.beam_axes();
         Self {
             params,
             layout,
             sensor,
             bearing_ranks,
+            beam_axes,
             map: Map::default(),
             last_pose: None,
             next_snapshot: 0,
@@ -193,7 +197,7 @@ impl Mapper {
             index,
             &snapshot.pose,
             &snapshot.ranges_m,
-            &self.layout,
+            &self.beam_axes,
             self.sensor.max_range_m,
             params,
         );

@@ -4,7 +4,7 @@ use super::map::{ReadingRef, SupportPoint};
 use super::params::Params;
 use super::trace::{DiscardReason, ReadingTrace};
 use crate::geometry::Pose;
-use crate::sonar::{ball_radius, SensorLayout};
+use crate::sonar::{ball_radius, BeamAxis};
 
 /// Why a reading with range `range_m` is discarded, if it is (ALGORITHM.md §1):
 /// no echo, at or beyond the sensor's maximum range, beyond `d_max`, below `min_range`.
@@ -23,22 +23,24 @@ pub fn discard_reason(
 }
 
 /// Converts one snapshot's ranges: a trace record per sensor and the kept points in sensor order.
-/// Ranges beyond the layout's sensor count are ignored; missing ones count as no echo.
+/// `beam_axes` are the layout's ([`crate::sonar::SensorLayout::beam_axes`]). Ranges beyond the
+/// sensor count are ignored; missing ones count as no echo.
 pub fn convert_readings(
     snapshot: usize,
     pose: &Pose,
     ranges_m: &[Option<f64>],
-    layout: &SensorLayout,
+    beam_axes: &[BeamAxis],
     sensor_max_range_m: f64,
     params: &Params,
 ) -> (Vec<ReadingTrace>, Vec<SupportPoint>) {
-    let mut traces = Vec::with_capacity(layout.len());
-    let mut kept = Vec::with_capacity(layout.len());
-    for sensor in 0..layout.len() {
+    let robot = pose.robot_frame();
+    let mut traces = Vec::with_capacity(beam_axes.len());
+    let mut kept = Vec::with_capacity(beam_axes.len());
+    for (sensor, axis) in beam_axes.iter().enumerate() {
         let range_m = ranges_m.get(sensor).copied().flatten();
         let discarded = discard_reason(range_m, sensor_max_range_m, params);
         let finite = range_m.filter(|d| d.is_finite());
-        let point = finite.map(|d| layout.point_in_world(pose, sensor, d));
+        let point = finite.map(|d| robot.to_world(&axis.point_at(d)));
         let ball_radius_m = finite.map_or(0.0, |d| ball_radius(params.accuracy_pct, d));
         if let (None, Some(point), Some(range_m)) = (discarded, point, finite) {
             kept.push(SupportPoint {
@@ -62,6 +64,7 @@ pub fn convert_readings(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sonar::SensorLayout;
     use crate::units::inches;
 
     #[test]
@@ -96,8 +99,14 @@ mod tests {
         let mut ranges = vec![None; 16];
         ranges[0] = Some(inches(100.0));
         ranges[4] = Some(inches(3.0));
-        let (traces, kept) =
-            convert_readings(7, &pose, &ranges, &layout, inches(255.0), &Params::paper());
+        let (traces, kept) = convert_readings(
+            7,
+            &pose,
+            &ranges,
+            &layout.beam_axes(),
+            inches(255.0),
+            &Params::paper(),
+        );
         assert_eq!(traces.len(), 16);
         assert_eq!(kept.len(), 1);
         assert!((kept[0].point.x - inches(109.0)).abs() < 1e-12);
