@@ -10,8 +10,8 @@ use super::merge::absorb_duplicates;
 use super::params::Params;
 use super::readings::convert_readings;
 use super::trace::{
-    ClusterTrace, NewSegmentTrace, Outcome, RefitTrace, SegmentSource, Side, StepTrace, Test,
-    UpdateTrace, Warning,
+    ClusterTrace, NewSegmentTrace, Outcome, RefitTrace, SegmentSource, Side, SplitTrace, StepTrace,
+    Test, UpdateTrace, Warning,
 };
 use super::update::{merge_support_points, update_extension, update_match, UpdateGeometry};
 use crate::geometry::{distance_to_line, projection_param, Pose};
@@ -36,6 +36,8 @@ pub struct Mapper {
     record_trace: bool,
     /// Reused buffer of one step's candidates, every new segment's set one after another.
     scratch_candidates: Vec<Candidate>,
+    /// Reused buffer of a cluster's split tests when they are not traced.
+    scratch_splits: Vec<SplitTrace>,
 }
 
 /// The mutable state a checkpoint needs to resume a [`Mapper`].
@@ -67,6 +69,7 @@ impl Mapper {
             brute_force: false,
             record_trace: true,
             scratch_candidates: Vec::new(),
+            scratch_splits: Vec::new(),
         }
     }
 
@@ -210,7 +213,7 @@ impl Mapper {
         }
 
         // §3 fitting of each cluster (with constant-depth groups when on).
-        let mut new_segments: Vec<NewSegmentTrace> = Vec::new();
+        let mut new_segments: Vec<NewSegmentTrace> = Vec::with_capacity(kept.len());
         let mut singles: Vec<SupportPoint> = Vec::new();
         for (ci, members) in clusters.iter().enumerate() {
             let chain: Vec<SupportPoint> = members.iter().map(|&i| kept[i]).collect();
@@ -235,12 +238,17 @@ impl Mapper {
             if closed_loop && fitted.len() >= 3 {
                 fitted.push(fitted[0]);
             }
-            let mut splits = Vec::new();
+            // Untraced, the split tests go to a reused buffer.
+            let mut splits = if self.record_trace {
+                Vec::new()
+            } else {
+                std::mem::take(&mut self.scratch_splits)
+            };
+            splits.clear();
             let pieces = split_recursive(&fitted, params, &mut splits);
-            let mut indices = Vec::with_capacity(pieces.len());
+            let first_new = new_segments.len();
             for &[first, last] in &pieces {
                 let (a, b) = piece_end_points(&fitted, first, last, params.fit);
-                indices.push(new_segments.len());
                 new_segments.push(NewSegmentTrace {
                     source: SegmentSource::Cluster(ci),
                     a,
@@ -257,8 +265,10 @@ impl Mapper {
                     constant_depth,
                     fitted,
                     splits,
-                    new_segments: indices,
+                    new_segments: (first_new..new_segments.len()).collect(),
                 });
+            } else {
+                self.scratch_splits = splits;
             }
         }
 

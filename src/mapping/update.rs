@@ -3,9 +3,10 @@
 //! End-points are compared by range: the smaller `D` is the higher confidence; on a tie the
 //! existing end-point wins. A projected end-point keeps the range of the reading it came from.
 
-use super::map::{EndPoint, SupportPoint};
+use super::map::{EndPoint, ReadingRef, SupportPoint};
 use super::trace::{EndOrigin, EndPointFate, EndRole, Side};
 use crate::geometry::{fit_line_tls, lerp, projection_param, Point};
+use std::borrow::Cow;
 
 /// Defining points closer than this (metres) are "nearly coinciding" (§5 fallback).
 const COINCIDENT_M: f64 = 1e-6;
@@ -32,46 +33,69 @@ pub fn merge_support_points(
             readings.select_nth_unstable_by_key(MAX_SUPPORT_POINTS - 1, |&r| std::cmp::Reverse(r));
         *nth
     });
-    let kept = |q: &&SupportPoint| oldest_kept.is_none_or(|r| q.reading >= r);
-    let keyed_point = |q: &SupportPoint| (projection_param(&q.point, &a.point, &b.point), *q);
-    let mut keyed: Vec<(f64, SupportPoint)> = Vec::with_capacity(total);
-    keyed.extend(old.iter().filter(kept).map(keyed_point));
-    let old_kept = keyed.len();
-    keyed.extend(new.iter().filter(kept).map(keyed_point));
-    let order = |x: &(f64, SupportPoint), y: &(f64, SupportPoint)| {
-        x.0.total_cmp(&y.0).then(x.1.reading.cmp(&y.1.reading))
+    // Each list's kept points, borrowed when nothing is dropped.
+    fn keep(list: &[SupportPoint], oldest_kept: Option<ReadingRef>) -> Cow<'_, [SupportPoint]> {
+        let kept = |q: &SupportPoint| oldest_kept.is_none_or(|r| q.reading >= r);
+        if list.iter().all(kept) {
+            Cow::Borrowed(list)
+        } else {
+            Cow::Owned(list.iter().copied().filter(kept).collect())
+        }
+    }
+    let (mut old_run, mut new_run) = (keep(old, oldest_kept), keep(new, oldest_kept));
+    // Position along a→b, computed once a point.
+    let mut keys: Vec<f64> = old_run
+        .iter()
+        .chain(new_run.iter())
+        .map(|q| projection_param(&q.point, &a.point, &b.point))
+        .collect();
+    let (old_keys, new_keys) = keys.split_at_mut(old_run.len());
+    let order = |k: f64, q: &SupportPoint, l: f64, r: &SupportPoint| {
+        k.total_cmp(&l).then(q.reading.cmp(&r.reading))
     };
-    let (old_run, new_run) = keyed.split_at_mut(old_kept);
-    // A run in strictly descending order (points listed against a→b) is turned round: the same
-    // order a sort gives, since no two of its elements tie.
-    let ascending = |run: &mut [(f64, SupportPoint)]| {
-        if run.windows(2).all(|w| order(&w[0], &w[1]).is_le()) {
+    // True when the run is in order; a run in strictly descending order (points listed against
+    // a→b) is turned round first: the same order a sort gives, since no two of its elements tie.
+    let ascending = |keys: &mut [f64], run: &mut Cow<'_, [SupportPoint]>| {
+        let pairs = || keys.windows(2).zip(run.windows(2));
+        if pairs().all(|(k, q)| order(k[0], &q[0], k[1], &q[1]).is_le()) {
             return true;
         }
-        if run.windows(2).all(|w| order(&w[0], &w[1]).is_gt()) {
-            run.reverse();
+        if pairs().all(|(k, q)| order(k[0], &q[0], k[1], &q[1]).is_gt()) {
+            keys.reverse();
+            run.to_mut().reverse();
             return true;
         }
         false
     };
-    if ascending(old_run) && ascending(new_run) {
+    if ascending(old_keys, &mut old_run) && ascending(new_keys, &mut new_run) {
         // The usual case (old points in order along a nearby line, new ones along the chain):
-        // one merge of the two runs, the same order a stable sort gives (ties: old first).
+        // each new point goes after every old one that does not come after it (ties: old
+        // first, as a stable sort orders them), found by binary search.
         let mut merged = Vec::with_capacity(old_run.len() + new_run.len());
-        let (mut i, mut j) = (0, 0);
-        while i < old_run.len() && j < new_run.len() {
-            if order(&new_run[j], &old_run[i]).is_lt() {
-                merged.push(new_run[j].1);
-                j += 1;
-            } else {
-                merged.push(old_run[i].1);
-                i += 1;
+        let mut i = 0;
+        for (&l, r) in new_keys.iter().zip(new_run.iter()) {
+            let (mut low, mut high) = (i, old_run.len());
+            while low < high {
+                let mid = (low + high) / 2;
+                if order(old_keys[mid], &old_run[mid], l, r).is_le() {
+                    low = mid + 1;
+                } else {
+                    high = mid;
+                }
             }
+            merged.extend_from_slice(&old_run[i..low]);
+            merged.push(*r);
+            i = low;
         }
-        merged.extend(old_run[i..].iter().chain(&new_run[j..]).map(|(_, q)| *q));
+        merged.extend_from_slice(&old_run[i..]);
         return merged;
     }
-    keyed.sort_by(order);
+    let mut keyed: Vec<(f64, SupportPoint)> = keys
+        .iter()
+        .copied()
+        .zip(old_run.iter().chain(new_run.iter()).copied())
+        .collect();
+    keyed.sort_by(|x, y| order(x.0, &x.1, y.0, &y.1));
     keyed.into_iter().map(|(_, q)| q).collect()
 }
 
