@@ -31,10 +31,21 @@ fn counting() -> bool {
     COUNTING.load(Ordering::Relaxed)
 }
 
+/// Every mimalloc block is aligned to at least a word, so an allocation that asks no more can
+/// skip mimalloc's aligned path (about a third of an allocation's instructions).
+const WORD_ALIGN: usize = std::mem::size_of::<usize>();
+
 unsafe impl GlobalAlloc for CountingAllocator {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        // SAFETY: forwarded unchanged to mimalloc.
-        let p = unsafe { Inner.alloc(layout) };
+        // SAFETY: mimalloc's malloc for word alignment (its blocks are word aligned), else
+        // forwarded unchanged.
+        let p = unsafe {
+            if layout.align() <= WORD_ALIGN {
+                libmimalloc_sys::mi_malloc(layout.size()).cast::<u8>()
+            } else {
+                Inner.alloc(layout)
+            }
+        };
         if counting() && !p.is_null() {
             count(layout.size() as isize);
         }
@@ -50,8 +61,14 @@ unsafe impl GlobalAlloc for CountingAllocator {
     }
 
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        // SAFETY: forwarded unchanged to mimalloc.
-        let p = unsafe { Inner.realloc(ptr, layout, new_size) };
+        // SAFETY: as in `alloc`; `ptr` came from mimalloc either way.
+        let p = unsafe {
+            if layout.align() <= WORD_ALIGN {
+                libmimalloc_sys::mi_realloc(ptr.cast(), new_size).cast::<u8>()
+            } else {
+                Inner.realloc(ptr, layout, new_size)
+            }
+        };
         if counting() && !p.is_null() {
             count(new_size as isize - layout.size() as isize);
         }
