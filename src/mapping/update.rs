@@ -57,7 +57,10 @@ pub fn merge_support_points(
         // The usual case (old points in order along a nearby line, new ones along the chain):
         // each new point goes after every old one that does not come after it (ties: old
         // first, as a stable sort orders them), found by binary search.
-        let mut merged = Vec::with_capacity((old.len() + new.len()).min(MAX_SUPPORT_POINTS));
+        // Sized exactly (points that share a reading, as split pieces share their corner, can
+        // keep a few over the cap): the list lives on in the map and its checkpoints.
+        let kept_count = old.iter().chain(new).filter(kept).count();
+        let mut merged = Vec::with_capacity(kept_count);
         let mut i = 0;
         for (&l, r) in new_keys.iter().zip(new_run.iter()).filter(|(_, r)| kept(r)) {
             let (mut low, mut high) = (i, old_run.len());
