@@ -6,14 +6,13 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use sonarmap::eval::{evaluate, EvalReport};
 use sonarmap::log::{parse_json, save_map, save_run};
 use sonarmap::mapping::{Mapper, Outcome, Params, ParamsFile, Preset, StepTrace};
-use sonarmap::replay::Replay;
+use sonarmap::replay::StepView;
 use sonarmap::run::Run;
 use sonarmap::scene::svg::{default_view, to_svg};
 use sonarmap::scene::{build_scene, Layer, LayerSet, SceneInput, ViewOptions};
 use sonarmap::sim::{load_plan, simulate, Model};
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 /// Sonar resolution-based environment mapping (Cahut, Valavanis, Deliç): an inspector and
 /// headless tools. With no subcommand, opens the inspector on LOG (default: the built-in
@@ -271,25 +270,60 @@ pub fn map_run(
     until: Option<usize>,
     keep_traces: bool,
 ) -> Result<(Mapper, Vec<StepTrace>, Summary)> {
-    let last = run.snapshots.len() - 1;
-    let until = match until {
-        Some(n) if n > last => bail!("--until {n} is beyond the last snapshot, {last}"),
-        Some(n) => n,
-        None => last,
-    };
-    // The summary needs only readings and decisions, which the slim trace keeps.
-    let mut mapper = Mapper::new(params, run.layout.clone(), run.sensor).with_trace(keep_traces);
-    let mut traces = Vec::new();
-    let mut summary = Summary::default();
-    for snapshot in &run.snapshots[..=until] {
-        let trace = mapper.step(snapshot);
-        summary.add(&trace);
-        if keep_traces {
-            traces.push(trace);
-        }
-    }
+    let mut mapping = Mapping::new(run, params, keep_traces);
+    mapping.step_to(run, last_snapshot(run, until)? + 1);
+    let Mapping {
+        mapper,
+        traces,
+        mut summary,
+    } = mapping;
     summary.segments = mapper.map().segments.len();
     Ok((mapper, traces, summary))
+}
+
+/// The last snapshot to map: `until`, checked against the run, or the run's last.
+fn last_snapshot(run: &Run, until: Option<usize>) -> Result<usize> {
+    let last = run.snapshots.len() - 1;
+    match until {
+        Some(n) if n > last => bail!("--until {n} is beyond the last snapshot, {last}"),
+        Some(n) => Ok(n),
+        None => Ok(last),
+    }
+}
+
+/// A mapper going through a run, with the summary and (when kept) the traces of its steps.
+struct Mapping {
+    mapper: Mapper,
+    traces: Vec<StepTrace>,
+    summary: Summary,
+}
+
+impl Mapping {
+    fn new(run: &Run, params: Params, keep_traces: bool) -> Self {
+        // The summary needs only readings and decisions, which the slim trace keeps.
+        Self {
+            mapper: Mapper::new(params, run.layout.clone(), run.sensor).with_trace(keep_traces),
+            traces: Vec::new(),
+            summary: Summary::default(),
+        }
+    }
+
+    /// Steps the snapshots from the mapper's next one up to `end` (exclusive).
+    fn step_to(&mut self, run: &Run, end: usize) {
+        while self.mapper.next_snapshot() < end {
+            let trace = self
+                .mapper
+                .step(&run.snapshots[self.mapper.next_snapshot()]);
+            self.record(trace);
+        }
+    }
+
+    fn record(&mut self, trace: StepTrace) {
+        self.summary.add(&trace);
+        if self.mapper.records_trace() {
+            self.traces.push(trace);
+        }
+    }
 }
 
 /// Counts over a run, for the one-line summary.
@@ -486,15 +520,34 @@ fn parallel_map<T: Send>(n: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
         .collect()
 }
 
-/// Maps one log and writes what `out` asks; returns its summary line.
+/// Maps one log and writes what `out` asks; returns its summary line. The log is mapped once:
+/// the figure's two snapshots are the run's last steps, traced in full.
 fn run_one(path: &Path, params: &Params, until: Option<usize>, out: &RunOutputs) -> Result<String> {
     let run = read_run(path)?;
-    let (mapper, traces, summary) = map_run(&run, params.clone(), until, out.trace.is_some())?;
+    let until = last_snapshot(&run, until)?;
+    let mut mapping = Mapping::new(&run, params.clone(), out.trace.is_some());
+    let figure = match &out.svg {
+        Some(_) => {
+            mapping.step_to(&run, until.saturating_sub(1));
+            let view = StepView::by_stepping(&mut mapping.mapper, &run.snapshots, until);
+            for trace in view.previous.iter().chain([&view.trace]) {
+                mapping.record(trace.clone());
+            }
+            Some(paper_figure_svg(&run, &view))
+        }
+        None => {
+            mapping.step_to(&run, until + 1);
+            None
+        }
+    };
+    let Mapping {
+        mapper,
+        traces,
+        mut summary,
+    } = mapping;
+    summary.segments = mapper.map().segments.len();
     if let Some(path) = &out.map {
-        write_atomic(
-            path,
-            &save_map(mapper.map(), run.units, summary.snapshots - 1),
-        )?;
+        write_atomic(path, &save_map(mapper.map(), run.units, until))?;
     }
     if let Some(path) = &out.trace {
         #[derive(serde::Serialize)]
@@ -512,8 +565,8 @@ fn run_one(path: &Path, params: &Params, until: Option<usize>, out: &RunOutputs)
         };
         write_atomic(path, &serde_json::to_string(&file)?)?;
     }
-    if let Some(path) = &out.svg {
-        write_atomic(path, &paper_figure_svg(&run, params, summary.snapshots - 1))?;
+    if let (Some(path), Some(svg)) = (&out.svg, figure) {
+        write_atomic(path, &svg)?;
     }
     Ok(summary.to_string())
 }
@@ -529,11 +582,10 @@ pub fn paper_figure_layers() -> LayerSet {
         .with(Layer::Clusters, false)
 }
 
-/// The SVG of snapshot `k` of `run` as a paper figure (the whole content in view).
-pub fn paper_figure_svg(run: &Run, params: &Params, k: usize) -> String {
-    let replay = Replay::new(Arc::new(run.clone()), params.clone());
-    let view = replay.view(k).expect("k is within the run");
-    let input = SceneInput::from_view(run, &view);
+/// The SVG of `view` (a snapshot of `run`) as a paper figure (the whole content in view).
+pub fn paper_figure_svg(run: &Run, view: &StepView) -> String {
+    let k = view.index;
+    let input = SceneInput::from_view(run, view);
     let options = ViewOptions {
         layers: paper_figure_layers(),
         world_per_px: 0.0,

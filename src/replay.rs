@@ -7,7 +7,7 @@
 
 use crate::mapping::trace::{Outcome, StepTrace};
 use crate::mapping::{Map, Mapper, MapperState, Params};
-use crate::run::Run;
+use crate::run::{Run, Snapshot};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
@@ -90,6 +90,33 @@ pub struct StepView {
     pub map_after: Map,
 }
 
+impl StepView {
+    /// The view of snapshot `k`, stepping `mapper` (positioned just before snapshot `k - 1`, or
+    /// before snapshot 0 when `k` is 0) through its last one or two snapshots with the full
+    /// trace. The mapper is left after snapshot `k`, tracing as it was before.
+    pub fn by_stepping(mapper: &mut Mapper, snapshots: &[Snapshot], k: usize) -> Self {
+        assert_eq!(
+            mapper.next_snapshot(),
+            k.saturating_sub(1),
+            "the mapper stands before snapshot k - 1"
+        );
+        let was_tracing = mapper.records_trace();
+        mapper.set_trace(true);
+        let previous = (k > 0).then(|| mapper.step(&snapshots[k - 1]));
+        // Copies share the segments; the index is left out (drawing does not search).
+        let map_before = mapper.map().without_index();
+        let trace = mapper.step(&snapshots[k]);
+        mapper.set_trace(was_tracing);
+        Self {
+            index: k,
+            trace,
+            previous,
+            map_before,
+            map_after: mapper.map().without_index(),
+        }
+    }
+}
+
 /// A run replayed under one parameter set.
 #[derive(Clone, Debug)]
 pub struct Replay {
@@ -120,7 +147,9 @@ impl Replay {
         progress: &mut dyn FnMut(usize) -> bool,
     ) -> Result<Self, Cancelled> {
         let interval = interval.max(1);
-        let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor);
+        // The summaries need only what the slim trace keeps.
+        let mut mapper =
+            Mapper::new(params.clone(), run.layout.clone(), run.sensor).with_trace(false);
         let mut checkpoints = Vec::with_capacity(run.snapshots.len() / interval + 1);
         let mut summaries = Vec::with_capacity(run.snapshots.len());
         for (k, snapshot) in run.snapshots.iter().enumerate() {
@@ -190,6 +219,8 @@ impl Replay {
         if let Some(state) = self.checkpoints.get(c) {
             mapper.restore(state.clone());
         }
+        // Catching up needs no trace: only the steps drawn are traced in full.
+        mapper.set_trace(false);
         while mapper.next_snapshot() < k {
             let i = mapper.next_snapshot();
             mapper.step(&self.run.snapshots[i]);
@@ -203,23 +234,8 @@ impl Replay {
             return None;
         }
         let k = k.min(self.len() - 1);
-        let (mut mapper, previous) = if k == 0 {
-            (self.mapper_before(0), None)
-        } else {
-            let mut m = self.mapper_before(k - 1);
-            let prev = m.step(&self.run.snapshots[k - 1]);
-            (m, Some(prev))
-        };
-        // Copies share the segments; the index is left out (drawing does not search).
-        let map_before = mapper.map().without_index();
-        let trace = mapper.step(&self.run.snapshots[k]);
-        Some(StepView {
-            index: k,
-            trace,
-            previous,
-            map_before,
-            map_after: mapper.map().without_index(),
-        })
+        let mut mapper = self.mapper_before(k.saturating_sub(1));
+        Some(StepView::by_stepping(&mut mapper, &self.run.snapshots, k))
     }
 
     /// The map after snapshot `k` (without its spatial index).
@@ -236,7 +252,6 @@ impl Replay {
 mod tests {
     use super::*;
     use crate::geometry::Pose;
-    use crate::run::Snapshot;
     use crate::sonar::{SensorLayout, SensorSpec};
     use crate::units::{inches, Units};
 
@@ -281,6 +296,10 @@ mod tests {
             assert_eq!(view.map_before, before, "map before {k}");
             assert_eq!(&view.map_after, mapper.map(), "map after {k}");
             assert_eq!(view.previous, previous, "previous {k}");
+            // The build steps with the slim trace; its summaries are the full trace's.
+            let segments = mapper.map().segments.len();
+            let summary = StepSummary::of(&trace, segments);
+            assert_eq!(replay.summaries()[k], summary, "summary {k}");
             previous = Some(trace);
         }
         assert_eq!(replay.final_map(), mapper.map());

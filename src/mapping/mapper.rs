@@ -77,8 +77,18 @@ impl Mapper {
     /// lists), updates, correlations and warnings; no gaps, clusters, splits or new-segment
     /// geometry. The map is the same either way.
     pub fn with_trace(mut self, on: bool) -> Self {
-        self.record_trace = on;
+        self.set_trace(on);
         self
+    }
+
+    /// Switches the full trace on or off for the steps to come (see [`Mapper::with_trace`]).
+    pub fn set_trace(&mut self, on: bool) {
+        self.record_trace = on;
+    }
+
+    /// Whether steps return the full trace.
+    pub fn records_trace(&self) -> bool {
+        self.record_trace
     }
 
     /// Tests every map segment as a candidate instead of searching the spatial index (the

@@ -125,6 +125,50 @@ fn run_svg_writes_the_snapshot_as_a_paper_figure() {
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
 }
 
+/// The figure's two snapshots are stepped last, traced in full, in the same pass that writes the
+/// map and the trace: every output must equal the one written alone.
+#[test]
+fn run_svg_in_the_same_pass_leaves_map_trace_and_summary_unchanged() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = assets("building.log.json");
+    let file = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    for until in ["0", "1", "7"] {
+        let run = |outputs: &[&str]| {
+            let mut args = vec!["run", log.to_str().unwrap(), "--until", until];
+            args.extend_from_slice(outputs);
+            let out = sonarmap(&args);
+            assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+            text(&out.stdout)
+        };
+        let (map_a, trace_a, svg_a) = (file("a.map"), file("a.trace"), file("a.svg"));
+        let (map_b, trace_b) = (file("b.map"), file("b.trace"));
+        let together = run(&[
+            "--out-map",
+            &map_a,
+            "--out-trace",
+            &trace_a,
+            "--svg",
+            &svg_a,
+        ]);
+        let alone = run(&["--out-map", &map_b, "--out-trace", &trace_b]);
+        assert_eq!(together, alone, "summary, --until {until}");
+        let read = |p: &str| std::fs::read(p).unwrap();
+        assert_eq!(read(&map_a), read(&map_b), "map, --until {until}");
+        assert_eq!(read(&trace_a), read(&trace_b), "trace, --until {until}");
+        let svg = String::from_utf8(read(&svg_a)).unwrap();
+        assert!(
+            svg.contains(&format!("snapshot {until}")),
+            "--until {until}"
+        );
+        if until != "0" {
+            assert!(
+                svg.contains("<g id=\"previous-snapshot\""),
+                "--until {until}"
+            );
+        }
+    }
+}
+
 #[test]
 fn simulate_reproduces_the_assets() {
     let dir = tempfile::tempdir().unwrap();
