@@ -3,7 +3,36 @@
 use super::map::SupportPoint;
 use super::trace::GapTrace;
 
-/// Splits the kept points into clusters.
+/// The clusters of one snapshot, kept in buffers that the next snapshot reuses.
+#[derive(Clone, Debug, Default)]
+pub struct Clusters {
+    /// Indices into the kept points, cluster after cluster, each in chain order.
+    members: Vec<usize>,
+    /// Where each cluster ends in `members` (exclusive).
+    ends: Vec<usize>,
+    /// Every neighbour gap, in chain order from the first sensor in bearing order.
+    pub gaps: Vec<GapTrace>,
+}
+
+impl Clusters {
+    /// Number of clusters.
+    pub fn len(&self) -> usize {
+        self.ends.len()
+    }
+
+    /// True when no point was kept.
+    pub fn is_empty(&self) -> bool {
+        self.ends.is_empty()
+    }
+
+    /// The clusters in order, each as indices into the kept points.
+    pub fn iter(&self) -> impl Iterator<Item = &[usize]> {
+        let starts = std::iter::once(0).chain(self.ends.iter().copied());
+        starts.zip(&self.ends).map(|(a, &b)| &self.members[a..b])
+    }
+}
+
+/// Splits the kept points into clusters, into `out` (its previous content is dropped).
 ///
 /// `kept` are the kept points of one snapshot; `rank_of_sensor` gives each sensor's place in
 /// the layout's bearing order ([`sensor_ranks`]) and `wraps` says whether the last sensor
@@ -11,15 +40,28 @@ use super::trace::GapTrace;
 /// Neighbours are consecutive kept points in that order; a cluster ends where their distance
 /// exceeds `t_gap_m` (strictly). With a wrapping layout the chain is circular: when it has at
 /// least one break, clusters start just after a break, so a face across sensor 0 stays whole.
-/// Returns the clusters (indices into `kept`, in chain order) and every neighbour gap.
 pub fn cluster_points(
     kept: &[SupportPoint],
     rank_of_sensor: &[usize],
     wraps: bool,
     t_gap_m: f64,
-) -> (Vec<Vec<usize>>, Vec<GapTrace>) {
-    let mut chain: Vec<usize> = (0..kept.len()).collect();
-    chain.sort_by_key(|&i| {
+    out: &mut Clusters,
+) {
+    let Clusters {
+        members,
+        ends,
+        gaps,
+    } = out;
+    members.clear();
+    ends.clear();
+    gaps.clear();
+    let n = kept.len();
+    if n == 0 {
+        return;
+    }
+    // The chain in bearing order, built where the members go and rotated into place below.
+    members.extend(0..n);
+    members.sort_by_key(|&i| {
         (
             rank_of_sensor
                 .get(kept[i].reading.sensor)
@@ -28,12 +70,9 @@ pub fn cluster_points(
             kept[i].reading.sensor,
         )
     });
-    let n = chain.len();
-    if n == 0 {
-        return (Vec::new(), Vec::new());
-    }
+    let chain = &members[..];
     let link_count = if wraps && n > 1 { n } else { n - 1 };
-    let gap = |i: usize| {
+    gaps.extend((0..link_count).map(|i| {
         let (a, b) = (&kept[chain[i]], &kept[chain[(i + 1) % n]]);
         let distance_m = (a.point - b.point).norm();
         GapTrace {
@@ -43,8 +82,7 @@ pub fn cluster_points(
             t_gap_m,
             is_break: distance_m > t_gap_m,
         }
-    };
-    let gaps: Vec<GapTrace> = (0..link_count).map(gap).collect();
+    }));
     // Start after a break when the chain is circular, so no cluster spans the seam.
     let start = if link_count == n {
         match gaps.iter().position(|g| g.is_break) {
@@ -54,22 +92,14 @@ pub fn cluster_points(
     } else {
         0
     };
-    // Sized up front: one allocation per cluster, none for growth.
-    let breaks = gaps.iter().filter(|g| g.is_break).count();
-    let mut clusters = Vec::with_capacity(breaks + 1);
-    let mut cluster = Vec::with_capacity(n);
-    cluster.push(chain[start]);
+    members.rotate_left(start);
+    // Gap `(start + step - 1) % n` links member `step - 1` to member `step`.
     for step in 1..n {
-        let pos = (start + step) % n;
-        let link = (pos + n - 1) % n;
-        if gaps[link].is_break {
-            let rest = n - step;
-            clusters.push(std::mem::replace(&mut cluster, Vec::with_capacity(rest)));
+        if gaps[(start + step - 1) % n].is_break {
+            ends.push(step);
         }
-        cluster.push(chain[pos]);
     }
-    clusters.push(cluster);
-    (clusters, gaps)
+    ends.push(n);
 }
 
 /// Each sensor's place in the bearing order `order` (`usize::MAX` for a sensor not in it).
@@ -101,10 +131,11 @@ mod tests {
     #[test]
     fn a_gap_of_exactly_t_gap_does_not_break() {
         let kept = vec![pt(0, 0.0, 0.0), pt(1, 1.0, 0.0), pt(2, 2.0000001, 0.0)];
-        let (clusters, gaps) = cluster_points(&kept, &sensor_ranks(&[0, 1, 2]), false, 1.0);
-        assert_eq!(clusters, vec![vec![0, 1], vec![2]]);
-        assert!(!gaps[0].is_break && gaps[1].is_break);
-        assert!((gaps[1].distance_m - 1.0000001).abs() < 1e-12);
+        let mut out = Clusters::default();
+        cluster_points(&kept, &sensor_ranks(&[0, 1, 2]), false, 1.0, &mut out);
+        assert_eq!(out.iter().collect::<Vec<_>>(), [&[0, 1][..], &[2]]);
+        assert!(!out.gaps[0].is_break && out.gaps[1].is_break);
+        assert!((out.gaps[1].distance_m - 1.0000001).abs() < 1e-12);
     }
 
     #[test]
@@ -117,8 +148,13 @@ mod tests {
             pt(15, 1.0, -0.4),
         ];
         let order: Vec<usize> = (0..16).collect();
-        let (clusters, gaps) = cluster_points(&kept, &sensor_ranks(&order), true, 1.0);
-        assert_eq!(gaps.len(), 4);
-        assert_eq!(clusters, vec![vec![2], vec![3, 0, 1]]);
+        let mut out = Clusters::default();
+        cluster_points(&kept, &sensor_ranks(&order), true, 1.0, &mut out);
+        assert_eq!(out.gaps.len(), 4);
+        assert_eq!(out.iter().collect::<Vec<_>>(), [&[2][..], &[3, 0, 1]]);
+        // The buffers are reused: a second snapshot leaves nothing of the first.
+        cluster_points(&kept[..1], &sensor_ranks(&order), true, 1.0, &mut out);
+        assert_eq!(out.iter().collect::<Vec<_>>(), [&[0][..]]);
+        assert!(out.gaps.is_empty());
     }
 }

@@ -123,7 +123,8 @@ pub fn memory_step(
             });
         }
         let mut splits = Vec::new();
-        let pieces = split_recursive(&points, params, &mut splits);
+        let mut pieces = Vec::new();
+        split_recursive(&points, params, &mut splits, &mut pieces);
         let group_index = trace.groups.len();
         let mut piece_segments = Vec::with_capacity(pieces.len());
         for &[first, last] in &pieces {

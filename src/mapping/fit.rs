@@ -20,18 +20,17 @@ pub fn split_tolerance(params: &Params, range_m: f64) -> f64 {
     }
 }
 
-/// Splits `points` recursively; returns the pieces as `[first, last]` index pairs in order and
-/// appends every test to `splits`.
+/// Splits `points` recursively; appends the pieces to `pieces` as `[first, last]` index pairs
+/// in order and every test to `splits`.
 pub fn split_recursive(
     points: &[SupportPoint],
     params: &Params,
     splits: &mut Vec<SplitTrace>,
-) -> Vec<[usize; 2]> {
-    let mut pieces = Vec::new();
+    pieces: &mut Vec<[usize; 2]>,
+) {
     if points.len() >= 2 {
-        split_range(points, 0, points.len() - 1, params, splits, &mut pieces);
+        split_range(points, 0, points.len() - 1, params, splits, pieces);
     }
-    pieces
 }
 
 fn split_range(
@@ -131,6 +130,12 @@ mod tests {
             .collect()
     }
 
+    fn split(points: &[SupportPoint], p: &Params, splits: &mut Vec<SplitTrace>) -> Vec<[usize; 2]> {
+        let mut pieces = Vec::new();
+        split_recursive(points, p, splits, &mut pieces);
+        pieces
+    }
+
     #[test]
     fn split_happens_just_above_the_resolution_tolerance() {
         // Middle point read at D = 100 → tolerance 3 (ξ = 3). Deviation 3 ± ε.
@@ -138,16 +143,13 @@ mod tests {
         let eps = 1e-9;
         let mut splits = Vec::new();
         let below = pts(&[(0.0, 0.0, 50.0), (5.0, 3.0 - eps, 100.0), (10.0, 0.0, 50.0)]);
-        assert_eq!(split_recursive(&below, &p, &mut splits), vec![[0, 2]]);
+        assert_eq!(split(&below, &p, &mut splits), vec![[0, 2]]);
         assert!(!splits[0].split && (splits[0].tolerance_m - 3.0).abs() < 1e-12);
         let at = pts(&[(0.0, 0.0, 50.0), (5.0, 3.0, 100.0), (10.0, 0.0, 50.0)]);
-        assert_eq!(split_recursive(&at, &p, &mut Vec::new()), vec![[0, 2]]);
+        assert_eq!(split(&at, &p, &mut Vec::new()), vec![[0, 2]]);
         let above = pts(&[(0.0, 0.0, 50.0), (5.0, 3.0 + eps, 100.0), (10.0, 0.0, 50.0)]);
         let mut splits = Vec::new();
-        assert_eq!(
-            split_recursive(&above, &p, &mut splits),
-            vec![[0, 1], [1, 2]]
-        );
+        assert_eq!(split(&above, &p, &mut splits), vec![[0, 1], [1, 2]]);
         assert!(splits[0].split && splits[0].farthest == Some(1));
         assert_eq!(splits.len(), 3);
     }
@@ -165,7 +167,7 @@ mod tests {
             (3.0, 0.0, 1.0),
         ]);
         let mut splits = Vec::new();
-        let pieces = split_recursive(&corner, &p, &mut splits);
+        let pieces = split(&corner, &p, &mut splits);
         assert_eq!(splits[0].farthest, Some(1), "ties go to the first");
         assert_eq!(pieces, vec![[0, 1], [1, 2], [2, 3]]);
     }

@@ -1,22 +1,23 @@
 //! The mapper: one snapshot in, the map updated and the step's trace out (paper §3).
 
-use super::cluster::{cluster_points, sensor_ranks};
+use super::cluster::{cluster_points, sensor_ranks, Clusters};
 use super::correlate::correlate_face;
 use super::extensions::{memory_step, reduce_constant_depth};
 use super::fit::{piece_end_points, split_recursive, split_tolerance};
 use super::map::{EndPoint, FaceId, Map, Segment, SegmentId, SegmentKind, SupportPoint};
-use super::matching::{decide, Candidate, SegmentEnds};
+use super::matching::{decide_reusing, Candidate, SegmentEnds};
 use super::merge::absorb_duplicates;
 use super::params::Params;
 use super::readings::convert_readings;
 use super::trace::{
-    ClusterTrace, NewSegmentTrace, Outcome, RefitTrace, SegmentSource, Side, SplitTrace, StepTrace,
-    Test, UpdateTrace, Warning,
+    CandidateTrace, ClusterTrace, NewSegmentTrace, Outcome, RefitTrace, SegmentSource, Side,
+    SplitTrace, StepTrace, Test, UpdateTrace, Warning,
 };
 use super::update::{merge_support_points, update_extension, update_match, UpdateGeometry};
 use crate::geometry::{distance_to_line, projection_param, Pose};
 use crate::run::Snapshot;
 use crate::sonar::{BeamAxis, SensorLayout, SensorSpec};
+use std::ops::Range;
 use std::sync::Arc;
 
 /// Runs the paper's algorithm snapshot by snapshot.
@@ -34,10 +35,29 @@ pub struct Mapper {
     next_snapshot: usize,
     brute_force: bool,
     record_trace: bool,
-    /// Reused buffer of one step's candidates, every new segment's set one after another.
-    scratch_candidates: Vec<Candidate>,
-    /// Reused buffer of a cluster's split tests when they are not traced.
-    scratch_splits: Vec<SplitTrace>,
+    /// Buffers each step fills and the next reuses.
+    buffers: StepBuffers,
+}
+
+/// Buffers one step fills and the next reuses, so that an untraced step allocates little. What
+/// the trace keeps is copied out of them (or built in its own vectors) only when tracing.
+#[derive(Clone, Debug, Default)]
+struct StepBuffers {
+    /// The kept points.
+    kept: Vec<SupportPoint>,
+    clusters: Clusters,
+    /// A cluster's points as fitted (untraced).
+    fitted: Vec<SupportPoint>,
+    /// A cluster's split tests (untraced).
+    splits: Vec<SplitTrace>,
+    /// A cluster's pieces.
+    pieces: Vec<[usize; 2]>,
+    /// Every new segment's candidates, one set after another.
+    candidates: Vec<Candidate>,
+    /// Each new segment's range in `candidates`.
+    candidate_sets: Vec<Range<usize>>,
+    /// A decision's tested candidates (untraced).
+    mpc_stage: Vec<CandidateTrace>,
 }
 
 /// The mutable state a checkpoint needs to resume a [`Mapper`].
@@ -68,8 +88,7 @@ impl Mapper {
             next_snapshot: 0,
             brute_force: false,
             record_trace: true,
-            scratch_candidates: Vec::new(),
-            scratch_splits: Vec::new(),
+            buffers: StepBuffers::default(),
         }
     }
 
@@ -206,27 +225,44 @@ impl Mapper {
         }
 
         // §1 readings → points; §2 clusters.
-        let (readings, kept) = convert_readings(
+        let mut buffers = std::mem::take(&mut self.buffers);
+        let StepBuffers {
+            kept,
+            clusters,
+            fitted: fitted_buffer,
+            splits: splits_buffer,
+            pieces,
+            candidates,
+            candidate_sets,
+            mpc_stage,
+        } = &mut buffers;
+        trace.readings = convert_readings(
             index,
             &snapshot.pose,
             &snapshot.ranges_m,
             &self.beam_axes,
             self.sensor.max_range_m,
             params,
+            kept,
         );
-        trace.readings = readings;
         let (ranks, wraps) = (&self.bearing_ranks.0, self.bearing_ranks.1);
-        let (clusters, gaps) = cluster_points(&kept, ranks, wraps, params.t_gap_m);
-        let chain_has_break = gaps.iter().any(|g| g.is_break);
+        cluster_points(kept, ranks, wraps, params.t_gap_m, clusters);
+        let chain_has_break = clusters.gaps.iter().any(|g| g.is_break);
         if self.record_trace {
-            trace.gaps = gaps;
+            trace.gaps = clusters.gaps.clone();
         }
 
         // §3 fitting of each cluster (with constant-depth groups when on).
         let mut new_segments: Vec<NewSegmentTrace> = Vec::with_capacity(kept.len());
         let mut singles: Vec<SupportPoint> = Vec::new();
         for (ci, members) in clusters.iter().enumerate() {
-            let chain: Vec<SupportPoint> = members.iter().map(|&i| kept[i]).collect();
+            let mut chain = if self.record_trace {
+                Vec::with_capacity(members.len() + 1)
+            } else {
+                std::mem::take(fitted_buffer)
+            };
+            chain.clear();
+            chain.extend(members.iter().map(|&i| kept[i]));
             for q in &chain {
                 trace.readings[q.reading.sensor].cluster = Some(ci);
             }
@@ -248,16 +284,16 @@ impl Mapper {
             if closed_loop && fitted.len() >= 3 {
                 fitted.push(fitted[0]);
             }
-            // Untraced, the split tests go to a reused buffer.
             let mut splits = if self.record_trace {
                 Vec::new()
             } else {
-                std::mem::take(&mut self.scratch_splits)
+                std::mem::take(splits_buffer)
             };
             splits.clear();
-            let pieces = split_recursive(&fitted, params, &mut splits);
+            pieces.clear();
+            split_recursive(&fitted, params, &mut splits, pieces);
             let first_new = new_segments.len();
-            for &[first, last] in &pieces {
+            for &[first, last] in pieces.iter() {
                 let (a, b) = piece_end_points(&fitted, first, last, params.fit);
                 new_segments.push(NewSegmentTrace {
                     source: SegmentSource::Cluster(ci),
@@ -278,7 +314,8 @@ impl Mapper {
                     new_segments: (first_new..new_segments.len()).collect(),
                 });
             } else {
-                self.scratch_splits = splits;
+                *splits_buffer = splits;
+                *fitted_buffer = fitted;
             }
         }
 
@@ -299,14 +336,13 @@ impl Mapper {
         }
 
         // §4 matching against the map as it stood before this snapshot, §5 updates.
-        let mut candidates = std::mem::take(&mut self.scratch_candidates);
         candidates.clear();
-        let mut candidate_sets = Vec::with_capacity(new_segments.len());
+        candidate_sets.clear();
         trace.decisions.reserve_exact(new_segments.len());
         trace.updates.reserve_exact(new_segments.len());
         for seg in &new_segments {
             let start = candidates.len();
-            self.candidates_for(&SegmentEnds { a: seg.a, b: seg.b }, &mut candidates);
+            self.candidates_for(&SegmentEnds { a: seg.a, b: seg.b }, candidates);
             candidate_sets.push(start..candidates.len());
         }
         // Whether a candidate is outermost is asked as the map stood before this snapshot: the
@@ -315,12 +351,19 @@ impl Mapper {
         let mut face_of_source: Vec<(SegmentSource, FaceId)> = Vec::new();
         let mut absorbed_into: Vec<(SegmentId, SegmentId)> = Vec::new();
         let mut new_faces: Vec<FaceId> = Vec::new();
-        for (ni, seg) in new_segments.iter().enumerate() {
+        for ni in 0..new_segments.len() {
+            let seg = &new_segments[ni];
             let cands = &mut candidates[candidate_sets[ni].clone()];
             let ends = SegmentEnds { a: seg.a, b: seg.b };
             let map = &self.map;
             let was_outermost = |id, face| map.was_outermost(id, face);
-            let mut decision = decide(params, ni, &ends, cands, &was_outermost);
+            // Untraced, the tested candidates go to a reused buffer.
+            let stage = if self.record_trace {
+                Vec::with_capacity(cands.len().min(8))
+            } else {
+                std::mem::take(mpc_stage)
+            };
+            let mut decision = decide_reusing(params, ni, &ends, cands, &was_outermost, stage);
             match decision.outcome {
                 Outcome::Match | Outcome::Extension => {
                     let named = decision.existing.expect("a match names its segment");
@@ -369,6 +412,13 @@ impl Mapper {
                         Some(s) => s.object,
                         None => self.map.allocate_object_id(),
                     };
+                    let (a, b) = (seg.a, seg.b);
+                    // Untraced, the new segment's points are not kept in the trace.
+                    let points = if self.record_trace {
+                        seg.points.clone()
+                    } else {
+                        std::mem::take(&mut new_segments[ni].points)
+                    };
                     let id = self.map.allocate_segment_id();
                     self.map
                         .face_mut(face)
@@ -378,28 +428,28 @@ impl Mapper {
                     self.map.push_segment(Segment {
                         id,
                         kind: SegmentKind::Fitted,
-                        a: seg.a,
-                        b: seg.b,
+                        a,
+                        b,
                         face,
                         object,
                         created: index,
                         updated: Vec::new(),
-                        points: Arc::new(seg.points.clone()),
+                        points: Arc::new(points),
                     });
                     decision.result = Some(id);
                 }
             }
+            if !self.record_trace {
+                *mpc_stage = std::mem::take(&mut decision.mpc_stage);
+                mpc_stage.clear();
+                decision.epc_stage = Vec::new();
+            }
             trace.decisions.push(decision);
         }
         self.map.end_face_journal();
-        self.scratch_candidates = candidates;
+        self.buffers = buffers;
         if self.record_trace {
             trace.new_segments = new_segments;
-        } else {
-            for d in &mut trace.decisions {
-                d.mpc_stage = Vec::new();
-                d.epc_stage = Vec::new();
-            }
         }
 
         // §6 correlation of the new faces, in cluster order.
@@ -487,8 +537,8 @@ impl Mapper {
         }
         // The update's line does not explain its points: fit them afresh (§3); the first piece
         // keeps the id, the others are inserted after it in the face.
-        let mut splits = Vec::new();
-        let pieces = split_recursive(&points, &params, &mut splits);
+        let (mut splits, mut pieces) = (Vec::new(), Vec::new());
+        split_recursive(&points, &params, &mut splits, &mut pieces);
         let (face, object, created, updated) =
             (seg.face, seg.object, seg.created, seg.updated.clone());
         let mut piece_ids = Vec::with_capacity(pieces.len());

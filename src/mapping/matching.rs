@@ -199,11 +199,26 @@ pub fn decide(
     candidates: &mut [Candidate],
     was_outermost: &dyn Fn(SegmentId, FaceId) -> bool,
 ) -> DecisionTrace {
+    // Room for the usual few tested candidates (a candidate's trace is large to move).
+    let stage = Vec::with_capacity(candidates.len().min(8));
+    decide_reusing(params, new_index, new, candidates, was_outermost, stage)
+}
+
+/// [`decide`], with the tested candidates going into `stage` (emptied first), a buffer the
+/// caller may take back from the decision's `mpc_stage`.
+pub fn decide_reusing(
+    params: &Params,
+    new_index: usize,
+    new: &SegmentEnds,
+    candidates: &mut [Candidate],
+    was_outermost: &dyn Fn(SegmentId, FaceId) -> bool,
+    mut stage: Vec<CandidateTrace>,
+) -> DecisionTrace {
+    stage.clear();
     let outermost = |c: &Candidate| was_outermost(c.id, c.face);
     let mut decision = DecisionTrace {
         new_segment: new_index,
-        // Room for the usual few tested candidates (a candidate's trace is large to move).
-        mpc_stage: Vec::with_capacity(candidates.len().min(8)),
+        mpc_stage: stage,
         epc_stage: Vec::new(),
         outcome: Outcome::NewFace,
         rule: if candidates.is_empty() {

@@ -22,9 +22,10 @@ pub fn discard_reason(
     }
 }
 
-/// Converts one snapshot's ranges: a trace record per sensor and the kept points in sensor order.
-/// `beam_axes` are the layout's ([`crate::sonar::SensorLayout::beam_axes`]). Ranges beyond the
-/// sensor count are ignored; missing ones count as no echo.
+/// Converts one snapshot's ranges: returns a trace record per sensor and puts the kept points,
+/// in sensor order, in `kept` (its previous content is dropped). `beam_axes` are the layout's
+/// ([`crate::sonar::SensorLayout::beam_axes`]). Ranges beyond the sensor count are ignored;
+/// missing ones count as no echo.
 pub fn convert_readings(
     snapshot: usize,
     pose: &Pose,
@@ -32,10 +33,11 @@ pub fn convert_readings(
     beam_axes: &[BeamAxis],
     sensor_max_range_m: f64,
     params: &Params,
-) -> (Vec<ReadingTrace>, Vec<SupportPoint>) {
+    kept: &mut Vec<SupportPoint>,
+) -> Vec<ReadingTrace> {
     let robot = pose.robot_frame();
     let mut traces = Vec::with_capacity(beam_axes.len());
-    let mut kept = Vec::with_capacity(beam_axes.len());
+    kept.clear();
     for (sensor, axis) in beam_axes.iter().enumerate() {
         let range_m = ranges_m.get(sensor).copied().flatten();
         let discarded = discard_reason(range_m, sensor_max_range_m, params);
@@ -58,12 +60,13 @@ pub fn convert_readings(
             cluster: None,
         });
     }
-    (traces, kept)
+    traces
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::Point;
     use crate::sonar::SensorLayout;
     use crate::units::inches;
 
@@ -99,13 +102,22 @@ mod tests {
         let mut ranges = vec![None; 16];
         ranges[0] = Some(inches(100.0));
         ranges[4] = Some(inches(3.0));
-        let (traces, kept) = convert_readings(
+        let mut kept = vec![SupportPoint {
+            point: Point::new(1.0, 2.0),
+            range_m: 1.0,
+            reading: ReadingRef {
+                snapshot: 6,
+                sensor: 3,
+            },
+        }];
+        let traces = convert_readings(
             7,
             &pose,
             &ranges,
             &layout.beam_axes(),
             inches(255.0),
             &Params::paper(),
+            &mut kept,
         );
         assert_eq!(traces.len(), 16);
         assert_eq!(kept.len(), 1);
