@@ -5,7 +5,7 @@ use anyhow::{anyhow, bail, Context, Result};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use sonarmap::eval::{evaluate, EvalReport};
 use sonarmap::log::{parse_json, save_map, save_run};
-use sonarmap::mapping::{Mapper, Outcome, Params, ParamsFile, Preset, StepTrace};
+use sonarmap::mapping::{Map, Mapper, Outcome, Params, ParamsFile, Preset, StepTrace};
 use sonarmap::replay::StepView;
 use sonarmap::run::Run;
 use sonarmap::scene::svg::{default_view, to_svg};
@@ -707,13 +707,12 @@ fn diff_command(args: &DiffArgs) -> Result<()> {
         params: args.params_b.clone(),
         preset: args.preset_b,
     })?;
-    let diff = sonarmap::diff::diff_run(&run, &a, &b, &mut |_| true);
-    let eval = |params: &Params| -> Result<Option<EvalReport>> {
-        let Some(plan) = &run.floor_plan else {
-            return Ok(None);
-        };
-        let (mapper, _, _) = map_run(&run, params.clone(), None, false)?;
-        Ok(Some(evaluate(mapper.map(), &run, plan, params)))
+    // One pass: the maps the comparison leaves are the ones evaluated.
+    let (diff, map_a, map_b) = sonarmap::diff::diff_run_keeping_maps(&run, &a, &b, &mut |_| true);
+    let eval = |map: &Map, params: &Params| {
+        run.floor_plan
+            .as_ref()
+            .map(|plan| evaluate(map, &run, plan, params))
     };
     #[derive(serde::Serialize)]
     struct DiffOutput {
@@ -727,8 +726,8 @@ fn diff_command(args: &DiffArgs) -> Result<()> {
     let out = DiffOutput {
         log: args.log.display().to_string(),
         snapshots_compared: run.snapshots.len(),
-        eval_a: eval(&a)?,
-        eval_b: eval(&b)?,
+        eval_a: eval(&map_a, &a),
+        eval_b: eval(&map_b, &b),
         diff,
     };
     emit(&serde_json::to_string_pretty(&out)?)?;

@@ -6,7 +6,7 @@
 
 use crate::mapping::map::{ReadingRef, SegmentId};
 use crate::mapping::trace::{Outcome, Rule, StepTrace};
-use crate::mapping::{Mapper, Params};
+use crate::mapping::{Map, Mapper, Params};
 use crate::run::Run;
 use serde::{Deserialize, Serialize};
 
@@ -140,6 +140,17 @@ pub fn diff_run(
     b: &Params,
     progress: &mut dyn FnMut(usize) -> bool,
 ) -> RunDiff {
+    diff_run_keeping_maps(run, a, b, progress).0
+}
+
+/// [`diff_run`], also returning the two maps as the run left them (for evaluating both without
+/// mapping the run again).
+pub fn diff_run_keeping_maps(
+    run: &Run,
+    a: &Params,
+    b: &Params,
+    progress: &mut dyn FnMut(usize) -> bool,
+) -> (RunDiff, Map, Map) {
     let mut ma = Mapper::new(a.clone(), run.layout.clone(), run.sensor);
     let mut mb = Mapper::new(b.clone(), run.layout.clone(), run.sensor);
     let mut diff = RunDiff::default();
@@ -154,7 +165,7 @@ pub fn diff_run(
             break;
         }
     }
-    diff
+    (diff, ma.map().without_index(), mb.map().without_index())
 }
 
 #[cfg(test)]
@@ -210,5 +221,27 @@ mod tests {
         assert!(diff_run(&run, &tight, &tight, &mut |_| true)
             .decisions
             .is_empty());
+    }
+
+    #[test]
+    fn the_maps_kept_are_the_ones_each_parameter_set_makes_alone() {
+        let run = two_wall_views();
+        let loose = Params {
+            accuracy_pct: 5.0,
+            ..Params::paper()
+        };
+        let tight = Params::paper();
+        let (_, map_a, map_b) = diff_run_keeping_maps(&run, &loose, &tight, &mut |_| true);
+        let alone = |params: &Params| {
+            let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor);
+            for snapshot in &run.snapshots {
+                mapper.step(snapshot);
+            }
+            mapper.map().clone()
+        };
+        // The parameter sets give different maps (a match against a new face), each as alone.
+        assert_ne!(map_a.segments.len(), map_b.segments.len());
+        assert_eq!(map_a, alone(&loose));
+        assert_eq!(map_b, alone(&tight));
     }
 }
