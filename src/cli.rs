@@ -272,13 +272,7 @@ pub fn map_run(
 ) -> Result<(Mapper, Vec<StepTrace>, Summary)> {
     let mut mapping = Mapping::new(run, params, keep_traces);
     mapping.step_to(run, last_snapshot(run, until)? + 1);
-    let Mapping {
-        mapper,
-        traces,
-        mut summary,
-    } = mapping;
-    summary.segments = mapper.map().segments.len();
-    Ok((mapper, traces, summary))
+    Ok(mapping.finish())
 }
 
 /// The last snapshot to map: `until`, checked against the run, or the run's last.
@@ -316,6 +310,13 @@ impl Mapping {
                 .step(&run.snapshots[self.mapper.next_snapshot()]);
             self.record(trace);
         }
+    }
+
+    /// The mapper, the kept traces and the summary (with the map's size).
+    fn finish(self) -> (Mapper, Vec<StepTrace>, Summary) {
+        let mut summary = self.summary;
+        summary.segments = self.mapper.map().segments.len();
+        (self.mapper, self.traces, summary)
     }
 
     fn record(&mut self, trace: StepTrace) {
@@ -540,12 +541,7 @@ fn run_one(path: &Path, params: &Params, until: Option<usize>, out: &RunOutputs)
             None
         }
     };
-    let Mapping {
-        mapper,
-        traces,
-        mut summary,
-    } = mapping;
-    summary.segments = mapper.map().segments.len();
+    let (mapper, traces, summary) = mapping.finish();
     if let Some(path) = &out.map {
         write_atomic(path, &save_map(mapper.map(), run.units, until))?;
     }
