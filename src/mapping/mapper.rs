@@ -5,7 +5,7 @@ use super::correlate::correlate_face;
 use super::extensions::{memory_step, reduce_constant_depth};
 use super::fit::{piece_end_points, split_recursive, split_tolerance};
 use super::map::{EndPoint, FaceId, Map, Segment, SegmentId, SegmentKind, SupportPoint};
-use super::matching::{decide_reusing, Candidate, SegmentEnds};
+use super::matching::{decide, Candidate, SegmentEnds};
 use super::merge::absorb_duplicates;
 use super::params::Params;
 use super::readings::convert_readings;
@@ -193,6 +193,18 @@ impl Mapper {
         self.next_snapshot = state.next_snapshot;
     }
 
+    /// An empty vector for what a step traces: a new one (with room for `capacity`) when
+    /// tracing, since the trace keeps it; otherwise `buffer`'s, to be put back after use.
+    fn fresh_or_reused<T>(&self, buffer: &mut Vec<T>, capacity: usize) -> Vec<T> {
+        if self.record_trace {
+            Vec::with_capacity(capacity)
+        } else {
+            let mut reused = std::mem::take(buffer);
+            reused.clear();
+            reused
+        }
+    }
+
     /// Applies one snapshot and returns what happened.
     pub fn step(&mut self, snapshot: &Snapshot) -> StepTrace {
         let index = self.next_snapshot;
@@ -256,12 +268,7 @@ impl Mapper {
         let mut new_segments: Vec<NewSegmentTrace> = Vec::with_capacity(kept.len());
         let mut singles: Vec<SupportPoint> = Vec::new();
         for (ci, members) in clusters.iter().enumerate() {
-            let mut chain = if self.record_trace {
-                Vec::with_capacity(members.len() + 1)
-            } else {
-                std::mem::take(fitted_buffer)
-            };
-            chain.clear();
+            let mut chain = self.fresh_or_reused(fitted_buffer, members.len() + 1);
             chain.extend(members.iter().map(|&i| kept[i]));
             for q in &chain {
                 trace.readings[q.reading.sensor].cluster = Some(ci);
@@ -284,12 +291,7 @@ impl Mapper {
             if closed_loop && fitted.len() >= 3 {
                 fitted.push(fitted[0]);
             }
-            let mut splits = if self.record_trace {
-                Vec::new()
-            } else {
-                std::mem::take(splits_buffer)
-            };
-            splits.clear();
+            let mut splits = self.fresh_or_reused(splits_buffer, 0);
             pieces.clear();
             split_recursive(&fitted, params, &mut splits, pieces);
             let first_new = new_segments.len();
@@ -357,13 +359,9 @@ impl Mapper {
             let ends = SegmentEnds { a: seg.a, b: seg.b };
             let map = &self.map;
             let was_outermost = |id, face| map.was_outermost(id, face);
-            // Untraced, the tested candidates go to a reused buffer.
-            let stage = if self.record_trace {
-                Vec::with_capacity(cands.len().min(8))
-            } else {
-                std::mem::take(mpc_stage)
-            };
-            let mut decision = decide_reusing(params, ni, &ends, cands, &was_outermost, stage);
+            // Room for the usual few tested candidates (a candidate's trace is large to move).
+            let stage = self.fresh_or_reused(mpc_stage, cands.len().min(8));
+            let mut decision = decide(params, ni, &ends, cands, &was_outermost, stage);
             match decision.outcome {
                 Outcome::Match | Outcome::Extension => {
                     let named = decision.existing.expect("a match names its segment");
@@ -441,7 +439,6 @@ impl Mapper {
             }
             if !self.record_trace {
                 *mpc_stage = std::mem::take(&mut decision.mpc_stage);
-                mpc_stage.clear();
                 decision.epc_stage = Vec::new();
             }
             trace.decisions.push(decision);

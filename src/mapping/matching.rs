@@ -192,21 +192,9 @@ fn nearest_candidate(candidates: &[Candidate]) -> Option<&Candidate> {
 ///
 /// `was_outermost(id, face)` says whether a candidate held an outermost end-point of its face
 /// as the map stood before this snapshot; it is asked only for the candidates actually tested.
+/// The tested candidates go into `stage` (emptied first): the decision's `mpc_stage`, a buffer
+/// the caller may take back.
 pub fn decide(
-    params: &Params,
-    new_index: usize,
-    new: &SegmentEnds,
-    candidates: &mut [Candidate],
-    was_outermost: &dyn Fn(SegmentId, FaceId) -> bool,
-) -> DecisionTrace {
-    // Room for the usual few tested candidates (a candidate's trace is large to move).
-    let stage = Vec::with_capacity(candidates.len().min(8));
-    decide_reusing(params, new_index, new, candidates, was_outermost, stage)
-}
-
-/// [`decide`], with the tested candidates going into `stage` (emptied first), a buffer the
-/// caller may take back from the decision's `mpc_stage`.
-pub fn decide_reusing(
     params: &Params,
     new_index: usize,
     new: &SegmentEnds,
@@ -395,7 +383,14 @@ mod tests {
         let n = ends(0.0, 0.0, 50.0, 10.0, 0.0, 50.0);
         let far = cand(&n, 1, ends(-5.0, 1.0, 50.0, 15.0, 1.0, 50.0), true);
         let near = cand(&n, 2, ends(-5.0, 0.1, 50.0, 15.0, 0.1, 50.0), true);
-        let d = decide(&p, 0, &n, &mut [far, near], &outermost_in_face_1);
+        let d = decide(
+            &p,
+            0,
+            &n,
+            &mut [far, near],
+            &outermost_in_face_1,
+            Vec::new(),
+        );
         assert_eq!(
             (d.outcome, d.rule, d.existing),
             (Outcome::Match, Rule::MidPointOverlap, Some(2))
@@ -404,10 +399,10 @@ mod tests {
 
         let partial = ends(8.0, 0.0, 50.0, 30.0, 0.0, 50.0);
         let inner = cand(&n, 3, partial, false);
-        let d = decide(&p, 0, &n, &mut [inner], &outermost_in_face_1);
+        let d = decide(&p, 0, &n, &mut [inner], &outermost_in_face_1, Vec::new());
         assert_eq!(d.outcome, Outcome::NewFace);
         let outer = cand(&n, 3, partial, true);
-        let d = decide(&p, 0, &n, &mut [outer], &outermost_in_face_1);
+        let d = decide(&p, 0, &n, &mut [outer], &outermost_in_face_1, Vec::new());
         assert_eq!(
             (d.outcome, d.rule, d.existing),
             (Outcome::Extension, Rule::EndPointOverlap, Some(3))
@@ -429,7 +424,14 @@ mod tests {
             2.0 * dir.sin(),
             50.0,
         );
-        let d = decide(&p, 0, &n, &mut [cand(&n, 7, e, true)], &outermost_in_face_1);
+        let d = decide(
+            &p,
+            0,
+            &n,
+            &mut [cand(&n, 7, e, true)],
+            &outermost_in_face_1,
+            Vec::new(),
+        );
         assert_eq!(
             (d.outcome, d.rule, d.existing),
             (Outcome::Dismissed, Rule::OrientationOnlyFailure, Some(7))
@@ -446,12 +448,19 @@ mod tests {
         let ev = evaluate_pair(&p, &n, 7, &e);
         assert!(!ev.overlap.mpc && !ev.overlap.epc && ev.overlap.containment);
         assert!(ev.colinearity.test.pass && !ev.orientation.pass);
-        let d = decide(&p, 0, &n, &mut [cand(&n, 7, e, true)], &outermost_in_face_1);
+        let d = decide(
+            &p,
+            0,
+            &n,
+            &mut [cand(&n, 7, e, true)],
+            &outermost_in_face_1,
+            Vec::new(),
+        );
         assert_eq!(
             (d.outcome, d.rule),
             (Outcome::NewFace, Rule::NoCandidatePassed)
         );
-        let d = decide(&p, 0, &n, &mut [], &outermost_in_face_1);
+        let d = decide(&p, 0, &n, &mut [], &outermost_in_face_1, Vec::new());
         assert_eq!(d.rule, Rule::NoCandidates);
     }
 
