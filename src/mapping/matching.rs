@@ -377,20 +377,22 @@ mod tests {
         face == 1
     }
 
+    /// `decide` for new segment 0, with candidates in face 1 outermost.
+    fn decide_in_face_1(
+        p: &Params,
+        n: &SegmentEnds,
+        candidates: &mut [Candidate],
+    ) -> DecisionTrace {
+        decide(p, 0, n, candidates, &outermost_in_face_1, Vec::new())
+    }
+
     #[test]
     fn match_is_taken_nearest_first_and_extension_needs_an_outermost_segment() {
         let p = Params::paper();
         let n = ends(0.0, 0.0, 50.0, 10.0, 0.0, 50.0);
         let far = cand(&n, 1, ends(-5.0, 1.0, 50.0, 15.0, 1.0, 50.0), true);
         let near = cand(&n, 2, ends(-5.0, 0.1, 50.0, 15.0, 0.1, 50.0), true);
-        let d = decide(
-            &p,
-            0,
-            &n,
-            &mut [far, near],
-            &outermost_in_face_1,
-            Vec::new(),
-        );
+        let d = decide_in_face_1(&p, &n, &mut [far, near]);
         assert_eq!(
             (d.outcome, d.rule, d.existing),
             (Outcome::Match, Rule::MidPointOverlap, Some(2))
@@ -399,10 +401,10 @@ mod tests {
 
         let partial = ends(8.0, 0.0, 50.0, 30.0, 0.0, 50.0);
         let inner = cand(&n, 3, partial, false);
-        let d = decide(&p, 0, &n, &mut [inner], &outermost_in_face_1, Vec::new());
+        let d = decide_in_face_1(&p, &n, &mut [inner]);
         assert_eq!(d.outcome, Outcome::NewFace);
         let outer = cand(&n, 3, partial, true);
-        let d = decide(&p, 0, &n, &mut [outer], &outermost_in_face_1, Vec::new());
+        let d = decide_in_face_1(&p, &n, &mut [outer]);
         assert_eq!(
             (d.outcome, d.rule, d.existing),
             (Outcome::Extension, Rule::EndPointOverlap, Some(3))
@@ -424,14 +426,7 @@ mod tests {
             2.0 * dir.sin(),
             50.0,
         );
-        let d = decide(
-            &p,
-            0,
-            &n,
-            &mut [cand(&n, 7, e, true)],
-            &outermost_in_face_1,
-            Vec::new(),
-        );
+        let d = decide_in_face_1(&p, &n, &mut [cand(&n, 7, e, true)]);
         assert_eq!(
             (d.outcome, d.rule, d.existing),
             (Outcome::Dismissed, Rule::OrientationOnlyFailure, Some(7))
@@ -448,19 +443,12 @@ mod tests {
         let ev = evaluate_pair(&p, &n, 7, &e);
         assert!(!ev.overlap.mpc && !ev.overlap.epc && ev.overlap.containment);
         assert!(ev.colinearity.test.pass && !ev.orientation.pass);
-        let d = decide(
-            &p,
-            0,
-            &n,
-            &mut [cand(&n, 7, e, true)],
-            &outermost_in_face_1,
-            Vec::new(),
-        );
+        let d = decide_in_face_1(&p, &n, &mut [cand(&n, 7, e, true)]);
         assert_eq!(
             (d.outcome, d.rule),
             (Outcome::NewFace, Rule::NoCandidatePassed)
         );
-        let d = decide(&p, 0, &n, &mut [], &outermost_in_face_1, Vec::new());
+        let d = decide_in_face_1(&p, &n, &mut []);
         assert_eq!(d.rule, Rule::NoCandidates);
     }
 
