@@ -361,7 +361,15 @@ impl Mapper {
             let was_outermost = |id, face| map.was_outermost(id, face);
             // Room for the usual few tested candidates (a candidate's trace is large to move).
             let stage = self.fresh_or_reused(mpc_stage, cands.len().min(8));
-            let mut decision = decide(params, ni, &ends, cands, &was_outermost, stage);
+            let mut decision = decide(
+                params,
+                ni,
+                &ends,
+                cands,
+                &was_outermost,
+                stage,
+                self.record_trace,
+            );
             match decision.outcome {
                 Outcome::Match | Outcome::Extension => {
                     let named = decision.existing.expect("a match names its segment");

@@ -77,6 +77,22 @@ pub fn evaluate_pair(
     existing_id: SegmentId,
     existing: &SegmentEnds,
 ) -> PairEvaluation {
+    place_pair(params, new, existing).with_orientation(params, existing_id, existing)
+}
+
+/// A pair's colinearity and overlap tests: everything of [`evaluate_pair`] but the orientation
+/// angle (its one `atan2`), which no rule needs when [`Placement::could_pass`] is false.
+#[derive(Clone, Copy, Debug)]
+pub struct Placement {
+    new_reversed: bool,
+    left: EndPoint,
+    right: EndPoint,
+    colinearity: ColinearityTest,
+    overlap: OverlapTest,
+}
+
+/// `l_n` oriented along `l_e`, with the colinearity and overlap tests of [`evaluate_pair`].
+pub fn place_pair(params: &Params, new: &SegmentEnds, existing: &SegmentEnds) -> Placement {
     let (ea, eb) = (existing.a.point, existing.b.point);
     let ta = projection_param(&new.a.point, &ea, &eb);
     let tb = projection_param(&new.b.point, &ea, &eb);
@@ -87,9 +103,6 @@ pub fn evaluate_pair(
         (new.a, new.b)
     };
     let (left_param, right_param) = if new_reversed { (tb, ta) } else { (ta, tb) };
-
-    let angle = line_angle_between(&(right.point - left.point), &(eb - ea));
-    let orientation = Test::at_most(angle, params.orientation_rad);
 
     let mid = nalgebra::center(&left.point, &right.point);
     let d = distance_to_line(&mid, &ea, &eb);
@@ -126,14 +139,47 @@ pub fn evaluate_pair(
         epc: left_in || right_in,
         epc_end,
     };
-    PairEvaluation {
-        existing: existing_id,
+    Placement {
         new_reversed,
-        new_left: left,
-        new_right: right,
-        orientation,
+        left,
+        right,
         colinearity,
         overlap,
+    }
+}
+
+impl Placement {
+    /// False when no rule can pass whatever the orientation: a MATCH, an EXTENSION and a
+    /// dismissal all need colinearity and an overlap (MPC, EPC or containment).
+    pub fn could_pass(&self) -> bool {
+        self.colinearity.test.pass
+            && (self.overlap.mpc || self.overlap.epc || self.overlap.containment)
+    }
+
+    /// True when the pair could be a MATCH (colinearity, and MPC or containment): the
+    /// orientation test decides.
+    pub fn could_match(&self) -> bool {
+        self.colinearity.test.pass && (self.overlap.mpc || self.overlap.containment)
+    }
+
+    /// The full evaluation: this placement with the orientation test against `existing`.
+    pub fn with_orientation(
+        self,
+        params: &Params,
+        existing_id: SegmentId,
+        existing: &SegmentEnds,
+    ) -> PairEvaluation {
+        let line = existing.b.point - existing.a.point;
+        let angle = line_angle_between(&(self.right.point - self.left.point), &line);
+        PairEvaluation {
+            existing: existing_id,
+            new_reversed: self.new_reversed,
+            new_left: self.left,
+            new_right: self.right,
+            orientation: Test::at_most(angle, params.orientation_rad),
+            colinearity: self.colinearity,
+            overlap: self.overlap,
+        }
     }
 }
 
@@ -160,18 +206,26 @@ const SORTED_IN_PLACE_BELOW: usize = 32;
 /// build and O(log n) a candidate taken, so a list tested only as far as its first few is never
 /// sorted; a short one is sorted in place.
 fn in_order_lazily(candidates: &mut [Candidate]) -> Box<dyn Iterator<Item = &Candidate> + '_> {
-    if candidates.len() < SORTED_IN_PLACE_BELOW {
+    if candidates.len() < SORTED_IN_PLACE_BELOW || candidates.len() > u32::MAX as usize {
         candidates.sort_unstable_by(in_order);
         return Box::new(candidates.iter());
     }
-    let mut heap: BinaryHeap<Reverse<(u64, SegmentId, usize)>> = candidates
+    // One integer a candidate, ordered as `in_order` orders them: distance, then id, then the
+    // place in the list (which makes every key distinct and finds the candidate again).
+    let mut heap: BinaryHeap<Reverse<u128>> = candidates
         .iter()
         .enumerate()
-        .map(|(i, c)| Reverse((total_order_key(c.distance_m), c.id, i)))
+        .map(|(i, c)| {
+            let key = u128::from(total_order_key(c.distance_m)) << 64
+                | u128::from(c.id) << 32
+                | i as u128;
+            Reverse(key)
+        })
         .collect();
     let candidates = &*candidates;
     Box::new(std::iter::from_fn(move || {
-        heap.pop().map(|Reverse((_, _, i))| &candidates[i])
+        heap.pop()
+            .map(|Reverse(key)| &candidates[(key & u128::from(u32::MAX)) as usize])
     }))
 }
 
@@ -193,7 +247,9 @@ fn nearest_candidate(candidates: &[Candidate]) -> Option<&Candidate> {
 /// `was_outermost(id, face)` says whether a candidate held an outermost end-point of its face
 /// as the map stood before this snapshot; it is asked only for the candidates actually tested.
 /// The tested candidates go into `stage` (emptied first): the decision's `mpc_stage`, a buffer
-/// the caller may take back.
+/// the caller may take back. With `every_tested` false (an untraced step), the stage keeps only
+/// the candidates that could pass a rule ([`Placement::could_pass`]) and the others are not
+/// given an orientation test: the outcome, rule and segment named are the same either way.
 pub fn decide(
     params: &Params,
     new_index: usize,
@@ -201,6 +257,7 @@ pub fn decide(
     candidates: &mut [Candidate],
     was_outermost: &dyn Fn(SegmentId, FaceId) -> bool,
     mut stage: Vec<CandidateTrace>,
+    every_tested: bool,
 ) -> DecisionTrace {
     stage.clear();
     let outermost = |c: &Candidate| was_outermost(c.id, c.face);
@@ -220,14 +277,21 @@ pub fn decide(
     // Most new segments match the nearest candidate: try it before ordering the rest (the
     // outcome and the trace are the same as with the full order).
     if let Some(c) = nearest_candidate(candidates).copied() {
-        let evaluation = evaluate_pair(params, new, c.id, &c.ends);
-        if evaluation.is_match() {
-            test_candidate(&mut decision, &c, outermost(&c), evaluation);
-            return decision;
+        let placement = place_pair(params, new, &c.ends);
+        if placement.could_match() {
+            let evaluation = placement.with_orientation(params, c.id, &c.ends);
+            if evaluation.is_match() {
+                test_candidate(&mut decision, &c, outermost(&c), evaluation);
+                return decision;
+            }
         }
     }
     for c in in_order_lazily(candidates) {
-        let evaluation = evaluate_pair(params, new, c.id, &c.ends);
+        let placement = place_pair(params, new, &c.ends);
+        if !every_tested && !placement.could_pass() {
+            continue;
+        }
+        let evaluation = placement.with_orientation(params, c.id, &c.ends);
         if test_candidate(&mut decision, c, outermost(c), evaluation) {
             return decision;
         }
@@ -383,7 +447,7 @@ mod tests {
         n: &SegmentEnds,
         candidates: &mut [Candidate],
     ) -> DecisionTrace {
-        decide(p, 0, n, candidates, &outermost_in_face_1, Vec::new())
+        decide(p, 0, n, candidates, &outermost_in_face_1, Vec::new(), true)
     }
 
     #[test]

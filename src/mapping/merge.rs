@@ -13,9 +13,9 @@
 //! MATCH rule (Figure 1) and leaves the map; its supporting readings join the updated segment's.
 
 use super::map::{EndPoint, Map, SegmentId};
-use super::matching::{evaluate_pair, SegmentEnds};
+use super::matching::{place_pair, SegmentEnds};
 use super::params::Params;
-use super::trace::AbsorbTrace;
+use super::trace::{AbsorbTrace, PairEvaluation};
 use super::update::{merge_support_points, update_match};
 use crate::geometry::distance_to_segment;
 use std::sync::Arc;
@@ -57,46 +57,54 @@ fn absorb_one(
         * (1.0 + 1e-9)
         + 1e-9;
     let (a, b) = (existing.a.point, existing.b.point);
-    let mut near: Vec<(f64, SegmentId, SegmentEnds)> = Vec::with_capacity(16);
+    // The first match nearest first (ties by id) is the match with the least (distance, id):
+    // found in one pass, testing only the segments that would come before the best so far.
+    let mut best: Option<(f64, SegmentId, SegmentEnds, PairEvaluation)> = None;
     map.visit_segments_along(&a, &b, reach_m, |id, s| {
         if id == into || !s.fitted || exclude.contains(&id) {
             return;
         }
         let d = distance_to_segment(&nalgebra::center(&s.a.point, &s.b.point), &a, &b);
-        if d <= reach_m {
-            near.push((d, id, SegmentEnds { a: s.a, b: s.b }));
+        let earlier = |&(bd, bid, ..): &(f64, SegmentId, SegmentEnds, PairEvaluation)| {
+            d.total_cmp(&bd).then(id.cmp(&bid)).is_lt()
+        };
+        let within = d <= reach_m;
+        if !within || !best.as_ref().is_none_or(earlier) {
+            return;
+        }
+        let ends = SegmentEnds { a: s.a, b: s.b };
+        let placement = place_pair(params, &ends, &existing);
+        if !placement.could_match() {
+            return;
+        }
+        let evaluation = placement.with_orientation(params, into, &existing);
+        if evaluation.is_match() {
+            best = Some((d, id, ends, evaluation));
         }
     });
-    near.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
-    for (_, id, ends) in near {
-        let evaluation = evaluate_pair(params, &ends, into, &existing);
-        if !evaluation.is_match() {
-            continue;
-        }
-        let other_points = Arc::clone(&map.segment(id)?.points);
-        let geometry = update_match(
-            [existing.a, existing.b],
-            evaluation.new_left,
-            evaluation.new_right,
-        );
-        let [a, b]: [EndPoint; 2] = geometry.ends;
-        let target = map.segment(into)?;
-        let points = merge_support_points(&target.points, &other_points, &a, &b);
-        map.remove_segment(id);
-        if let Some(s) = map.segment_mut(into) {
-            s.points = Arc::new(points);
-        }
-        map.set_ends(into, a, b);
-        return Some(AbsorbTrace {
-            segment: id,
-            into,
-            ends: [ends.a, ends.b],
-            evaluation,
-            before: [existing.a, existing.b],
-            after: [a, b],
-        });
+    let (_, id, ends, evaluation) = best?;
+    let other_points = Arc::clone(&map.segment(id)?.points);
+    let geometry = update_match(
+        [existing.a, existing.b],
+        evaluation.new_left,
+        evaluation.new_right,
+    );
+    let [a, b]: [EndPoint; 2] = geometry.ends;
+    let target = map.segment(into)?;
+    let points = merge_support_points(&target.points, &other_points, &a, &b);
+    map.remove_segment(id);
+    if let Some(s) = map.segment_mut(into) {
+        s.points = Arc::new(points);
     }
-    None
+    map.set_ends(into, a, b);
+    Some(AbsorbTrace {
+        segment: id,
+        into,
+        ends: [ends.a, ends.b],
+        evaluation,
+        before: [existing.a, existing.b],
+        after: [a, b],
+    })
 }
 
 #[cfg(test)]
