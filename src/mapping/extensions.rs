@@ -55,47 +55,63 @@ pub struct MemoryPiece {
     pub points: Vec<SupportPoint>,
 }
 
+/// True when `p` and `q` are linked: `|p − q| ≤ gap`. Points apart by more than the gap (with
+/// a margin for rounding) along x or y are not, which skips the square root for most pairs and
+/// never changes an answer.
+fn within_gap(p: &Point, q: &Point, gap_m: f64) -> bool {
+    let slack = gap_m * (1.0 + 1e-9);
+    if (p.x - q.x).abs() > slack || (p.y - q.y).abs() > slack {
+        return false;
+    }
+    (q - p).norm() <= gap_m
+}
+
 /// Point memory for one snapshot (ALGORITHM.md §8): expires readings older than
 /// `memory_snapshots`, adds this snapshot's one-point clusters, links readings within
 /// `memory_gap` into groups (single linkage), orders each group along its principal axis, fits
 /// it by §3, and returns the pieces of at least `memory_min_points` points (their readings leave
-/// the memory).
+/// the memory). With `record` false (an untraced step) the trace only says how many readings
+/// are held; the memory and the pieces are the same either way.
 pub fn memory_step(
     memory: &mut Vec<MemoryPoint>,
     singles: &[SupportPoint],
     snapshot: usize,
     params: &Params,
+    record: bool,
 ) -> (MemoryTrace, Vec<MemoryPiece>) {
     let mut trace = MemoryTrace::default();
     let horizon = params.memory_snapshots;
     memory.retain(|m| {
         let keep = snapshot - m.support.reading.snapshot.min(snapshot) < horizon;
-        if !keep {
+        if !keep && record {
             trace.expired.push(m.support.reading);
         }
         keep
     });
-    for s in singles {
-        memory.push(MemoryPoint { support: *s });
-        trace.added.push(s.reading);
+    memory.extend(singles.iter().map(|s| MemoryPoint { support: *s }));
+    if record {
+        trace.added.extend(singles.iter().map(|s| s.reading));
     }
     let n = memory.len();
-    // Single-linkage groups by flood fill, in memory order.
+    // Single-linkage groups by flood fill, in memory order: `members` holds every group's
+    // readings one group after another (each group sorted), `group_ends` where each ends.
     let mut group_of = vec![usize::MAX; n];
-    let mut groups: Vec<Vec<usize>> = Vec::new();
+    let mut members: Vec<usize> = Vec::with_capacity(n);
+    let mut group_ends: Vec<usize> = Vec::new();
     for seed in 0..n {
         if group_of[seed] != usize::MAX {
             continue;
         }
-        let g = groups.len();
+        let g = group_ends.len();
+        let start = members.len();
         group_of[seed] = g;
-        let mut members = vec![seed];
-        let mut k = 0;
+        members.push(seed);
+        let mut k = start;
         while k < members.len() {
             let p = memory[members[k]].support.point;
             for other in 0..n {
                 if group_of[other] == usize::MAX
-                    && (memory[other].support.point - p).norm() <= params.memory_gap_m
+                    && within_gap(&p, &memory[other].support.point, params.memory_gap_m)
                 {
                     group_of[other] = g;
                     members.push(other);
@@ -103,29 +119,34 @@ pub fn memory_step(
             }
             k += 1;
         }
-        members.sort_unstable();
-        groups.push(members);
+        members[start..].sort_unstable();
+        group_ends.push(members.len());
     }
     let mut used = vec![false; n];
     let mut pieces_out = Vec::new();
-    for members in groups
-        .iter()
-        .filter(|m| m.len() >= params.memory_min_points)
-    {
-        let mut points: Vec<SupportPoint> = members.iter().map(|&i| memory[i].support).collect();
+    let mut fitted_groups = 0;
+    let groups = group_ends.iter().scan(0, |start, &end| {
+        Some(&members[std::mem::replace(start, end)..end])
+    });
+    for group in groups.filter(|m| m.len() >= params.memory_min_points) {
+        let mut points: Vec<SupportPoint> = group.iter().map(|&i| memory[i].support).collect();
         let coords: Vec<Point> = points.iter().map(|q| q.point).collect();
         if let Some((centre, dir)) = fit_line_tls(&coords) {
             let far = centre + dir;
-            points.sort_by(|x, y| {
-                projection_param(&x.point, &centre, &far)
-                    .total_cmp(&projection_param(&y.point, &centre, &far))
-                    .then(x.reading.cmp(&y.reading))
-            });
+            // Each point's place along the axis computed once (a sort asks for it many times).
+            let mut keyed: Vec<(f64, SupportPoint)> = points
+                .iter()
+                .map(|q| (projection_param(&q.point, &centre, &far), *q))
+                .collect();
+            keyed.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.reading.cmp(&y.1.reading)));
+            points.clear();
+            points.extend(keyed.into_iter().map(|(_, q)| q));
         }
         let mut splits = Vec::new();
         let mut pieces = Vec::new();
         split_recursive(&points, params, &mut splits, &mut pieces);
-        let group_index = trace.groups.len();
+        let group_index = fitted_groups;
+        fitted_groups += 1;
         let mut piece_segments = Vec::with_capacity(pieces.len());
         for &[first, last] in &pieces {
             if last + 1 - first >= params.memory_min_points {
@@ -135,7 +156,7 @@ pub fn memory_step(
                     points: points[first..=last].to_vec(),
                 });
                 for q in &points[first..=last] {
-                    if let Some(i) = members
+                    if let Some(i) = group
                         .iter()
                         .copied()
                         .find(|&i| memory[i].support.reading == q.reading)
@@ -147,17 +168,19 @@ pub fn memory_step(
                 piece_segments.push(None);
             }
         }
-        trace.groups.push(MemoryGroupTrace {
-            points,
-            splits,
-            pieces,
-            piece_segments,
-        });
+        if record {
+            trace.groups.push(MemoryGroupTrace {
+                points,
+                splits,
+                pieces,
+                piece_segments,
+            });
+        }
     }
     let mut i = 0;
     memory.retain(|m| {
         let keep = !used[i];
-        if !keep {
+        if !keep && record {
             trace.used.push(m.support.reading);
         }
         i += 1;
@@ -217,18 +240,18 @@ mod tests {
             ..Params::paper()
         };
         let mut memory = Vec::new();
-        let (t, pieces) = memory_step(&mut memory, &[sp(0, 2, 0.0, 5.0, 50.0)], 0, &p);
+        let (t, pieces) = memory_step(&mut memory, &[sp(0, 2, 0.0, 5.0, 50.0)], 0, &p, true);
         assert!(pieces.is_empty() && t.held_after == 1);
-        let (_, pieces) = memory_step(&mut memory, &[sp(1, 2, 1.0, 5.0, 50.0)], 1, &p);
+        let (_, pieces) = memory_step(&mut memory, &[sp(1, 2, 1.0, 5.0, 50.0)], 1, &p, true);
         assert!(pieces.is_empty());
-        let (t, pieces) = memory_step(&mut memory, &[sp(2, 2, 2.0, 5.0, 50.0)], 2, &p);
+        let (t, pieces) = memory_step(&mut memory, &[sp(2, 2, 2.0, 5.0, 50.0)], 2, &p, true);
         assert_eq!(pieces.len(), 1);
         assert_eq!(pieces[0].points.len(), 3);
         assert_eq!(t.used.len(), 3);
         assert_eq!(t.held_after, 0);
         // A lone reading expires after memory_snapshots.
-        memory_step(&mut memory, &[sp(3, 0, 50.0, 50.0, 50.0)], 3, &p);
-        let (t, _) = memory_step(&mut memory, &[], 6, &p);
+        memory_step(&mut memory, &[sp(3, 0, 50.0, 50.0, 50.0)], 3, &p, true);
+        let (t, _) = memory_step(&mut memory, &[], 6, &p, true);
         assert_eq!(
             t.expired,
             vec![ReadingRef {

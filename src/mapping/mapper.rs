@@ -93,8 +93,8 @@ impl Mapper {
     }
 
     /// With `false`, steps return a slim trace: readings, decisions (without their candidate
-    /// lists), updates, correlations and warnings; no gaps, clusters, splits or new-segment
-    /// geometry. The map is the same either way.
+    /// lists), updates, correlations and warnings; no gaps, clusters, splits, new-segment
+    /// geometry or point-memory record. The map is the same either way.
     pub fn with_trace(mut self, on: bool) -> Self {
         self.set_trace(on);
         self
@@ -323,7 +323,13 @@ impl Mapper {
 
         // §8 point memory.
         if params.memory_snapshots > 0 {
-            let (memory_trace, pieces) = memory_step(&mut self.map.memory, &singles, index, params);
+            let (memory_trace, pieces) = memory_step(
+                &mut self.map.memory,
+                &singles,
+                index,
+                params,
+                self.record_trace,
+            );
             for piece in pieces {
                 let last = piece.points.len() - 1;
                 let (a, b) = piece_end_points(&piece.points, 0, last, params.fit);
@@ -334,7 +340,9 @@ impl Mapper {
                     points: piece.points,
                 });
             }
-            trace.memory = Some(memory_trace);
+            if self.record_trace {
+                trace.memory = Some(memory_trace);
+            }
         }
 
         // §4 matching against the map as it stood before this snapshot, §5 updates.
