@@ -518,6 +518,95 @@ mod tests {
 
     use proptest::strategy::Strategy;
 
+    /// A segment within a few metres of the origin, ranges from 0.3 to 4 m.
+    fn any_ends() -> impl Strategy<Value = SegmentEnds> {
+        let coord = -3.0f64..3.0;
+        let range = 0.3f64..4.0;
+        (
+            coord.clone(),
+            coord.clone(),
+            range.clone(),
+            coord.clone(),
+            coord,
+            range,
+        )
+            .prop_map(|(ax, ay, da, bx, by, db)| ends(ax, ay, da, bx, by, db))
+    }
+
+    /// A copy of `e` moved by (`dx`, `dy`), turned by `turn` about its mid-point and scaled by
+    /// `scale`: near-duplicates, crossing and parallel segments, so every rule gets exercised.
+    fn near(e: &SegmentEnds, dx: f64, dy: f64, turn: f64, scale: f64) -> SegmentEnds {
+        let m = e.mid();
+        let (s, c) = turn.sin_cos();
+        let place = |p: &EndPoint| {
+            let v = (p.point - m) * scale;
+            EndPoint {
+                point: crate::geometry::Point::new(
+                    m.x + dx + c * v.x - s * v.y,
+                    m.y + dy + s * v.x + c * v.y,
+                ),
+                range_m: p.range_m,
+            }
+        };
+        SegmentEnds {
+            a: place(&e.a),
+            b: place(&e.b),
+        }
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn a_pair_that_cannot_pass_fails_every_rule_whatever_its_orientation(
+            n in any_ends(),
+            e in any_ends(),
+            (dx, dy, turn, scale) in (-0.2f64..0.2, -0.2f64..0.2, -0.5f64..0.5, 0.2f64..3.0),
+        ) {
+            let p = Params::paper();
+            for existing in [e, near(&n, dx, dy, turn, scale)] {
+                let placement = place_pair(&p, &n, &existing);
+                let ev = placement.with_orientation(&p, 1, &existing);
+                proptest::prop_assert_eq!(&ev, &evaluate_pair(&p, &n, 1, &existing));
+                if !placement.could_pass() {
+                    proptest::prop_assert!(
+                        !ev.is_match() && !ev.is_extension() && !ev.fails_only_orientation()
+                    );
+                }
+                if !placement.could_match() {
+                    proptest::prop_assert!(!ev.is_match());
+                }
+            }
+        }
+
+        #[test]
+        fn untraced_decisions_name_the_same_outcome_rule_and_segment(
+            n in any_ends(),
+            moves in proptest::collection::vec(
+                (-1.2f64..1.2, -0.05f64..0.05, -0.6f64..0.6, 0.1f64..2.0, proptest::bool::ANY),
+                0..60,
+            ),
+            theta_deg in 1.0f64..40.0,
+        ) {
+            let p = Params { orientation_rad: theta_deg.to_radians(), ..Params::paper() };
+            let candidates: Vec<Candidate> = moves
+                .iter()
+                .enumerate()
+                .map(|(i, &(along, off, turn, scale, outer))| {
+                    // Slid along l_n by `along` of its length and off it by `off` metres.
+                    let (u, v) = (n.b.point - n.a.point, (n.b.point - n.a.point).normalize());
+                    let d = u * along + nalgebra::Vector2::new(-v.y, v.x) * off;
+                    cand(&n, i as SegmentId, near(&n, d.x, d.y, turn, scale), outer)
+                })
+                .collect();
+            let traced = decide(&p, 0, &n, &mut candidates.clone(), &outermost_in_face_1, Vec::new(), true);
+            let untraced = decide(&p, 0, &n, &mut candidates.clone(), &outermost_in_face_1, Vec::new(), false);
+            proptest::prop_assert_eq!(
+                (traced.outcome, traced.rule, traced.existing),
+                (untraced.outcome, untraced.rule, untraced.existing)
+            );
+            proptest::prop_assert!(untraced.mpc_stage.len() <= traced.mpc_stage.len());
+        }
+    }
+
     proptest::proptest! {
         #[test]
         fn candidates_come_lazily_in_the_full_order(

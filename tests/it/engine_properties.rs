@@ -109,3 +109,34 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(100))]
+    /// An untraced step (it skips the orientation test of candidates that cannot pass a rule and
+    /// keeps no point-memory record) decides, updates and maps exactly as a traced one.
+    #[test]
+    fn untraced_steps_decide_and_map_as_traced_ones(
+        steps in wall_snapshots(),
+        extended in any::<bool>(),
+        theta_deg in 1.0f64..60.0,
+    ) {
+        let params = Params { orientation_rad: theta_deg.to_radians(), ..if extended { Params::extended() } else { Params::paper() } };
+        let layout = SensorLayout::nomad_ring(0.23);
+        let mut traced = Mapper::new(params.clone(), layout.clone(), SensorSpec::default());
+        let mut untraced = Mapper::new(params, layout, SensorSpec::default()).with_trace(false);
+        let (mut x, mut y, mut h) = (0.0, 0.0, 0.0);
+        for (i, (dx, dy, dh, ranges)) in steps.into_iter().enumerate() {
+            x += dx;
+            y += dy;
+            h += dh;
+            let snapshot = Snapshot { t: i as f64, pose: Pose::new(x, y, h), ranges_m: ranges };
+            let a = traced.step(&snapshot);
+            let b = untraced.step(&snapshot);
+            let key = |t: &sonarmap::mapping::StepTrace| t.decisions.iter().map(|d| (d.outcome, d.rule, d.existing, d.result)).collect::<Vec<_>>();
+            prop_assert_eq!(key(&a), key(&b));
+            prop_assert_eq!(&a.updates, &b.updates);
+            prop_assert_eq!(&a.correlations, &b.correlations);
+            prop_assert_eq!(traced.map(), untraced.map());
+        }
+    }
+}
