@@ -3,7 +3,7 @@
 
 use proptest::prelude::*;
 use sonarmap::geometry::Pose;
-use sonarmap::mapping::{Mapper, Params};
+use sonarmap::mapping::{Mapper, Params, StepTrace};
 use sonarmap::run::Snapshot;
 use sonarmap::sonar::{SensorLayout, SensorMount, SensorSpec};
 
@@ -78,6 +78,48 @@ fn wall_snapshots() -> impl Strategy<Value = Vec<(f64, f64, f64, Vec<Option<f64>
     )
 }
 
+/// A mapper of the chosen preset with orientation threshold `theta_deg` on a Nomad ring.
+fn wall_mapper(extended: bool, theta_deg: f64) -> Mapper {
+    let preset = if extended {
+        Params::extended()
+    } else {
+        Params::paper()
+    };
+    let params = Params {
+        orientation_rad: theta_deg.to_radians(),
+        ..preset
+    };
+    Mapper::new(
+        params,
+        SensorLayout::nomad_ring(0.23),
+        SensorSpec::default(),
+    )
+}
+
+/// Steps `a` and `b` over the same snapshots (each pose relative to the last) and checks them
+/// after every step with `check(trace_a, trace_b, a, b)`.
+fn step_both(
+    steps: Vec<(f64, f64, f64, Vec<Option<f64>>)>,
+    a: &mut Mapper,
+    b: &mut Mapper,
+    check: impl Fn(&StepTrace, &StepTrace, &Mapper, &Mapper) -> Result<(), TestCaseError>,
+) -> Result<(), TestCaseError> {
+    let (mut x, mut y, mut h) = (0.0, 0.0, 0.0);
+    for (i, (dx, dy, dh, ranges)) in steps.into_iter().enumerate() {
+        x += dx;
+        y += dy;
+        h += dh;
+        let snapshot = Snapshot {
+            t: i as f64,
+            pose: Pose::new(x, y, h),
+            ranges_m: ranges,
+        };
+        let (ta, tb) = (a.step(&snapshot), b.step(&snapshot));
+        check(&ta, &tb, a, b)?;
+    }
+    Ok(())
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(150))]
     /// The spatial index prunes only candidates that cannot pass: the decisions are the same as
@@ -88,25 +130,17 @@ proptest! {
         extended in any::<bool>(),
         theta_deg in 1.0f64..60.0,
     ) {
-        let params = Params { orientation_rad: theta_deg.to_radians(), ..if extended { Params::extended() } else { Params::paper() } };
-        let layout = SensorLayout::nomad_ring(0.23);
-        let mut indexed = Mapper::new(params.clone(), layout.clone(), SensorSpec::default());
-        let mut brute = Mapper::new(params, layout, SensorSpec::default()).with_brute_force_search(true);
-        let (mut x, mut y, mut h) = (0.0, 0.0, 0.0);
-        for (i, (dx, dy, dh, ranges)) in steps.into_iter().enumerate() {
-            x += dx;
-            y += dy;
-            h += dh;
-            let snapshot = Snapshot { t: i as f64, pose: Pose::new(x, y, h), ranges_m: ranges };
-            let a = indexed.step(&snapshot);
-            let b = brute.step(&snapshot);
+        let mut indexed = wall_mapper(extended, theta_deg);
+        let mut brute = wall_mapper(extended, theta_deg).with_brute_force_search(true);
+        step_both(steps, &mut indexed, &mut brute, |a, b, indexed, brute| {
             // The rule may read "no candidates" where the brute force tested far segments in vain.
-            let key = |t: &sonarmap::mapping::StepTrace| t.decisions.iter().map(|d| (d.outcome, d.existing, d.result)).collect::<Vec<_>>();
-            prop_assert_eq!(key(&a), key(&b));
+            let key = |t: &StepTrace| t.decisions.iter().map(|d| (d.outcome, d.existing, d.result)).collect::<Vec<_>>();
+            prop_assert_eq!(key(a), key(b));
             prop_assert_eq!(&a.updates, &b.updates);
             prop_assert_eq!(&a.correlations, &b.correlations);
             prop_assert_eq!(&indexed.map().segments, &brute.map().segments);
-        }
+            Ok(())
+        })?;
     }
 }
 
@@ -120,23 +154,15 @@ proptest! {
         extended in any::<bool>(),
         theta_deg in 1.0f64..60.0,
     ) {
-        let params = Params { orientation_rad: theta_deg.to_radians(), ..if extended { Params::extended() } else { Params::paper() } };
-        let layout = SensorLayout::nomad_ring(0.23);
-        let mut traced = Mapper::new(params.clone(), layout.clone(), SensorSpec::default());
-        let mut untraced = Mapper::new(params, layout, SensorSpec::default()).with_trace(false);
-        let (mut x, mut y, mut h) = (0.0, 0.0, 0.0);
-        for (i, (dx, dy, dh, ranges)) in steps.into_iter().enumerate() {
-            x += dx;
-            y += dy;
-            h += dh;
-            let snapshot = Snapshot { t: i as f64, pose: Pose::new(x, y, h), ranges_m: ranges };
-            let a = traced.step(&snapshot);
-            let b = untraced.step(&snapshot);
-            let key = |t: &sonarmap::mapping::StepTrace| t.decisions.iter().map(|d| (d.outcome, d.rule, d.existing, d.result)).collect::<Vec<_>>();
-            prop_assert_eq!(key(&a), key(&b));
+        let mut traced = wall_mapper(extended, theta_deg);
+        let mut untraced = wall_mapper(extended, theta_deg).with_trace(false);
+        step_both(steps, &mut traced, &mut untraced, |a, b, traced, untraced| {
+            let key = |t: &StepTrace| t.decisions.iter().map(|d| (d.outcome, d.rule, d.existing, d.result)).collect::<Vec<_>>();
+            prop_assert_eq!(key(a), key(b));
             prop_assert_eq!(&a.updates, &b.updates);
             prop_assert_eq!(&a.correlations, &b.correlations);
             prop_assert_eq!(traced.map(), untraced.map());
-        }
+            Ok(())
+        })?;
     }
 }
