@@ -124,11 +124,11 @@ pub fn memory_step(
     }
     let mut used = vec![false; n];
     let mut pieces_out = Vec::new();
-    let mut fitted_groups = 0;
     let groups = group_ends.iter().scan(0, |start, &end| {
         Some(&members[std::mem::replace(start, end)..end])
     });
-    for group in groups.filter(|m| m.len() >= params.memory_min_points) {
+    let fitted = groups.filter(|m| m.len() >= params.memory_min_points);
+    for (group_index, group) in fitted.enumerate() {
         let mut points: Vec<SupportPoint> = group.iter().map(|&i| memory[i].support).collect();
         let coords: Vec<Point> = points.iter().map(|q| q.point).collect();
         if let Some((centre, dir)) = fit_line_tls(&coords) {
@@ -145,8 +145,6 @@ pub fn memory_step(
         let mut splits = Vec::new();
         let mut pieces = Vec::new();
         split_recursive(&points, params, &mut splits, &mut pieces);
-        let group_index = fitted_groups;
-        fitted_groups += 1;
         let mut piece_segments = Vec::with_capacity(pieces.len());
         for &[first, last] in &pieces {
             if last + 1 - first >= params.memory_min_points {
