@@ -112,6 +112,44 @@ pub fn line_angle_between(u: &Vec2, v: &Vec2) -> f64 {
     m.min(std::f64::consts::PI - m)
 }
 
+/// An angle limit with its tangent, computed once for many [`line_angle_at_most`] tests.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AngleLimit {
+    /// The limit, radians.
+    pub rad: f64,
+    tan: f64,
+}
+
+impl AngleLimit {
+    /// The limit `rad`.
+    pub fn new(rad: f64) -> Self {
+        Self {
+            rad,
+            tan: rad.tan(),
+        }
+    }
+}
+
+/// `line_angle_between(u, v) <= limit.rad`, the same answer for every input, mostly without
+/// the `atan2`: the angle is `atan(|u × v| / |u · v|)`, so comparing `|u × v|` with
+/// `tan(limit)·|u · v|` decides, unless the two are within a relative 1e-6 of each other (far
+/// wider than the rounding of either way) or the limit lies outside (1e-6, 1.5) rad; then the
+/// angle itself is compared.
+pub fn line_angle_at_most(u: &Vec2, v: &Vec2, limit: AngleLimit) -> bool {
+    const BAND: f64 = 1e-6;
+    if limit.rad > 1e-6 && limit.rad < 1.5 {
+        let cross = (u.x * v.y - u.y * v.x).abs();
+        let bound = limit.tan * u.dot(v).abs();
+        if cross < bound * (1.0 - BAND) {
+            return true;
+        }
+        if cross > bound * (1.0 + BAND) {
+            return false;
+        }
+    }
+    line_angle_between(u, v) <= limit.rad
+}
+
 /// Intersection of the infinite lines `a1 b1` and `a2 b2`; `None` when (nearly) parallel.
 pub fn line_intersection(a1: &Point, b1: &Point, a2: &Point, b2: &Point) -> Option<Point> {
     let d1 = b1 - a1;
@@ -164,6 +202,54 @@ pub fn fit_line_tls(points: &[Point]) -> Option<(Point, Vec2)> {
 mod tests {
     use super::*;
     use std::f64::consts::PI;
+
+    #[test]
+    fn angle_limit_test_handles_degenerate_directions_like_the_angle() {
+        let limit = AngleLimit::new(15f64.to_radians());
+        let odd = [
+            Vec2::zeros(),
+            Vec2::new(f64::NAN, 1.0),
+            Vec2::new(f64::INFINITY, 0.0),
+            Vec2::new(f64::INFINITY, f64::INFINITY),
+            Vec2::new(0.0, -1.0),
+            Vec2::new(1.0, 1e-300),
+        ];
+        for u in odd {
+            for v in odd {
+                assert_eq!(
+                    line_angle_at_most(&u, &v, limit),
+                    line_angle_between(&u, &v) <= limit.rad,
+                    "{u:?} {v:?}"
+                );
+            }
+        }
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn angle_limit_test_agrees_with_the_angle(
+            u_angle in -4.0f64..4.0,
+            turn in -4.0f64..4.0,
+            (len_u, len_v) in (1e-4f64..1e4, 1e-4f64..1e4),
+            limit_rad in 0.0f64..1.6,
+            jitter in -1e-12f64..1e-12,
+            on_limit in 0u8..3,
+        ) {
+            // Directions at any angle, or within a hair of the limit (either way round).
+            let turn = match on_limit {
+                0 => turn,
+                1 => limit_rad + jitter,
+                _ => PI - limit_rad + jitter,
+            };
+            let u = unit(u_angle) * len_u;
+            let v = unit(u_angle + turn) * len_v;
+            let limit = AngleLimit::new(limit_rad);
+            proptest::prop_assert_eq!(
+                line_angle_at_most(&u, &v, limit),
+                line_angle_between(&u, &v) <= limit_rad
+            );
+        }
+    }
 
     #[test]
     fn line_angle_wraps_at_180_degrees() {

@@ -13,11 +13,11 @@
 //! MATCH rule (Figure 1) and leaves the map; its supporting readings join the updated segment's.
 
 use super::map::{EndPoint, Map, SegmentId};
-use super::matching::{place_pair, SegmentEnds};
+use super::matching::{place_pair, Placement, SegmentEnds};
 use super::params::Params;
-use super::trace::{AbsorbTrace, PairEvaluation};
+use super::trace::AbsorbTrace;
 use super::update::{merge_support_points, update_match};
-use crate::geometry::distance_to_segment;
+use crate::geometry::{distance_to_segment, AngleLimit};
 use std::sync::Arc;
 
 /// Fuses into segment `into` every fitted segment (other than `into` and `exclude`) that
@@ -59,13 +59,14 @@ fn absorb_one(
     let (a, b) = (existing.a.point, existing.b.point);
     // The first match nearest first (ties by id) is the match with the least (distance, id):
     // found in one pass, testing only the segments that would come before the best so far.
-    let mut best: Option<(f64, SegmentId, SegmentEnds, PairEvaluation)> = None;
+    let limit = AngleLimit::new(params.orientation_rad);
+    let mut best: Option<(f64, SegmentId, SegmentEnds, Placement)> = None;
     map.visit_segments_along(&a, &b, reach_m, |id, s| {
         if id == into || !s.fitted || exclude.contains(&id) {
             return;
         }
         let d = distance_to_segment(&nalgebra::center(&s.a.point, &s.b.point), &a, &b);
-        let earlier = |&(bd, bid, ..): &(f64, SegmentId, SegmentEnds, PairEvaluation)| {
+        let earlier = |&(bd, bid, ..): &(f64, SegmentId, SegmentEnds, Placement)| {
             d.total_cmp(&bd).then(id.cmp(&bid)).is_lt()
         };
         let within = d <= reach_m;
@@ -74,15 +75,12 @@ fn absorb_one(
         }
         let ends = SegmentEnds { a: s.a, b: s.b };
         let placement = place_pair(params, &ends, &existing);
-        if !placement.could_match() {
-            return;
-        }
-        let evaluation = placement.with_orientation(params, into, &existing);
-        if evaluation.is_match() {
-            best = Some((d, id, ends, evaluation));
+        if placement.could_match() && placement.orientation_passes(&existing, limit) {
+            best = Some((d, id, ends, placement));
         }
     });
-    let (_, id, ends, evaluation) = best?;
+    let (_, id, ends, placement) = best?;
+    let evaluation = placement.with_orientation(params, into, &existing);
     let other_points = Arc::clone(&map.segment(id)?.points);
     let geometry = update_match(
         [existing.a, existing.b],
