@@ -73,12 +73,45 @@ pub fn unit(angle_rad: f64) -> Vec2 {
 /// Parameter `t` of the orthogonal projection of `p` on the line `a + t (b - a)`.
 /// `a == b` gives `t = 0`.
 pub fn projection_param(p: &Point, a: &Point, b: &Point) -> f64 {
-    let ab = b - a;
-    let len2 = ab.norm_squared();
-    if len2 <= f64::MIN_POSITIVE {
-        0.0
+    AlongLine::new(a, b).param(p)
+}
+
+/// The line `a + t (b - a)` ready for many [`projection_param`]s (its terms computed once).
+#[derive(Clone, Copy, Debug)]
+pub struct AlongLine {
+    a: Point,
+    ab: Vec2,
+    len2: f64,
+}
+
+impl AlongLine {
+    /// The line through `a` and `b`.
+    pub fn new(a: &Point, b: &Point) -> Self {
+        let ab = b - a;
+        Self {
+            a: *a,
+            ab,
+            len2: ab.norm_squared(),
+        }
+    }
+
+    /// [`projection_param`] of `p` (0 when `a` and `b` coincide).
+    pub fn param(&self, p: &Point) -> f64 {
+        if self.len2 <= f64::MIN_POSITIVE {
+            0.0
+        } else {
+            (p - self.a).dot(&self.ab) / self.len2
+        }
+    }
+}
+
+/// `x` as an unsigned integer in the order of [`f64::total_cmp`].
+pub fn total_order_key(x: f64) -> u64 {
+    let bits = x.to_bits();
+    if bits >> 63 == 1 {
+        !bits
     } else {
-        (p - a).dot(&ab) / len2
+        bits | 1 << 63
     }
 }
 

@@ -8,7 +8,7 @@ use super::trace::{
 };
 use crate::geometry::{
     distance_to_line, distance_to_segment, line_angle_at_most, line_angle_between,
-    projection_param, AngleLimit,
+    projection_param, total_order_key, AngleLimit,
 };
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -195,16 +195,6 @@ impl Placement {
 /// (a total order: ids are unique).
 fn in_order(x: &Candidate, y: &Candidate) -> std::cmp::Ordering {
     x.distance_m.total_cmp(&y.distance_m).then(x.id.cmp(&y.id))
-}
-
-/// `x` as an unsigned integer in the order of [`f64::total_cmp`].
-fn total_order_key(x: f64) -> u64 {
-    let bits = x.to_bits();
-    if bits >> 63 == 1 {
-        !bits
-    } else {
-        bits | 1 << 63
-    }
 }
 
 /// Below this many candidates, sorting them in place costs less than a heap.

@@ -5,7 +5,7 @@
 
 use super::map::{EndPoint, ReadingRef, SupportPoint};
 use super::trace::{EndOrigin, EndPointFate, EndRole, Side};
-use crate::geometry::{fit_line_tls, lerp, projection_param, Point};
+use crate::geometry::{fit_line_tls, lerp, projection_param, total_order_key, AlongLine, Point};
 use std::borrow::Cow;
 
 /// Defining points closer than this (metres) are "nearly coinciding" (§5 fallback).
@@ -29,15 +29,16 @@ pub fn merge_support_points(
     let kept = |q: &&SupportPoint| oldest_kept.is_none_or(|r| q.reading >= r);
     // Position along a→b, computed once a point (dropped points too: they are skipped when
     // the result is written).
+    let line = AlongLine::new(&a.point, &b.point);
     let mut keys: Vec<f64> = old
         .iter()
         .chain(new)
-        .map(|q| projection_param(&q.point, &a.point, &b.point))
+        .map(|q| line.param(&q.point))
         .collect();
     let (old_keys, new_keys) = keys.split_at_mut(old.len());
     let (mut old_run, mut new_run) = (Cow::Borrowed(old), Cow::Borrowed(new));
     let order = |k: f64, q: &SupportPoint, l: f64, r: &SupportPoint| {
-        k.total_cmp(&l).then(q.reading.cmp(&r.reading))
+        k.total_cmp(&l).then_with(|| q.reading.cmp(&r.reading))
     };
     // True when the run is in order; a run in strictly descending order (points listed against
     // a→b) is turned round first: the same order a sort gives, since no two of its elements tie.
@@ -79,14 +80,27 @@ pub fn merge_support_points(
         merged.extend(old_run[i..].iter().filter(kept));
         return merged;
     }
-    let mut keyed: Vec<(f64, SupportPoint)> = keys
+    // Otherwise sort the kept points by (place, reading), ties in list order as a stable sort
+    // leaves them: small sort keys (the place as an integer in `total_cmp` order, and the
+    // point's index) instead of the points themselves.
+    let all = || old_run.iter().chain(new_run.iter());
+    let mut sorted: Vec<(u64, ReadingRef, u32)> = keys
         .iter()
-        .copied()
-        .zip(old_run.iter().chain(new_run.iter()).copied())
-        .filter(|(_, q)| kept(&q))
+        .zip(all())
+        .enumerate()
+        .filter(|(_, (_, q))| kept(q))
+        .map(|(i, (&k, q))| (total_order_key(k), q.reading, i as u32))
         .collect();
-    keyed.sort_by(|x, y| order(x.0, &x.1, y.0, &y.1));
-    keyed.into_iter().map(|(_, q)| q).collect()
+    sorted.sort_unstable();
+    let (old_run, new_run) = (&*old_run, &*new_run);
+    let point = |i: usize| {
+        if i < old_run.len() {
+            old_run[i]
+        } else {
+            new_run[i - old_run.len()]
+        }
+    };
+    sorted.iter().map(|&(_, _, i)| point(i as usize)).collect()
 }
 
 /// The oldest reading among the [`MAX_SUPPORT_POINTS`] most recent of `old` and `new`
