@@ -40,17 +40,25 @@ fn main() {
     divan::main();
 }
 
-/// One snapshot stepped on the map of the whole run (the last snapshots again, in turn), with
-/// the trace off or on, with and without `merge_duplicates`.
+/// Snapshots stepped per sample of `engine_step`: enough to average over the kinds of snapshot
+/// (a single step costs from well under a microsecond to tens of them).
+const STEPPED: usize = 200;
+
+/// The run's last [`STEPPED`] snapshots stepped again on a copy of the map of the whole run
+/// (each sample starts from the same map), with the trace off or on, with and without
+/// `merge_duplicates`; the throughput counts snapshots.
 #[divan::bench(args = [(false, false), (true, false), (false, true), (true, true)])]
 fn engine_step(bencher: divan::Bencher, (trace, merge): (bool, bool)) {
-    let mut mapper = MAPPED[usize::from(merge)].clone().with_trace(trace);
-    let tail = &RUN.snapshots[SNAPSHOTS - 500..];
-    let mut k = 0;
-    bencher.bench_local(|| {
-        k = (k + 1) % tail.len();
-        divan::black_box(mapper.step(&tail[k]))
-    });
+    let tail = &RUN.snapshots[SNAPSHOTS - STEPPED..];
+    bencher
+        .counter(divan::counter::ItemsCount::new(tail.len()))
+        .with_inputs(|| MAPPED[usize::from(merge)].clone().with_trace(trace))
+        .bench_local_values(|mut mapper| {
+            for s in tail {
+                divan::black_box(mapper.step(s));
+            }
+            mapper
+        });
 }
 
 /// The whole run, snapshot by snapshot, from an empty map (trace off).
@@ -59,7 +67,8 @@ fn engine_run(merge: bool) -> usize {
     mapped(merge).map().segments.len()
 }
 
-/// Index query around points along the robot's path, on the map of the whole run.
+/// Index queries around points along the robot's path (all of them each sample), on the map of
+/// the whole run; the throughput counts queries.
 #[divan::bench(args = [false, true])]
 fn candidate_search(bencher: divan::Bencher, merge: bool) {
     let map: &Map = MAPPED[usize::from(merge)].map();
@@ -70,12 +79,16 @@ fn candidate_search(bencher: divan::Bencher, merge: bool) {
         .map(|s| Point::new(s.pose.x, s.pose.y))
         .collect();
     let mut out = Vec::new();
-    let mut k = 0;
-    bencher.bench_local(|| {
-        k = (k + 1) % probes.len();
-        map.segments_near_into(&probes[k], 1.5, &mut out);
-        divan::black_box(out.len())
-    });
+    bencher
+        .counter(divan::counter::ItemsCount::new(probes.len()))
+        .bench_local(|| {
+            let mut found = 0;
+            for p in &probes {
+                map.segments_near_into(p, 1.5, &mut out);
+                found += out.len();
+            }
+            divan::black_box(found)
+        });
 }
 
 /// Parsing and validating the run's JSON.
