@@ -4,7 +4,7 @@ use super::fit::split_recursive;
 use super::map::{MemoryPoint, SupportPoint};
 use super::params::Params;
 use super::trace::{ConstantDepthTrace, MemoryGroupTrace, MemoryTrace};
-use crate::geometry::{fit_line_tls, projection_param, Point};
+use crate::geometry::{fit_line_tls, AlongLine, Point};
 
 /// True when two ranges pass the ball test of §1 as ranges: `|D1 − D2| ≤ ξ·(D1 + D2)/100`.
 fn same_depth(accuracy_pct: f64, d1: f64, d2: f64) -> bool {
@@ -132,13 +132,14 @@ pub fn memory_step(
         let mut points: Vec<SupportPoint> = group.iter().map(|&i| memory[i].support).collect();
         let coords: Vec<Point> = points.iter().map(|q| q.point).collect();
         if let Some((centre, dir)) = fit_line_tls(&coords) {
-            let far = centre + dir;
+            let axis = AlongLine::new(&centre, &(centre + dir));
             // Each point's place along the axis computed once (a sort asks for it many times).
-            let mut keyed: Vec<(f64, SupportPoint)> = points
-                .iter()
-                .map(|q| (projection_param(&q.point, &centre, &far), *q))
-                .collect();
-            keyed.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.reading.cmp(&y.1.reading)));
+            let mut keyed: Vec<(f64, SupportPoint)> =
+                points.iter().map(|q| (axis.param(&q.point), *q)).collect();
+            keyed.sort_by(|x, y| {
+                x.0.total_cmp(&y.0)
+                    .then_with(|| x.1.reading.cmp(&y.1.reading))
+            });
             points.clear();
             points.extend(keyed.into_iter().map(|(_, q)| q));
         }

@@ -3,12 +3,12 @@
 use super::map::{EndPoint, FaceId, SegmentId};
 use super::params::Params;
 use super::trace::{
-    CandidateTrace, ColinearityTest, DecisionTrace, Outcome, OverlapTest, PairEvaluation, Rule,
-    Side, Test,
+    CandidateTrace, ColinearityTest, DecisionTrace, Outcome, OverlapTest, PairEvaluation,
+    PairTests, Rule, Side, Test,
 };
 use crate::geometry::{
     distance_to_line, distance_to_segment, line_angle_at_most, line_angle_between,
-    projection_param, total_order_key, AngleLimit,
+    projection_param, total_order_key, AngleLimit, Vec2,
 };
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -150,24 +150,42 @@ pub fn place_pair(params: &Params, new: &SegmentEnds, existing: &SegmentEnds) ->
 }
 
 impl Placement {
+    /// Its test results, with the orientation test's as given.
+    fn tests(&self, oriented: bool) -> PairTests<'_> {
+        PairTests {
+            oriented,
+            colinear: self.colinearity.test.pass,
+            overlap: &self.overlap,
+        }
+    }
+
     /// False when no rule can pass whatever the orientation: a MATCH, an EXTENSION and a
     /// dismissal all need colinearity and an overlap (MPC, EPC or containment).
     pub fn could_pass(&self) -> bool {
-        self.colinearity.test.pass
-            && (self.overlap.mpc || self.overlap.epc || self.overlap.containment)
+        self.could_match()
+            || self.tests(true).is_extension()
+            || self.tests(false).fails_only_orientation()
     }
 
     /// True when the pair could be a MATCH (colinearity, and MPC or containment): the
     /// orientation test decides.
     pub fn could_match(&self) -> bool {
-        self.colinearity.test.pass && (self.overlap.mpc || self.overlap.containment)
+        self.tests(true).is_match()
+    }
+
+    /// `l_n`'s direction (oriented) and `existing`'s, as the orientation test compares them.
+    fn directions(&self, existing: &SegmentEnds) -> (Vec2, Vec2) {
+        (
+            self.right.point - self.left.point,
+            existing.b.point - existing.a.point,
+        )
     }
 
     /// Whether the orientation test passes against `existing` (`limit` is `θ_o`): the same
     /// answer as [`Placement::with_orientation`]'s, mostly without its `atan2`.
     pub fn orientation_passes(&self, existing: &SegmentEnds, limit: AngleLimit) -> bool {
-        let line = existing.b.point - existing.a.point;
-        line_angle_at_most(&(self.right.point - self.left.point), &line, limit)
+        let (new_dir, existing_dir) = self.directions(existing);
+        line_angle_at_most(&new_dir, &existing_dir, limit)
     }
 
     /// The full evaluation: this placement with the orientation test against `existing`.
@@ -177,8 +195,8 @@ impl Placement {
         existing_id: SegmentId,
         existing: &SegmentEnds,
     ) -> PairEvaluation {
-        let line = existing.b.point - existing.a.point;
-        let angle = line_angle_between(&(self.right.point - self.left.point), &line);
+        let (new_dir, existing_dir) = self.directions(existing);
+        let angle = line_angle_between(&new_dir, &existing_dir);
         PairEvaluation {
             existing: existing_id,
             new_reversed: self.new_reversed,
@@ -335,20 +353,16 @@ fn decide_untraced(
         if !placement.could_pass() {
             continue;
         }
-        let colinear = placement.colinearity.test.pass;
-        if placement.orientation_passes(&c.ends, limit) {
-            if placement.could_match() {
-                let evaluation = placement.with_orientation(params, c.id, &c.ends);
-                test_candidate(decision, c, outermost(c), evaluation);
-                return;
-            }
-            if extension.is_none() && colinear && placement.overlap.epc && outermost(c) {
-                extension = Some((*c, placement));
-            }
-        } else if orientation_only.is_none()
-            && colinear
-            && (placement.overlap.mpc || placement.overlap.epc)
-        {
+        let tests = placement.tests(placement.orientation_passes(&c.ends, limit));
+        if tests.is_match() {
+            let evaluation = placement.with_orientation(params, c.id, &c.ends);
+            test_candidate(decision, c, outermost(c), evaluation);
+            return;
+        }
+        if extension.is_none() && tests.is_extension() && outermost(c) {
+            extension = Some((*c, placement));
+        }
+        if orientation_only.is_none() && tests.fails_only_orientation() {
             orientation_only = Some(c.id);
         }
     }

@@ -234,23 +234,57 @@ pub struct PairEvaluation {
 }
 
 impl PairEvaluation {
+    /// Its three test results.
+    pub fn tests(&self) -> PairTests<'_> {
+        PairTests {
+            oriented: self.orientation.pass,
+            colinear: self.colinearity.test.pass,
+            overlap: &self.overlap,
+        }
+    }
+
+    /// A MATCH (see [`PairTests::is_match`]).
+    pub fn is_match(&self) -> bool {
+        self.tests().is_match()
+    }
+
+    /// An EXTENSION when the candidate is outermost (see [`PairTests::is_extension`]).
+    pub fn is_extension(&self) -> bool {
+        self.tests().is_extension()
+    }
+
+    /// Fails only the orientation test (see [`PairTests::fails_only_orientation`]).
+    pub fn fails_only_orientation(&self) -> bool {
+        self.tests().fails_only_orientation()
+    }
+}
+
+/// A pair's three test results and the §4 rules on them (ALGORITHM.md §4): one definition for
+/// a full evaluation and for an untraced decision, which keeps only whether orientation passed.
+#[derive(Clone, Copy, Debug)]
+pub struct PairTests<'a> {
+    /// The orientation test passes.
+    pub oriented: bool,
+    /// The colinearity test passes.
+    pub colinear: bool,
+    /// The overlap test.
+    pub overlap: &'a OverlapTest,
+}
+
+impl PairTests<'_> {
     /// Orientation, colinearity and MPC (or containment) pass: a MATCH.
     pub fn is_match(&self) -> bool {
-        self.orientation.pass
-            && self.colinearity.test.pass
-            && (self.overlap.mpc || self.overlap.containment)
+        self.oriented && self.colinear && (self.overlap.mpc || self.overlap.containment)
     }
 
     /// Orientation, colinearity and EPC pass: an EXTENSION (when the candidate is outermost).
     pub fn is_extension(&self) -> bool {
-        self.orientation.pass && self.colinearity.test.pass && self.overlap.epc
+        self.oriented && self.colinear && self.overlap.epc
     }
 
     /// Fails only the orientation test (colinearity passes, and MPC or EPC, not containment).
     pub fn fails_only_orientation(&self) -> bool {
-        !self.orientation.pass
-            && self.colinearity.test.pass
-            && (self.overlap.mpc || self.overlap.epc)
+        !self.oriented && self.colinear && (self.overlap.mpc || self.overlap.epc)
     }
 }
 

@@ -83,16 +83,15 @@ pub fn merge_support_points(
     // Otherwise sort the kept points by (place, reading), ties in list order as a stable sort
     // leaves them: small sort keys (the place as an integer in `total_cmp` order, and the
     // point's index) instead of the points themselves.
-    let all = || old_run.iter().chain(new_run.iter());
-    let mut sorted: Vec<(u64, ReadingRef, u32)> = keys
+    let (old_run, new_run) = (&*old_run, &*new_run);
+    let mut sorted: Vec<(u64, ReadingRef, usize)> = keys
         .iter()
-        .zip(all())
+        .zip(old_run.iter().chain(new_run))
         .enumerate()
         .filter(|(_, (_, q))| kept(q))
-        .map(|(i, (&k, q))| (total_order_key(k), q.reading, i as u32))
+        .map(|(i, (&k, q))| (total_order_key(k), q.reading, i))
         .collect();
     sorted.sort_unstable();
-    let (old_run, new_run) = (&*old_run, &*new_run);
     let point = |i: usize| {
         if i < old_run.len() {
             old_run[i]
@@ -100,7 +99,7 @@ pub fn merge_support_points(
             new_run[i - old_run.len()]
         }
     };
-    sorted.iter().map(|&(_, _, i)| point(i as usize)).collect()
+    sorted.iter().map(|&(_, _, i)| point(i)).collect()
 }
 
 /// The oldest reading among the [`MAX_SUPPORT_POINTS`] most recent of `old` and `new`
