@@ -44,6 +44,30 @@ pub enum Command {
     /// Compare the decisions of two parameter sets (A and B) on one log; prints one JSON object.
     #[command(long_about = DIFF_HELP)]
     Diff(DiffArgs),
+    /// Drive long lap runs over generated scenes in every preset and with every single
+    /// extension, checking the map's invariants after every step; prints one JSON object.
+    Soak(SoakArgs),
+}
+
+/// `sonarmap soak`.
+#[derive(Debug, Args)]
+#[command(
+    after_help = "Scenes: rooms, rotated rooms, L-shaped rooms, corridors with doors, \
+rooms with pillars, rooms with an acute corner, rooms with desks, each with a random sensor layout \
+and noise, simulated with the specular (even seeds) or axis (odd seeds) model, one lap repeated \
+to --snapshots. Parameter sets: paper, extended, and the paper with each extension flag alone. \
+Exits 2 when any step panicked or broke an invariant."
+)]
+pub struct SoakArgs {
+    /// Scenes of each kind.
+    #[arg(long, default_value_t = 4)]
+    pub runs_per_kind: usize,
+    /// Snapshots of each run.
+    #[arg(long, default_value_t = 20_000)]
+    pub snapshots: usize,
+    /// Seed of the first scene of each kind.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
 }
 
 const DIFF_HELP: &str = "Compare the decisions of two parameter sets on one log; prints one JSON object.
@@ -271,7 +295,7 @@ pub fn map_run(
     keep_traces: bool,
 ) -> Result<(Mapper, Vec<StepTrace>, Summary)> {
     let mut mapping = Mapping::new(run, params, keep_traces);
-    mapping.step_to(run, last_snapshot(run, until)? + 1);
+    mapping.step_to(run, last_snapshot(run, until)? + 1)?;
     Ok(mapping.finish())
 }
 
@@ -302,14 +326,16 @@ impl Mapping {
         }
     }
 
-    /// Steps the snapshots from the mapper's next one up to `end` (exclusive).
-    fn step_to(&mut self, run: &Run, end: usize) {
+    /// Steps the snapshots from the mapper's next one up to `end` (exclusive); a step that
+    /// fails ends the mapping with an error naming its snapshot.
+    fn step_to(&mut self, run: &Run, end: usize) -> Result<()> {
         while self.mapper.next_snapshot() < end {
             let trace = self
                 .mapper
-                .step(&run.snapshots[self.mapper.next_snapshot()]);
+                .try_step(&run.snapshots[self.mapper.next_snapshot()])?;
             self.record(trace);
         }
+        Ok(())
     }
 
     /// The mapper, the kept traces and the summary (with the map's size).
@@ -431,16 +457,22 @@ fn run_command(args: &RunArgs) -> Result<()> {
                 .collect()
         }
     };
+    // A bug that panics on one log must not take the process (or a sweep's other results)
+    // with it; the steps themselves are guarded and name their snapshot.
+    let guarded = |i: usize| {
+        let one = || run_one(&args.logs[i], &params, args.until, &outputs[i]);
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(one)).unwrap_or_else(|_| {
+            Err(anyhow!(
+                "{}: the mapper panicked on this log",
+                args.logs[i].display()
+            ))
+        })
+    };
     if args.logs.len() == 1 {
-        let summary = run_one(&args.logs[0], &params, args.until, &outputs[0])?;
-        return emit(&summary);
+        return emit(&guarded(0)?);
     }
     let results = parallel_map(args.logs.len(), |i| {
-        // A bug that panics on one log must not take the sweep's other results with it.
-        let one = || run_one(&args.logs[i], &params, args.until, &outputs[i]);
-        std::panic::catch_unwind(std::panic::AssertUnwindSafe(one))
-            .unwrap_or_else(|_| Err(anyhow::anyhow!("the mapper panicked on this log")))
-            .map(|summary| format!("{}: {summary}", args.logs[i].display()))
+        guarded(i).map(|summary| format!("{}: {summary}", args.logs[i].display()))
     });
     emit_each(args.logs.iter().map(PathBuf::as_path).zip(results))
 }
@@ -529,7 +561,9 @@ fn run_one(path: &Path, params: &Params, until: Option<usize>, out: &RunOutputs)
     let mut mapping = Mapping::new(&run, params.clone(), out.trace.is_some());
     let figure = match &out.svg {
         Some(_) => {
-            mapping.step_to(&run, until.saturating_sub(1));
+            mapping
+                .step_to(&run, until.saturating_sub(1))
+                .with_context(|| path.display().to_string())?;
             let view = StepView::by_stepping(&mut mapping.mapper, &run.snapshots, until);
             for trace in view.previous.iter().chain([&view.trace]) {
                 mapping.record(trace.clone());
@@ -537,7 +571,9 @@ fn run_one(path: &Path, params: &Params, until: Option<usize>, out: &RunOutputs)
             Some(paper_figure_svg(&run, &view))
         }
         None => {
-            mapping.step_to(&run, until + 1);
+            mapping
+                .step_to(&run, until + 1)
+                .with_context(|| path.display().to_string())?;
             None
         }
     };
@@ -623,7 +659,8 @@ fn eval_command(args: &EvalArgs) -> Result<()> {
             )
         })?,
     };
-    let (mapper, _, summary) = map_run(&run, params.clone(), None, false)?;
+    let (mapper, _, summary) = map_run(&run, params.clone(), None, false)
+        .with_context(|| args.log.display().to_string())?;
     let report = evaluate(mapper.map(), &run, &floor_plan, &params);
     let out = EvalOutput {
         log: args.log.display().to_string(),
@@ -647,7 +684,66 @@ pub fn execute(command: &Command) -> Result<()> {
         Command::Convert(a) => crate::convert::convert_command(a),
         Command::Bench(a) => bench_command(a),
         Command::Diff(a) => diff_command(a),
+        Command::Soak(a) => soak_command(a),
     }
+}
+
+fn soak_command(args: &SoakArgs) -> Result<()> {
+    let started = std::time::Instant::now();
+    let report = sonarmap::soak::soak(args.runs_per_kind, args.snapshots, args.seed, |r| {
+        eprint!(
+            "\r{} runs, {} snapshots, {} failures",
+            r.runs,
+            r.snapshots,
+            r.failures.len()
+        );
+    });
+    eprintln!();
+    #[derive(serde::Serialize)]
+    struct Failure {
+        scene: &'static str,
+        seed: u64,
+        params: &'static str,
+        snapshot: usize,
+        panicked: bool,
+        message: String,
+    }
+    #[derive(serde::Serialize)]
+    struct SoakOutput {
+        runs: usize,
+        snapshots: usize,
+        panics: usize,
+        broken_invariants: usize,
+        largest_map: usize,
+        seconds: f64,
+        failures: Vec<Failure>,
+    }
+    let failed = !report.failures.is_empty();
+    let out = SoakOutput {
+        runs: report.runs,
+        snapshots: report.snapshots,
+        panics: report.panics,
+        broken_invariants: report.broken_invariants,
+        largest_map: report.largest_map,
+        seconds: started.elapsed().as_secs_f64(),
+        failures: report
+            .failures
+            .into_iter()
+            .map(|f| Failure {
+                scene: f.kind.name(),
+                seed: f.seed,
+                params: f.variant,
+                snapshot: f.snapshot,
+                panicked: f.panicked,
+                message: f.message,
+            })
+            .collect(),
+    };
+    emit(&serde_json::to_string_pretty(&out)?)?;
+    if failed {
+        bail!("{} of {} runs failed", out.failures.len(), out.runs);
+    }
+    Ok(())
 }
 
 fn bench_command(args: &BenchArgs) -> Result<()> {

@@ -23,5 +23,6 @@ pub mod replay;
 pub mod run;
 pub mod scene;
 pub mod sim;
+pub mod soak;
 pub mod sonar;
 pub mod units;

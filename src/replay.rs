@@ -6,7 +6,7 @@
 //! steps from the nearest checkpoint.
 
 use crate::mapping::trace::{Outcome, StepTrace};
-use crate::mapping::{Map, Mapper, MapperState, Params};
+use crate::mapping::{Map, Mapper, MapperState, Params, StepFailure};
 use crate::run::{Run, Snapshot};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -126,6 +126,7 @@ pub struct Replay {
     checkpoints: Vec<MapperState>,
     summaries: Vec<StepSummary>,
     final_map: Map,
+    failure: Option<StepFailure>,
 }
 
 /// The build was cancelled by its progress callback.
@@ -152,25 +153,46 @@ impl Replay {
             Mapper::new(params.clone(), run.layout.clone(), run.sensor).with_trace(false);
         let mut checkpoints = Vec::with_capacity(run.snapshots.len() / interval + 1);
         let mut summaries = Vec::with_capacity(run.snapshots.len());
+        let mut failure = None;
         for (k, snapshot) in run.snapshots.iter().enumerate() {
             if k % interval == 0 {
                 checkpoints.push(mapper.state());
             }
-            let trace = mapper.step(snapshot);
-            summaries.push(StepSummary::of(&trace, mapper.map().segments.len()));
+            match mapper.try_step(snapshot) {
+                Ok(trace) => summaries.push(StepSummary::of(&trace, mapper.map().segments.len())),
+                Err(f) => {
+                    failure = Some(f);
+                    break;
+                }
+            }
             if !progress(k + 1) {
                 return Err(Cancelled);
             }
         }
-        let final_map = mapper.map().clone();
-        Ok(Self {
+        let mut replay = Self {
             run,
             params,
             interval,
             checkpoints,
             summaries,
-            final_map,
-        })
+            final_map: Map::default(),
+            failure,
+        };
+        replay.final_map = if replay.failure.is_some() {
+            // The failed step may have left the mapper half-way: replay up to the last good one.
+            match replay.summaries.len() {
+                0 => Map::default(),
+                good => replay.map_at(good - 1),
+            }
+        } else {
+            mapper.map().clone()
+        };
+        Ok(replay)
+    }
+
+    /// The step that failed, when one did: the replay then ends at the snapshot before it.
+    pub fn failure(&self) -> Option<&StepFailure> {
+        self.failure.as_ref()
     }
 
     /// The run.

@@ -518,6 +518,7 @@ impl SonarApp {
         if matches!(self.compare, CompareState::Done { .. }) {
             self.compare = CompareState::Off;
         }
+        self.report_step_failure();
         self.start_diff();
     }
 
@@ -884,6 +885,18 @@ impl SonarApp {
             if keep_index { "reloaded" } else { "opened" },
             self.len()
         );
+        self.report_step_failure();
+    }
+
+    /// Shows in the banner a step that failed while replaying: the run stays open up to the
+    /// snapshot before it.
+    fn report_step_failure(&mut self) {
+        if let Some(failure) = self.loaded.replay.failure() {
+            self.banner = Some(format!(
+                "{}: {failure}. The run is open up to the snapshot before it.",
+                self.loaded.source.display_name()
+            ));
+        }
     }
 
     fn open_path(&mut self, path: &Path, keep_index: bool) {

@@ -981,6 +981,10 @@ fn correlation_ui(ui: &mut egui::Ui, ctx: &InspectCtx, c: usize) {
                 CorrelationKind::Interpolated { link, reason } => {
                     format!("interpolated link #{link} ({reason:?})")
                 }
+                CorrelationKind::Shared { point } => format!(
+                    "shared end-point at {} (d_min = 0): nothing moves, one object",
+                    ctx.point(point)
+                ),
                 CorrelationKind::None => "none: the face stays a distinct object".to_owned(),
             };
             kv(ui, "result", result);

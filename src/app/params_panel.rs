@@ -25,7 +25,7 @@ enum Kind {
 }
 
 /// The numeric fields: file name, label, kind.
-const FIELDS: [(&str, &str, Kind); 10] = [
+const FIELDS: [(&str, &str, Kind); 11] = [
     ("accuracy_pct", "ξ accuracy (%)", Kind::Plain),
     ("d_max", "d_max", Kind::Length),
     ("min_range", "min_range", Kind::Length),
@@ -36,6 +36,7 @@ const FIELDS: [(&str, &str, Kind); 10] = [
     ("memory_snapshots", "memory_snapshots", Kind::Count),
     ("memory_gap", "memory_gap", Kind::Length),
     ("memory_min_points", "memory_min_points", Kind::Count),
+    ("support_cap", "support_cap (0: all)", Kind::Count),
 ];
 
 /// The value of field `name` of `p` in the units the panel shows (run units, degrees).
@@ -54,6 +55,7 @@ fn value_of(p: &Params, name: &str, units: Units) -> f64 {
         "memory_snapshots" => p.memory_snapshots as f64,
         "memory_gap" => units.from_m(p.memory_gap_m),
         "memory_min_points" => p.memory_min_points as f64,
+        "support_cap" => p.support_cap as f64,
         _ => f64::NAN,
     }
 }
@@ -73,6 +75,7 @@ fn with_value(p: &Params, name: &str, v: f64, units: Units) -> Params {
         "memory_snapshots" => p.memory_snapshots = count(v),
         "memory_gap" => p.memory_gap_m = units.to_m(v),
         "memory_min_points" => p.memory_min_points = count(v),
+        "support_cap" => p.support_cap = count(v),
         _ => {}
     }
     p
@@ -320,6 +323,12 @@ pub fn params_panel_ui(
                     params.merge_duplicates,
                     |p: &mut Params, v| p.merge_duplicates = v,
                     paper.merge_duplicates,
+                ),
+                (
+                    "corner_guard",
+                    params.corner_guard,
+                    |p: &mut Params, v| p.corner_guard = v,
+                    paper.corner_guard,
                 ),
             ] {
                 ui.label(name);

@@ -1,22 +1,51 @@
 //! Correlation of new faces with the map (paper §3.3.3, Figure 3; ALGORITHM.md §6).
 
-use super::map::{FaceId, Map, Segment, SegmentKind};
+use super::map::{FaceId, Map, ObjectId, Segment, SegmentId, SegmentKind};
 use super::params::Params;
 use super::trace::{CorrelationKind, CorrelationTrace, InterpolationReason, Test};
 use crate::geometry::{line_angle_between, line_intersection, projection_param, Point};
 use std::sync::Arc;
 
-/// Correlates new face `face` with the rest of the map.
+/// Correlates new face `face` with the rest of the map (paper §3.3.3, Figure 3;
+/// docs/algorithm.md §6).
 ///
-/// Only end-points within `t_gap` are searched (through the spatial index), so when none is,
-/// the trace has no `d_min` (and a `d_min` it has always passes). `d_min` is the smallest
-/// distance from an end-point of the face's segments to an end-point of a fitted segment of
-/// another face (ties: first new segment, then its end `a` before `b`, then the existing
-/// segment's id and end). When `d_min ≤ t_gap`: if the two lines are not parallel
-/// (angle `> θ_o`) and their intersection lies within `t_gap` of both closest end-points, both
-/// end-points move to the intersection (a corner); otherwise a connecting "interpolated"
-/// segment joins them. Either way the face joins the existing segment's object. Moved
-/// end-points keep their ranges.
+/// `d_min` is the smallest distance from an end-point of one of the face's segments to an
+/// end-point of a fitted segment of another face. Only end-points within `t_gap` are searched
+/// (through the spatial index), so when none is, the trace has no `d_min` (and a `d_min` it
+/// has always passes). Ties go to the earlier new segment in the face, then its end `a` before
+/// `b`, then the existing segment with the smaller id, then its end `a` before `b`.
+/// - `d_min = 0` (the lines already share an end-point): nothing moves and no segment is made.
+/// - Otherwise, if the two lines are not parallel (angle `> θ_o`) and their intersection lies
+///   within `t_gap` of both closest end-points, both end-points move to the intersection (a
+///   corner; moved end-points keep their ranges). With `corner_guard` (an extension, §8) a
+///   corner that would turn a line round or shorten it below half its length is refused.
+/// - Otherwise a connecting "interpolated" segment joins the two end-points.
+///
+/// In every case the face joins the existing segment's object.
+///
+/// ```
+/// use sonarmap::geometry::Point;
+/// use sonarmap::mapping::correlate::correlate_face;
+/// use sonarmap::mapping::trace::CorrelationKind;
+/// use sonarmap::mapping::{EndPoint, Map, Params, Segment, SegmentKind};
+/// use std::sync::Arc;
+/// let end = |x: f64, y: f64| EndPoint { point: Point::new(x, y), range_m: 1.0 };
+/// let segment = |id: u32, a: EndPoint, b: EndPoint| Segment {
+///     id, kind: SegmentKind::Fitted, a, b, face: id, object: id, created: 0,
+///     updated: vec![], points: Arc::new(vec![]),
+/// };
+/// // A wall along y = 0 to x = 10, a new face from (12, 1) up to (12, 10): d_min = √5 ≤ t_gap,
+/// // the lines cross at 90° > θ_o, and (12, 0) is within t_gap of both ends: a corner there.
+/// let mut map = Map::from_segments(vec![
+///     segment(0, end(0.0, 0.0), end(10.0, 0.0)),
+///     segment(1, end(12.0, 1.0), end(12.0, 10.0)),
+/// ]);
+/// let params = Params { t_gap_m: 5.0, ..Params::paper() };
+/// let trace = correlate_face(&mut map, 1, &params, 1);
+/// assert!((trace.d_min.unwrap().value - 5f64.sqrt()).abs() < 1e-12);
+/// assert_eq!(trace.result, CorrelationKind::Corner { point: Point::new(12.0, 0.0) });
+/// assert_eq!(map.segments[0].b.point, Point::new(12.0, 0.0));
+/// ```
 pub fn correlate_face(
     map: &mut Map,
     face: FaceId,
@@ -35,38 +64,16 @@ pub fn correlate_face(
         .face(face)
         .map(|f| f.segments.clone())
         .unwrap_or_default();
-    let mut best: Option<(f64, usize, usize, usize, usize)> = None; // (d, new idx, new end, existing idx, existing end)
-    for &nid in &new_ids {
-        let Some(ni) = map.position(nid) else {
-            continue;
-        };
-        let n = &map.segments[ni];
-        // Only end-points within t_gap can correlate: look there (the index is a superset).
-        let near: Vec<usize> = [n.a.point, n.b.point]
-            .iter()
-            .flat_map(|p| map.segments_near(p, params.t_gap_m))
-            .filter_map(|id| map.position(id))
-            .collect::<std::collections::BTreeSet<_>>()
-            .into_iter()
-            .collect();
-        for (ei, e) in near.into_iter().map(|i| (i, &map.segments[i])) {
-            if e.face == face || e.kind != SegmentKind::Fitted {
-                continue;
-            }
-            for (nend, np) in [n.a.point, n.b.point].iter().enumerate() {
-                for (eend, ep) in [e.a.point, e.b.point].iter().enumerate() {
-                    let d = (np - ep).norm();
-                    // Beyond t_gap is out of the search, whatever the index returned.
-                    if d <= params.t_gap_m && best.is_none_or(|b| d < b.0) {
-                        best = Some((d, ni, nend, ei, eend));
-                    }
-                }
-            }
-        }
-    }
-    let Some((d_min, ni, nend, ei, eend)) = best else {
+    let Some(closest) = closest_pair(map, face, &new_ids, params.t_gap_m) else {
         return trace;
     };
+    let ClosestPair {
+        distance_m: d_min,
+        new_position: ni,
+        new_end: nend,
+        existing_position: ei,
+        existing_end: eend,
+    } = closest;
     let test = Test::at_most(d_min, params.t_gap_m);
     trace.d_min = Some(test);
     trace.new_segment = Some((map.segments[ni].id, nend));
@@ -79,12 +86,19 @@ pub fn correlate_face(
     if !test.pass {
         return trace;
     }
+    let object = e.object;
+    let new_object = n.object;
+    if d_min == 0.0 {
+        trace.result = CorrelationKind::Shared { point: np.point };
+        join_objects(map, &new_ids, new_object, object);
+        return trace;
+    }
     let fixed_end = |s: &Segment, end: usize| if end == 0 { s.b.point } else { s.a.point };
-    // Beyond ALGORITHM.md §6: a corner must keep each segment pointing the same way and at
-    // least half as long; otherwise the literal rule can collapse a segment onto its other end.
+    // `corner_guard` (§8): a corner must keep each segment pointing the same way and at least
+    // half as long; otherwise the literal rule can collapse a segment onto its other end.
     let keeps_shape = |x: &Point, s: &Segment, end: usize| {
         let fixed = fixed_end(s, end);
-        projection_param(x, &fixed, &end_point(s, end).point) >= 0.5
+        !params.corner_guard || projection_param(x, &fixed, &end_point(s, end).point) >= 0.5
     };
     let intersection = if angle > params.orientation_rad {
         line_intersection(&n.a.point, &n.b.point, &e.a.point, &e.b.point).filter(|x| {
@@ -94,8 +108,6 @@ pub fn correlate_face(
         None
     };
     let corner = intersection.filter(|x| keeps_shape(x, n, nend) && keeps_shape(x, e, eend));
-    let object = e.object;
-    let new_object = n.object;
     match corner {
         Some(x) => {
             for (idx, end) in [(ni, nend), (ei, eend)] {
@@ -137,13 +149,86 @@ pub fn correlate_face(
             trace.result = CorrelationKind::Interpolated { link: id, reason };
         }
     }
-    // The new face's object is fresh: only the face's own segments hold it.
-    for id in new_ids {
+    join_objects(map, &new_ids, new_object, object);
+    trace
+}
+
+/// The closest pair of end-points of [`correlate_face`]: positions in `map.segments`, ends
+/// 0 (`a`) or 1 (`b`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct ClosestPair {
+    distance_m: f64,
+    new_position: usize,
+    new_end: usize,
+    existing_position: usize,
+    existing_end: usize,
+}
+
+/// The closest pair within `t_gap_m` between an end-point of the segments `new_ids` (of
+/// `face`, in face order) and an end-point of a fitted segment of another face. Ties: the
+/// earlier new segment, its end `a` before `b`, the existing segment with the smaller id, its
+/// end `a` before `b`.
+fn closest_pair(
+    map: &Map,
+    face: FaceId,
+    new_ids: &[SegmentId],
+    t_gap_m: f64,
+) -> Option<ClosestPair> {
+    // (distance, place of the new segment in the face, new end, existing id, existing end)
+    let mut best: Option<((f64, usize, usize, SegmentId, usize), ClosestPair)> = None;
+    for (order, &nid) in new_ids.iter().enumerate() {
+        let Some(ni) = map.position(nid) else {
+            continue;
+        };
+        let n = &map.segments[ni];
+        for (nend, np) in [n.a.point, n.b.point].iter().enumerate() {
+            // Only end-points within t_gap can correlate: look there (the index is a superset).
+            for eid in map.segments_near(np, t_gap_m) {
+                let Some(ei) = map.position(eid) else {
+                    continue;
+                };
+                let e = &map.segments[ei];
+                if e.face == face || e.kind != SegmentKind::Fitted {
+                    continue;
+                }
+                for (eend, ep) in [e.a.point, e.b.point].iter().enumerate() {
+                    let d = (np - ep).norm();
+                    // Beyond t_gap is out of the search, whatever the index returned.
+                    if d > t_gap_m {
+                        continue;
+                    }
+                    let key = (d, order, nend, eid, eend);
+                    let earlier = best.as_ref().is_none_or(|(b, _)| {
+                        key.0
+                            .total_cmp(&b.0)
+                            .then((key.1, key.2, key.3, key.4).cmp(&(b.1, b.2, b.3, b.4)))
+                            .is_lt()
+                    });
+                    if earlier {
+                        let pair = ClosestPair {
+                            distance_m: d,
+                            new_position: ni,
+                            new_end: nend,
+                            existing_position: ei,
+                            existing_end: eend,
+                        };
+                        best = Some((key, pair));
+                    }
+                }
+            }
+        }
+    }
+    best.map(|(_, pair)| pair)
+}
+
+/// Moves the face's segments from their fresh object `new_object` to `object` (only the
+/// face's own segments hold a new face's object).
+fn join_objects(map: &mut Map, new_ids: &[SegmentId], new_object: ObjectId, object: ObjectId) {
+    for &id in new_ids {
         if let Some(s) = map.segment_mut(id).filter(|s| s.object == new_object) {
             s.object = object;
         }
     }
-    trace
 }
 
 #[cfg(test)]
@@ -204,10 +289,11 @@ mod tests {
     }
 
     #[test]
-    fn a_corner_that_would_collapse_a_segment_becomes_a_link() {
+    fn with_the_corner_guard_a_corner_that_would_collapse_a_segment_becomes_a_link() {
         // The new face starts on the existing wall; its far end is the closest end-point.
         let p = Params {
             t_gap_m: 50.0,
+            corner_guard: true,
             ..Params::paper()
         };
         let mut map = Map::default();
@@ -222,6 +308,99 @@ mod tests {
             }
         );
         assert_eq!(map.segments[1].length(), 250f64.sqrt());
+    }
+
+    #[test]
+    fn the_paper_makes_the_corner_even_when_it_collapses_a_segment() {
+        // Same scene without the guard: d_min = |(5,0) − (0,0)| = 5 ≤ 50, angle atan(5/15) =
+        // 18.4° > 15°, the lines meet at (0, 15), √250 from (5, 0) and 15 from (0, 0): a
+        // corner there, which moves the new segment's b onto its a (length 0).
+        let p = Params {
+            t_gap_m: 50.0,
+            ..Params::paper()
+        };
+        let mut map = Map::default();
+        add(&mut map, (0.0, 60.0), (0.0, 0.0));
+        let f = add(&mut map, (0.0, 15.0), (5.0, 0.0));
+        let t = correlate_face(&mut map, f, &p, 1);
+        assert_eq!(t.d_min.unwrap().value, 5.0);
+        assert_eq!(t.new_segment, Some((1, 1)));
+        assert_eq!(t.existing_segment, Some((0, 1)));
+        let CorrelationKind::Corner { point } = t.result else {
+            panic!("expected a corner, got {:?}", t.result);
+        };
+        assert!((point - Point::new(0.0, 15.0)).norm() < 1e-12);
+        assert!(
+            map.segments[1].length() < 1e-12,
+            "the new segment collapsed"
+        );
+        assert!((map.segments[0].b.point - Point::new(0.0, 15.0)).norm() < 1e-12);
+        assert_eq!(map.segments.len(), 2, "no link");
+    }
+
+    #[test]
+    fn a_shared_end_point_moves_nothing_and_makes_no_link() {
+        // d_min = 0, colinear (today's engine made a zero-length "nearly parallel" link) and
+        // perpendicular (a corner at the shared point itself).
+        for far_end in [(20.0, 0.0), (10.0, 10.0)] {
+            let p = Params {
+                t_gap_m: 5.0,
+                ..Params::paper()
+            };
+            let mut map = Map::default();
+            add(&mut map, (0.0, 0.0), (10.0, 0.0));
+            let f = add(&mut map, (10.0, 0.0), far_end);
+            let before: Vec<Segment> = map.segments.iter().map(|s| (**s).clone()).collect();
+            let t = correlate_face(&mut map, f, &p, 1);
+            assert_eq!(t.d_min.unwrap().value, 0.0);
+            assert_eq!(
+                t.result,
+                CorrelationKind::Shared {
+                    point: Point::new(10.0, 0.0)
+                }
+            );
+            assert_eq!(map.segments.len(), 2, "no connecting segment");
+            for (s, b) in map.segments.iter().zip(&before) {
+                assert_eq!((s.a, s.b), (b.a, b.b), "nothing moves");
+            }
+            assert_eq!(map.segments[0].object, map.segments[1].object, "one object");
+        }
+    }
+
+    #[test]
+    fn ties_for_the_closest_pair_take_the_new_end_a_first_then_the_smaller_id() {
+        // New line (0,0)–(10,0). Segment 0 ends 3 from its b, at (10, 3); segment 1 ends 3 from
+        // its a, at (0, 3). End a comes first although segment 0 has the smaller id.
+        let p = Params {
+            t_gap_m: 5.0,
+            ..Params::paper()
+        };
+        let mut map = Map::default();
+        add(&mut map, (10.0, 3.0), (10.0, 20.0));
+        add(&mut map, (0.0, 3.0), (0.0, 20.0));
+        let f = add(&mut map, (0.0, 0.0), (10.0, 0.0));
+        let t = correlate_face(&mut map, f, &p, 1);
+        assert_eq!(t.new_segment, Some((2, 0)));
+        assert_eq!(t.existing_segment, Some((1, 0)));
+        // The lines meet at (0, 0), within t_gap of both: a corner, segment 1's a moves there.
+        assert_eq!(
+            t.result,
+            CorrelationKind::Corner {
+                point: Point::new(0.0, 0.0)
+            }
+        );
+        assert_eq!(map.segments[1].a.point, Point::new(0.0, 0.0));
+        assert_eq!(map.segments[0].a.point, Point::new(10.0, 3.0), "untouched");
+
+        // Same end of the new line at the same distance from two segments: the smaller id.
+        let mut map = Map::default();
+        add(&mut map, (-3.0, 0.0), (-3.0, -20.0));
+        add(&mut map, (0.0, 3.0), (0.0, 20.0));
+        // Segment 2 touches the same point as segment 1 from the other side (id order only).
+        let f = add(&mut map, (0.0, 0.0), (0.0, -1.0));
+        let t = correlate_face(&mut map, f, &p, 1);
+        assert_eq!(t.new_segment, Some((2, 0)));
+        assert_eq!(t.existing_segment, Some((0, 0)), "3 = 3: the smaller id");
     }
 
     #[test]

@@ -235,6 +235,76 @@ impl SegmentGrid {
         }
     }
 
+    /// Checks that the grid files exactly `expected` (id and what it keeps of each, in any
+    /// order), each with its exact bounding box, under exactly the cells of its box (or in the
+    /// oversize list); the first difference found is returned.
+    pub fn check_files_exactly(
+        &self,
+        expected: impl IntoIterator<Item = (SegmentId, IndexedSegment)>,
+    ) -> Result<(), String> {
+        let mut count = 0;
+        for (id, segment) in expected {
+            count += 1;
+            let Some(Some(filing)) = self.filings.get(id as usize) else {
+                return Err(format!("segment {id} is not in the index"));
+            };
+            if filing.segment != segment {
+                return Err(format!(
+                    "segment {id} is filed with stale end-points or face"
+                ));
+            }
+            let (a, b) = (segment.a.point, segment.b.point);
+            let world = [a.x.min(b.x), a.y.min(b.y), a.x.max(b.x), a.y.max(b.y)];
+            if filing.world != world {
+                return Err(format!("segment {id} is filed with a stale box"));
+            }
+            match filing.place {
+                Place::Cells(bx) => {
+                    for cx in bx[0]..=bx[2] {
+                        for cy in bx[1]..=bx[3] {
+                            let listed = self
+                                .cells
+                                .get(&(cx, cy))
+                                .map_or(0, |list| list.iter().filter(|e| e.id == id).count());
+                            if listed != 1 {
+                                return Err(format!(
+                                    "segment {id} is listed {listed} times in cell ({cx}, {cy})"
+                                ));
+                            }
+                        }
+                    }
+                }
+                Place::Oversize => {
+                    if self.oversize.iter().filter(|&&s| s == id).count() != 1 {
+                        return Err(format!("oversize segment {id} is not listed once"));
+                    }
+                }
+            }
+        }
+        if count != self.filed {
+            return Err(format!(
+                "the index files {} segments, the map has {count}",
+                self.filed
+            ));
+        }
+        let entries: usize = self.cells.values().map(Vec::len).sum();
+        let expected_entries: usize = self
+            .filings
+            .iter()
+            .flatten()
+            .map(|f| match f.place {
+                Place::Cells(bx) => ((bx[2] - bx[0] + 1) * (bx[3] - bx[1] + 1)) as usize,
+                Place::Oversize => 0,
+            })
+            .sum();
+        if entries != expected_entries {
+            return Err(format!(
+                "the cells hold {entries} entries, the filings ask for {expected_entries}"
+            ));
+        }
+        Ok(())
+    }
+
     /// Number of segments filed.
     pub fn len(&self) -> usize {
         self.filed

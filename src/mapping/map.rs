@@ -269,9 +269,11 @@ impl Map {
         self.face_journal = Some(Vec::new());
     }
 
-    /// Stops remembering faces.
+    /// Stops remembering faces, and drops the faces the step left empty (kept until now so
+    /// that a cluster's later segments can still join the face of its first one).
     pub(crate) fn end_face_journal(&mut self) {
         self.face_journal = None;
+        self.faces.retain(|f| !f.segments.is_empty());
     }
 
     /// Keeps face `faces[i]` as it stands, unless the journal already holds it.
@@ -358,7 +360,8 @@ impl Map {
         self.slot_of[i] = slot as u32;
     }
 
-    /// Removes segment `id` from the map, its face (a face left empty goes too) and the index.
+    /// Removes segment `id` from the map, its face and the index. A face left empty goes too,
+    /// at once, or at the end of the step while a step runs ([`Map::end_face_journal`]).
     pub(crate) fn remove_segment(&mut self, id: SegmentId) {
         let Some(i) = self.position(id) else {
             return;
@@ -382,7 +385,7 @@ impl Map {
             Arc::make_mut(&mut self.faces[f])
                 .segments
                 .retain(|&s| s != id);
-            if self.faces[f].segments.is_empty() {
+            if self.faces[f].segments.is_empty() && self.face_journal.is_none() {
                 self.faces.remove(f);
             }
         }
@@ -471,6 +474,118 @@ impl Map {
             return;
         }
         self.index.query_into(min, max, out);
+    }
+
+    /// Checks the map's consistency, between steps: ids unique and below the next free ones;
+    /// every face non-empty, naming existing segments that name it back, every segment in its
+    /// face once; the spatial index (when built) filing exactly the segments with their boxes;
+    /// every coordinate and range finite; support lists within `support_cap` readings (0:
+    /// unbounded); update histories in order and within [`MAX_UPDATES_KEPT`]. The first broken
+    /// invariant is returned.
+    pub fn check_invariants(&self, support_cap: usize) -> Result<(), String> {
+        let finite = |p: &Point| p.x.is_finite() && p.y.is_finite();
+        for pair in self.segments.windows(2) {
+            if pair[0].id >= pair[1].id {
+                return Err(format!(
+                    "segment ids out of order: {} then {}",
+                    pair[0].id, pair[1].id
+                ));
+            }
+        }
+        for pair in self.faces.windows(2) {
+            if pair[0].id >= pair[1].id {
+                return Err(format!(
+                    "face ids out of order: {} then {}",
+                    pair[0].id, pair[1].id
+                ));
+            }
+        }
+        let mut in_faces = 0;
+        for f in &self.faces {
+            if f.id >= self.next_face_id {
+                return Err(format!("face {} is not below the next id", f.id));
+            }
+            if f.segments.is_empty() {
+                return Err(format!("face {} is empty", f.id));
+            }
+            for &id in &f.segments {
+                match self.segment(id) {
+                    None => return Err(format!("face {} names missing segment {id}", f.id)),
+                    Some(s) if s.face != f.id => {
+                        return Err(format!(
+                            "face {} names segment {id} of face {}",
+                            f.id, s.face
+                        ))
+                    }
+                    Some(_) => {}
+                }
+            }
+            in_faces += f.segments.len();
+        }
+        if in_faces != self.segments.len() {
+            return Err(format!(
+                "faces name {in_faces} segments, the map has {}",
+                self.segments.len()
+            ));
+        }
+        for (slot, s) in self.segments.iter().enumerate() {
+            let id = s.id;
+            if id >= self.next_segment_id || s.object >= self.next_object_id {
+                return Err(format!(
+                    "segment {id} or its object is not below the next id"
+                ));
+            }
+            if self.position(id) != Some(slot) {
+                return Err(format!("segment {id} is not found at its place"));
+            }
+            if self.face(s.face).is_none() {
+                return Err(format!("segment {id} names missing face {}", s.face));
+            }
+            for e in [s.a, s.b] {
+                if !finite(&e.point) || !e.range_m.is_finite() || e.range_m < 0.0 {
+                    return Err(format!("segment {id} has a non-finite end-point or range"));
+                }
+                if e.range_m > self.max_end_range_m {
+                    return Err(format!("segment {id} has a range above max_end_range_m"));
+                }
+            }
+            if s.points
+                .iter()
+                .any(|q| !finite(&q.point) || !q.range_m.is_finite())
+            {
+                return Err(format!("segment {id} has a non-finite supporting point"));
+            }
+            if support_cap > 0 {
+                let mut readings: Vec<ReadingRef> = s.points.iter().map(|q| q.reading).collect();
+                readings.sort_unstable();
+                readings.dedup();
+                if readings.len() > support_cap {
+                    return Err(format!(
+                        "segment {id} keeps {} readings, over support_cap {support_cap}",
+                        readings.len()
+                    ));
+                }
+            }
+            if s.updated.len() > MAX_UPDATES_KEPT || s.updated.windows(2).any(|w| w[0] >= w[1]) {
+                return Err(format!(
+                    "segment {id} has an update history out of bounds or order"
+                ));
+            }
+        }
+        if self
+            .memory
+            .iter()
+            .any(|m| !finite(&m.support.point) || !m.support.range_m.is_finite())
+        {
+            return Err("point memory holds a non-finite point".to_owned());
+        }
+        // A map without its index (a checkpoint) has no slots either.
+        if !self.slot_of.is_empty() {
+            self.index
+                .check_files_exactly(self.segments.iter().map(|s| (s.id, s.indexed())))
+                .map_err(|e| format!("spatial index: {e}"))?;
+        }
+        Ok(())
     }
 
     /// A copy without the spatial index (for checkpoints); [`Map::rebuild_index`] restores it.

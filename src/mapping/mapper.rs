@@ -13,7 +13,9 @@ use super::trace::{
     CandidateTrace, ClusterTrace, NewSegmentTrace, Outcome, RefitTrace, SegmentSource, Side,
     SplitTrace, StepTrace, Test, UpdateTrace, Warning,
 };
-use super::update::{merge_support_points, update_extension, update_match, UpdateGeometry};
+use super::update::{
+    cap_support_points, merge_support_points, update_extension, update_match, UpdateGeometry,
+};
 use crate::geometry::{distance_to_line, projection_param, Pose};
 use crate::run::Snapshot;
 use crate::sonar::{BeamAxis, SensorLayout, SensorSpec};
@@ -284,9 +286,10 @@ impl Mapper {
             } else {
                 (chain, Vec::new())
             };
-            // Beyond ALGORITHM.md §2: a chain that wraps all round without a break is a closed
+            // docs/algorithm.md §2: a chain that wraps all round without a break is a closed
             // loop (its last point neighbours its first), so the fit closes it by repeating the
-            // first point at the end; the reading itself is still traced once.
+            // first point at the end; the reading itself is still traced once. Two points make
+            // no polygon: they are fitted as an open chain.
             let closed_loop = wraps && clusters.len() == 1 && !chain_has_break;
             if closed_loop && fitted.len() >= 3 {
                 fitted.push(fitted[0]);
@@ -428,17 +431,18 @@ impl Mapper {
                     };
                     let (a, b) = (seg.a, seg.b);
                     // Untraced, the new segment's points are not kept in the trace.
-                    let points = if self.record_trace {
+                    let mut points = if self.record_trace {
                         seg.points.clone()
                     } else {
                         std::mem::take(&mut new_segments[ni].points)
                     };
+                    cap_support_points(&mut points, params.support_cap);
                     let id = self.map.allocate_segment_id();
-                    self.map
-                        .face_mut(face)
-                        .expect("face exists")
-                        .segments
-                        .push(id);
+                    // The face was made this step and stays, even emptied by a merge, until
+                    // the step ends.
+                    if let Some(f) = self.map.face_mut(face) {
+                        f.segments.push(id);
+                    }
                     self.map.push_segment(Segment {
                         id,
                         kind: SegmentKind::Fitted,
@@ -467,6 +471,8 @@ impl Mapper {
 
         // §6 correlation of the new faces, in cluster order.
         if params.correlate {
+            // A new face whose segments were all merged away this step is gone.
+            new_faces.retain(|&f| self.map.face(f).is_some());
             for face in new_faces {
                 trace
                     .correlations
@@ -505,7 +511,7 @@ impl Mapper {
             None => update_match(before, nl, nr),
         };
         let [a, b] = geometry.ends;
-        let points = merge_support_points(&seg.points, &new.points, &a, &b);
+        let points = merge_support_points(&seg.points, &new.points, &a, &b, params.support_cap);
         let worst = points
             .iter()
             .map(|q| {

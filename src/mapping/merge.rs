@@ -89,7 +89,7 @@ fn absorb_one(
     );
     let [a, b]: [EndPoint; 2] = geometry.ends;
     let target = map.segment(into)?;
-    let points = merge_support_points(&target.points, &other_points, &a, &b);
+    let points = merge_support_points(&target.points, &other_points, &a, &b, params.support_cap);
     map.remove_segment(id);
     if let Some(s) = map.segment_mut(into) {
         s.points = Arc::new(points);

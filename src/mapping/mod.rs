@@ -4,6 +4,7 @@ pub mod cluster;
 pub mod correlate;
 pub mod extensions;
 pub mod fit;
+mod guard;
 pub mod index;
 pub mod map;
 mod mapper;
@@ -14,8 +15,9 @@ pub mod readings;
 pub mod trace;
 pub mod update;
 
+pub use guard::{install_quiet_step_hook, note_guarded_panic, StepFailure};
 pub use map::{EndPoint, Map, Segment, SegmentId, SegmentKind, SupportPoint};
 pub use mapper::{Mapper, MapperState};
+pub use params::EXTENDED_SUPPORT_CAP;
 pub use params::{FitMode, Params, ParamsError, ParamsFile, Preset, SplitMode};
 pub use trace::{Outcome, Rule, StepTrace};
-pub use update::MAX_SUPPORT_POINTS;

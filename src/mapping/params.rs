@@ -24,6 +24,10 @@ pub enum FitMode {
     TotalLeastSquares,
 }
 
+/// `support_cap` of the `extended` preset: an update then costs the same after an hour of
+/// driving as after a minute.
+pub const EXTENDED_SUPPORT_CAP: usize = 64;
+
 /// A named parameter set.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -74,9 +78,15 @@ pub struct Params {
     pub memory_min_points: usize,
     /// Constant-depth groups on or off (ALGORITHM.md §8).
     pub constant_depth: bool,
-    /// Fuse map segments that match an updated segment into it (beyond the paper; see
-    /// `mapping::merge`).
+    /// Fuse map segments that match an updated segment into it (a long-run bound beyond the
+    /// paper, docs/algorithm.md §8; see `mapping::merge`).
     pub merge_duplicates: bool,
+    /// Supporting points a segment keeps, the most recent ones; 0 keeps them all (a long-run
+    /// bound beyond the paper, docs/algorithm.md §5 and §8).
+    pub support_cap: usize,
+    /// Refuse a correlation corner that would collapse a line, joining the two end-points by a
+    /// connecting segment instead (beyond the paper, docs/algorithm.md §6 and §8).
+    pub corner_guard: bool,
 }
 
 impl Default for Params {
@@ -103,15 +113,20 @@ impl Params {
             memory_min_points: 3,
             constant_depth: false,
             merge_duplicates: false,
+            support_cap: 0,
+            corner_guard: false,
         }
     }
 
-    /// The paper plus both extensions of ALGORITHM.md §8 and the merging of duplicates.
+    /// The paper plus every extension of docs/algorithm.md §8: point memory, constant-depth
+    /// groups and the long-run bounds (merging duplicates, the support cap, the corner guard).
     pub fn extended() -> Self {
         Self {
             memory_snapshots: 10,
             constant_depth: true,
             merge_duplicates: true,
+            support_cap: EXTENDED_SUPPORT_CAP,
+            corner_guard: true,
             ..Self::paper()
         }
     }
@@ -234,6 +249,12 @@ impl Params {
         if let Some(v) = file.merge_duplicates {
             p.merge_duplicates = v;
         }
+        if let Some(v) = file.support_cap {
+            p.support_cap = v;
+        }
+        if let Some(v) = file.corner_guard {
+            p.corner_guard = v;
+        }
         p.validate()?;
         Ok(p)
     }
@@ -261,6 +282,8 @@ impl Params {
             memory_min_points: Some(self.memory_min_points),
             constant_depth: Some(self.constant_depth),
             merge_duplicates: Some(self.merge_duplicates),
+            support_cap: Some(self.support_cap),
+            corner_guard: Some(self.corner_guard),
         }
     }
 }
@@ -346,6 +369,10 @@ pub struct ParamsFile {
     pub constant_depth: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub merge_duplicates: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub support_cap: Option<usize>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub corner_guard: Option<bool>,
 }
 
 #[cfg(test)]
@@ -361,7 +388,11 @@ mod tests {
         assert_eq!(p.memory_snapshots, 0);
         assert!(!p.constant_depth);
         assert!(!p.merge_duplicates);
+        assert_eq!(p.support_cap, 0, "the paper keeps every supporting point");
+        assert!(!p.corner_guard);
         let e = Params::extended();
+        assert_eq!(e.support_cap, 64);
+        assert!(e.corner_guard);
         assert_eq!(e.memory_snapshots, 10);
         assert!(e.constant_depth);
         assert!(e.merge_duplicates);

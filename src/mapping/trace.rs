@@ -480,6 +480,12 @@ pub enum CorrelationKind {
         /// Why no corner.
         reason: InterpolationReason,
     },
+    /// `d_min = 0`: the closest end-points already coincide; nothing moves, no segment is
+    /// made, and the faces become one object.
+    Shared {
+        /// The shared end-point.
+        point: Point,
+    },
     /// `d_min > t_gap`: the face stays a distinct object.
     None,
 }

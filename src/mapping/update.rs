@@ -11,29 +11,53 @@ use std::borrow::Cow;
 /// Defining points closer than this (metres) are "nearly coinciding" (§5 fallback).
 const COINCIDENT_M: f64 = 1e-6;
 
-/// Supporting readings a segment keeps (the most recent ones).
-pub const MAX_SUPPORT_POINTS: usize = 64;
-
 /// The supporting points of an updated segment running from `a` to `b`: `old` and `new`
-/// together, ordered along it (ties by reading).
+/// together, ordered along it; points at the same place along it are ordered by snapshot, then
+/// sensor index (docs/algorithm.md §5).
 ///
-/// Beyond ALGORITHM.md §5: only the most recent [`MAX_SUPPORT_POINTS`] are kept, so an update
-/// costs the same after an hour of driving as after a minute.
+/// `support_cap` (docs/algorithm.md §8, a long-run bound beyond the paper) keeps only that many
+/// of the most recent readings; 0 keeps them all, as the paper does.
+///
+/// ```
+/// use sonarmap::geometry::Point;
+/// use sonarmap::mapping::map::ReadingRef;
+/// use sonarmap::mapping::update::merge_support_points;
+/// use sonarmap::mapping::{EndPoint, SupportPoint};
+/// let at = |x: f64, snapshot: usize, sensor: usize| SupportPoint {
+///     point: Point::new(x, 0.0),
+///     range_m: 1.0,
+///     reading: ReadingRef { snapshot, sensor },
+/// };
+/// let (a, b) = (
+///     EndPoint { point: Point::new(0.0, 0.0), range_m: 1.0 },
+///     EndPoint { point: Point::new(2.0, 0.0), range_m: 1.0 },
+/// );
+/// // Two readings at x = 1: snapshot 3 before snapshot 5, whichever list holds them.
+/// let old = [at(0.0, 5, 0), at(1.0, 5, 1)];
+/// let new = [at(1.0, 3, 2), at(2.0, 6, 0)];
+/// let merged = merge_support_points(&old, &new, &a, &b, 0);
+/// let order: Vec<_> = merged.iter().map(|q| (q.point.x, q.reading.snapshot)).collect();
+/// assert_eq!(order, [(0.0, 5), (1.0, 3), (1.0, 5), (2.0, 6)]);
+/// // A cap of 3 drops the oldest reading (snapshot 3).
+/// assert_eq!(merge_support_points(&old, &new, &a, &b, 3).len(), 3);
+/// ```
 pub fn merge_support_points(
     old: &[SupportPoint],
     new: &[SupportPoint],
     a: &EndPoint,
     b: &EndPoint,
+    support_cap: usize,
 ) -> Vec<SupportPoint> {
-    let oldest_kept = oldest_reading_kept(old, new);
+    let oldest_kept = oldest_reading_kept(old, new, support_cap);
     let kept = |q: &&SupportPoint| oldest_kept.is_none_or(|r| q.reading >= r);
     // Position along a→b, computed once a point (dropped points too: they are skipped when
     // the result is written).
     let line = AlongLine::new(&a.point, &b.point);
+    // `+ 0.0` makes -0 and 0 one place, as "the same place" means.
     let mut keys: Vec<f64> = old
         .iter()
         .chain(new)
-        .map(|q| line.param(&q.point))
+        .map(|q| line.param(&q.point) + 0.0)
         .collect();
     let (old_keys, new_keys) = keys.split_at_mut(old.len());
     let (mut old_run, mut new_run) = (Cow::Borrowed(old), Cow::Borrowed(new));
@@ -102,13 +126,28 @@ pub fn merge_support_points(
     sorted.iter().map(|&(_, _, i)| point(i)).collect()
 }
 
-/// The oldest reading among the [`MAX_SUPPORT_POINTS`] most recent of `old` and `new`
-/// (`None` when all fit). An update usually drops only a few: those are found with a small
+/// Keeps the `support_cap` most recent of `points` (all when the cap is 0), in their order:
+/// a new segment's points, as an update keeps them (docs/algorithm.md §8).
+pub fn cap_support_points(points: &mut Vec<SupportPoint>, support_cap: usize) {
+    if let Some(oldest) = oldest_reading_kept(points, &[], support_cap) {
+        points.retain(|q| q.reading >= oldest);
+    }
+}
+
+/// The oldest reading among the `support_cap` most recent of `old` and `new` (`None` when all
+/// fit or the cap is 0). An update usually drops only a few: those are found with a small
 /// buffer instead of a selection over all of them.
-fn oldest_reading_kept(old: &[SupportPoint], new: &[SupportPoint]) -> Option<ReadingRef> {
+fn oldest_reading_kept(
+    old: &[SupportPoint],
+    new: &[SupportPoint],
+    support_cap: usize,
+) -> Option<ReadingRef> {
     const SMALL: usize = 16;
+    if support_cap == 0 {
+        return None;
+    }
     let total = old.len() + new.len();
-    let dropped = total.checked_sub(MAX_SUPPORT_POINTS).filter(|&d| d > 0)?;
+    let dropped = total.checked_sub(support_cap).filter(|&d| d > 0)?;
     let readings = old.iter().chain(new).map(|q| q.reading);
     // The oldest kept is the one with `dropped` older than it: the (dropped + 1)-th oldest.
     if dropped < SMALL {
@@ -325,14 +364,15 @@ mod tests {
         new: &[SupportPoint],
         a: &EndPoint,
         b: &EndPoint,
+        cap: usize,
     ) -> Vec<SupportPoint> {
         let mut all: Vec<SupportPoint> = old.iter().chain(new).copied().collect();
         let mut newest: Vec<ReadingRef> = all.iter().map(|q| q.reading).collect();
         newest.sort_unstable_by(|x, y| y.cmp(x));
-        if let Some(&oldest) = newest.get(MAX_SUPPORT_POINTS - 1) {
+        if let Some(&oldest) = cap.checked_sub(1).and_then(|i| newest.get(i)) {
             all.retain(|q| q.reading >= oldest);
         }
-        let key = |q: &SupportPoint| projection_param(&q.point, &a.point, &b.point);
+        let key = |q: &SupportPoint| projection_param(&q.point, &a.point, &b.point) + 0.0;
         all.sort_by(|x, y| key(x).total_cmp(&key(y)).then(x.reading.cmp(&y.reading)));
         all
     }
@@ -360,13 +400,14 @@ mod tests {
             old_order in 0u8..3,
             new_order in 0u8..3,
             interleave in any::<bool>(),
+            cap in prop_oneof![Just(0usize), Just(64), 1usize..80],
         ) {
             let (a, b) = (ep(-3.0, 0.0, 1.0), ep(3.0, 0.0, 1.0));
             // 0: as drawn, 1: along a→b, 2: against it.
             let arrange = |points: Vec<SupportPoint>, how: u8| match how {
                 0 => points,
-                1 => merged_by_sorting(&points, &[], &a, &b),
-                _ => merged_by_sorting(&points, &[], &a, &b).into_iter().rev().collect(),
+                1 => merged_by_sorting(&points, &[], &a, &b, 0),
+                _ => merged_by_sorting(&points, &[], &a, &b, 0).into_iter().rev().collect(),
             };
             let old = arrange(support_points(old, 0), old_order);
             let new = arrange(
@@ -374,8 +415,8 @@ mod tests {
                 new_order,
             );
             prop_assert_eq!(
-                merge_support_points(&old, &new, &a, &b),
-                merged_by_sorting(&old, &new, &a, &b)
+                merge_support_points(&old, &new, &a, &b, cap),
+                merged_by_sorting(&old, &new, &a, &b, cap)
             );
         }
     }

@@ -571,15 +571,16 @@ impl Builder<'_, '_> {
         for (i, c) in self.input.step.correlations.iter().enumerate() {
             let id = SceneId::Correlation(i);
             match c.result {
-                CorrelationKind::Corner { point } => {
+                CorrelationKind::Corner { point } | CorrelationKind::Shared { point } => {
+                    let shape = match c.result {
+                        CorrelationKind::Shared { .. } => MarkerShape::Diamond,
+                        _ => MarkerShape::Square,
+                    };
                     self.push(
                         Layer::Correlations,
                         Role::Corner,
                         id,
-                        Shape::Marker {
-                            at: point,
-                            shape: MarkerShape::Square,
-                        },
+                        Shape::Marker { at: point, shape },
                     );
                 }
                 CorrelationKind::Interpolated { link, .. } => {

@@ -3,11 +3,13 @@
 
 mod beam;
 mod building;
+mod families;
 mod plan;
 mod simulate;
 
 pub use beam::{Hit, Model, World};
 pub use building::{building_plan, BuildingSpec};
+pub use families::{family_plan, repeat_laps, SceneKind};
 pub use plan::{
     interpolate_path, load_plan, plan_from_file, Plan, PlanFile, SimFile, SimSettings,
     DEFAULT_ROUGHNESS_DEG, PLAN_FORMAT,

@@ -1,0 +1,160 @@
+//! The soak: long lap runs over generated families of scenes ([`crate::sim::SceneKind`]), in
+//! every preset and with every single extension flag, checking [`Map::check_invariants`] after
+//! every step and counting panics. `sonarmap soak` runs it at any size; the property tests run
+//! a small budget of it.
+
+use crate::mapping::{Map, Mapper, Params};
+use crate::run::Run;
+use crate::sim::{family_plan, repeat_laps, simulate, Model, SceneKind};
+
+/// The parameter sets a soak drives: both presets, then the paper with each extension flag of
+/// docs/algorithm.md §8 alone.
+pub fn soak_variants() -> Vec<(&'static str, Params)> {
+    let paper = Params::paper();
+    let extended = Params::extended();
+    vec![
+        ("paper", paper.clone()),
+        ("extended", extended.clone()),
+        (
+            "paper+memory",
+            Params {
+                memory_snapshots: extended.memory_snapshots,
+                ..paper.clone()
+            },
+        ),
+        (
+            "paper+constant_depth",
+            Params {
+                constant_depth: true,
+                ..paper.clone()
+            },
+        ),
+        (
+            "paper+merge_duplicates",
+            Params {
+                merge_duplicates: true,
+                ..paper.clone()
+            },
+        ),
+        (
+            "paper+support_cap",
+            Params {
+                support_cap: extended.support_cap,
+                ..paper.clone()
+            },
+        ),
+        (
+            "paper+corner_guard",
+            Params {
+                corner_guard: true,
+                ..paper
+            },
+        ),
+    ]
+}
+
+/// A run that panicked or broke an invariant.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SoakFailure {
+    /// The scene kind.
+    pub kind: SceneKind,
+    /// Its seed.
+    pub seed: u64,
+    /// The parameter set's name.
+    pub variant: &'static str,
+    /// The snapshot whose step failed.
+    pub snapshot: usize,
+    /// The panic message or the broken invariant.
+    pub message: String,
+    /// True for a panic, false for a broken invariant.
+    pub panicked: bool,
+}
+
+/// What a soak did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SoakReport {
+    /// Runs driven (scene × parameter set).
+    pub runs: usize,
+    /// Steps taken in all.
+    pub snapshots: usize,
+    /// Steps that panicked.
+    pub panics: usize,
+    /// Steps after which an invariant was broken.
+    pub broken_invariants: usize,
+    /// Segments in the largest final map.
+    pub largest_map: usize,
+    /// Every failure (a run stops at its first).
+    pub failures: Vec<SoakFailure>,
+}
+
+/// Maps `run` with `params`, checking the map after every step. Returns the steps taken, the
+/// first failure (snapshot, message, and whether it was a panic) and the map at the end.
+pub fn map_checked(run: &Run, params: &Params) -> (usize, Option<(usize, String, bool)>, Map) {
+    let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor).with_trace(false);
+    for (i, snapshot) in run.snapshots.iter().enumerate() {
+        if let Err(failure) = mapper.try_step(snapshot) {
+            return (
+                i + 1,
+                Some((i, failure.message, true)),
+                mapper.map().clone(),
+            );
+        }
+        if let Err(broken) = mapper.map().check_invariants(params.support_cap) {
+            return (i + 1, Some((i, broken, false)), mapper.map().clone());
+        }
+    }
+    (run.snapshots.len(), None, mapper.map().clone())
+}
+
+/// The lap run of scene `kind` drawn from `seed`, repeated to `snapshots`; every other seed
+/// uses the simulator's axis model instead of the specular one.
+pub fn family_run(kind: SceneKind, seed: u64, snapshots: usize) -> Run {
+    let plan = family_plan(kind, seed);
+    let model = if seed % 2 == 0 {
+        Model::Specular
+    } else {
+        Model::Axis
+    };
+    repeat_laps(&simulate(&plan, model, seed), snapshots)
+}
+
+/// Drives `runs_per_kind` scenes of every kind (seeds from `first_seed` on), each
+/// `snapshots` long, through every [`soak_variants`] parameter set. `progress` hears of
+/// each run as it ends.
+pub fn soak(
+    runs_per_kind: usize,
+    snapshots: usize,
+    first_seed: u64,
+    mut progress: impl FnMut(&SoakReport),
+) -> SoakReport {
+    let mut report = SoakReport::default();
+    let variants = soak_variants();
+    for seed in first_seed..first_seed + runs_per_kind as u64 {
+        for kind in SceneKind::ALL {
+            let run = family_run(kind, seed, snapshots);
+            for (variant, params) in &variants {
+                let (steps, failure, map) = map_checked(&run, params);
+                report.runs += 1;
+                report.snapshots += steps;
+                report.largest_map = report.largest_map.max(map.segments.len());
+                if let Some((snapshot, message, panicked)) = failure {
+                    if panicked {
+                        report.panics += 1;
+                    } else {
+                        report.broken_invariants += 1;
+                    }
+                    report.failures.push(SoakFailure {
+                        kind,
+                        seed,
+                        variant,
+                        snapshot,
+                        message,
+                        panicked,
+                    });
+                }
+                progress(&report);
+            }
+        }
+    }
+    report
+}
