@@ -166,3 +166,92 @@ proptest! {
         })?;
     }
 }
+
+/// Snapshots of each generated lap run in the test budget (`sonarmap soak` runs millions).
+const LAP_RUN_SNAPSHOTS: usize = 400;
+
+#[test]
+fn every_scene_kind_in_every_parameter_set_keeps_the_map_consistent_over_laps() {
+    // Six kinds × seven parameter sets (both presets, each extension flag alone), the map
+    // checked after every step; the report counts what failed.
+    let report = sonarmap::soak::soak(1, LAP_RUN_SNAPSHOTS, 3, |_| {});
+    assert_eq!(report.runs, 6 * 7);
+    assert_eq!(report.snapshots, 6 * 7 * LAP_RUN_SNAPSHOTS);
+    assert_eq!(report.failures, vec![], "panics or broken invariants");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(8))]
+    #[test]
+    fn generated_lap_runs_never_panic_nor_break_an_invariant(
+        kind in prop::sample::select(sonarmap::sim::SceneKind::ALL.to_vec()),
+        seed in any::<u64>(),
+        variant in 0usize..7,
+    ) {
+        let (name, params) = sonarmap::soak::soak_variants().swap_remove(variant);
+        let run = sonarmap::soak::family_run(kind, seed, LAP_RUN_SNAPSHOTS);
+        let (steps, failure, map) = sonarmap::soak::map_checked(&run, &params);
+        prop_assert_eq!(failure, None, "{:?} seed {} with {}", kind, seed, name);
+        prop_assert_eq!(steps, LAP_RUN_SNAPSHOTS);
+        prop_assert!(!map.segments.is_empty() || run.snapshots.is_empty() || name != "extended");
+    }
+}
+
+/// Regression: with `merge_duplicates` on, a NEW FACE segment made early in a snapshot could be
+/// absorbed by a later update of the same snapshot; its emptied face was dropped at once, and
+/// the next NEW FACE of the same cluster panicked with "face exists" (snapshot 61 of this
+/// corridor with three doors, in `extended` and in `paper` with merging).
+#[test]
+fn a_new_face_whose_first_segment_was_merged_away_in_the_same_snapshot_keeps_its_face() {
+    use sonarmap::mapping::trace::{Outcome, SegmentSource};
+    let bytes = include_bytes!("../fixtures/corridor_three_doors.plan.json");
+    let plan = sonarmap::sim::load_plan(bytes, "corridor_three_doors.plan.json").unwrap();
+    let lap = sonarmap::sim::simulate(&plan, sonarmap::sim::Model::Specular, 20);
+    let run = sonarmap::sim::repeat_laps(&lap, 2 * lap.snapshots.len());
+    let merging = Params {
+        merge_duplicates: true,
+        ..Params::paper()
+    };
+    for params in [Params::extended(), merging] {
+        let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor);
+        let mut rejoined = 0;
+        for snapshot in &run.snapshots {
+            let trace = mapper.try_step(snapshot).expect("no step fails");
+            mapper
+                .map()
+                .check_invariants(params.support_cap)
+                .unwrap_or_else(|e| panic!("after snapshot {}: {e}", trace.snapshot));
+            // The scene that broke: a segment made by this step's NEW FACE of a cluster is
+            // absorbed, and a later NEW FACE of the same cluster joins that face.
+            let absorbed: Vec<u32> = trace
+                .updates
+                .iter()
+                .flat_map(|u| u.absorbed.iter().map(|a| a.segment))
+                .collect();
+            let source_of = |result: Option<u32>| {
+                trace
+                    .decisions
+                    .iter()
+                    .find(|d| d.outcome == Outcome::NewFace && d.result == result)
+                    .map(|d| trace.new_segments[d.new_segment].source)
+            };
+            for (i, d) in trace.decisions.iter().enumerate() {
+                let Some(gone) = d.result.filter(|id| absorbed.contains(id)) else {
+                    continue;
+                };
+                let Some(SegmentSource::Cluster(c)) = source_of(Some(gone)) else {
+                    continue;
+                };
+                rejoined += trace.decisions[i + 1..]
+                    .iter()
+                    .filter(|later| {
+                        later.outcome == Outcome::NewFace
+                            && trace.new_segments[later.new_segment].source
+                                == SegmentSource::Cluster(c)
+                    })
+                    .count();
+            }
+        }
+        assert!(rejoined > 0, "the run still meets the scene that panicked");
+    }
+}

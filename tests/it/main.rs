@@ -4,6 +4,7 @@ mod app;
 mod cli;
 mod engine;
 mod engine_properties;
+mod engine_rules;
 mod eval;
 mod import;
 mod log;

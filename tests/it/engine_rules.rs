@@ -1,0 +1,126 @@
+//! The rules of docs/algorithm.md made precise where the paper is silent, each on a scene
+//! small enough to compute by hand. Sensors in a row facing +y put reading `k` exactly at
+//! `(x_k, D_k)`, so every point, range and confidence is chosen.
+
+use sonarmap::geometry::{Point, Pose};
+use sonarmap::mapping::trace::Outcome;
+use sonarmap::mapping::{Mapper, Params};
+use sonarmap::run::Snapshot;
+use sonarmap::sonar::{SensorLayout, SensorMount, SensorSpec};
+use std::f64::consts::FRAC_PI_2;
+
+/// Sensors at `(x, 0)` for each `x`, all facing +y.
+fn row(xs: &[f64]) -> SensorLayout {
+    SensorLayout {
+        mounts: xs
+            .iter()
+            .map(|&x_m| SensorMount {
+                x_m,
+                y_m: 0.0,
+                heading_rad: FRAC_PI_2,
+            })
+            .collect(),
+    }
+}
+
+fn snapshot(t: f64, ranges_m: &[Option<f64>]) -> Snapshot {
+    Snapshot {
+        t,
+        pose: Pose::new(0.0, 0.0, 0.0),
+        ranges_m: ranges_m.to_vec(),
+    }
+}
+
+fn close(p: Point, x: f64, y: f64) -> bool {
+    (p - Point::new(x, y)).norm() < 1e-9
+}
+
+#[test]
+fn a_failed_update_whose_fresh_fit_is_one_piece_takes_that_pieces_end_points() {
+    // Snapshot 0: (1, 2) and (2, 2) at D = 2: segment 0.
+    // Snapshot 1: (0, 2.08), (1, 2.04), (2, 2.00). Its mid-point (1, 2.04) projects on
+    // segment 0's start (t = 0) 0.04 from its line (threshold 0.06 + 0.015·4.08): a MATCH.
+    // u_L = e_L (D 2 < 2.08), u_R = e_R (2 = 2, the existing wins), so l_u is y = 2 and n_L
+    // projects to (0, 2): the update gives (0, 2)–(2, 2). Its point (0, 2.08) lies 0.08 from
+    // l_u, over its tolerance 0.03·2.08 = 0.0624: the post-update test fails. Fitted afresh
+    // along l_u, first (0, 2.08) to last (2, 2.00), the farthest point (1, 2) lies
+    // 0.04/√1.0016 ≈ 0.03997 off, within 0.06: one piece, which replaces the geometry.
+    let mut mapper = Mapper::new(Params::paper(), row(&[0.0, 1.0, 2.0]), SensorSpec::default());
+    mapper.step(&snapshot(0.0, &[None, Some(2.0), Some(2.0)]));
+    let trace = mapper.step(&snapshot(1.0, &[Some(2.08), Some(2.04), Some(2.0)]));
+    assert_eq!(trace.decisions.len(), 1);
+    assert_eq!(trace.decisions[0].outcome, Outcome::Match);
+    let update = &trace.updates[0];
+    assert!(close(update.after[0].point, 0.0, 2.0), "the update's own geometry");
+    let refit = update.refit.as_ref().expect("the post-update test failed");
+    assert!(!refit.worst.pass);
+    assert!((refit.worst.value - 0.08).abs() < 1e-9);
+    assert_eq!(refit.pieces, vec![0], "one piece, keeping the id");
+    let s = mapper.map().segment(0).unwrap();
+    assert!(close(s.a.point, 0.0, 2.08) && (s.a.range_m - 2.08).abs() < 1e-12);
+    assert!(close(s.b.point, 2.0, 2.0) && (s.b.range_m - 2.0).abs() < 1e-12);
+    // Supporting points ordered along l_u; the two at x = 1 (and at x = 2) by snapshot.
+    let order: Vec<(f64, usize)> = s
+        .points
+        .iter()
+        .map(|q| (q.point.x.round(), q.reading.snapshot))
+        .collect();
+    assert_eq!(order, [(0.0, 1), (1.0, 0), (1.0, 1), (2.0, 0), (2.0, 1)]);
+}
+
+#[test]
+fn new_faces_take_ids_in_decision_order() {
+    // Three clusters 2 m apart (t_gap = 42 in = 1.0668 m), each a horizontal pair: three NEW
+    // FACE decisions, in cluster order, get ids 0, 1, 2 and faces 0, 1, 2. The next snapshot
+    // adds a fourth cluster: id 3.
+    let xs = [0.0, 0.5, 2.5, 3.0, 5.0, 5.5, 7.5, 8.0];
+    let mut mapper = Mapper::new(Params::paper(), row(&xs), SensorSpec::default());
+    let d = Some(2.0);
+    let trace = mapper.step(&snapshot(0.0, &[d, d, d, d, d, d, None, None]));
+    let results: Vec<_> = trace.decisions.iter().map(|d| (d.outcome, d.result)).collect();
+    assert_eq!(
+        results,
+        [
+            (Outcome::NewFace, Some(0)),
+            (Outcome::NewFace, Some(1)),
+            (Outcome::NewFace, Some(2))
+        ]
+    );
+    for id in 0..3 {
+        let s = mapper.map().segment(id).unwrap();
+        assert!(close(s.a.point, xs[2 * id as usize], 2.0));
+        assert_eq!(s.face, id);
+    }
+    let trace = mapper.step(&snapshot(1.0, &[d, d, d, d, d, d, d, d]));
+    let new_faces: Vec<_> = trace
+        .decisions
+        .iter()
+        .filter(|d| d.outcome == Outcome::NewFace)
+        .map(|d| d.result)
+        .collect();
+    assert_eq!(new_faces, [Some(3)]);
+}
+
+#[test]
+fn walls_all_round_close_the_loop() {
+    // Four sensors 90° apart (every bearing gap ≤ 90°: the order wraps) in a diamond of
+    // readings at 0.7 m: neighbours 0.99 m apart, under t_gap, so one cluster all round. The
+    // fit repeats the first point at the end: (0.7,0) (0,0.7) (−0.7,0) (0,−0.7) (0.7,0) splits
+    // at (−0.7, 0), then at (0, ±0.7): four sides, the last closing back to (0.7, 0).
+    let layout = SensorLayout::ring(4, FRAC_PI_2, 0.0, 0.0);
+    let mut mapper = Mapper::new(Params::paper(), layout, SensorSpec::default());
+    let trace = mapper.step(&snapshot(0.0, &[Some(0.7); 4]));
+    assert_eq!(trace.clusters.len(), 1);
+    let sides: Vec<(Point, Point)> = mapper
+        .map()
+        .segments
+        .iter()
+        .map(|s| (s.a.point, s.b.point))
+        .collect();
+    assert_eq!(sides.len(), 4, "three sides without the closing one");
+    let corners = [(0.7, 0.0), (0.0, 0.7), (-0.7, 0.0), (0.0, -0.7), (0.7, 0.0)];
+    for (k, (a, b)) in sides.iter().enumerate() {
+        assert!(close(*a, corners[k].0, corners[k].1), "side {k} starts at {a}");
+        assert!(close(*b, corners[k + 1].0, corners[k + 1].1), "side {k} ends at {b}");
+    }
+}
