@@ -1,4 +1,4 @@
-//! The command line (FORMATS.md): `run`, `simulate`, `eval`. Reads and writes files; every
+//! The command line (docs/formats.md §10): every subcommand. Reads and writes files; every
 //! write goes to a temporary file in the target's directory and is renamed into place.
 
 use anyhow::{anyhow, bail, Context, Result};
@@ -82,7 +82,7 @@ pub struct DiffArgs {
     /// Parameter set A.
     #[command(flatten)]
     pub a: ParamArgs,
-    /// A parameters file for B (FORMATS.md), applied on top of B's preset.
+    /// A parameters file for B (docs/formats.md §6), applied on top of B's preset.
     #[arg(long = "params-b", value_name = "B.json")]
     pub params_b: Option<PathBuf>,
     /// B's preset.
@@ -99,7 +99,7 @@ JSON object per line (JSON Lines) in the order given, each with a `log` key, mea
 another so that no two timings share a core.
 
 The cost of a snapshot depends on the preset: the paper keeps every refit piece, so on a run that \
-revisits its walls the map, and each snapshot's cost, keeps growing (see README, Long runs); \
+revisits its walls the map, and each snapshot's cost, keeps growing (see docs/performance.md); \
 `--preset extended` (or a params file with \"merge_duplicates\": true) fuses the duplicates."
 )]
 pub struct BenchArgs {
@@ -139,7 +139,7 @@ Only fitted segments count. The tolerance of an end-point with range D is the so
 pub enum PresetArg {
     /// The paper alone.
     Paper,
-    /// The paper with point memory and constant-depth groups.
+    /// The paper with every extension: point memory, constant-depth groups, long-run bounds.
     Extended,
 }
 
@@ -155,7 +155,7 @@ impl From<PresetArg> for Preset {
 /// Mapping parameters shared by `run` and `eval`.
 #[derive(Debug, Args)]
 pub struct ParamArgs {
-    /// A parameters file (FORMATS.md), applied on top of the preset.
+    /// A parameters file (docs/formats.md §6), applied on top of the preset.
     #[arg(long, value_name = "P.json")]
     pub params: Option<PathBuf>,
     /// The parameter preset.

@@ -16,7 +16,7 @@
 //! - **visible** part of a wall: each kept reading (an echo below the sensor's maximum range,
 //!   within `[min_range, d_max]`) whose beam-axis point lies within its tolerance of the wall
 //!   marks the interval of ± its tolerance around its projection; consecutive marks along the wall
-//!   no more than `t_gap` apart are joined (the clustering gap of ALGORITHM.md §2).
+//!   no more than `t_gap` apart are joined (the clustering gap of docs/algorithm.md §2).
 //!   `coverage_visible` is the covered length inside the visible part over the visible length
 //!   (`null` when no wall is visible).
 

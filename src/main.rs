@@ -1,4 +1,4 @@
-//! The `sonarmap` binary: the inspector, or a headless subcommand (FORMATS.md, command line).
+//! The `sonarmap` binary: the inspector, or a headless subcommand (docs/formats.md §10).
 
 mod cli;
 mod convert;

@@ -1,4 +1,4 @@
-//! Sensor layouts and the reading → point conversion (paper §2, §3.1; ALGORITHM.md §1).
+//! Sensor layouts and the reading → point conversion (paper §2, §3.1; docs/algorithm.md §1).
 
 use crate::geometry::{normalize_angle_positive, unit, Point, Pose, Vec2};
 use serde::{Deserialize, Serialize};
@@ -53,7 +53,7 @@ impl SensorLayout {
         self.mounts.is_empty()
     }
 
-    /// Sensor indices in clustering order (ALGORITHM.md §2): by mount bearing in [0°, 360°),
+    /// Sensor indices in clustering order (docs/algorithm.md §2): by mount bearing in [0°, 360°),
     /// ties by index, starting just after the largest gap unless the layout wraps.
     /// Returns the order and whether the last neighbours the first.
     pub fn bearing_order(&self) -> (Vec<usize>, bool) {
@@ -131,7 +131,7 @@ impl BeamAxis {
     }
 }
 
-/// The sonar hardware (FORMATS.md `sensor`; defaults: the Polaroid 6500).
+/// The sonar hardware (docs/formats.md §2 `sensor`; defaults: the Polaroid 6500).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SensorSpec {
     /// Stated accuracy, percent of range.

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-/// A length unit a file may use (FORMATS.md: `"in"`, `"mm"`, `"cm"`, `"m"`).
+/// A length unit a file may use (docs/formats.md §1: `"in"`, `"mm"`, `"cm"`, `"m"`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 pub enum Units {
     /// Inches, the paper's unit.

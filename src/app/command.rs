@@ -69,7 +69,7 @@ pub enum Command {
     LoadParamsDialog,
     /// Ask for a path with the system dialog, then [`Command::SaveParams`] to it.
     SaveParamsDialog,
-    /// Load a `--params` file (FORMATS.md) on top of the paper's values and re-run.
+    /// Load a `--params` file (docs/formats.md §6) on top of the paper's values and re-run.
     LoadParams(PathBuf),
     /// Write the current parameters as a `--params` file in the run's units (atomically).
     SaveParams(PathBuf),

@@ -1,7 +1,7 @@
 //! The inspector: everything the trace says about the selection. A new segment shows its
 //! cluster, the fitting splits and the table of every candidate with the three tests; a map
 //! segment shows its history, its update fates in this step and "compare with…"; a reading
-//! shows sensor, pose, range, point and ball. It only reads the trace (DESIGN.md: the trace is
+//! shows sensor, pose, range, point and ball. It only reads the trace (docs/architecture.md: the trace is
 //! data); "compare with…" calls the engine's own `evaluate_pair`.
 
 use super::command::Command;

@@ -1,4 +1,4 @@
-//! The parameters panel: every mapping parameter of ALGORITHM.md §7 and §8, edited in the run's
+//! The parameters panel: every mapping parameter of docs/algorithm.md §7 and §8, edited in the run's
 //! units with the paper's value beside each. A value is applied only when the whole parameter
 //! set with it passes [`Params::validate`]; otherwise the field keeps the text and shows why.
 
@@ -177,14 +177,14 @@ pub fn params_panel_ui(
     ui.horizontal_wrapped(|ui| {
         if ui
             .button("Paper")
-            .on_hover_text("The paper's values (ALGORITHM.md §7)")
+            .on_hover_text("The paper's values (docs/algorithm.md §7)")
             .clicked()
         {
             commands.push(Command::SetParams(Params::paper()));
         }
         if ui
             .button("Extended")
-            .on_hover_text("The paper plus the extensions of ALGORITHM.md §8")
+            .on_hover_text("The paper plus the extensions of docs/algorithm.md §8")
             .clicked()
         {
             commands.push(Command::SetParams(Params::extended()));

@@ -1,5 +1,5 @@
 //! The `sonarmap-layout` v1 file: a robot's sonar mounts for importers whose recordings lack
-//! them (`--layout`). It reuses the run log's `robot` and `sensor` blocks (FORMATS.md):
+//! them (`--layout`). It reuses the run log's `robot` and `sensor` blocks (docs/formats.md §2, §4):
 //!
 //! ```json
 //! { "format": "sonarmap-layout", "version": 1, "name": "Pioneer 2/3 DX, 8 front + 8 rear",

@@ -1,4 +1,4 @@
-//! The serde shape of a `sonarmap-log` v1 file (FORMATS.md). Lengths are in the file's units,
+//! The serde shape of a `sonarmap-log` v1 file (docs/formats.md §2). Lengths are in the file's units,
 //! angles in degrees. Unknown fields are ignored; required fields have no default.
 
 use serde::de::{self, MapAccess, SeqAccess, Visitor};

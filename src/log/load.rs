@@ -1,4 +1,4 @@
-//! Reading a run log: bytes → [`LogFile`] → [`Run`] in metres, with every check of FORMATS.md.
+//! Reading a run log: bytes → [`LogFile`] → [`Run`] in metres, with every check of docs/formats.md §2.
 
 use super::duplicates::{check_duplicates, Found};
 use super::error::LogError;
@@ -15,7 +15,7 @@ pub const MAX_SENSORS: usize = 10_000;
 /// The UTF-8 byte-order mark, skipped when a file starts with it.
 const BOM: &[u8] = b"\xEF\xBB\xBF";
 
-/// Parses a run log (FORMATS.md, `sonarmap-log` v1) into a [`Run`] in metres.
+/// Parses a run log (docs/formats.md §2, `sonarmap-log` v1) into a [`Run`] in metres.
 /// `source_name` names the file in error messages. Pure: reads no file.
 pub fn load_run(bytes: &[u8], source_name: &str) -> Result<Run, LogError> {
     let file: LogFile = parse_json(bytes, source_name)?;

@@ -1,4 +1,4 @@
-//! The `sonarmap-map` v1 output (FORMATS.md, `run --out-map`): the map's segments with every
+//! The `sonarmap-map` v1 output (docs/formats.md §7, `run --out-map`): the map's segments with every
 //! length in the log's units.
 
 use super::save::tidy;

@@ -1,4 +1,4 @@
-//! The run-log format `sonarmap-log` v1 (FORMATS.md): serde types, loading with every check,
+//! The run-log format `sonarmap-log` v1 (docs/formats.md §2): serde types, loading with every check,
 //! saving, and the `sonarmap-map` v1 output. Pure: no file system here (the command line reads
 //! the bytes).
 //!

@@ -1,4 +1,4 @@
-//! Clustering kept points into faces (paper §3.1; ALGORITHM.md §2).
+//! Clustering kept points into faces (paper §3.1; docs/algorithm.md §2).
 
 use super::map::SupportPoint;
 use super::trace::GapTrace;

@@ -1,4 +1,4 @@
-//! Correlation of new faces with the map (paper §3.3.3, Figure 3; ALGORITHM.md §6).
+//! Correlation of new faces with the map (paper §3.3.3, Figure 3; docs/algorithm.md §6).
 
 use super::map::{FaceId, Map, ObjectId, Segment, SegmentId, SegmentKind};
 use super::params::Params;

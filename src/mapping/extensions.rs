@@ -1,4 +1,4 @@
-//! The two extensions beyond the paper (ALGORITHM.md §8), each off in the `paper` preset.
+//! The two extensions beyond the paper (docs/algorithm.md §8), each off in the `paper` preset.
 
 use super::fit::split_recursive;
 use super::map::{MemoryPoint, SupportPoint};
@@ -66,7 +66,7 @@ fn within_gap(p: &Point, q: &Point, gap_m: f64) -> bool {
     (q - p).norm() <= gap_m
 }
 
-/// Point memory for one snapshot (ALGORITHM.md §8): expires readings older than
+/// Point memory for one snapshot (docs/algorithm.md §8): expires readings older than
 /// `memory_snapshots`, adds this snapshot's one-point clusters, links readings within
 /// `memory_gap` into groups (single linkage), orders each group along its principal axis, fits
 /// it by §3, and returns the pieces of at least `memory_min_points` points (their readings leave

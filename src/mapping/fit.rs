@@ -1,4 +1,4 @@
-//! Recursive line fitting (paper §3.2 after Crowley 1985; ALGORITHM.md §3).
+//! Recursive line fitting (paper §3.2 after Crowley 1985; docs/algorithm.md §3).
 //!
 //! Iterative end-point fit on an ordered point list `q_1..q_n`: the chord `q_1 q_n`; the point
 //! `q_j` farthest from it (ties: the first); when its distance is strictly greater than the split
@@ -11,7 +11,7 @@ use super::trace::SplitTrace;
 use crate::geometry::{distance_to_line, fit_line_tls, lerp, projection_param, Point};
 use crate::sonar::ball_radius;
 
-/// The split tolerance for a point read at `range_m` (ALGORITHM.md §3): its ball radius
+/// The split tolerance for a point read at `range_m` (docs/algorithm.md §3): its ball radius
 /// `ξ·D/100` in "resolution" mode, or the fixed length.
 pub fn split_tolerance(params: &Params, range_m: f64) -> f64 {
     match params.split {
@@ -81,7 +81,7 @@ fn split_range(
     }
 }
 
-/// The end-points of the piece `points[first..=last]` (ALGORITHM.md §3): its first and last
+/// The end-points of the piece `points[first..=last]` (docs/algorithm.md §3): its first and last
 /// readings, or with total least squares those readings projected on the fitted line. Each
 /// end-point keeps the range of the reading that produced it.
 pub fn piece_end_points(

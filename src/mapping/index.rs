@@ -1,4 +1,4 @@
-//! A uniform grid over map segments for candidate search (ALGORITHM.md §4 allows pruning by a
+//! A uniform grid over map segments for candidate search (docs/algorithm.md §4 allows pruning by a
 //! bound that provably fails a test). Segments are filed under every cell their bounding box
 //! touches; a query returns the segments filed under the cells the query box touches whose own
 //! bounding box meets the query box, so it never misses one.

@@ -75,9 +75,10 @@ pub struct Segment {
     pub points: Arc<Vec<SupportPoint>>,
 }
 
-/// Update snapshots a segment remembers. Beyond ALGORITHM.md: a wall seen for an hour is
-/// updated thousands of times; keeping every index would make each copy of the segment (a
-/// checkpoint taking it over) cost more the longer the run.
+/// Update snapshots a segment remembers, for the inspector (a record, not a rule: no decision
+/// reads it; docs/algorithm.md §8.4). A wall seen for an hour is updated thousands of times;
+/// keeping every index would make each copy of the segment (a checkpoint taking it over) cost
+/// more the longer the run.
 pub const MAX_UPDATES_KEPT: usize = 64;
 
 impl Segment {
@@ -128,7 +129,7 @@ pub struct Face {
     pub segments: Vec<SegmentId>,
 }
 
-/// A reading kept by point memory (ALGORITHM.md §8).
+/// A reading kept by point memory (docs/algorithm.md §8).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MemoryPoint {
     /// The reading, its point and range.

@@ -119,7 +119,7 @@ impl Mapper {
         self
     }
 
-    /// The map segments that could pass a test against `new` (ALGORITHM.md §4 pruning).
+    /// The map segments that could pass a test against `new` (docs/algorithm.md §4 pruning).
     ///
     /// Every passing case needs colinearity (`|d| ≤ thr`, `thr ≤ ξ/100·(D_max + (D2+D3)/2)`
     /// with `D_max` the largest end-point range in the map; `d` from `l_n`'s mid-point `m` to

@@ -1,4 +1,4 @@
-//! Matching a new segment against the map (paper §3.3.1; ALGORITHM.md §4).
+//! Matching a new segment against the map (paper §3.3.1; docs/algorithm.md §4).
 
 use super::map::{EndPoint, FaceId, SegmentId};
 use super::params::Params;
@@ -252,7 +252,7 @@ fn nearest_candidate(candidates: &[Candidate]) -> Option<&Candidate> {
         .reduce(|best, c| if c.precedes(best) { c } else { best })
 }
 
-/// Decides what becomes of new segment `new_index` (ALGORITHM.md §4).
+/// Decides what becomes of new segment `new_index` (docs/algorithm.md §4).
 ///
 /// First every candidate, nearest first, with all three tests and MPC (or containment): the
 /// first pass is a MATCH. Then EPC against the outermost segments of their faces, in the same

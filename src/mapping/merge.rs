@@ -1,5 +1,5 @@
-//! Merging duplicates (`merge_duplicates`, an extension beyond the paper; README, ALGORITHM.md
-//! §8 style: off in `paper`, on in `extended`, traced when it acts).
+//! Merging duplicates (`merge_duplicates`, a long-run bound beyond the paper, docs/algorithm.md
+//! §8.3: off in `paper`, on in `extended`, traced when it acts).
 //!
 //! The paper fuses a *new* segment with the map (§3.3.2) but never map segments with each
 //! other: it ran two snapshots. Over a long run an update extends a segment over its

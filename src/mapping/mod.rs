@@ -1,4 +1,4 @@
-//! The paper's mapping algorithm (ALGORITHM.md §1–§8), one rule a file.
+//! The paper's mapping algorithm (docs/algorithm.md §1–§8), one rule a file.
 
 pub mod cluster;
 pub mod correlate;

@@ -1,11 +1,11 @@
-//! Mapping parameters (ALGORITHM.md §7, §8) and the `--params` file (FORMATS.md).
+//! Mapping parameters (docs/algorithm.md §7, §8) and the `--params` file (docs/formats.md §6).
 //! Lengths are metres; defaults are the paper's inches converted.
 
 use crate::units::{inches, Units};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-/// How the recursive fit decides to split (ALGORITHM.md §3).
+/// How the recursive fit decides to split (docs/algorithm.md §3).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub enum SplitMode {
     /// Split when the farthest point is farther than its own ball radius `ξ·D/100`.
@@ -14,7 +14,7 @@ pub enum SplitMode {
     Fixed(f64),
 }
 
-/// How a piece's line is placed (ALGORITHM.md §3).
+/// How a piece's line is placed (docs/algorithm.md §3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FitMode {
@@ -34,7 +34,7 @@ pub const EXTENDED_SUPPORT_CAP: usize = 64;
 pub enum Preset {
     /// The paper alone.
     Paper,
-    /// The paper with both extensions of ALGORITHM.md §8.
+    /// The paper with every extension of docs/algorithm.md §8.
     Extended,
 }
 
@@ -50,7 +50,10 @@ impl Preset {
 }
 
 /// Every parameter of the mapper. Lengths in metres, angles in radians.
+/// Persisted sets (the app's settings) written before a parameter existed take the paper's
+/// value for it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
 pub struct Params {
     /// Accuracy `ξ`, percent of range (§2).
     pub accuracy_pct: f64,
@@ -70,13 +73,13 @@ pub struct Params {
     pub max_step_m: f64,
     /// Correlation of new faces (§3.3.3) on or off.
     pub correlate: bool,
-    /// Point memory length in snapshots; 0 is off (ALGORITHM.md §8).
+    /// Point memory length in snapshots; 0 is off (docs/algorithm.md §8).
     pub memory_snapshots: usize,
     /// Link distance of remembered points.
     pub memory_gap_m: f64,
     /// Fewest points of a memory segment.
     pub memory_min_points: usize,
-    /// Constant-depth groups on or off (ALGORITHM.md §8).
+    /// Constant-depth groups on or off (docs/algorithm.md §8).
     pub constant_depth: bool,
     /// Fuse map segments that match an updated segment into it (a long-run bound beyond the
     /// paper, docs/algorithm.md §8; see `mapping::merge`).
@@ -96,7 +99,7 @@ impl Default for Params {
 }
 
 impl Params {
-    /// The paper's values (ALGORITHM.md §7).
+    /// The paper's values (docs/algorithm.md §7).
     pub fn paper() -> Self {
         Self {
             accuracy_pct: 3.0,
@@ -332,7 +335,7 @@ pub enum SplitFile {
     Fixed(f64),
 }
 
-/// The `--params` file of FORMATS.md. Every field is optional.
+/// The `--params` file of docs/formats.md §6. Every field is optional.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 #[allow(missing_docs)]

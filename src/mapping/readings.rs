@@ -1,4 +1,4 @@
-//! Readings to points (paper §2, §3.1; ALGORITHM.md §1).
+//! Readings to points (paper §2, §3.1; docs/algorithm.md §1).
 
 use super::map::{ReadingRef, SupportPoint};
 use super::params::Params;
@@ -6,7 +6,7 @@ use super::trace::{DiscardReason, ReadingTrace};
 use crate::geometry::Pose;
 use crate::sonar::{ball_radius, BeamAxis};
 
-/// Why a reading with range `range_m` is discarded, if it is (ALGORITHM.md §1):
+/// Why a reading with range `range_m` is discarded, if it is (docs/algorithm.md §1):
 /// no echo, at or beyond the sensor's maximum range, beyond `d_max`, below `min_range`.
 pub fn discard_reason(
     range_m: Option<f64>,

@@ -6,7 +6,7 @@ use super::map::{EndPoint, FaceId, ReadingRef, SegmentId, SupportPoint};
 use crate::geometry::{Point, Pose};
 use serde::{Deserialize, Serialize};
 
-/// Why a reading was not turned into a point (ALGORITHM.md §1).
+/// Why a reading was not turned into a point (docs/algorithm.md §1).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum DiscardReason {
@@ -37,7 +37,7 @@ pub struct ReadingTrace {
     pub cluster: Option<usize>,
 }
 
-/// The distance between two neighbouring kept points (ALGORITHM.md §2).
+/// The distance between two neighbouring kept points (docs/algorithm.md §2).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct GapTrace {
     /// Sensor of the first point.
@@ -52,7 +52,7 @@ pub struct GapTrace {
     pub is_break: bool,
 }
 
-/// One test of the recursive fit (ALGORITHM.md §3): the farthest point of a piece.
+/// One test of the recursive fit (docs/algorithm.md §3): the farthest point of a piece.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SplitTrace {
     /// Index (in the fitted point list) of the piece's first point.
@@ -71,7 +71,7 @@ pub struct SplitTrace {
     pub split: bool,
 }
 
-/// A constant-depth group replaced by its middle reading (ALGORITHM.md §8).
+/// A constant-depth group replaced by its middle reading (docs/algorithm.md §8).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ConstantDepthTrace {
     /// Sensors of the group, in cluster order.
@@ -80,7 +80,7 @@ pub struct ConstantDepthTrace {
     pub kept_sensor: usize,
 }
 
-/// A cluster of neighbouring kept points (ALGORITHM.md §2) and its fit.
+/// A cluster of neighbouring kept points (docs/algorithm.md §2) and its fit.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ClusterTrace {
     /// Member sensors in chain order.
@@ -95,7 +95,7 @@ pub struct ClusterTrace {
     pub new_segments: Vec<usize>,
 }
 
-/// A group of remembered readings (ALGORITHM.md §8, point memory).
+/// A group of remembered readings (docs/algorithm.md §8, point memory).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MemoryGroupTrace {
     /// The group's readings ordered along its principal axis.
@@ -168,7 +168,7 @@ impl Test {
     }
 }
 
-/// The colinearity test with its terms (ALGORITHM.md §4).
+/// The colinearity test with its terms (docs/algorithm.md §4).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ColinearityTest {
     /// `|d|` against `ξ/100·(D1 + (D2 + D3)/2)`, metres.
@@ -183,7 +183,7 @@ pub struct ColinearityTest {
     pub foot_param: f64,
 }
 
-/// The overlap test (ALGORITHM.md §4): projection parameters and the checks.
+/// The overlap test (docs/algorithm.md §4): projection parameters and the checks.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct OverlapTest {
     /// Parameter of `l_n`'s mid-point projected on `l_e`.
@@ -214,7 +214,7 @@ pub enum Side {
     Right,
 }
 
-/// The three tests for one new/existing pair, with every number (ALGORITHM.md §4).
+/// The three tests for one new/existing pair, with every number (docs/algorithm.md §4).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PairEvaluation {
     /// The existing segment `l_e`.
@@ -259,7 +259,7 @@ impl PairEvaluation {
     }
 }
 
-/// A pair's three test results and the §4 rules on them (ALGORITHM.md §4): one definition for
+/// A pair's three test results and the §4 rules on them (docs/algorithm.md §4): one definition for
 /// a full evaluation and for an untraced decision, which keeps only whether orientation passed.
 #[derive(Clone, Copy, Debug)]
 pub struct PairTests<'a> {
@@ -299,7 +299,7 @@ pub struct CandidateTrace {
     pub evaluation: PairEvaluation,
 }
 
-/// What became of a new segment (ALGORITHM.md §4).
+/// What became of a new segment (docs/algorithm.md §4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Outcome {
@@ -351,7 +351,7 @@ pub struct DecisionTrace {
     pub result: Option<SegmentId>,
 }
 
-/// Which of the four end-points of an update (ALGORITHM.md §5).
+/// Which of the four end-points of an update (docs/algorithm.md §5).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum EndOrigin {
@@ -396,7 +396,7 @@ pub struct EndPointFate {
     pub is_end_after: bool,
 }
 
-/// A post-update split test that failed (ALGORITHM.md §5): the points were fitted afresh.
+/// A post-update split test that failed (docs/algorithm.md §5): the points were fitted afresh.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RefitTrace {
     /// Largest distance of a supporting point to `l_u`, metres, and its tolerance.
@@ -407,7 +407,7 @@ pub struct RefitTrace {
     pub pieces: Vec<SegmentId>,
 }
 
-/// One update of a map segment (ALGORITHM.md §5).
+/// One update of a map segment (docs/algorithm.md §5).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct UpdateTrace {
     /// The updated segment.
@@ -460,7 +460,7 @@ pub enum InterpolationReason {
     /// The intersection is farther than `t_gap` from a closest end-point.
     IntersectionTooFar,
     /// Moving an end-point to the intersection would reverse a segment or shrink it to less
-    /// than half its length (a choice beyond ALGORITHM.md §6).
+    /// than half its length (`corner_guard`, docs/algorithm.md §8.3).
     CornerWouldCollapse,
 }
 
@@ -490,7 +490,7 @@ pub enum CorrelationKind {
     None,
 }
 
-/// Correlation of one new face (ALGORITHM.md §6).
+/// Correlation of one new face (docs/algorithm.md §6).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CorrelationTrace {
     /// The new face.

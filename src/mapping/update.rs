@@ -1,4 +1,4 @@
-//! Updating a matched map segment (paper §3.3.2, Figures 1 and 2; ALGORITHM.md §5).
+//! Updating a matched map segment (paper §3.3.2, Figures 1 and 2; docs/algorithm.md §5).
 //!
 //! End-points are compared by range: the smaller `D` is the higher confidence; on a tie the
 //! existing end-point wins. A projected end-point keeps the range of the reading it came from.

@@ -1,6 +1,6 @@
 //! The scene: a world-space display list built from one step of a replay.
 //!
-//! "One scene, two renderers" (DESIGN.md): the map view and the SVG export both translate the
+//! "One scene, two renderers" (docs/architecture.md): the map view and the SVG export both translate the
 //! same [`Scene`], so an export shows what the screen shows, and the scene is tested headlessly.
 //! [`build_scene`] is a pure function of the run, the step's trace and the maps before and
 //! after the step; every primitive carries its [`Layer`], its [`Style`] (sizes in screen

@@ -1,4 +1,4 @@
-//! The floor plan of the simulator (`sonarmap-plan` v1, FORMATS.md) and path interpolation.
+//! The floor plan of the simulator (`sonarmap-plan` v1, docs/formats.md §3) and path interpolation.
 
 use crate::geometry::Pose;
 use crate::log::{

@@ -347,7 +347,7 @@ fn no_subcommand_opens_the_inspector_or_says_why_not() {
 
 #[test]
 fn diff_reports_a_match_that_becomes_a_new_face() {
-    // ALGORITHM.md §4: colinearity passes when |d| ≤ ξ/100·(D1 + (D2+D3)/2). The Blue Room's
+    // docs/algorithm.md §4: colinearity passes when |d| ≤ ξ/100·(D1 + (D2+D3)/2). The Blue Room's
     // upper wall moves by a few tenths of an inch between the snapshots, so shrinking ξ to
     // 0.05 % turns its match into a new face.
     let dir = tempfile::tempdir().unwrap();

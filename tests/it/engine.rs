@@ -1,4 +1,4 @@
-//! Scenario tests from the paper's experiments (ALGORITHM.md §8, §9), built from geometry with
+//! Scenario tests from the paper's experiments (docs/algorithm.md §8, §9), built from geometry with
 //! an axis ray-cast (the beam simulator is tested elsewhere).
 
 use sonarmap::geometry::{distance_to_segment, Point, Pose};

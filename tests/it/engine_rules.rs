@@ -45,13 +45,20 @@ fn a_failed_update_whose_fresh_fit_is_one_piece_takes_that_pieces_end_points() {
     // l_u, over its tolerance 0.03·2.08 = 0.0624: the post-update test fails. Fitted afresh
     // along l_u, first (0, 2.08) to last (2, 2.00), the farthest point (1, 2) lies
     // 0.04/√1.0016 ≈ 0.03997 off, within 0.06: one piece, which replaces the geometry.
-    let mut mapper = Mapper::new(Params::paper(), row(&[0.0, 1.0, 2.0]), SensorSpec::default());
+    let mut mapper = Mapper::new(
+        Params::paper(),
+        row(&[0.0, 1.0, 2.0]),
+        SensorSpec::default(),
+    );
     mapper.step(&snapshot(0.0, &[None, Some(2.0), Some(2.0)]));
     let trace = mapper.step(&snapshot(1.0, &[Some(2.08), Some(2.04), Some(2.0)]));
     assert_eq!(trace.decisions.len(), 1);
     assert_eq!(trace.decisions[0].outcome, Outcome::Match);
     let update = &trace.updates[0];
-    assert!(close(update.after[0].point, 0.0, 2.0), "the update's own geometry");
+    assert!(
+        close(update.after[0].point, 0.0, 2.0),
+        "the update's own geometry"
+    );
     let refit = update.refit.as_ref().expect("the post-update test failed");
     assert!(!refit.worst.pass);
     assert!((refit.worst.value - 0.08).abs() < 1e-9);
@@ -77,7 +84,11 @@ fn new_faces_take_ids_in_decision_order() {
     let mut mapper = Mapper::new(Params::paper(), row(&xs), SensorSpec::default());
     let d = Some(2.0);
     let trace = mapper.step(&snapshot(0.0, &[d, d, d, d, d, d, None, None]));
-    let results: Vec<_> = trace.decisions.iter().map(|d| (d.outcome, d.result)).collect();
+    let results: Vec<_> = trace
+        .decisions
+        .iter()
+        .map(|d| (d.outcome, d.result))
+        .collect();
     assert_eq!(
         results,
         [
@@ -120,7 +131,13 @@ fn walls_all_round_close_the_loop() {
     assert_eq!(sides.len(), 4, "three sides without the closing one");
     let corners = [(0.7, 0.0), (0.0, 0.7), (-0.7, 0.0), (0.0, -0.7), (0.7, 0.0)];
     for (k, (a, b)) in sides.iter().enumerate() {
-        assert!(close(*a, corners[k].0, corners[k].1), "side {k} starts at {a}");
-        assert!(close(*b, corners[k + 1].0, corners[k + 1].1), "side {k} ends at {b}");
+        assert!(
+            close(*a, corners[k].0, corners[k].1),
+            "side {k} starts at {a}"
+        );
+        assert!(
+            close(*b, corners[k + 1].0, corners[k + 1].1),
+            "side {k} ends at {b}"
+        );
     }
 }
