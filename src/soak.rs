@@ -110,7 +110,7 @@ pub fn map_checked(run: &Run, params: &Params) -> (usize, Option<(usize, String,
 /// uses the simulator's axis model instead of the specular one.
 pub fn family_run(kind: SceneKind, seed: u64, snapshots: usize) -> Run {
     let plan = family_plan(kind, seed);
-    let model = if seed % 2 == 0 {
+    let model = if seed.is_multiple_of(2) {
         Model::Specular
     } else {
         Model::Axis

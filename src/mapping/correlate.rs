@@ -73,6 +73,7 @@ pub fn correlate_face(
         new_end: nend,
         existing_position: ei,
         existing_end: eend,
+        ..
     } = closest;
     let test = Test::at_most(d_min, params.t_gap_m);
     trace.d_min = Some(test);
@@ -158,10 +159,24 @@ pub fn correlate_face(
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct ClosestPair {
     distance_m: f64,
+    /// Place of the new segment in its face.
+    face_order: usize,
     new_position: usize,
     new_end: usize,
+    existing_id: SegmentId,
     existing_position: usize,
     existing_end: usize,
+}
+
+impl ClosestPair {
+    /// True when `self` wins over `other`: nearer, then the tie order of §6.
+    fn precedes(&self, other: &ClosestPair) -> bool {
+        let ties = |p: &ClosestPair| (p.face_order, p.new_end, p.existing_id, p.existing_end);
+        self.distance_m
+            .total_cmp(&other.distance_m)
+            .then(ties(self).cmp(&ties(other)))
+            .is_lt()
+    }
 }
 
 /// The closest pair within `t_gap_m` between an end-point of the segments `new_ids` (of
@@ -174,51 +189,41 @@ fn closest_pair(
     new_ids: &[SegmentId],
     t_gap_m: f64,
 ) -> Option<ClosestPair> {
-    // (distance, place of the new segment in the face, new end, existing id, existing end)
-    let mut best: Option<((f64, usize, usize, SegmentId, usize), ClosestPair)> = None;
-    for (order, &nid) in new_ids.iter().enumerate() {
+    let mut best: Option<ClosestPair> = None;
+    for (face_order, &nid) in new_ids.iter().enumerate() {
         let Some(ni) = map.position(nid) else {
             continue;
         };
         let n = &map.segments[ni];
-        for (nend, np) in [n.a.point, n.b.point].iter().enumerate() {
+        for (new_end, np) in [n.a.point, n.b.point].iter().enumerate() {
             // Only end-points within t_gap can correlate: look there (the index is a superset).
-            for eid in map.segments_near(np, t_gap_m) {
-                let Some(ei) = map.position(eid) else {
+            for existing_id in map.segments_near(np, t_gap_m) {
+                let Some(ei) = map.position(existing_id) else {
                     continue;
                 };
                 let e = &map.segments[ei];
                 if e.face == face || e.kind != SegmentKind::Fitted {
                     continue;
                 }
-                for (eend, ep) in [e.a.point, e.b.point].iter().enumerate() {
-                    let d = (np - ep).norm();
+                for (existing_end, ep) in [e.a.point, e.b.point].iter().enumerate() {
+                    let pair = ClosestPair {
+                        distance_m: (np - ep).norm(),
+                        face_order,
+                        new_position: ni,
+                        new_end,
+                        existing_id,
+                        existing_position: ei,
+                        existing_end,
+                    };
                     // Beyond t_gap is out of the search, whatever the index returned.
-                    if d > t_gap_m {
-                        continue;
-                    }
-                    let key = (d, order, nend, eid, eend);
-                    let earlier = best.as_ref().is_none_or(|(b, _)| {
-                        key.0
-                            .total_cmp(&b.0)
-                            .then((key.1, key.2, key.3, key.4).cmp(&(b.1, b.2, b.3, b.4)))
-                            .is_lt()
-                    });
-                    if earlier {
-                        let pair = ClosestPair {
-                            distance_m: d,
-                            new_position: ni,
-                            new_end: nend,
-                            existing_position: ei,
-                            existing_end: eend,
-                        };
-                        best = Some((key, pair));
+                    if pair.distance_m <= t_gap_m && best.is_none_or(|b| pair.precedes(&b)) {
+                        best = Some(pair);
                     }
                 }
             }
         }
     }
-    best.map(|(_, pair)| pair)
+    best
 }
 
 /// Moves the face's segments from their fresh object `new_object` to `object` (only the

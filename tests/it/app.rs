@@ -574,7 +574,7 @@ fn a_corrupt_settings_value_is_ignored_with_a_notice() {
     let mut storage = MemoryStorage::default();
     storage.0.insert(
         SETTINGS_KEY.to_owned(),
-        r#"{"rate": "fast", "hidden_layers": 7, "recent": ["/tmp/a.json"], "params": {"t_gap_m": 1}}"#
+        r#"{"rate": "fast", "hidden_layers": 7, "recent": ["/tmp/a.json"], "params": {"t_gap_m": "far"}}"#
             .to_owned(),
     );
     let mut h = harness(SonarApp::new(run.clone(), Some(&storage)));

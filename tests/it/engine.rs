@@ -2,7 +2,7 @@
 //! an axis ray-cast (the beam simulator is tested elsewhere).
 
 use sonarmap::geometry::{distance_to_segment, Point, Pose};
-use sonarmap::mapping::trace::{EndRole, Outcome};
+use sonarmap::mapping::trace::{CorrelationKind, EndRole, Outcome};
 use sonarmap::mapping::{Mapper, Params, SegmentKind, StepTrace};
 use sonarmap::run::Snapshot;
 use sonarmap::sonar::{SensorLayout, SensorSpec};
@@ -156,23 +156,27 @@ fn blue_room_fuses_onto_the_walls_and_the_upper_wall_matches() {
     }
 }
 
-#[test]
-fn tight_room_gives_a_closed_map() {
-    // A 70 × 60 in room around the robot with an 8 in opening in the upper wall that no beam
-    // axis passes through.
+/// The tight room of the paper's Figures 8–9 as walls: a 70 × 60 in room around the robot with
+/// an 8 in opening in the upper wall that no beam axis passes through.
+fn tight_room_walls() -> Vec<Wall> {
     let p = |x: f64, y: f64| Point::new(inches(x), inches(y));
-    let walls = vec![
+    vec![
         (p(0.0, 0.0), p(70.0, 0.0)),
         (p(70.0, 0.0), p(70.0, 60.0)),
         (p(70.0, 60.0), p(44.0, 60.0)),
         (p(36.0, 60.0), p(0.0, 60.0)),
         (p(0.0, 60.0), p(0.0, 0.0)),
-    ];
-    let (mapper, traces) = run(
-        &walls,
-        &[pose_in(30.0, 30.0), pose_in(35.0, 30.0)],
-        Params::paper(),
-    );
+    ]
+}
+
+#[test]
+fn tight_room_gives_a_closed_map_with_the_corner_guard() {
+    let walls = tight_room_walls();
+    let params = Params {
+        corner_guard: true,
+        ..Params::paper()
+    };
+    let (mapper, traces) = run(&walls, &[pose_in(30.0, 30.0), pose_in(35.0, 30.0)], params);
     // One cluster all round: the chain wraps and closes.
     assert_eq!(traces[0].clusters.len(), 1);
     let map = mapper.map();
@@ -199,6 +203,29 @@ fn tight_room_gives_a_closed_map() {
             .any(|d| d.outcome == Outcome::Match),
         "the second snapshot updates the map"
     );
+}
+
+#[test]
+fn the_papers_corner_rule_collapses_a_short_face_in_the_tight_room() {
+    // docs/algorithm.md §6: the paper makes a corner whenever the lines meet at more than θ_o
+    // within t_gap of both closest end-points. In the second snapshot a short new face near the
+    // left wall meets it at 17.8°; the corner moves its far end onto its near one (length 0)
+    // and cuts the wall back to the corner: the map opens towards the lower left, which the
+    // corner guard (§8) prevents (the test above).
+    let (mapper, traces) = run(
+        &tight_room_walls(),
+        &[pose_in(30.0, 30.0), pose_in(35.0, 30.0)],
+        Params::paper(),
+    );
+    let corner = traces[1]
+        .correlations
+        .iter()
+        .find(|c| matches!(c.result, CorrelationKind::Corner { .. }))
+        .expect("a corner in the second snapshot");
+    let (new_id, _) = corner.new_segment.unwrap();
+    let collapsed = mapper.map().segment(new_id).unwrap();
+    assert!(collapsed.length() < 1e-9, "the new face shrank to a point");
+    assert!(corner.angle_rad.unwrap() > Params::paper().orientation_rad);
 }
 
 fn single_sonar_run(params: Params) -> Mapper {
