@@ -3,7 +3,8 @@
 //! touches; a query returns the segments filed under the cells the query box touches whose own
 //! bounding box meets the query box, so it never misses one.
 
-use super::map::{EndPoint, FaceId, SegmentId};
+use super::ids::{FaceId, SegmentId};
+use super::support::EndPoint;
 use crate::geometry::Point;
 use rustc_hash::FxHashMap;
 

@@ -1,46 +1,12 @@
 //! The map: line segments with their end-point ranges, faces and objects (paper §3.3).
 //! A `Map` is a plain value; cloning it is how the replay checkpoints.
 
+pub use super::ids::{FaceId, ObjectId, SegmentId};
 use super::index::{IndexedSegment, SegmentGrid};
+pub use super::support::{EndPoint, ReadingRef, SupportPoint};
 use crate::geometry::{distance_to_segment, Point};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
-
-/// Identifies a map segment for the whole run (ids are never reused).
-pub type SegmentId = u32;
-/// Identifies a face (the segments fitted from one cluster chain).
-pub type FaceId = u32;
-/// Identifies an object (faces joined by correlation).
-pub type ObjectId = u32;
-
-/// A reading of a run: snapshot index and sensor index.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
-pub struct ReadingRef {
-    /// Snapshot index.
-    pub snapshot: usize,
-    /// Sensor index.
-    pub sensor: usize,
-}
-
-/// A point that supports a segment, with the range that produced it.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SupportPoint {
-    /// World point, metres.
-    pub point: Point,
-    /// Range of the reading, metres (confidence is 1/range).
-    pub range_m: f64,
-    /// The reading it came from.
-    pub reading: ReadingRef,
-}
-
-/// A segment end-point and the range that gives its confidence.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct EndPoint {
-    /// World point, metres.
-    pub point: Point,
-    /// Range of the reading that produced it (kept through projections), metres.
-    pub range_m: f64,
-}
 
 /// Fitted from readings, or a link made by correlation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

@@ -3,20 +3,17 @@
 use super::cluster::{cluster_points, sensor_ranks, Clusters};
 use super::correlate::correlate_face;
 use super::extensions::{memory_step, reduce_constant_depth};
-use super::fit::{piece_end_points, split_recursive, split_tolerance};
-use super::map::{EndPoint, FaceId, Map, Segment, SegmentId, SegmentKind, SupportPoint};
+use super::fit::{piece_end_points, split_recursive};
+use super::map::{FaceId, Map, Segment, SegmentId, SegmentKind, SupportPoint};
 use super::matching::{decide, Candidate, SegmentEnds};
-use super::merge::absorb_duplicates;
 use super::params::Params;
 use super::readings::convert_readings;
 use super::trace::{
-    CandidateTrace, ClusterTrace, NewSegmentTrace, Outcome, RefitTrace, SegmentSource, Side,
-    SplitTrace, StepTrace, Test, UpdateTrace, Warning,
+    CandidateTrace, ClusterTrace, DecisionTrace, NewSegmentTrace, Outcome, SegmentSource,
+    SplitTrace, StepTrace, UpdateTrace, Warning,
 };
-use super::update::{
-    cap_support_points, merge_support_points, update_extension, update_match, UpdateGeometry,
-};
-use crate::geometry::{distance_to_line, projection_param, Pose};
+use super::update::{apply_update, cap_support_points, UpdateRequest};
+use crate::geometry::Pose;
 use crate::run::Snapshot;
 use crate::sonar::{BeamAxis, SensorLayout, SensorSpec};
 use std::ops::Range;
@@ -207,26 +204,44 @@ impl Mapper {
         }
     }
 
-    /// Applies one snapshot and returns what happened.
+    /// Applies one snapshot and returns what happened: the paper's §3 as a pipeline.
     pub fn step(&mut self, snapshot: &Snapshot) -> StepTrace {
+        let mut trace = self.begin_step(snapshot);
+        let mut buffers = std::mem::take(&mut self.buffers);
+        self.readings_and_clusters(snapshot, &mut trace, &mut buffers);
+        let mut fitted = self.fit_clusters(&mut trace, &mut buffers);
+        if self.params.memory_snapshots > 0 {
+            self.fit_remembered_points(&mut fitted, &mut trace);
+        }
+        let new_faces = self.match_and_update(&mut fitted.segments, &mut trace, &mut buffers);
+        self.buffers = buffers;
+        if self.record_trace {
+            trace.new_segments = fitted.segments;
+        }
+        if self.params.correlate {
+            self.correlate_new_faces(new_faces, &mut trace);
+        }
+        trace
+    }
+
+    /// A step's trace with its snapshot, and the warnings of §4: the robot moved more than
+    /// `max_step` (the paper's matching is valid only below it), or the snapshot has another
+    /// number of ranges than the layout has sensors.
+    fn begin_step(&mut self, snapshot: &Snapshot) -> StepTrace {
         let index = self.next_snapshot;
         self.next_snapshot += 1;
-        let params_owned = self.params.clone();
-        let params = &params_owned;
         let mut trace = StepTrace {
             snapshot: index,
             t: snapshot.t,
             pose: Some(snapshot.pose),
             ..Default::default()
         };
-
-        // §3.3.1: matching is valid only below max_step.
         if let Some(last) = self.last_pose {
             let step_m = last.distance_to(&snapshot.pose);
-            if step_m > params.max_step_m {
+            if step_m > self.params.max_step_m {
                 trace.warnings.push(Warning::MaxStep {
                     step_m,
-                    max_step_m: params.max_step_m,
+                    max_step_m: self.params.max_step_m,
                 });
             }
         }
@@ -237,38 +252,58 @@ impl Mapper {
                 expected: self.layout.len(),
             });
         }
+        trace
+    }
 
-        // §1 readings → points; §2 clusters.
-        let mut buffers = std::mem::take(&mut self.buffers);
+    /// §1: readings to points (kept into `buffers.kept`); §2: the kept points clustered (into
+    /// `buffers.clusters`).
+    fn readings_and_clusters(
+        &self,
+        snapshot: &Snapshot,
+        trace: &mut StepTrace,
+        buffers: &mut StepBuffers,
+    ) {
+        trace.readings = convert_readings(
+            trace.snapshot,
+            &snapshot.pose,
+            &snapshot.ranges_m,
+            &self.beam_axes,
+            self.sensor.max_range_m,
+            &self.params,
+            &mut buffers.kept,
+        );
+        let (ranks, wraps) = (&self.bearing_ranks.0, self.bearing_ranks.1);
+        cluster_points(
+            &buffers.kept,
+            ranks,
+            wraps,
+            self.params.t_gap_m,
+            &mut buffers.clusters,
+        );
+        if self.record_trace {
+            trace.gaps = buffers.clusters.gaps.clone();
+        }
+    }
+
+    /// §3: each cluster fitted by the recursive end-point fit (after constant-depth groups,
+    /// §8.2, when on; a closed loop, §2, repeats its first point at the end). Returns the new
+    /// segments in cluster order and the points of one-point clusters.
+    fn fit_clusters(&self, trace: &mut StepTrace, buffers: &mut StepBuffers) -> FittedStep {
+        let params = &self.params;
         let StepBuffers {
             kept,
             clusters,
             fitted: fitted_buffer,
             splits: splits_buffer,
             pieces,
-            candidates,
-            candidate_sets,
-            mpc_stage,
-        } = &mut buffers;
-        trace.readings = convert_readings(
-            index,
-            &snapshot.pose,
-            &snapshot.ranges_m,
-            &self.beam_axes,
-            self.sensor.max_range_m,
-            params,
-            kept,
-        );
-        let (ranks, wraps) = (&self.bearing_ranks.0, self.bearing_ranks.1);
-        cluster_points(kept, ranks, wraps, params.t_gap_m, clusters);
+            ..
+        } = buffers;
+        let wraps = self.bearing_ranks.1;
         let chain_has_break = clusters.gaps.iter().any(|g| g.is_break);
-        if self.record_trace {
-            trace.gaps = clusters.gaps.clone();
-        }
-
-        // §3 fitting of each cluster (with constant-depth groups when on).
-        let mut new_segments: Vec<NewSegmentTrace> = Vec::with_capacity(kept.len());
-        let mut singles: Vec<SupportPoint> = Vec::new();
+        let mut out = FittedStep {
+            segments: Vec::with_capacity(kept.len()),
+            singles: Vec::new(),
+        };
         for (ci, members) in clusters.iter().enumerate() {
             let mut chain = self.fresh_or_reused(fitted_buffer, members.len() + 1);
             chain.extend(members.iter().map(|&i| kept[i]));
@@ -297,10 +332,10 @@ impl Mapper {
             let mut splits = self.fresh_or_reused(splits_buffer, 0);
             pieces.clear();
             split_recursive(&fitted, params, &mut splits, pieces);
-            let first_new = new_segments.len();
+            let first_new = out.segments.len();
             for &[first, last] in pieces.iter() {
                 let (a, b) = piece_end_points(&fitted, first, last, params.fit);
-                new_segments.push(NewSegmentTrace {
+                out.segments.push(NewSegmentTrace {
                     source: SegmentSource::Cluster(ci),
                     a,
                     b,
@@ -308,7 +343,7 @@ impl Mapper {
                 });
             }
             if chain_len == 1 {
-                singles.push(fitted[0]);
+                out.singles.push(fitted[0]);
             }
             if self.record_trace {
                 trace.clusters.push(ClusterTrace {
@@ -316,44 +351,61 @@ impl Mapper {
                     constant_depth,
                     fitted,
                     splits,
-                    new_segments: (first_new..new_segments.len()).collect(),
+                    new_segments: (first_new..out.segments.len()).collect(),
                 });
             } else {
                 *splits_buffer = splits;
                 *fitted_buffer = fitted;
             }
         }
+        out
+    }
 
-        // §8 point memory.
-        if params.memory_snapshots > 0 {
-            let (memory_trace, pieces) = memory_step(
-                &mut self.map.memory,
-                &singles,
-                index,
-                params,
-                self.record_trace,
-            );
-            for piece in pieces {
-                let last = piece.points.len() - 1;
-                let (a, b) = piece_end_points(&piece.points, 0, last, params.fit);
-                new_segments.push(NewSegmentTrace {
-                    source: SegmentSource::Memory(piece.group),
-                    a,
-                    b,
-                    points: piece.points,
-                });
-            }
-            if self.record_trace {
-                trace.memory = Some(memory_trace);
-            }
+    /// §8.1 point memory: this step's one-point clusters join the memory, and the pieces its
+    /// groups yield become new segments after the clusters'.
+    fn fit_remembered_points(&mut self, fitted: &mut FittedStep, trace: &mut StepTrace) {
+        let (memory_trace, pieces) = memory_step(
+            &mut self.map.memory,
+            &fitted.singles,
+            trace.snapshot,
+            &self.params,
+            self.record_trace,
+        );
+        for piece in pieces {
+            let last = piece.points.len() - 1;
+            let (a, b) = piece_end_points(&piece.points, 0, last, self.params.fit);
+            fitted.segments.push(NewSegmentTrace {
+                source: SegmentSource::Memory(piece.group),
+                a,
+                b,
+                points: piece.points,
+            });
         }
+        if self.record_trace {
+            trace.memory = Some(memory_trace);
+        }
+    }
 
-        // §4 matching against the map as it stood before this snapshot, §5 updates.
+    /// §4 each new segment matched against the map as it stood before this snapshot, in order;
+    /// §5 the updates; a NEW FACE added to the map (its id allocated as it is decided). Returns
+    /// the faces made, in order.
+    fn match_and_update(
+        &mut self,
+        new_segments: &mut [NewSegmentTrace],
+        trace: &mut StepTrace,
+        buffers: &mut StepBuffers,
+    ) -> Vec<FaceId> {
+        let StepBuffers {
+            candidates,
+            candidate_sets,
+            mpc_stage,
+            ..
+        } = buffers;
         candidates.clear();
         candidate_sets.clear();
         trace.decisions.reserve_exact(new_segments.len());
         trace.updates.reserve_exact(new_segments.len());
-        for seg in &new_segments {
+        for seg in new_segments.iter() {
             let start = candidates.len();
             self.candidates_for(&SegmentEnds { a: seg.a, b: seg.b }, candidates);
             candidate_sets.push(start..candidates.len());
@@ -361,19 +413,20 @@ impl Mapper {
         // Whether a candidate is outermost is asked as the map stood before this snapshot: the
         // map keeps each face as it was before the step first changes it.
         self.map.begin_face_journal();
-        let mut face_of_source: Vec<(SegmentSource, FaceId)> = Vec::new();
+        let mut faces = NewFaces::default();
         let mut absorbed_into: Vec<(SegmentId, SegmentId)> = Vec::new();
-        let mut new_faces: Vec<FaceId> = Vec::new();
         for ni in 0..new_segments.len() {
-            let seg = &new_segments[ni];
+            let ends = SegmentEnds {
+                a: new_segments[ni].a,
+                b: new_segments[ni].b,
+            };
             let cands = &mut candidates[candidate_sets[ni].clone()];
-            let ends = SegmentEnds { a: seg.a, b: seg.b };
             let map = &self.map;
             let was_outermost = |id, face| map.was_outermost(id, face);
             // Room for the usual few tested candidates (a candidate's trace is large to move).
             let stage = self.fresh_or_reused(mpc_stage, cands.len().min(8));
             let mut decision = decide(
-                params,
+                &self.params,
                 ni,
                 &ends,
                 cands,
@@ -381,82 +434,25 @@ impl Mapper {
                 stage,
                 self.record_trace,
             );
-            match decision.outcome {
+            decision.result = match decision.outcome {
                 Outcome::Match | Outcome::Extension => {
-                    let named = decision.existing.expect("a match names its segment");
-                    let evaluation = &decision
-                        .mpc_stage
-                        .iter()
-                        .find(|c| c.evaluation.existing == named)
-                        .expect("tested")
-                        .evaluation;
-                    // A segment fused into another earlier in this snapshot: update that one.
-                    let mut target = named;
-                    while let Some(&(_, into)) = absorbed_into.iter().find(|(s, _)| *s == target) {
-                        target = into;
-                    }
-                    let inside = if decision.outcome == Outcome::Extension {
-                        evaluation.overlap.epc_end
-                    } else {
-                        None
-                    };
-                    let (nl, nr) = (evaluation.new_left, evaluation.new_right);
-                    if let Some(update) =
-                        self.apply_update(target, ni, seg, nl, nr, decision.outcome, inside, index)
-                    {
-                        absorbed_into.extend(update.absorbed.iter().map(|x| (x.segment, x.into)));
-                        trace.updates.push(update);
-                    }
-                    decision.result = Some(target);
-                }
-                Outcome::Dismissed => {}
-                Outcome::NewFace => {
-                    let face = match face_of_source.iter().find(|(s, _)| *s == seg.source) {
-                        Some(&(_, f)) => f,
-                        None => {
-                            let f = self.map.new_face();
-                            face_of_source.push((seg.source, f));
-                            new_faces.push(f);
-                            f
+                    let update = self.update_for(&decision, &new_segments[ni], &absorbed_into);
+                    update.map(|(target, update)| {
+                        if let Some(update) = update {
+                            absorbed_into
+                                .extend(update.absorbed.iter().map(|x| (x.segment, x.into)));
+                            trace.updates.push(update);
                         }
-                    };
-                    let object = match self
-                        .map
-                        .face(face)
-                        .and_then(|f| f.segments.first())
-                        .and_then(|&id| self.map.segment(id))
-                    {
-                        Some(s) => s.object,
-                        None => self.map.allocate_object_id(),
-                    };
-                    let (a, b) = (seg.a, seg.b);
-                    // Untraced, the new segment's points are not kept in the trace.
-                    let mut points = if self.record_trace {
-                        seg.points.clone()
-                    } else {
-                        std::mem::take(&mut new_segments[ni].points)
-                    };
-                    cap_support_points(&mut points, params.support_cap);
-                    let id = self.map.allocate_segment_id();
-                    // The face was made this step and stays, even emptied by a merge, until
-                    // the step ends.
-                    if let Some(f) = self.map.face_mut(face) {
-                        f.segments.push(id);
-                    }
-                    self.map.push_segment(Segment {
-                        id,
-                        kind: SegmentKind::Fitted,
-                        a,
-                        b,
-                        face,
-                        object,
-                        created: index,
-                        updated: Vec::new(),
-                        points: Arc::new(points),
-                    });
-                    decision.result = Some(id);
+                        target
+                    })
                 }
-            }
+                Outcome::Dismissed => None,
+                Outcome::NewFace => Some(self.add_new_face_segment(
+                    &mut new_segments[ni],
+                    &mut faces,
+                    trace.snapshot,
+                )),
+            };
             if !self.record_trace {
                 *mpc_stage = std::mem::take(&mut decision.mpc_stage);
                 decision.epc_stage = Vec::new();
@@ -464,145 +460,120 @@ impl Mapper {
             trace.decisions.push(decision);
         }
         self.map.end_face_journal();
-        self.buffers = buffers;
-        if self.record_trace {
-            trace.new_segments = new_segments;
-        }
-
-        // §6 correlation of the new faces, in cluster order.
-        if params.correlate {
-            // A new face whose segments were all merged away this step is gone.
-            new_faces.retain(|&f| self.map.face(f).is_some());
-            for face in new_faces {
-                trace
-                    .correlations
-                    .push(correlate_face(&mut self.map, face, params, index));
-            }
-        }
-        trace
+        faces.made
     }
 
-    /// Applies a MATCH or EXTENSION to segment `target` and runs the post-update split test.
-    #[allow(clippy::too_many_arguments)]
-    fn apply_update(
+    /// §5 for a MATCH or EXTENSION `decision` of `new`: the update of the segment that now
+    /// carries the chosen candidate's id (following the merges of this snapshot, `absorbed_into`).
+    /// Returns that segment's id and the update's trace (none when it is gone).
+    fn update_for(
         &mut self,
-        target: SegmentId,
-        new_index: usize,
+        decision: &DecisionTrace,
         new: &NewSegmentTrace,
-        new_left: EndPoint,
-        new_right: EndPoint,
-        outcome: Outcome,
-        inside: Option<Side>,
-        snapshot: usize,
-    ) -> Option<UpdateTrace> {
-        let params = self.params.clone();
-        let seg = self.map.segment(target)?;
-        let before = [seg.a, seg.b];
-        // Orient the new segment along the live geometry (it may have moved this snapshot).
-        let (nl, nr) = if projection_param(&new_left.point, &seg.a.point, &seg.b.point)
-            <= projection_param(&new_right.point, &seg.a.point, &seg.b.point)
-        {
-            (new_left, new_right)
-        } else {
-            (new_right, new_left)
-        };
-        let geometry: UpdateGeometry = match inside {
-            Some(side) => update_extension(before, nl, nr, side),
-            None => update_match(before, nl, nr),
-        };
-        let [a, b] = geometry.ends;
-        let points = merge_support_points(&seg.points, &new.points, &a, &b, params.support_cap);
-        let worst = points
+        absorbed_into: &[(SegmentId, SegmentId)],
+    ) -> Option<(SegmentId, Option<UpdateTrace>)> {
+        let named = decision.existing?;
+        let evaluation = &decision
+            .mpc_stage
             .iter()
-            .map(|q| {
-                let d = distance_to_line(&q.point, &geometry.line[0], &geometry.line[1]);
-                Test::at_most(d, split_tolerance(&params, q.range_m))
-            })
-            .fold(None::<Test>, |acc, t| match acc {
-                Some(w) if !w.pass && t.pass => Some(w),
-                Some(w) if w.pass == t.pass && w.value - w.threshold >= t.value - t.threshold => {
-                    Some(w)
-                }
-                _ => Some(t),
-            });
-        let mut update = UpdateTrace {
-            segment: target,
-            new_segment: new_index,
-            outcome,
-            before,
-            after: geometry.ends,
-            line: geometry.line,
-            fates: geometry.fates,
-            fallback_tls: geometry.fallback_tls,
-            refit: None,
-            absorbed: Vec::new(),
-        };
-        let seg = self.map.segment_mut(target)?;
-        seg.note_update(snapshot);
-        let stands = worst.is_none_or(|w| w.pass);
-        if stands {
-            seg.points = Arc::new(points);
-            self.map.set_ends(target, a, b);
-            // Only a segment that grew past its old end-points can have come to overlap
-            // another one.
-            let grew = [a, b].iter().any(|e| {
-                let t = projection_param(&e.point, &before[0].point, &before[1].point);
-                !(-1e-9..=1.0 + 1e-9).contains(&t)
-            });
-            if params.merge_duplicates && grew {
-                update.absorbed = absorb_duplicates(&mut self.map, &params, target, &[]);
-            }
-            return Some(update);
+            .find(|c| c.evaluation.existing == named)?
+            .evaluation;
+        let mut target = named;
+        while let Some(&(_, into)) = absorbed_into.iter().find(|(s, _)| *s == target) {
+            target = into;
         }
-        // The update's line does not explain its points: fit them afresh (§3); the first piece
-        // keeps the id, the others are inserted after it in the face.
-        let (mut splits, mut pieces) = (Vec::new(), Vec::new());
-        split_recursive(&points, &params, &mut splits, &mut pieces);
-        let (face, object, created, updated) =
-            (seg.face, seg.object, seg.created, seg.updated.clone());
-        let mut piece_ids = Vec::with_capacity(pieces.len());
-        for (k, &[first, last]) in pieces.iter().enumerate() {
-            let (pa, pb) = piece_end_points(&points, first, last, params.fit);
-            let piece_points = Arc::new(points[first..=last].to_vec());
-            if k == 0 {
-                self.map.segment_mut(target)?.points = piece_points;
-                self.map.set_ends(target, pa, pb);
-                piece_ids.push(target);
+        let request = UpdateRequest {
+            target,
+            new_index: decision.new_segment,
+            new_points: &new.points,
+            new_left: evaluation.new_left,
+            new_right: evaluation.new_right,
+            outcome: decision.outcome,
+            inside: if decision.outcome == Outcome::Extension {
+                evaluation.overlap.epc_end
             } else {
-                let id = self.map.allocate_segment_id();
-                self.map.push_segment(Segment {
-                    id,
-                    kind: SegmentKind::Fitted,
-                    a: pa,
-                    b: pb,
-                    face,
-                    object,
-                    created,
-                    updated: updated.clone(),
-                    points: piece_points,
-                });
-                piece_ids.push(id);
-            }
-        }
-        if let Some(f) = self.map.face_mut(face) {
-            let at = f
-                .segments
-                .iter()
-                .position(|&s| s == target)
-                .map_or(f.segments.len(), |p| p + 1);
-            f.segments.splice(at..at, piece_ids[1..].iter().copied());
-        }
-        if params.merge_duplicates {
-            for &piece in &piece_ids {
-                let absorbed = absorb_duplicates(&mut self.map, &params, piece, &piece_ids);
-                update.absorbed.extend(absorbed);
-            }
-        }
-        update.refit = Some(RefitTrace {
-            worst: worst.expect("failed test exists"),
-            splits,
-            pieces: piece_ids,
-        });
-        Some(update)
+                None
+            },
+            snapshot: self.next_snapshot - 1,
+        };
+        Some((target, apply_update(&mut self.map, &self.params, &request)))
     }
+
+    /// A NEW FACE: `new` joins the face made this step for its cluster (or memory group), the
+    /// face's object, and the map, with the next free id. Untraced, its points move into the
+    /// map instead of being copied.
+    fn add_new_face_segment(
+        &mut self,
+        new: &mut NewSegmentTrace,
+        faces: &mut NewFaces,
+        snapshot: usize,
+    ) -> SegmentId {
+        let face = match faces.of_source.iter().find(|(s, _)| *s == new.source) {
+            Some(&(_, f)) => f,
+            None => {
+                let f = self.map.new_face();
+                faces.of_source.push((new.source, f));
+                faces.made.push(f);
+                f
+            }
+        };
+        let object = match self
+            .map
+            .face(face)
+            .and_then(|f| f.segments.first())
+            .and_then(|&id| self.map.segment(id))
+        {
+            Some(s) => s.object,
+            None => self.map.allocate_object_id(),
+        };
+        let mut points = if self.record_trace {
+            new.points.clone()
+        } else {
+            std::mem::take(&mut new.points)
+        };
+        cap_support_points(&mut points, self.params.support_cap);
+        let id = self.map.allocate_segment_id();
+        // The face was made this step and stays, even emptied by a merge, until the step ends.
+        if let Some(f) = self.map.face_mut(face) {
+            f.segments.push(id);
+        }
+        self.map.push_segment(Segment {
+            id,
+            kind: SegmentKind::Fitted,
+            a: new.a,
+            b: new.b,
+            face,
+            object,
+            created: snapshot,
+            updated: Vec::new(),
+            points: Arc::new(points),
+        });
+        id
+    }
+
+    /// §6: each new face correlated with the map, in the order the faces were made. A face
+    /// whose segments were all merged away this step is gone and has no correlation.
+    fn correlate_new_faces(&mut self, new_faces: Vec<FaceId>, trace: &mut StepTrace) {
+        for face in new_faces {
+            if self.map.face(face).is_some() {
+                let correlation = correlate_face(&mut self.map, face, &self.params, trace.snapshot);
+                trace.correlations.push(correlation);
+            }
+        }
+    }
+}
+
+/// What §3 made of a step's clusters.
+struct FittedStep {
+    /// The new segments, in cluster order (then memory groups').
+    segments: Vec<NewSegmentTrace>,
+    /// The points of one-point clusters (for point memory).
+    singles: Vec<SupportPoint>,
+}
+
+/// The faces a step makes for its NEW FACE segments: one per cluster or memory group.
+#[derive(Default)]
+struct NewFaces {
+    of_source: Vec<(SegmentSource, FaceId)>,
+    made: Vec<FaceId>,
 }

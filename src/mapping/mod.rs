@@ -5,6 +5,7 @@ pub mod correlate;
 pub mod extensions;
 pub mod fit;
 mod guard;
+pub mod ids;
 pub mod index;
 pub mod map;
 mod mapper;
@@ -12,6 +13,7 @@ pub mod matching;
 pub mod merge;
 pub mod params;
 pub mod readings;
+pub mod support;
 pub mod trace;
 pub mod update;
 

@@ -1,0 +1,34 @@
+//! What a segment is made of: the readings that support it and its end-points, each with the
+//! range that gives its confidence (docs/algorithm.md §1, §3, §5).
+
+use crate::geometry::Point;
+use serde::{Deserialize, Serialize};
+
+/// A reading of a run: snapshot index and sensor index.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub struct ReadingRef {
+    /// Snapshot index.
+    pub snapshot: usize,
+    /// Sensor index.
+    pub sensor: usize,
+}
+
+/// A point that supports a segment, with the range that produced it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SupportPoint {
+    /// World point, metres.
+    pub point: Point,
+    /// Range of the reading, metres (confidence is 1/range).
+    pub range_m: f64,
+    /// The reading it came from.
+    pub reading: ReadingRef,
+}
+
+/// A segment end-point and the range that gives its confidence.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EndPoint {
+    /// World point, metres.
+    pub point: Point,
+    /// Range of the reading that produced it (kept through projections), metres.
+    pub range_m: f64,
+}
