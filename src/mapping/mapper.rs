@@ -3,9 +3,10 @@
 use super::cluster::{cluster_points, sensor_ranks, Clusters};
 use super::correlate::correlate_face;
 use super::extensions::{memory_step, reduce_constant_depth};
+use super::fast_path::decide;
 use super::fit::{piece_end_points, split_recursive};
 use super::map::{FaceId, Map, Segment, SegmentId, SegmentKind, SupportPoint};
-use super::matching::{decide, Candidate, SegmentEnds};
+use super::matching::{Candidate, SegmentEnds};
 use super::params::Params;
 use super::readings::convert_readings;
 use super::trace::{

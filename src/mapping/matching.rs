@@ -8,10 +8,8 @@ use super::trace::{
 };
 use crate::geometry::{
     distance_to_line, distance_to_segment, line_angle_at_most, line_angle_between,
-    projection_param, total_order_key, AngleLimit, Vec2,
+    projection_param, AngleLimit, Vec2,
 };
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
 
 /// A segment's end-points as the tests see them.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -54,7 +52,7 @@ impl Candidate {
     }
 
     /// True when `self` comes before `other` in the §4 order (nearer, ties by id).
-    fn precedes(&self, other: &Candidate) -> bool {
+    pub(super) fn precedes(&self, other: &Candidate) -> bool {
         in_order(self, other).is_lt()
     }
 }
@@ -151,7 +149,7 @@ pub fn place_pair(params: &Params, new: &SegmentEnds, existing: &SegmentEnds) ->
 
 impl Placement {
     /// Its test results, with the orientation test's as given.
-    fn tests(&self, oriented: bool) -> PairTests<'_> {
+    pub(super) fn tests(&self, oriented: bool) -> PairTests<'_> {
         PairTests {
             oriented,
             colinear: self.colinearity.test.pass,
@@ -211,73 +209,67 @@ impl Placement {
 
 /// The §4 order of candidates: by distance from `l_n`'s mid-point to the segment, ties by id
 /// (a total order: ids are unique).
-fn in_order(x: &Candidate, y: &Candidate) -> std::cmp::Ordering {
+pub(super) fn in_order(x: &Candidate, y: &Candidate) -> std::cmp::Ordering {
     x.distance_m.total_cmp(&y.distance_m).then(x.id.cmp(&y.id))
 }
 
-/// Below this many candidates, sorting them in place costs less than a heap.
-const SORTED_IN_PLACE_BELOW: usize = 32;
-
-/// The candidates in §4 order. A long list is ordered lazily: a binary heap costs O(n) to
-/// build and O(log n) a candidate taken, so a list tested only as far as its first few is never
-/// sorted; a short one is sorted in place.
-fn in_order_lazily(candidates: &mut [Candidate]) -> Box<dyn Iterator<Item = &Candidate> + '_> {
-    if candidates.len() < SORTED_IN_PLACE_BELOW || candidates.len() > u32::MAX as usize {
-        candidates.sort_unstable_by(in_order);
-        return Box::new(candidates.iter());
-    }
-    // One integer a candidate, ordered as `in_order` orders them: distance, then id, then the
-    // place in the list (which makes every key distinct and finds the candidate again).
-    let mut heap: BinaryHeap<Reverse<u128>> = candidates
-        .iter()
-        .enumerate()
-        .map(|(i, c)| {
-            let key = u128::from(total_order_key(c.distance_m)) << 64
-                | u128::from(c.id) << 32
-                | i as u128;
-            Reverse(key)
-        })
-        .collect();
-    let candidates = &*candidates;
-    Box::new(std::iter::from_fn(move || {
-        heap.pop()
-            .map(|Reverse(key)| &candidates[(key & u128::from(u32::MAX)) as usize])
-    }))
-}
-
-/// The candidate that comes first in the §4 order (nearest to `l_n`'s mid-point, ties by id).
-fn nearest_candidate(candidates: &[Candidate]) -> Option<&Candidate> {
-    candidates
-        .iter()
-        .reduce(|best, c| if c.precedes(best) { c } else { best })
-}
-
-/// Decides what becomes of new segment `new_index` (docs/algorithm.md §4).
+/// Decides what becomes of new segment `new_index`: the rule of docs/algorithm.md §4 as
+/// written, every candidate in order (the reference the mapper's
+/// [`fast_path::decide`](super::fast_path::decide) is tested against).
 ///
-/// First every candidate, nearest first, with all three tests and MPC (or containment): the
-/// first pass is a MATCH. Then EPC against the outermost segments of their faces, in the same
-/// order: the first pass is an EXTENSION. Otherwise, when some candidate fails only the
+/// First every candidate, nearest first (ties by id), with all three tests and MPC (or
+/// containment): the first pass is a MATCH. Then EPC against the segments that held an
+/// outermost end-point of their face before this snapshot (`was_outermost(id, face)`), in the
+/// same order: the first pass is an EXTENSION. Otherwise, when some candidate fails only the
 /// orientation test (colinearity and MPC or EPC pass; containment does not count), the new
-/// segment is DISMISSED. Otherwise it is a NEW FACE.
+/// segment is DISMISSED. Otherwise it is a NEW FACE. The trace lists every candidate tested.
 ///
-/// `was_outermost(id, face)` says whether a candidate held an outermost end-point of its face
-/// as the map stood before this snapshot; it is asked only for the candidates actually tested.
-/// The tested candidates go into `stage` (emptied first): the decision's `mpc_stage`, a buffer
-/// the caller may take back. With `every_tested` false (an untraced step) the stage holds only
-/// the candidate the decision names, when it is a MATCH or an EXTENSION: the outcome, rule and
-/// segment named are the same either way.
-pub fn decide(
+/// ```
+/// use sonarmap::geometry::Point;
+/// use sonarmap::mapping::matching::{decide_by_the_rule, Candidate, SegmentEnds};
+/// use sonarmap::mapping::{EndPoint, Outcome, Params};
+/// let end = |x: f64, y: f64, d: f64| EndPoint { point: Point::new(x, y), range_m: d };
+/// // l_n from (1, 0.05) to (3, 0.05), read at 2 m; l_e along y = 0 from 0 to 2, read at 2 m.
+/// // Colinearity: |d| = 0.05 ≤ 0.03·2 + 0.015·(2 + 2) = 0.12; l_n's mid-point (2, 0.05)
+/// // projects at t = 1, inside [0, 1]: MPC, a MATCH.
+/// let new = SegmentEnds { a: end(1.0, 0.05, 2.0), b: end(3.0, 0.05, 2.0) };
+/// let wall = SegmentEnds { a: end(0.0, 0.0, 2.0), b: end(2.0, 0.0, 2.0) };
+/// let mut candidates = vec![Candidate::new(&new, 7, wall, 0)];
+/// let decision = decide_by_the_rule(&Params::paper(), 0, &new, &mut candidates, &|_, _| true);
+/// assert_eq!(decision.outcome, Outcome::Match);
+/// assert_eq!(decision.existing, Some(7));
+/// let colinearity = decision.mpc_stage[0].evaluation.colinearity;
+/// assert!((colinearity.test.value - 0.05).abs() < 1e-12);
+/// assert!((colinearity.test.threshold - 0.12).abs() < 1e-12);
+/// ```
+pub fn decide_by_the_rule(
     params: &Params,
     new_index: usize,
     new: &SegmentEnds,
     candidates: &mut [Candidate],
     was_outermost: &dyn Fn(SegmentId, FaceId) -> bool,
+) -> DecisionTrace {
+    candidates.sort_unstable_by(in_order);
+    let mut decision = undecided(new_index, candidates, Vec::new());
+    for c in candidates.iter() {
+        let evaluation = evaluate_pair(params, new, c.id, &c.ends);
+        if test_candidate(&mut decision, c, was_outermost(c.id, c.face), evaluation) {
+            return decision;
+        }
+    }
+    decide_after_the_mpc_stage(&mut decision);
+    decision
+}
+
+/// A NEW FACE decision for `new_index` with no candidate tested yet; its rule says whether
+/// there was any candidate. `stage` (emptied) becomes the MPC stage.
+pub(super) fn undecided(
+    new_index: usize,
+    candidates: &[Candidate],
     mut stage: Vec<CandidateTrace>,
-    every_tested: bool,
 ) -> DecisionTrace {
     stage.clear();
-    let outermost = |c: &Candidate| was_outermost(c.id, c.face);
-    let mut decision = DecisionTrace {
+    DecisionTrace {
         new_segment: new_index,
         mpc_stage: stage,
         epc_stage: Vec::new(),
@@ -289,28 +281,12 @@ pub fn decide(
         },
         existing: None,
         result: None,
-    };
-    let limit = AngleLimit::new(params.orientation_rad);
-    // Most new segments match the nearest candidate: try it before ordering the rest (the
-    // outcome and the trace are the same as with the full order).
-    if let Some(c) = nearest_candidate(candidates).copied() {
-        let placement = place_pair(params, new, &c.ends);
-        if placement.could_match() && placement.orientation_passes(&c.ends, limit) {
-            let evaluation = placement.with_orientation(params, c.id, &c.ends);
-            test_candidate(&mut decision, &c, outermost(&c), evaluation);
-            return decision;
-        }
     }
-    if !every_tested {
-        decide_untraced(params, new, candidates, &outermost, limit, &mut decision);
-        return decision;
-    }
-    for c in in_order_lazily(candidates) {
-        let evaluation = evaluate_pair(params, new, c.id, &c.ends);
-        if test_candidate(&mut decision, c, outermost(c), evaluation) {
-            return decision;
-        }
-    }
+}
+
+/// The rules after a MPC stage without a MATCH: the first outermost candidate that passes EPC
+/// makes an EXTENSION; otherwise the first that fails only orientation, a dismissal.
+pub(super) fn decide_after_the_mpc_stage(decision: &mut DecisionTrace) {
     for (i, c) in decision.mpc_stage.iter().enumerate() {
         if !c.outermost {
             continue;
@@ -320,7 +296,7 @@ pub fn decide(
             decision.outcome = Outcome::Extension;
             decision.rule = Rule::EndPointOverlap;
             decision.existing = Some(c.evaluation.existing);
-            return decision;
+            return;
         }
     }
     let orientation_only = decision
@@ -329,67 +305,19 @@ pub fn decide(
         .find(|c| c.evaluation.fails_only_orientation())
         .map(|c| c.evaluation.existing);
     if let Some(id) = orientation_only {
-        decide_dismissed(&mut decision, id);
-    }
-    decision
-}
-
-/// [`decide`] past the nearest candidate without the trace: one pass in §4 order that stops at
-/// the first MATCH and otherwise remembers the first outermost EXTENSION and the first
-/// orientation-only failure, the candidates the later rules would name. A candidate that
-/// cannot pass any rule gets no orientation test; only the named candidate is evaluated in full.
-fn decide_untraced(
-    params: &Params,
-    new: &SegmentEnds,
-    candidates: &mut [Candidate],
-    outermost: &dyn Fn(&Candidate) -> bool,
-    limit: AngleLimit,
-    decision: &mut DecisionTrace,
-) {
-    let mut extension: Option<(Candidate, Placement)> = None;
-    let mut orientation_only: Option<SegmentId> = None;
-    for c in in_order_lazily(candidates) {
-        let placement = place_pair(params, new, &c.ends);
-        if !placement.could_pass() {
-            continue;
-        }
-        let tests = placement.tests(placement.orientation_passes(&c.ends, limit));
-        if tests.is_match() {
-            let evaluation = placement.with_orientation(params, c.id, &c.ends);
-            test_candidate(decision, c, outermost(c), evaluation);
-            return;
-        }
-        if extension.is_none() && tests.is_extension() && outermost(c) {
-            extension = Some((*c, placement));
-        }
-        if orientation_only.is_none() && tests.fails_only_orientation() {
-            orientation_only = Some(c.id);
-        }
-    }
-    if let Some((c, placement)) = extension {
-        let evaluation = placement.with_orientation(params, c.id, &c.ends);
-        decision.mpc_stage.push(CandidateTrace {
-            distance_m: c.distance_m,
-            outermost: true,
-            evaluation,
-        });
-        decision.outcome = Outcome::Extension;
-        decision.rule = Rule::EndPointOverlap;
-        decision.existing = Some(c.id);
-    } else if let Some(id) = orientation_only {
         decide_dismissed(decision, id);
     }
 }
 
 /// Makes `decision` a dismissal naming segment `existing`.
-fn decide_dismissed(decision: &mut DecisionTrace, existing: SegmentId) {
+pub(super) fn decide_dismissed(decision: &mut DecisionTrace, existing: SegmentId) {
     decision.outcome = Outcome::Dismissed;
     decision.rule = Rule::OrientationOnlyFailure;
     decision.existing = Some(existing);
 }
 
 /// Adds `c` to the MPC stage; true (with the decision made a MATCH) when it matches.
-fn test_candidate(
+pub(super) fn test_candidate(
     decision: &mut DecisionTrace,
     c: &Candidate,
     outermost: bool,
@@ -515,7 +443,7 @@ mod tests {
         n: &SegmentEnds,
         candidates: &mut [Candidate],
     ) -> DecisionTrace {
-        decide(p, 0, n, candidates, &outermost_in_face_1, Vec::new(), true)
+        decide_by_the_rule(p, 0, n, candidates, &outermost_in_face_1)
     }
 
     #[test]
@@ -645,66 +573,5 @@ mod tests {
             }
         }
 
-        #[test]
-        fn untraced_decisions_name_the_same_outcome_rule_and_segment(
-            n in any_ends(),
-            moves in proptest::collection::vec(
-                (-1.2f64..1.2, -0.05f64..0.05, -0.6f64..0.6, 0.1f64..2.0, proptest::bool::ANY),
-                0..60,
-            ),
-            theta_deg in 1.0f64..40.0,
-        ) {
-            let p = Params { orientation_rad: theta_deg.to_radians(), ..Params::paper() };
-            let candidates: Vec<Candidate> = moves
-                .iter()
-                .enumerate()
-                .map(|(i, &(along, off, turn, scale, outer))| {
-                    // Slid along l_n by `along` of its length and off it by `off` metres.
-                    let (u, v) = (n.b.point - n.a.point, (n.b.point - n.a.point).normalize());
-                    let d = u * along + nalgebra::Vector2::new(-v.y, v.x) * off;
-                    cand(&n, i as SegmentId, near(&n, d.x, d.y, turn, scale), outer)
-                })
-                .collect();
-            let traced = decide(&p, 0, &n, &mut candidates.clone(), &outermost_in_face_1, Vec::new(), true);
-            let untraced = decide(&p, 0, &n, &mut candidates.clone(), &outermost_in_face_1, Vec::new(), false);
-            proptest::prop_assert_eq!(
-                (traced.outcome, traced.rule, traced.existing),
-                (untraced.outcome, untraced.rule, untraced.existing)
-            );
-            proptest::prop_assert!(untraced.mpc_stage.len() <= 1);
-        }
-    }
-
-    proptest::proptest! {
-        #[test]
-        fn candidates_come_lazily_in_the_full_order(
-            distances in proptest::collection::vec(
-                proptest::prop_oneof![
-                    (0u8..6).prop_map(|d| f64::from(d) / 2.0),
-                    proptest::num::f64::ANY,
-                ],
-                0..80,
-            ),
-        ) {
-            // Few distinct distances, so ties by id are common; any f64 for the key's order.
-            let n = ends(0.0, 0.0, 1.0, 1.0, 0.0, 1.0);
-            let candidates: Vec<Candidate> = distances
-                .iter()
-                .enumerate()
-                .map(|(i, &d)| Candidate {
-                    id: (distances.len() - i) as SegmentId,
-                    ends: n,
-                    face: 0,
-                    distance_m: d,
-                })
-                .collect();
-            let mut full = candidates.clone();
-            full.sort_by(in_order);
-            let lazily: Vec<Candidate> = in_order_lazily(&mut candidates.clone()).copied().collect();
-            proptest::prop_assert_eq!(
-                lazily.iter().map(|c| (c.distance_m.to_bits(), c.id)).collect::<Vec<_>>(),
-                full.iter().map(|c| (c.distance_m.to_bits(), c.id)).collect::<Vec<_>>()
-            );
-        }
     }
 }

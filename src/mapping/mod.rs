@@ -3,6 +3,7 @@
 pub mod cluster;
 pub mod correlate;
 pub mod extensions;
+pub mod fast_path;
 pub mod fit;
 mod guard;
 pub mod ids;
