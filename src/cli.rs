@@ -712,6 +712,7 @@ fn soak_command(args: &SoakArgs) -> Result<()> {
     struct SoakOutput {
         runs: usize,
         snapshots: usize,
+        invariant_checks: usize,
         panics: usize,
         broken_invariants: usize,
         largest_map: usize,
@@ -722,6 +723,7 @@ fn soak_command(args: &SoakArgs) -> Result<()> {
     let out = SoakOutput {
         runs: report.runs,
         snapshots: report.snapshots,
+        invariant_checks: report.invariant_checks,
         panics: report.panics,
         broken_invariants: report.broken_invariants,
         largest_map: report.largest_map,

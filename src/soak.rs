@@ -1,7 +1,8 @@
 //! The soak: long lap runs over generated families of scenes ([`crate::sim::SceneKind`]), in
 //! every preset and with every single extension flag, checking [`Map::check_invariants`] after
-//! every step and counting panics. `sonarmap soak` runs it at any size; the property tests run
-//! a small budget of it.
+//! every step (as often as a bounded cost allows on a map that grows large) and counting panics.
+//! `sonarmap soak` runs it at any size; the property tests run a small budget of it, checking
+//! after every step.
 
 use crate::mapping::{Map, Mapper, Params};
 use crate::run::Run;
@@ -77,6 +78,9 @@ pub struct SoakReport {
     pub runs: usize,
     /// Steps taken in all.
     pub snapshots: usize,
+    /// Invariant checks made (after every step while maps are small, see
+    /// [`SEGMENT_CHECKS_PER_STEP`]).
+    pub invariant_checks: usize,
     /// Steps that panicked.
     pub panics: usize,
     /// Steps after which an invariant was broken.
@@ -87,23 +91,56 @@ pub struct SoakReport {
     pub failures: Vec<SoakFailure>,
 }
 
-/// Maps `run` with `params`, checking the map after every step. Returns the steps taken, the
-/// first failure (snapshot, message, and whether it was a panic) and the map at the end.
-pub fn map_checked(run: &Run, params: &Params) -> (usize, Option<(usize, String, bool)>, Map) {
+/// Segment checks per step the soak spends on invariants, on average: a map of `n` segments is
+/// checked every `n / SEGMENT_CHECKS_PER_STEP` steps (every step while it is smaller), so a
+/// paper map that grows to tens of thousands of segments does not make the soak quadratic.
+pub const SEGMENT_CHECKS_PER_STEP: usize = 2_000;
+
+/// A run mapped with its map checked ([`map_checked`]).
+#[derive(Clone, Debug)]
+pub struct CheckedRun {
+    /// Steps taken (up to and including a failed one).
+    pub steps: usize,
+    /// Invariant checks made.
+    pub checks: usize,
+    /// The first failure: snapshot, message, and whether it was a panic.
+    pub failure: Option<(usize, String, bool)>,
+    /// The map at the end (or at the failure).
+    pub map: Map,
+}
+
+/// Maps `run` with `params`; every step is guarded ([`Mapper::try_step`]) and the map is
+/// checked ([`Map::check_invariants`]) after every step, or, with `every_step` false, as often
+/// as [`SEGMENT_CHECKS_PER_STEP`] allows, and after the last.
+pub fn map_checked(run: &Run, params: &Params, every_step: bool) -> CheckedRun {
     let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor).with_trace(false);
+    let mut out = CheckedRun {
+        steps: 0,
+        checks: 0,
+        failure: None,
+        map: Map::default(),
+    };
+    let mut since_check = 0;
     for (i, snapshot) in run.snapshots.iter().enumerate() {
+        out.steps = i + 1;
         if let Err(failure) = mapper.try_step(snapshot) {
-            return (
-                i + 1,
-                Some((i, failure.message, true)),
-                mapper.map().clone(),
-            );
+            out.failure = Some((i, failure.message, true));
+            break;
         }
-        if let Err(broken) = mapper.map().check_invariants(params.support_cap) {
-            return (i + 1, Some((i, broken, false)), mapper.map().clone());
+        since_check += 1;
+        let last = i + 1 == run.snapshots.len();
+        let due = mapper.map().segments.len() / SEGMENT_CHECKS_PER_STEP;
+        if every_step || last || since_check > due {
+            since_check = 0;
+            out.checks += 1;
+            if let Err(broken) = mapper.map().check_invariants(params.support_cap) {
+                out.failure = Some((i, broken, false));
+                break;
+            }
         }
     }
-    (run.snapshots.len(), None, mapper.map().clone())
+    out.map = mapper.map().clone();
+    out
 }
 
 /// The lap run of scene `kind` drawn from `seed`, repeated to `snapshots`; every other seed
@@ -133,11 +170,12 @@ pub fn soak(
         for kind in SceneKind::ALL {
             let run = family_run(kind, seed, snapshots);
             for (variant, params) in &variants {
-                let (steps, failure, map) = map_checked(&run, params);
+                let checked = map_checked(&run, params, false);
                 report.runs += 1;
-                report.snapshots += steps;
-                report.largest_map = report.largest_map.max(map.segments.len());
-                if let Some((snapshot, message, panicked)) = failure {
+                report.snapshots += checked.steps;
+                report.invariant_checks += checked.checks;
+                report.largest_map = report.largest_map.max(checked.map.segments.len());
+                if let Some((snapshot, message, panicked)) = checked.failure {
                     if panicked {
                         report.panics += 1;
                     } else {

@@ -40,6 +40,26 @@ impl Clusters {
 /// Neighbours are consecutive kept points in that order; a cluster ends where their distance
 /// exceeds `t_gap_m` (strictly). With a wrapping layout the chain is circular: when it has at
 /// least one break, clusters start just after a break, so a face across sensor 0 stays whole.
+///
+/// ```
+/// use sonarmap::geometry::Point;
+/// use sonarmap::mapping::map::ReadingRef;
+/// use sonarmap::mapping::SupportPoint;
+/// let q = |sensor: usize, x: f64, y: f64, range_m: f64| SupportPoint {
+///     point: Point::new(x, y),
+///     range_m,
+///     reading: ReadingRef { snapshot: 0, sensor },
+/// };
+/// use sonarmap::mapping::cluster::{cluster_points, sensor_ranks, Clusters};
+/// // Sensors 0..4 in bearing order, not wrapping; t_gap = 1 m. Gaps: 0.5, 1.5 (a break), 1.0
+/// // (not a break: the test is strict).
+/// let kept = [q(0, 0.0, 0.0, 1.0), q(1, 0.5, 0.0, 1.0), q(2, 2.0, 0.0, 1.0), q(3, 3.0, 0.0, 1.0)];
+/// let mut clusters = Clusters::default();
+/// cluster_points(&kept, &sensor_ranks(&[0, 1, 2, 3]), false, 1.0, &mut clusters);
+/// let found: Vec<Vec<usize>> = clusters.iter().map(|c| c.to_vec()).collect();
+/// assert_eq!(found, vec![vec![0, 1], vec![2, 3]]);
+/// assert_eq!(clusters.gaps.iter().filter(|g| g.is_break).count(), 1);
+/// ```
 pub fn cluster_points(
     kept: &[SupportPoint],
     rank_of_sensor: &[usize],

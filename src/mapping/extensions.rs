@@ -15,6 +15,26 @@ fn same_depth(accuracy_pct: f64, d1: f64, d2: f64) -> bool {
 /// cluster, each maximal run (scanning in chain order) of three or more consecutive readings
 /// whose ranges pass the ball test pairwise is replaced by its middle reading (the lower
 /// middle for an even run). Returns the reduced points and what was replaced.
+///
+/// ```
+/// use sonarmap::geometry::Point;
+/// use sonarmap::mapping::map::ReadingRef;
+/// use sonarmap::mapping::SupportPoint;
+/// let q = |sensor: usize, x: f64, y: f64, range_m: f64| SupportPoint {
+///     point: Point::new(x, y),
+///     range_m,
+///     reading: ReadingRef { snapshot: 0, sensor },
+/// };
+/// use sonarmap::mapping::extensions::reduce_constant_depth;
+/// // Ranges 2.00, 2.05, 2.10, 3.00 at ξ = 3: |2.00 − 2.10| = 0.10 ≤ 0.03·4.10 = 0.123, so the
+/// // first three pass pairwise and become their middle reading (sensor 1); 3.00 fails with all.
+/// let chain = [q(0, 0.0, 2.0, 2.0), q(1, 1.0, 2.05, 2.05), q(2, 2.0, 2.1, 2.1), q(3, 3.0, 3.0, 3.0)];
+/// let (reduced, groups) = reduce_constant_depth(&chain, 3.0);
+/// let sensors: Vec<usize> = reduced.iter().map(|p| p.reading.sensor).collect();
+/// assert_eq!(sensors, vec![1, 3]);
+/// assert_eq!(groups[0].sensors, vec![0, 1, 2]);
+/// assert_eq!(groups[0].kept_sensor, 1);
+/// ```
 pub fn reduce_constant_depth(
     points: &[SupportPoint],
     accuracy_pct: f64,

@@ -22,6 +22,29 @@ pub fn split_tolerance(params: &Params, range_m: f64) -> f64 {
 
 /// Splits `points` recursively; appends the pieces to `pieces` as `[first, last]` index pairs
 /// in order and every test to `splits`.
+///
+/// ```
+/// use sonarmap::geometry::Point;
+/// use sonarmap::mapping::map::ReadingRef;
+/// use sonarmap::mapping::SupportPoint;
+/// let q = |sensor: usize, x: f64, y: f64, range_m: f64| SupportPoint {
+///     point: Point::new(x, y),
+///     range_m,
+///     reading: ReadingRef { snapshot: 0, sensor },
+/// };
+/// use sonarmap::mapping::fit::split_recursive;
+/// use sonarmap::mapping::Params;
+/// // A corner: (0, 2) (1, 2) (2, 2) (2, 1), read at 2 m (tolerance 0.03·2 = 0.06 m). The line
+/// // (0, 2)–(2, 1) leaves (2, 2) 2/√5 ≈ 0.894 m away (the farthest): split there. Then
+/// // (0, 2)–(2, 2) holds (1, 2) exactly, and (2, 2)–(2, 1) is two points: two pieces.
+/// let points = [q(0, 0.0, 2.0, 2.0), q(1, 1.0, 2.0, 2.0), q(2, 2.0, 2.0, 2.0), q(3, 2.0, 1.0, 2.0)];
+/// let (mut splits, mut pieces) = (Vec::new(), Vec::new());
+/// split_recursive(&points, &Params::paper(), &mut splits, &mut pieces);
+/// assert_eq!(pieces, vec![[0, 2], [2, 3]]);
+/// assert_eq!(splits[0].farthest, Some(2));
+/// assert!((splits[0].deviation_m - 2.0 / 5f64.sqrt()).abs() < 1e-12);
+/// assert!((splits[0].tolerance_m - 0.06).abs() < 1e-12);
+/// ```
 pub fn split_recursive(
     points: &[SupportPoint],
     params: &Params,

@@ -26,6 +26,27 @@ pub fn discard_reason(
 /// in sensor order, in `kept` (its previous content is dropped). `beam_axes` are the layout's
 /// ([`crate::sonar::SensorLayout::beam_axes`]). Ranges beyond the sensor count are ignored;
 /// missing ones count as no echo.
+///
+/// ```
+/// use sonarmap::geometry::Pose;
+/// use sonarmap::mapping::readings::convert_readings;
+/// use sonarmap::mapping::Params;
+/// use sonarmap::sonar::SensorLayout;
+/// // A 4-sonar ring of radius 0.2 m, the robot at (1, 0) facing +y (90°): sonar 1 faces
+/// // 90° + 90° = 180°, so a 1.8 m echo lands at (1, 0) + 0.2·(−1, 0) + 1.8·(−1, 0) = (−1, 0).
+/// // Sonar 0's 0.1 m is below min_range (6 in), sonar 2 has no echo, sonar 3's 7 m is beyond
+/// // d_max (255 in = 6.477 m).
+/// let layout = SensorLayout::ring(4, std::f64::consts::FRAC_PI_2, 0.0, 0.2);
+/// let ranges = [Some(0.1), Some(1.8), None, Some(7.0)];
+/// let mut kept = Vec::new();
+/// let pose = Pose::new(1.0, 0.0, std::f64::consts::FRAC_PI_2);
+/// let traces = convert_readings(3, &pose, &ranges, &layout.beam_axes(), 10.0, &Params::paper(), &mut kept);
+/// assert_eq!(traces.len(), 4);
+/// assert_eq!(kept.len(), 1);
+/// assert!((kept[0].point.x + 1.0).abs() < 1e-12 && kept[0].point.y.abs() < 1e-12);
+/// assert_eq!((kept[0].reading.snapshot, kept[0].reading.sensor), (3, 1));
+/// assert_eq!(traces.iter().filter(|t| t.discarded.is_some()).count(), 3);
+/// ```
 pub fn convert_readings(
     snapshot: usize,
     pose: &Pose,

@@ -250,6 +250,19 @@ fn labelled(e: [EndPoint; 2], n_left: EndPoint, n_right: EndPoint) -> [Labelled;
 /// MATCH (MPC) update, Figure 1: `u_L`, `u_R` are the more confident of `{e_L, n_L}` and
 /// `{e_R, n_R}`; `l_u` runs through them; the two others are projected on `l_u` and the result
 /// is the longest segment on `l_u` covering all four projections.
+///
+/// ```
+/// use sonarmap::geometry::Point;
+/// use sonarmap::mapping::update::update_match;
+/// use sonarmap::mapping::EndPoint;
+/// let end = |x: f64, y: f64, d: f64| EndPoint { point: Point::new(x, y), range_m: d };
+/// // l_e (0,0)–(10,0) read at 60 and 40; l_n (−4,1)–(8,0.2) read at 50 and 45. u_L = n_L
+/// // (50 < 60), u_R = e_R (40 < 45): l_u runs from (−4, 1) to (10, 0). e_L and n_R project
+/// // inside it, so the result is u_L–u_R, in l_e's direction, each end keeping its range.
+/// let g = update_match([end(0.0, 0.0, 60.0), end(10.0, 0.0, 40.0)], end(-4.0, 1.0, 50.0), end(8.0, 0.2, 45.0));
+/// assert_eq!(g.ends, [end(-4.0, 1.0, 50.0), end(10.0, 0.0, 40.0)]);
+/// assert!(!g.fallback_tls);
+/// ```
 pub fn update_match(e: [EndPoint; 2], n_left: EndPoint, n_right: EndPoint) -> UpdateGeometry {
     let [el, er, nl, nr] = labelled(e, n_left, n_right);
     let (ul, low_l) = more_confident(&el, &nl);

@@ -173,10 +173,13 @@ const LAP_RUN_SNAPSHOTS: usize = 400;
 #[test]
 fn every_scene_kind_in_every_parameter_set_keeps_the_map_consistent_over_laps() {
     // Six kinds × seven parameter sets (both presets, each extension flag alone), the map
-    // checked after every step; the report counts what failed.
+    // checked after every step (these maps stay under SEGMENT_CHECKS_PER_STEP segments); the
+    // report counts what failed.
     let report = sonarmap::soak::soak(1, LAP_RUN_SNAPSHOTS, 3, |_| {});
     assert_eq!(report.runs, 6 * 7);
     assert_eq!(report.snapshots, 6 * 7 * LAP_RUN_SNAPSHOTS);
+    assert!(report.largest_map < sonarmap::soak::SEGMENT_CHECKS_PER_STEP);
+    assert_eq!(report.invariant_checks, report.snapshots);
     assert_eq!(report.failures, vec![], "panics or broken invariants");
 }
 
@@ -190,10 +193,10 @@ proptest! {
     ) {
         let (name, params) = sonarmap::soak::soak_variants().swap_remove(variant);
         let run = sonarmap::soak::family_run(kind, seed, LAP_RUN_SNAPSHOTS);
-        let (steps, failure, map) = sonarmap::soak::map_checked(&run, &params);
-        prop_assert_eq!(failure, None, "{:?} seed {} with {}", kind, seed, name);
-        prop_assert_eq!(steps, LAP_RUN_SNAPSHOTS);
-        prop_assert!(!map.segments.is_empty() || run.snapshots.is_empty() || name != "extended");
+        let checked = sonarmap::soak::map_checked(&run, &params, true);
+        prop_assert_eq!(checked.failure, None, "{:?} seed {} with {}", kind, seed, name);
+        prop_assert_eq!(checked.steps, LAP_RUN_SNAPSHOTS);
+        prop_assert_eq!(checked.checks, LAP_RUN_SNAPSHOTS, "checked after every step");
     }
 }
 
