@@ -137,17 +137,7 @@ impl Mapper {
         let reach_m = if self.brute_force {
             f64::INFINITY
         } else {
-            let h = (new.b.point - new.a.point).norm() / 2.0;
-            let thr = self.params.accuracy_pct / 100.0
-                * (self.map.max_end_range_m + (new.a.range_m + new.b.range_m) / 2.0);
-            let theta = self.params.orientation_rad;
-            let containment = if theta < 89f64.to_radians() {
-                thr + (h + thr) * theta.tan()
-            } else {
-                f64::INFINITY
-            };
-            // A little slack for rounding: pruning must never drop a candidate that passes.
-            (thr + h).max(containment) * (1.0 + 1e-9) + 1e-9
+            candidate_reach_m(&self.params, self.map.max_end_range_m, new)
         };
         let radius_m = reach_m + (new.b.point - new.a.point).norm() / 2.0;
         self.map
@@ -562,6 +552,23 @@ impl Mapper {
             }
         }
     }
+}
+
+/// How far from new segment `new` a map segment can lie and still pass a §4 test, or fail
+/// only its orientation, under `params` with `max_end_range_m` the largest end-point range in
+/// the map (the bound of [`Mapper`]'s candidate search; docs/algorithm.md §4).
+pub fn candidate_reach_m(params: &Params, max_end_range_m: f64, new: &SegmentEnds) -> f64 {
+    let h = (new.b.point - new.a.point).norm() / 2.0;
+    let thr =
+        params.accuracy_pct / 100.0 * (max_end_range_m + (new.a.range_m + new.b.range_m) / 2.0);
+    let theta = params.orientation_rad;
+    let containment = if theta < 89f64.to_radians() {
+        thr + (h + thr) * theta.tan()
+    } else {
+        f64::INFINITY
+    };
+    // A little slack for rounding: pruning must never drop a candidate that passes.
+    (thr + h).max(containment) * (1.0 + 1e-9) + 1e-9
 }
 
 /// What §3 made of a step's clusters.
