@@ -3,7 +3,7 @@
 use super::bookmarks::bookmarks_ui;
 use super::command::Command;
 use super::decisions::decisions_ui;
-use super::inspector::{hover_text, inspector_ui, CompareState, InspectCtx};
+use super::inspector::{describe_id, hover_text, inspector_ui, CompareState, InspectCtx};
 use super::layers::layers_ui;
 use super::map_view::{map_view_ui, MapViewState, ViewRequest};
 use super::menu::{handle_shortcuts, menu_bar_ui, shortcuts_window_ui};
@@ -1396,22 +1396,6 @@ impl SonarApp {
             ui.separator();
             ui.label(&self.message);
         });
-    }
-}
-
-/// A short name of a scene id, for messages.
-pub fn describe_id(id: SceneId) -> String {
-    match id {
-        SceneId::None => "nothing".to_owned(),
-        SceneId::Robot => "the robot".to_owned(),
-        SceneId::FloorPlan => "the floor plan".to_owned(),
-        SceneId::Reading { snapshot, sensor } => format!("reading {snapshot}/{sensor}"),
-        SceneId::Cluster(i) => format!("cluster {i}"),
-        SceneId::NewSegment(i) | SceneId::Decision { new_segment: i, .. } => {
-            format!("new segment n{i}")
-        }
-        SceneId::MapSegment(id) | SceneId::Update(id) => format!("segment #{id}"),
-        SceneId::Correlation(i) => format!("correlation {i}"),
     }
 }
 

@@ -23,13 +23,13 @@ mod scene_item;
 mod timeline;
 
 pub use app::{
-    bookmarks_path, describe_id, Bookmark, LeftTab, Settings, SonarApp, Source,
-    BACKGROUND_MIN_SNAPSHOTS, SETTINGS_KEY,
+    bookmarks_path, Bookmark, LeftTab, Settings, SonarApp, Source, BACKGROUND_MIN_SNAPSHOTS,
+    SETTINGS_KEY,
 };
 pub use command::Command;
 pub use decisions::decision_row_text;
 pub use headless::{FrameStats, HeadlessMapView};
-pub use inspector::{outcome_name, CompareState};
+pub use inspector::{describe_id, outcome_name, CompareState};
 pub use map_view::{MapViewState, ViewRequest};
 pub use params_panel::{format_number, ParamsPanelState};
 pub use timeline::snapshot_label;

@@ -1,0 +1,148 @@
+//! The inspector: everything the trace says about the selection, one file per kind of
+//! selection. A new segment shows its cluster, the fitting splits and the table of every
+//! candidate with the three tests; a map segment shows its history, its update fates in this
+//! step and "compare with…"; a reading shows sensor, pose, range, point and ball. It only reads
+//! the trace (docs/architecture.md: the trace is data); "compare with…" calls the engine's own
+//! `evaluate_pair`.
+//!
+//! Files: `overview` (nothing selected, the robot, the floor plan), `reading`, `segment` (a
+//! cluster and its new segments), `decision` (candidates, baseline, outcome), `map_segment`
+//! (a map segment or update, "compare with…"), `correlation`; `widgets` and `names` are shared.
+
+mod correlation;
+mod decision;
+mod map_segment;
+mod names;
+mod overview;
+mod reading;
+mod segment;
+mod widgets;
+
+pub use names::{describe_id, outcome_name};
+
+use super::command::Command;
+use crate::geometry::Point;
+use crate::mapping::map::EndPoint;
+use crate::mapping::trace::PairEvaluation;
+use crate::mapping::{Params, SegmentId};
+use crate::replay::StepView;
+use crate::run::Run;
+use crate::scene::{format_length, SceneId};
+use crate::units::Units;
+
+/// What the inspector reads.
+#[derive(Clone, Copy)]
+pub struct InspectCtx<'a> {
+    /// The run.
+    pub run: &'a Run,
+    /// The step shown.
+    pub view: &'a StepView,
+    /// The mapping parameters.
+    pub params: &'a Params,
+    /// The pinned baseline's parameters and its step at the same snapshot.
+    pub baseline: Option<(&'a Params, &'a StepView)>,
+}
+
+impl InspectCtx<'_> {
+    fn units(&self) -> Units {
+        self.run.units
+    }
+
+    fn len(&self, m: f64) -> String {
+        format_length(m, self.units())
+    }
+
+    fn point(&self, p: &Point) -> String {
+        let u = self.units();
+        format!(
+            "({:.1}, {:.1}) {}",
+            u.from_m(p.x),
+            u.from_m(p.y),
+            u.symbol()
+        )
+    }
+
+    fn end(&self, e: &EndPoint) -> String {
+        format!("{}  D = {}", self.point(&e.point), self.len(e.range_m))
+    }
+}
+
+/// The state of "compare with…".
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum CompareState {
+    /// Not comparing.
+    #[default]
+    Off,
+    /// Waiting for the user to click the segment to compare map segment `.0` with.
+    Armed(SegmentId),
+    /// The three tests of `other` (as `l_n`) against `existing` (as `l_e`).
+    Done {
+        /// The map segment (`l_e`).
+        existing: SegmentId,
+        /// What it was compared with (`l_n`).
+        other: SceneId,
+        /// The engine's evaluation.
+        eval: Box<PairEvaluation>,
+    },
+}
+
+/// Draws the inspector for `selection`.
+pub fn inspector_ui(
+    ui: &mut egui::Ui,
+    ctx: &InspectCtx,
+    selection: SceneId,
+    compare: &CompareState,
+) -> Vec<Command> {
+    let mut commands = Vec::new();
+    match selection {
+        SceneId::None => {
+            overview::nothing_ui(ui, ctx);
+        }
+        SceneId::NewSegment(i) | SceneId::Decision { new_segment: i, .. } => {
+            segment::new_segment_ui(ui, ctx, i, &mut commands)
+        }
+        SceneId::MapSegment(id) | SceneId::Update(id) => {
+            map_segment::map_segment_ui(ui, ctx, id, compare, &mut commands)
+        }
+        SceneId::Reading { snapshot, sensor } => {
+            reading::reading_ui(ui, ctx, snapshot, sensor, &mut commands)
+        }
+        SceneId::Cluster(c) => segment::cluster_ui(ui, ctx, c, &mut commands),
+        SceneId::Correlation(c) => correlation::correlation_ui(ui, ctx, c),
+        SceneId::Robot => overview::robot_ui(ui, ctx),
+        SceneId::FloorPlan => overview::floor_plan_ui(ui),
+    }
+    commands
+}
+
+/// The hover text of a scene id (the map view's tooltip).
+pub fn hover_text(ctx: &InspectCtx, id: SceneId) -> Option<String> {
+    match id {
+        SceneId::Reading { snapshot, sensor } => reading::reading_hover(ctx, snapshot, sensor),
+        SceneId::MapSegment(sid) | SceneId::Update(sid) => map_segment::map_segment_hover(ctx, sid),
+        SceneId::NewSegment(i) | SceneId::Decision { new_segment: i, .. } => {
+            segment::new_segment_hover(ctx, id, i)
+        }
+        SceneId::Cluster(c) => segment::cluster_hover(ctx, c),
+        SceneId::Correlation(c) => correlation::correlation_hover(ctx, c),
+        SceneId::Robot => overview::robot_hover(ctx),
+        SceneId::FloorPlan => Some("floor plan (ground truth)".to_owned()),
+        SceneId::None => None,
+    }
+}
+
+/// The mid-point of what `id` shows, for centring the view (metres).
+pub fn centre_of(view: &StepView, id: SceneId) -> Option<Point> {
+    match id {
+        SceneId::NewSegment(i) | SceneId::Decision { new_segment: i, .. } => {
+            let s = view.trace.new_segments.get(i)?;
+            Some(nalgebra::center(&s.a.point, &s.b.point))
+        }
+        SceneId::MapSegment(s) | SceneId::Update(s) => view
+            .map_after
+            .segment(s)
+            .or_else(|| view.map_before.segment(s))
+            .map(|s| s.mid()),
+        _ => None,
+    }
+}
