@@ -1,18 +1,18 @@
 //! The inspector's runtime state, [`SonarApp`]: the open run, the step shown, the selection,
-//! the background work and the panels' state, beside the persisted [`Settings`]. It changes in
-//! one place, [`SonarApp::apply`] (`apply.rs`), from the [`Command`]s the panels return;
-//! `frame.rs` lays out one frame and `loading.rs` opens runs and installs what background jobs
-//! built.
+//! the background work and the panels' state, beside the persisted [`Settings`], and what can
+//! be asked of it. Its methods are spread by concern, each file depending only on those before
+//! it: `loading.rs` (the constructors, opening runs, installing what background jobs built),
+//! `apply.rs` (the one place where [`Command`]s change the state) and `frame.rs` (one frame).
 
 use super::baseline::Baseline;
 use super::bookmarks::Bookmark;
 use super::command::Command;
 use super::inspector::CompareState;
-use super::jobs::{ReplayJob, BACKGROUND_MIN_SNAPSHOTS};
+use super::jobs::ReplayJob;
 use super::loaded::{Loaded, Source};
 use super::map_view::MapViewState;
 use super::params_panel::ParamsPanelState;
-use super::settings::{Settings, SETTINGS_KEY};
+use super::settings::Settings;
 use crate::diff::{DecisionDifference, RunDiff};
 use crate::mapping::matching::SegmentEnds;
 use crate::mapping::{Outcome, Params};
@@ -48,50 +48,6 @@ pub struct SonarApp {
 }
 
 impl SonarApp {
-    /// The app on `run` (shown as built in), with settings from `storage` when given.
-    pub fn new(run: Run, storage: Option<&dyn eframe::Storage>) -> Self {
-        let name = run.name.clone();
-        Self::with_source(run, Source::BuiltIn(name), storage)
-    }
-
-    /// The app on `run`, which came from `source`.
-    pub fn with_source(run: Run, source: Source, storage: Option<&dyn eframe::Storage>) -> Self {
-        let (settings, notice) = Settings::load_with_notice(storage);
-        let params = settings.params.clone().unwrap_or_else(Params::paper);
-        let loaded = Loaded::prepare(run, source, &params);
-        let mut app = SonarApp {
-            settings,
-            params,
-            loaded,
-            background: None,
-            background_min_snapshots: BACKGROUND_MIN_SNAPSHOTS,
-            view: None,
-            playing: false,
-            play_clock_s: 0.0,
-            selection: SceneId::None,
-            compare: CompareState::Off,
-            decision_filter: None,
-            banner: None,
-            message: String::new(),
-            map_view: MapViewState::default(),
-            pending: Vec::new(),
-            show_shortcuts: false,
-            jump_text: String::new(),
-            params_panel: ParamsPanelState::default(),
-            baseline: None,
-            bookmarks: Vec::new(),
-            bookmark_text: String::new(),
-            last_rerun_s: None,
-        };
-        app.seek(0);
-        app.load_bookmarks();
-        app.message = match notice {
-            Some(n) => n,
-            None => format!("opened {}", app.loaded.source.display_name()),
-        };
-        app
-    }
-
     /// Replays runs of at least `snapshots` snapshots in the background (default
     /// [`BACKGROUND_MIN_SNAPSHOTS`]).
     pub fn set_background_threshold(&mut self, snapshots: usize) {
@@ -301,18 +257,6 @@ impl SonarApp {
                 Some(SegmentEnds { a: s.a, b: s.b })
             }
             _ => None,
-        }
-    }
-}
-
-impl eframe::App for SonarApp {
-    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
-        SonarApp::ui(self, ui);
-    }
-
-    fn save(&mut self, storage: &mut dyn eframe::Storage) {
-        if let Ok(text) = serde_json::to_string(&self.settings) {
-            storage.set_string(SETTINGS_KEY, text);
         }
     }
 }

@@ -4,7 +4,7 @@
 
 use super::app::SonarApp;
 use super::baseline::Baseline;
-use super::bookmarks::{read_sidecar, write_sidecar, Bookmark};
+use super::bookmarks::{write_sidecar, Bookmark};
 use super::command::Command;
 use super::inspector::{describe_id, CompareState};
 use super::jobs::JobKind;
@@ -312,22 +312,6 @@ impl SonarApp {
             self.message = format!("removed bookmark {:?}", b.name);
             self.save_bookmarks();
         }
-    }
-
-    /// Reads the open run's bookmarks: the settings' for the built-in run, the sidecar file's
-    /// for a log file, none for a dropped file.
-    pub(super) fn load_bookmarks(&mut self) {
-        self.bookmarks = match &self.loaded.source {
-            Source::BuiltIn(_) => self.settings.builtin_bookmarks.clone(),
-            Source::Bytes(_) => Vec::new(),
-            Source::File(path) => match read_sidecar(path) {
-                Ok(bookmarks) => bookmarks,
-                Err(message) => {
-                    self.message = message;
-                    Vec::new()
-                }
-            },
-        };
     }
 
     fn save_bookmarks(&mut self) {

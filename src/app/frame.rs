@@ -1,6 +1,7 @@
 //! One frame of the window: the queued and new commands applied, playback advanced, and the
 //! panels laid out (menu bar, error banner, status bar, timeline, the left pages, the inspector
-//! with the decision list, the map view). Panels only draw and return [`Command`]s.
+//! with the decision list, the map view). Panels only draw and return [`Command`]s. The eframe
+//! glue (a frame, saving the settings) is here too.
 
 use super::app::SonarApp;
 use super::bookmarks_panel::bookmarks_ui;
@@ -12,7 +13,7 @@ use super::layers::layers_ui;
 use super::map_view::map_view_ui;
 use super::menu::{handle_shortcuts, menu_bar_ui, shortcuts_window_ui};
 use super::params_panel::{params_panel_ui, ParamsPanelInfo};
-use super::settings::LeftTab;
+use super::settings::{LeftTab, SETTINGS_KEY};
 use super::timeline::{timeline_ui, TimelineInfo};
 use crate::scene::{format_length, Scene, SceneId};
 
@@ -307,5 +308,17 @@ impl SonarApp {
                 })
                 .collect()
         })
+    }
+}
+
+impl eframe::App for SonarApp {
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        SonarApp::ui(self, ui);
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        if let Ok(text) = serde_json::to_string(&self.settings) {
+            storage.set_string(SETTINGS_KEY, text);
+        }
     }
 }

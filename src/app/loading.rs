@@ -1,14 +1,18 @@
-//! Opening a run and installing replays. A file or dropped bytes are imported; a small run is
-//! replayed on the spot, a large one (and the open run under new parameters) on a thread
-//! ([`super::jobs`]), and installed when done. The baseline's comparison is started and
-//! collected here too.
+//! Opening a run and installing replays: the app's constructors (the first run), then a file
+//! or dropped bytes imported, replayed on the spot when small or on a thread ([`super::jobs`])
+//! when large or re-run under new parameters, and installed when done with its bookmarks. The
+//! baseline's comparison is started and collected here too.
 
 use super::app::SonarApp;
+use super::bookmarks::read_sidecar;
 use super::inspector::CompareState;
-use super::jobs::{JobKind, JobPoll, ReplayJob};
+use super::jobs::{JobKind, JobPoll, ReplayJob, BACKGROUND_MIN_SNAPSHOTS};
 use super::loaded::{Loaded, Source};
-use super::map_view::ViewRequest;
+use super::map_view::{MapViewState, ViewRequest};
+use super::params_panel::ParamsPanelState;
+use super::settings::Settings;
 use crate::import::{import_any, ImportOptions};
+use crate::mapping::Params;
 use crate::replay::Replay;
 use crate::run::Run;
 use crate::scene::SceneId;
@@ -16,6 +20,50 @@ use std::path::Path;
 use std::sync::Arc;
 
 impl SonarApp {
+    /// The app on `run` (shown as built in), with settings from `storage` when given.
+    pub fn new(run: Run, storage: Option<&dyn eframe::Storage>) -> Self {
+        let name = run.name.clone();
+        Self::with_source(run, Source::BuiltIn(name), storage)
+    }
+
+    /// The app on `run`, which came from `source`.
+    pub fn with_source(run: Run, source: Source, storage: Option<&dyn eframe::Storage>) -> Self {
+        let (settings, notice) = Settings::load_with_notice(storage);
+        let params = settings.params.clone().unwrap_or_else(Params::paper);
+        let loaded = Loaded::prepare(run, source, &params);
+        let mut app = SonarApp {
+            settings,
+            params,
+            loaded,
+            background: None,
+            background_min_snapshots: BACKGROUND_MIN_SNAPSHOTS,
+            view: None,
+            playing: false,
+            play_clock_s: 0.0,
+            selection: SceneId::None,
+            compare: CompareState::Off,
+            decision_filter: None,
+            banner: None,
+            message: String::new(),
+            map_view: MapViewState::default(),
+            pending: Vec::new(),
+            show_shortcuts: false,
+            jump_text: String::new(),
+            params_panel: ParamsPanelState::default(),
+            baseline: None,
+            bookmarks: Vec::new(),
+            bookmark_text: String::new(),
+            last_rerun_s: None,
+        };
+        app.seek(0);
+        app.load_bookmarks();
+        app.message = match notice {
+            Some(n) => n,
+            None => format!("opened {}", app.loaded.source.display_name()),
+        };
+        app
+    }
+
     /// Waits (sleeping) until no background work is left, at most `timeout`; for tests and
     /// measurements. Returns false on timeout.
     pub fn wait_idle(&mut self, timeout: std::time::Duration) -> bool {
@@ -173,5 +221,21 @@ impl SonarApp {
                 self.loaded.source.display_name()
             ));
         }
+    }
+
+    /// Reads the open run's bookmarks: the settings' for the built-in run, the sidecar file's
+    /// for a log file, none for a dropped file.
+    pub(super) fn load_bookmarks(&mut self) {
+        self.bookmarks = match &self.loaded.source {
+            Source::BuiltIn(_) => self.settings.builtin_bookmarks.clone(),
+            Source::Bytes(_) => Vec::new(),
+            Source::File(path) => match read_sidecar(path) {
+                Ok(bookmarks) => bookmarks,
+                Err(message) => {
+                    self.message = message;
+                    Vec::new()
+                }
+            },
+        };
     }
 }

@@ -1,8 +1,8 @@
 //! A correlation: the two ends it joined, d_min against t_gap, and what it made (a corner, an
 //! interpolated link, a shared end-point or nothing).
 
+use super::context::InspectCtx;
 use super::widgets::{heading, kv, FAIL, PASS};
-use super::InspectCtx;
 use crate::mapping::trace::CorrelationKind;
 use egui::RichText;
 

@@ -1,9 +1,9 @@
 //! A decision: the table of every candidate with the three tests (orientation, colinearity,
 //! overlap), the same candidates under a pinned baseline, and the outcome with its rule.
 
+use super::context::InspectCtx;
 use super::names::{outcome_name, rule_name};
 use super::widgets::{coloured, heading, kv, test_cells, FAIL, PASS};
-use super::InspectCtx;
 use crate::app::command::Command;
 use crate::app::timeline::BASELINE_COLOUR;
 use crate::mapping::map::ReadingRef;

@@ -2,9 +2,9 @@
 //! updates of this step moved each end, the decisions against it, and "compare with…", which
 //! runs the engine's own three tests against the next segment clicked.
 
+use super::context::{CompareState, InspectCtx};
 use super::names::{describe_id, outcome_name};
 use super::widgets::{coloured, heading, kv, test_cells, verdict, FAIL};
-use super::{CompareState, InspectCtx};
 use crate::app::command::Command;
 use crate::mapping::map::Segment;
 use crate::mapping::trace::{EndOrigin, EndRole, PairEvaluation, UpdateTrace};

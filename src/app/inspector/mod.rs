@@ -7,8 +7,10 @@
 //!
 //! Files: `overview` (nothing selected, the robot, the floor plan), `reading`, `segment` (a
 //! cluster and its new segments), `decision` (candidates, baseline, outcome), `map_segment`
-//! (a map segment or update, "compare with…"), `correlation`; `widgets` and `names` are shared.
+//! (a map segment or update, "compare with…"), `correlation`; `context` (what the pages
+//! read), `widgets` and `names` are shared.
 
+mod context;
 mod correlation;
 mod decision;
 mod map_segment;
@@ -18,73 +20,13 @@ mod reading;
 mod segment;
 mod widgets;
 
+pub use context::{CompareState, InspectCtx};
 pub use names::{describe_id, outcome_name};
 
 use super::command::Command;
 use crate::geometry::Point;
-use crate::mapping::map::EndPoint;
-use crate::mapping::trace::PairEvaluation;
-use crate::mapping::{Params, SegmentId};
 use crate::replay::StepView;
-use crate::run::Run;
-use crate::scene::{format_length, SceneId};
-use crate::units::Units;
-
-/// What the inspector reads.
-#[derive(Clone, Copy)]
-pub struct InspectCtx<'a> {
-    /// The run.
-    pub run: &'a Run,
-    /// The step shown.
-    pub view: &'a StepView,
-    /// The mapping parameters.
-    pub params: &'a Params,
-    /// The pinned baseline's parameters and its step at the same snapshot.
-    pub baseline: Option<(&'a Params, &'a StepView)>,
-}
-
-impl InspectCtx<'_> {
-    fn units(&self) -> Units {
-        self.run.units
-    }
-
-    fn len(&self, m: f64) -> String {
-        format_length(m, self.units())
-    }
-
-    fn point(&self, p: &Point) -> String {
-        let u = self.units();
-        format!(
-            "({:.1}, {:.1}) {}",
-            u.from_m(p.x),
-            u.from_m(p.y),
-            u.symbol()
-        )
-    }
-
-    fn end(&self, e: &EndPoint) -> String {
-        format!("{}  D = {}", self.point(&e.point), self.len(e.range_m))
-    }
-}
-
-/// The state of "compare with…".
-#[derive(Clone, Debug, Default, PartialEq)]
-pub enum CompareState {
-    /// Not comparing.
-    #[default]
-    Off,
-    /// Waiting for the user to click the segment to compare map segment `.0` with.
-    Armed(SegmentId),
-    /// The three tests of `other` (as `l_n`) against `existing` (as `l_e`).
-    Done {
-        /// The map segment (`l_e`).
-        existing: SegmentId,
-        /// What it was compared with (`l_n`).
-        other: SceneId,
-        /// The engine's evaluation.
-        eval: Box<PairEvaluation>,
-    },
-}
+use crate::scene::SceneId;
 
 /// Draws the inspector for `selection`.
 pub fn inspector_ui(

@@ -1,8 +1,8 @@
 //! The step itself: the page with nothing selected (the parameters and the step's warnings),
 //! the robot and the floor plan.
 
+use super::context::InspectCtx;
 use super::widgets::{heading, kv, FAIL};
-use super::InspectCtx;
 use egui::RichText;
 
 /// The page with nothing selected.

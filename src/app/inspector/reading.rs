@@ -1,9 +1,9 @@
 //! A reading: sensor and robot pose, range, point, ball radius, and whether it was kept and in
 //! which cluster.
 
+use super::context::InspectCtx;
 use super::names::reason_name;
 use super::widgets::{heading, kv, FAIL, PASS};
-use super::InspectCtx;
 use crate::app::command::Command;
 use crate::scene::SceneId;
 use egui::RichText;

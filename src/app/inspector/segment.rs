@@ -1,10 +1,10 @@
 //! A cluster and the new segments fitted from it: end-points, the readings, the fitting splits
 //! (deviation against tolerance) and, for a new segment, its decision.
 
+use super::context::InspectCtx;
 use super::decision::decision_ui;
 use super::names::outcome_name;
 use super::widgets::{coloured, heading, kv};
-use super::InspectCtx;
 use crate::app::command::Command;
 use crate::mapping::trace::{SegmentSource, SplitTrace};
 use crate::scene::SceneId;
