@@ -1,7 +1,7 @@
 //! The A/B baseline: a pinned parameter set with its own replay, kept beside the current one,
 //! and the comparison of the two runs (computed on a thread, [`DiffJob`]).
 
-use super::jobs::{DiffJob, JobPoll};
+use super::jobs::{start_diff, DiffJob, JobPoll};
 use crate::diff::{diff_step, DecisionDifference, RunDiff};
 use crate::mapping::Params;
 use crate::replay::{Replay, StepView};
@@ -52,7 +52,7 @@ impl Baseline {
             return;
         }
         self.diff = None;
-        self.job = Some(DiffJob::start(run, self.params.clone(), current));
+        self.job = Some(start_diff(run, self.params.clone(), current));
     }
 
     /// Collects the comparison when done; gives the message to show then. Asks for another

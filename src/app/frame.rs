@@ -140,7 +140,7 @@ impl SonarApp {
             rerun_progress: self
                 .background
                 .as_ref()
-                .and_then(|j| matches!(j.kind, JobKind::Rerun).then(|| j.fraction())),
+                .and_then(|j| matches!(j.kind, JobKind::Rerun).then(|| j.task.fraction())),
             pinned: self.baseline.is_some(),
             diff_progress: self
                 .baseline
@@ -237,11 +237,11 @@ impl SonarApp {
             ui.separator();
             if let Some(job) = &self.background {
                 ui.spinner();
-                let done = job.done();
+                let done = job.task.done();
                 ui.add(
-                    egui::ProgressBar::new(done as f32 / job.total().max(1) as f32)
+                    egui::ProgressBar::new(done as f32 / job.task.total().max(1) as f32)
                         .desired_width(160.0)
-                        .text(format!("{}: {done} / {}", job.label, job.total())),
+                        .text(format!("{}: {done} / {}", job.label, job.task.total())),
                 );
                 ui.separator();
             }

@@ -15,14 +15,6 @@ use std::sync::Arc;
 /// Runs with at least this many snapshots are replayed on a background thread.
 pub const BACKGROUND_MIN_SNAPSHOTS: usize = 2000;
 
-/// What a background replay is for.
-pub(super) enum JobKind {
-    /// A run being opened.
-    Open { source: Source, keep_index: bool },
-    /// The open run under new parameters.
-    Rerun,
-}
-
 /// Where a job stands.
 pub(super) enum JobPoll<T> {
     /// Finished with this result.
@@ -33,69 +25,97 @@ pub(super) enum JobPoll<T> {
     Stopped,
 }
 
-/// Progress shared with a job's thread, and its cancel flag.
-struct Progress {
+/// Work on a thread over a number of snapshots: its progress, its cancel flag and its result.
+pub(super) struct Task<T> {
     total: usize,
     done: Arc<AtomicUsize>,
     cancel: Arc<AtomicBool>,
+    result: Receiver<T>,
 }
 
-impl Progress {
-    fn new(total: usize) -> Self {
-        Progress {
+impl<T: Send + 'static> Task<T> {
+    /// Runs `work` on a thread over `total` snapshots. `work` gets the progress callback the
+    /// engine calls with the snapshots done (it answers whether to go on) and gives its result,
+    /// if any. A cancelled task sends nothing.
+    fn spawn(
+        total: usize,
+        work: impl FnOnce(&mut dyn FnMut(usize) -> bool) -> Option<T> + Send + 'static,
+    ) -> Self {
+        let done = Arc::new(AtomicUsize::new(0));
+        let cancel = Arc::new(AtomicBool::new(false));
+        let (tx, rx) = std::sync::mpsc::channel();
+        let (p, c) = (done.clone(), cancel.clone());
+        std::thread::spawn(move || {
+            let result = work(&mut |n| {
+                p.store(n, Ordering::Relaxed);
+                !c.load(Ordering::Relaxed)
+            });
+            if let Some(value) = result.filter(|_| !c.load(Ordering::Relaxed)) {
+                let _ = tx.send(value);
+            }
+        });
+        Task {
             total,
-            done: Arc::new(AtomicUsize::new(0)),
-            cancel: Arc::new(AtomicBool::new(false)),
+            done,
+            cancel,
+            result: rx,
         }
     }
+}
 
-    /// The callback the engine calls with the snapshots done: stores them, and answers
-    /// whether to go on.
-    fn reporter(&self) -> impl FnMut(usize) -> bool + Send + 'static {
-        let (p, c) = (self.done.clone(), self.cancel.clone());
-        move |done| {
-            p.store(done, Ordering::Relaxed);
-            !c.load(Ordering::Relaxed)
-        }
+impl<T> Task<T> {
+    /// Asks the thread to stop; it sends no result then.
+    pub(super) fn cancel(&self) {
+        self.cancel.store(true, Ordering::Relaxed);
     }
 
-    fn done(&self) -> usize {
+    /// Snapshots done so far.
+    pub(super) fn done(&self) -> usize {
         self.done.load(Ordering::Relaxed)
     }
 
-    fn fraction(&self) -> f32 {
+    /// Snapshots to do.
+    pub(super) fn total(&self) -> usize {
+        self.total
+    }
+
+    /// The part done, 0 to 1.
+    pub(super) fn fraction(&self) -> f32 {
         self.done() as f32 / self.total.max(1) as f32
+    }
+
+    /// The result, once there.
+    pub(super) fn poll(&self) -> JobPoll<T> {
+        match self.result.try_recv() {
+            Ok(value) => JobPoll::Done(value),
+            Err(TryRecvError::Empty) => JobPoll::Running,
+            Err(TryRecvError::Disconnected) => JobPoll::Stopped,
+        }
     }
 }
 
-fn poll<T>(result: &Receiver<T>) -> JobPoll<T> {
-    match result.try_recv() {
-        Ok(value) => JobPoll::Done(value),
-        Err(TryRecvError::Empty) => JobPoll::Running,
-        Err(TryRecvError::Disconnected) => JobPoll::Stopped,
-    }
+/// What a background replay is for.
+pub(super) enum JobKind {
+    /// A run being opened.
+    Open { source: Source, keep_index: bool },
+    /// The open run under new parameters.
+    Rerun,
 }
 
 /// A replay being built on a thread.
 pub(super) struct ReplayJob {
     pub(super) kind: JobKind,
+    /// What the status bar says it does.
     pub(super) label: String,
     pub(super) started: std::time::Instant,
-    progress: Progress,
-    result: Receiver<Replay>,
+    pub(super) task: Task<Replay>,
 }
 
 impl ReplayJob {
     /// Starts replaying `run` under `params` on a thread.
     pub(super) fn start(run: Arc<Run>, params: Params, kind: JobKind) -> Self {
-        let progress = Progress::new(run.snapshots.len());
-        let (tx, rx) = std::sync::mpsc::channel();
-        let mut report = progress.reporter();
-        std::thread::spawn(move || {
-            let built = Replay::build(run, params, DEFAULT_CHECKPOINT_INTERVAL, &mut report);
-            if let Ok(replay) = built {
-                let _ = tx.send(replay);
-            }
+        let task = Task::spawn(run.snapshots.len(), move |report| {
+            Replay::build(run, params, DEFAULT_CHECKPOINT_INTERVAL, report).ok()
         });
         let label = match &kind {
             JobKind::Open { source, .. } => format!("replaying {}", source.display_name()),
@@ -105,74 +125,17 @@ impl ReplayJob {
             kind,
             label,
             started: std::time::Instant::now(),
-            progress,
-            result: rx,
+            task,
         }
-    }
-
-    /// Asks the thread to stop; its result, if any, is never installed.
-    pub(super) fn cancel(&self) {
-        self.progress.cancel.store(true, Ordering::Relaxed);
-    }
-
-    /// Snapshots replayed so far.
-    pub(super) fn done(&self) -> usize {
-        self.progress.done()
-    }
-
-    /// Snapshots to replay.
-    pub(super) fn total(&self) -> usize {
-        self.progress.total
-    }
-
-    /// The part done, 0 to 1.
-    pub(super) fn fraction(&self) -> f32 {
-        self.progress.fraction()
-    }
-
-    /// The replay, once built.
-    pub(super) fn poll(&self) -> JobPoll<Replay> {
-        poll(&self.result)
     }
 }
 
 /// The A/B comparison being computed on a thread.
-pub(super) struct DiffJob {
-    progress: Progress,
-    result: Receiver<RunDiff>,
-}
+pub(super) type DiffJob = Task<RunDiff>;
 
-impl DiffJob {
-    /// Starts comparing `run` under `baseline` (A) and `current` (B) on a thread.
-    pub(super) fn start(run: Arc<Run>, baseline: Params, current: Params) -> Self {
-        let progress = Progress::new(run.snapshots.len());
-        let (tx, rx) = std::sync::mpsc::channel();
-        let mut report = progress.reporter();
-        let cancel = progress.cancel.clone();
-        std::thread::spawn(move || {
-            let diff = diff_run(&run, &baseline, &current, &mut report);
-            if !cancel.load(Ordering::Relaxed) {
-                let _ = tx.send(diff);
-            }
-        });
-        DiffJob {
-            progress,
-            result: rx,
-        }
-    }
-
-    /// Asks the thread to stop; it sends no result.
-    pub(super) fn cancel(&self) {
-        self.progress.cancel.store(true, Ordering::Relaxed);
-    }
-
-    /// The part done, 0 to 1.
-    pub(super) fn fraction(&self) -> f32 {
-        self.progress.fraction()
-    }
-
-    /// The comparison, once computed.
-    pub(super) fn poll(&self) -> JobPoll<RunDiff> {
-        poll(&self.result)
-    }
+/// Starts comparing `run` under `baseline` (A) and `current` (B) on a thread.
+pub(super) fn start_diff(run: Arc<Run>, baseline: Params, current: Params) -> DiffJob {
+    Task::spawn(run.snapshots.len(), move |report| {
+        Some(diff_run(&run, &baseline, &current, report))
+    })
 }

@@ -109,7 +109,7 @@ impl SonarApp {
     /// Replays a large run on a thread; the current run stays usable meanwhile.
     pub(super) fn start_background(&mut self, run: Arc<Run>, kind: JobKind) {
         if let Some(old) = self.background.take() {
-            old.cancel();
+            old.task.cancel();
         }
         let job = ReplayJob::start(run, self.params.clone(), kind);
         self.message = format!("{}…", job.label);
@@ -122,7 +122,7 @@ impl SonarApp {
         let Some(job) = &self.background else {
             return;
         };
-        match job.poll() {
+        match job.task.poll() {
             JobPoll::Done(replay) => {
                 let job = self.background.take().expect("checked above");
                 match job.kind {

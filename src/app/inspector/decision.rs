@@ -3,7 +3,7 @@
 
 use super::context::InspectCtx;
 use super::names::{outcome_name, rule_name};
-use super::widgets::{coloured, heading, kv, test_cells, FAIL, PASS};
+use super::widgets::{coloured, header_row, heading, kv, test_cells, FAIL, PASS};
 use crate::app::command::Command;
 use crate::app::timeline::BASELINE_COLOUR;
 use crate::mapping::map::ReadingRef;
@@ -140,10 +140,7 @@ fn baseline_tests_ui(
                 .striped(true)
                 .num_columns(3)
                 .show(ui, |ui| {
-                    for h in ["Candidate", "now", "baseline"] {
-                        ui.label(RichText::new(h).strong());
-                    }
-                    ui.end_row();
+                    header_row(ui, &["Candidate", "now", "baseline"]);
                     for id in ids {
                         ui.label(format!("#{id}"));
                         match d.mpc_stage.iter().find(|c| c.evaluation.existing == id) {
@@ -197,27 +194,27 @@ fn candidates_table_ui(
         .striped(true)
         .num_columns(16)
         .show(ui, |ui| {
-            for h in [
-                "Candidate",
-                "Distance",
-                "Outermost",
-                "Orientation",
-                "θ_o",
-                "",
-                "Colinearity d",
-                "Threshold",
-                "D1",
-                "D2",
-                "D3",
-                "",
-                "MPC t_mid",
-                "EPC t_L / t_R",
-                "Overlap",
-                "Stage",
-            ] {
-                ui.label(RichText::new(h).strong());
-            }
-            ui.end_row();
+            header_row(
+                ui,
+                &[
+                    "Candidate",
+                    "Distance",
+                    "Outermost",
+                    "Orientation",
+                    "θ_o",
+                    "",
+                    "Colinearity d",
+                    "Threshold",
+                    "D1",
+                    "D2",
+                    "D3",
+                    "",
+                    "MPC t_mid",
+                    "EPC t_L / t_R",
+                    "Overlap",
+                    "Stage",
+                ],
+            );
             for (n, c) in d.mpc_stage.iter().enumerate() {
                 let e = &c.evaluation;
                 let deciding = d.existing == Some(e.existing);

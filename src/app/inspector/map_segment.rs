@@ -4,7 +4,7 @@
 
 use super::context::{CompareState, InspectCtx};
 use super::names::{describe_id, outcome_name};
-use super::widgets::{coloured, heading, kv, test_cells, verdict, FAIL};
+use super::widgets::{coloured, header_row, heading, kv, test_cells, verdict, FAIL};
 use crate::app::command::Command;
 use crate::mapping::map::Segment;
 use crate::mapping::trace::{EndOrigin, EndRole, PairEvaluation, UpdateTrace};
@@ -115,10 +115,7 @@ fn update_ui(ui: &mut egui::Ui, ctx: &InspectCtx, u: &UpdateTrace) {
         .striped(true)
         .num_columns(4)
         .show(ui, |ui| {
-            for h in ["End", "Range", "Compared with", "Fate"] {
-                ui.label(RichText::new(h).strong());
-            }
-            ui.end_row();
+            header_row(ui, &["End", "Range", "Compared with", "Fate"]);
             for f in &u.fates {
                 ui.label(origin_name(f.origin));
                 ui.label(ctx.len(f.before.range_m));
@@ -222,10 +219,7 @@ fn pair_ui(ui: &mut egui::Ui, ctx: &InspectCtx, e: &PairEvaluation) {
         .striped(true)
         .num_columns(4)
         .show(ui, |ui| {
-            for h in ["Test", "Value", "Threshold", "Result"] {
-                ui.label(RichText::new(h).strong());
-            }
-            ui.end_row();
+            header_row(ui, &["Test", "Value", "Threshold", "Result"]);
             ui.label("Orientation");
             test_cells(
                 ui,

@@ -4,7 +4,7 @@
 use super::context::InspectCtx;
 use super::decision::decision_ui;
 use super::names::outcome_name;
-use super::widgets::{coloured, heading, kv};
+use super::widgets::{coloured, header_row, heading, kv};
 use crate::app::command::Command;
 use crate::mapping::trace::{SegmentSource, SplitTrace};
 use crate::scene::SceneId;
@@ -19,10 +19,10 @@ fn splits_ui(ui: &mut egui::Ui, ctx: &InspectCtx, id: &str, splits: &[SplitTrace
         .striped(true)
         .num_columns(5)
         .show(ui, |ui| {
-            for h in ["piece", "farthest", "deviation", "tolerance", "split?"] {
-                ui.label(RichText::new(h).strong());
-            }
-            ui.end_row();
+            header_row(
+                ui,
+                &["piece", "farthest", "deviation", "tolerance", "split?"],
+            );
             for s in splits {
                 ui.label(format!("{}..{}", s.first, s.last));
                 ui.label(s.farthest.map_or("-".to_owned(), |f| f.to_string()));

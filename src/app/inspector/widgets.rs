@@ -29,6 +29,14 @@ pub(super) fn kv(ui: &mut egui::Ui, key: &str, value: impl Into<egui::WidgetText
     ui.end_row();
 }
 
+/// A grid's header row: the column names, strong.
+pub(super) fn header_row(ui: &mut egui::Ui, headers: &[&str]) {
+    for h in headers {
+        ui.label(RichText::new(*h).strong());
+    }
+    ui.end_row();
+}
+
 pub(super) fn test_cells(ui: &mut egui::Ui, value: String, threshold: String, t: &Test) {
     coloured(ui, value, t.pass);
     ui.label(threshold);
