@@ -8,7 +8,7 @@ use crate::app::command::Command;
 use crate::app::timeline::BASELINE_COLOUR;
 use crate::mapping::map::ReadingRef;
 use crate::mapping::matching::{evaluate_pair, SegmentEnds};
-use crate::mapping::trace::{DecisionTrace, PairEvaluation};
+use crate::mapping::trace::{CandidateTrace, DecisionTrace, PairEvaluation};
 use crate::mapping::{Params, SegmentId, StepTrace};
 use crate::replay::StepView;
 use crate::scene::SceneId;
@@ -142,32 +142,7 @@ fn baseline_tests_ui(
                 .show(ui, |ui| {
                     header_row(ui, &["Candidate", "now", "baseline"]);
                     for id in ids {
-                        ui.label(format!("#{id}"));
-                        match d.mpc_stage.iter().find(|c| c.evaluation.existing == id) {
-                            Some(c) => {
-                                let (t, pass) = short_eval(&c.evaluation);
-                                coloured(ui, t, pass);
-                            }
-                            None => {
-                                ui.label(RichText::new("not a candidate").weak());
-                            }
-                        }
-                        match bview.map_before.segment(id) {
-                            Some(seg) => {
-                                let e = evaluate_pair(
-                                    bparams,
-                                    &new_ends,
-                                    id,
-                                    &SegmentEnds { a: seg.a, b: seg.b },
-                                );
-                                let (t, pass) = short_eval(&e);
-                                coloured(ui, t, pass);
-                            }
-                            None => {
-                                ui.label(RichText::new("not in the baseline map").weak());
-                            }
-                        }
-                        ui.end_row();
+                        baseline_row_ui(ui, d, id, bparams, bview, &new_ends);
                     }
                 });
         });
@@ -183,97 +158,71 @@ fn baseline_tests_ui(
     );
 }
 
+/// One candidate's tests now and under the baseline (a row of the baseline grid).
+fn baseline_row_ui(
+    ui: &mut egui::Ui,
+    d: &DecisionTrace,
+    id: SegmentId,
+    bparams: &Params,
+    bview: &StepView,
+    new_ends: &SegmentEnds,
+) {
+    ui.label(format!("#{id}"));
+    match d.mpc_stage.iter().find(|c| c.evaluation.existing == id) {
+        Some(c) => {
+            let (t, pass) = short_eval(&c.evaluation);
+            coloured(ui, t, pass);
+        }
+        None => {
+            ui.label(RichText::new("not a candidate").weak());
+        }
+    }
+    match bview.map_before.segment(id) {
+        Some(seg) => {
+            let e = evaluate_pair(bparams, new_ends, id, &SegmentEnds { a: seg.a, b: seg.b });
+            let (t, pass) = short_eval(&e);
+            coloured(ui, t, pass);
+        }
+        None => {
+            ui.label(RichText::new("not in the baseline map").weak());
+        }
+    }
+    ui.end_row();
+}
+
+/// The columns of the candidates table.
+const CANDIDATE_COLUMNS: [&str; 16] = [
+    "Candidate",
+    "Distance",
+    "Outermost",
+    "Orientation",
+    "θ_o",
+    "",
+    "Colinearity d",
+    "Threshold",
+    "D1",
+    "D2",
+    "D3",
+    "",
+    "MPC t_mid",
+    "EPC t_L / t_R",
+    "Overlap",
+    "Stage",
+];
+
 fn candidates_table_ui(
     ui: &mut egui::Ui,
     ctx: &InspectCtx,
     d: &DecisionTrace,
     commands: &mut Vec<Command>,
 ) {
-    let deg = |r: f64| format!("{:.2}°", r.to_degrees());
     egui::Grid::new("candidates")
         .striped(true)
         .num_columns(16)
         .show(ui, |ui| {
-            header_row(
-                ui,
-                &[
-                    "Candidate",
-                    "Distance",
-                    "Outermost",
-                    "Orientation",
-                    "θ_o",
-                    "",
-                    "Colinearity d",
-                    "Threshold",
-                    "D1",
-                    "D2",
-                    "D3",
-                    "",
-                    "MPC t_mid",
-                    "EPC t_L / t_R",
-                    "Overlap",
-                    "Stage",
-                ],
-            );
+            header_row(ui, &CANDIDATE_COLUMNS);
             for (n, c) in d.mpc_stage.iter().enumerate() {
-                let e = &c.evaluation;
-                let deciding = d.existing == Some(e.existing);
-                let name = format!(
-                    "#{}{}",
-                    e.existing,
-                    if deciding { " (deciding)" } else { "" }
-                );
-                if ui
-                    .link(name)
-                    .on_hover_text("select this map segment")
-                    .clicked()
-                {
-                    commands.push(Command::Select(SceneId::MapSegment(e.existing)));
-                }
-                ui.label(ctx.len(c.distance_m));
-                ui.label(if c.outermost { "yes" } else { "no" });
-                test_cells(
-                    ui,
-                    deg(e.orientation.value),
-                    deg(e.orientation.threshold),
-                    &e.orientation,
-                );
-                test_cells(
-                    ui,
-                    ctx.len(e.colinearity.test.value),
-                    ctx.len(e.colinearity.test.threshold),
-                    &e.colinearity.test,
-                );
-                ui.label(ctx.len(e.colinearity.d1_m));
-                ui.label(ctx.len(e.colinearity.d2_m));
-                ui.label(ctx.len(e.colinearity.d3_m));
-                ui.label("");
-                coloured(ui, format!("{:.3}", e.overlap.mid_param), e.overlap.mpc);
-                coloured(
-                    ui,
-                    format!("{:.3} / {:.3}", e.overlap.left_param, e.overlap.right_param),
-                    e.overlap.epc,
-                );
-                let overlap = if e.overlap.mpc {
-                    "MPC"
-                } else if e.overlap.containment {
-                    "contains"
-                } else if e.overlap.epc {
-                    "EPC"
-                } else {
-                    "none"
-                };
-                let pass = e.overlap.mpc || e.overlap.containment || e.overlap.epc;
-                ui.label(
-                    RichText::new(format!("{} {overlap}", if pass { "pass" } else { "FAIL" }))
-                        .color(if pass { PASS } else { FAIL }),
-                );
-                ui.label(if d.epc_stage.contains(&n) {
-                    "MPC+EPC"
-                } else {
-                    "MPC"
-                });
-                ui.end_row();
+                candidate_row_ui(ui, ctx, d, n, c, commands);
             }
         });
     ui.label(
@@ -284,4 +233,77 @@ fn candidates_table_ui(
         .weak()
         .small(),
     );
+}
+
+/// One candidate of the MPC stage: its three tests and the stage it reached.
+fn candidate_row_ui(
+    ui: &mut egui::Ui,
+    ctx: &InspectCtx,
+    d: &DecisionTrace,
+    n: usize,
+    c: &CandidateTrace,
+    commands: &mut Vec<Command>,
+) {
+    let deg = |r: f64| format!("{:.2}°", r.to_degrees());
+    let e = &c.evaluation;
+    let deciding = d.existing == Some(e.existing);
+    let name = format!(
+        "#{}{}",
+        e.existing,
+        if deciding { " (deciding)" } else { "" }
+    );
+    if ui
+        .link(name)
+        .on_hover_text("select this map segment")
+        .clicked()
+    {
+        commands.push(Command::Select(SceneId::MapSegment(e.existing)));
+    }
+    ui.label(ctx.len(c.distance_m));
+    ui.label(if c.outermost { "yes" } else { "no" });
+    test_cells(
+        ui,
+        deg(e.orientation.value),
+        deg(e.orientation.threshold),
+        &e.orientation,
+    );
+    test_cells(
+        ui,
+        ctx.len(e.colinearity.test.value),
+        ctx.len(e.colinearity.test.threshold),
+        &e.colinearity.test,
+    );
+    ui.label(ctx.len(e.colinearity.d1_m));
+    ui.label(ctx.len(e.colinearity.d2_m));
+    ui.label(ctx.len(e.colinearity.d3_m));
+    ui.label("");
+    coloured(ui, format!("{:.3}", e.overlap.mid_param), e.overlap.mpc);
+    coloured(
+        ui,
+        format!("{:.3} / {:.3}", e.overlap.left_param, e.overlap.right_param),
+        e.overlap.epc,
+    );
+    let overlap = if e.overlap.mpc {
+        "MPC"
+    } else if e.overlap.containment {
+        "contains"
+    } else if e.overlap.epc {
+        "EPC"
+    } else {
+        "none"
+    };
+    let pass = e.overlap.mpc || e.overlap.containment || e.overlap.epc;
+    ui.label(
+        RichText::new(format!("{} {overlap}", if pass { "pass" } else { "FAIL" })).color(if pass {
+            PASS
+        } else {
+            FAIL
+        }),
+    );
+    ui.label(if d.epc_stage.contains(&n) {
+        "MPC+EPC"
+    } else {
+        "MPC"
+    });
+    ui.end_row();
 }
