@@ -49,7 +49,7 @@ pub struct SonarApp {
 
 impl SonarApp {
     /// Replays runs of at least `snapshots` snapshots in the background (default
-    /// [`BACKGROUND_MIN_SNAPSHOTS`]).
+    /// [`super::BACKGROUND_MIN_SNAPSHOTS`]).
     pub fn set_background_threshold(&mut self, snapshots: usize) {
         self.background_min_snapshots = snapshots.max(1);
     }
