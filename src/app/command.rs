@@ -2,6 +2,7 @@
 //! one place per frame ([`super::SonarApp::apply`]), so keyboard, buttons and tests drive the
 //! same path.
 
+use super::settings::LeftTab;
 use crate::geometry::Point;
 use crate::mapping::{Outcome, Params, SegmentId};
 use crate::scene::{Layer, SceneId};
@@ -78,7 +79,7 @@ pub enum Command {
     /// Stop comparing with the baseline.
     Unpin,
     /// Show this page of the left panel.
-    ShowTab(super::app::LeftTab),
+    ShowTab(LeftTab),
     /// Show or hide the baseline's map ghosted under the current one.
     ToggleBaselineGhost,
     /// Bookmark the current snapshot under this name.

@@ -1,37 +1,54 @@
-//! The desktop inspector (egui). Panels are functions that draw and return
-//! [`Command`]s; [`SonarApp::apply`] is the one place where state changes.
+//! The desktop inspector (egui). Panels are functions that draw and return [`Command`]s;
+//! [`SonarApp::apply`] is the one place where state changes. Panels depend on the command and
+//! state types, never on the app itself.
 //!
-//! Codemap: `app` (state, commands applied, persistence), `command`, `map_view` (the scene in
-//! egui_plot, hover, selection, ruler), `timeline`, `inspector` (the selection's trace),
-//! `decisions` (this snapshot's decisions, marked where they differ from a pinned baseline),
-//! `layers` (layer switches and legend), `params_panel` (live parameters, presets, A/B pin),
-//! `bookmarks`, `menu`, `headless` (the map view without a window, for `bench`), `scene_item` (the scene as one plot
-//! item).
+//! Codemap:
+//! - the app: `app` (the runtime state, [`SonarApp`], and its queries), `apply` (every
+//!   [`Command`] applied), `frame` (one frame: the panels laid out), `loading` (opening runs,
+//!   installing replays), `command`;
+//! - its state: `settings` (persisted, with [`LeftTab`]), `loaded` (the open run and its
+//!   [`Source`]), `jobs` (replays and comparisons on threads), `baseline` (the pinned A/B
+//!   baseline), `bookmarks` (bookmarks and their sidecar file);
+//! - the panels: `map_view` (the scene in egui_plot, hover, selection, ruler) with
+//!   `scene_item` (the scene as one plot item), `timeline`, `inspector/` (the selection's
+//!   trace, a file per kind of selection), `decisions` (this snapshot's decisions, marked where
+//!   they differ from a pinned baseline), `layers` (layer switches and legend), `params_panel`
+//!   (live parameters, presets, A/B pin), `bookmarks_panel`, `menu`;
+//! - `headless` (the map view without a window, for `bench`).
 
 #[allow(clippy::module_inception)]
 mod app;
+mod apply;
+mod baseline;
 mod bookmarks;
+mod bookmarks_panel;
 mod command;
 mod decisions;
+mod frame;
 mod headless;
 mod inspector;
+mod jobs;
 mod layers;
+mod loaded;
+mod loading;
 mod map_view;
 mod menu;
 mod params_panel;
 mod scene_item;
+mod settings;
 mod timeline;
 
-pub use app::{
-    bookmarks_path, describe_id, Bookmark, LeftTab, Settings, SonarApp, Source,
-    BACKGROUND_MIN_SNAPSHOTS, SETTINGS_KEY,
-};
+pub use app::SonarApp;
+pub use bookmarks::{bookmarks_path, Bookmark};
 pub use command::Command;
 pub use decisions::decision_row_text;
 pub use headless::{FrameStats, HeadlessMapView};
-pub use inspector::{outcome_name, CompareState};
+pub use inspector::{describe_id, outcome_name, CompareState};
+pub use jobs::BACKGROUND_MIN_SNAPSHOTS;
+pub use loaded::Source;
 pub use map_view::{MapViewState, ViewRequest};
 pub use params_panel::{format_number, ParamsPanelState};
+pub use settings::{LeftTab, Settings, SETTINGS_KEY};
 pub use timeline::snapshot_label;
 
 /// Opens the inspector window on `app` (blocks until the window closes).

@@ -1,0 +1,330 @@
+//! The one place where the state changes: [`SonarApp::apply`] takes every [`Command`] the
+//! panels, the keyboard, dropped files and tests send, and the methods below carry out the
+//! larger ones.
+
+use super::app::SonarApp;
+use super::baseline::Baseline;
+use super::bookmarks::{write_sidecar, Bookmark};
+use super::command::Command;
+use super::inspector::{describe_id, CompareState};
+use super::jobs::JobKind;
+use super::loaded::Source;
+use super::map_view::ViewRequest;
+use crate::export::{write_svg_atomically, write_text_atomically};
+use crate::mapping::matching::evaluate_pair;
+use crate::mapping::{Params, ParamsFile};
+use crate::scene::svg::{default_view, to_svg};
+use crate::scene::{Layer, SceneId, ViewRect};
+use std::path::Path;
+
+impl SonarApp {
+    /// Applies one command (the only place the state changes).
+    pub fn apply(&mut self, command: Command) {
+        match command {
+            Command::Open(path) => self.open_path(&path, false),
+            Command::OpenBytes { name, bytes } => {
+                self.open_bytes(&bytes, Source::Bytes(name), false)
+            }
+            Command::OpenDialog => self.open_dialog(),
+            Command::Reload => self.reload(),
+            Command::Seek(k) => self.seek(k),
+            Command::Step(delta) => {
+                let k = (self.current() as i64).saturating_add(delta).max(0) as usize;
+                self.seek(k);
+            }
+            Command::First => self.seek(0),
+            Command::Last => self.seek(self.len().saturating_sub(1)),
+            Command::TogglePlay => self.toggle_play(),
+            Command::SetRate(rate) => {
+                if rate.is_finite() && rate > 0.0 {
+                    self.settings.rate = rate.clamp(0.25, 60.0);
+                }
+            }
+            Command::NextMark => self.next_mark(),
+            Command::PrevMark => self.prev_mark(),
+            Command::Select(id) => self.select(id),
+            Command::CompareWith(id) => {
+                self.compare = CompareState::Armed(id);
+                self.message = format!("compare #{id} with…: click a segment");
+            }
+            Command::CancelCompare => self.compare = CompareState::Off,
+            Command::ToggleLayer(layer) => self.toggle_layer(layer),
+            Command::FilterDecisions(filter) => self.decision_filter = filter,
+            Command::FitView => self.map_view.request = Some(ViewRequest::Fit),
+            Command::ZoomToSelection => self.zoom_to_selection(),
+            Command::CenterOn(p) => self.map_view.request = Some(ViewRequest::Center(p)),
+            Command::ExportDialog => self.export_dialog(),
+            Command::ExportSvg(path) => self.export_to(&path),
+            Command::DismissError => self.banner = None,
+            Command::ToggleShortcuts => self.show_shortcuts = !self.show_shortcuts,
+            Command::SetParams(params) => self.set_params(params),
+            Command::LoadParamsDialog => self.load_params_dialog(),
+            Command::SaveParamsDialog => self.save_params_dialog(),
+            Command::LoadParams(path) => self.load_params(&path),
+            Command::SaveParams(path) => self.save_params(&path),
+            Command::PinBaseline => self.pin_baseline(),
+            Command::Unpin => self.unpin(),
+            Command::ShowTab(tab) => self.settings.left_tab = tab,
+            Command::ToggleBaselineGhost => {
+                self.settings.baseline_ghost = !self.settings.baseline_ghost
+            }
+            Command::AddBookmark(name) => self.add_bookmark(&name),
+            Command::RemoveBookmark(i) => self.remove_bookmark(i),
+        }
+    }
+
+    // Opening and reloading.
+
+    fn open_dialog(&mut self) {
+        if let Some(path) = rfd::FileDialog::new()
+            .add_filter("run log", &["json"])
+            .pick_file()
+        {
+            self.open_path(&path, false);
+        }
+    }
+
+    fn reload(&mut self) {
+        match self.loaded.source.clone() {
+            Source::File(path) => self.open_path(&path, true),
+            _ => self.message = "the built-in run has no file to reload".to_owned(),
+        }
+    }
+
+    // Playback and the timeline.
+
+    fn toggle_play(&mut self) {
+        self.playing = !self.playing;
+        self.play_clock_s = 0.0;
+        if self.playing && self.current() + 1 >= self.len() {
+            self.seek(0);
+        }
+    }
+
+    fn next_mark(&mut self) {
+        let k = self.current();
+        match self.loaded.marks.iter().find(|&&m| m > k) {
+            Some(&m) => self.seek(m),
+            None => self.message = "no mark after this snapshot".to_owned(),
+        }
+    }
+
+    fn prev_mark(&mut self) {
+        let k = self.current();
+        match self.loaded.marks.iter().rev().find(|&&m| m < k) {
+            Some(&m) => self.seek(m),
+            None => self.message = "no mark before this snapshot".to_owned(),
+        }
+    }
+
+    // Selection and the map view.
+
+    fn select(&mut self, id: SceneId) {
+        if id == SceneId::None {
+            self.map_view.ruler_m = None;
+            self.compare = CompareState::Off;
+        }
+        if let CompareState::Armed(existing) = self.compare {
+            if let Some(other) = self.ends_of(id) {
+                if let Some(existing_ends) = self.ends_of(SceneId::MapSegment(existing)) {
+                    if id != SceneId::MapSegment(existing) {
+                        let eval = evaluate_pair(
+                            self.loaded.replay.params(),
+                            &other,
+                            existing,
+                            &existing_ends,
+                        );
+                        self.compare = CompareState::Done {
+                            existing,
+                            other: id,
+                            eval: Box::new(eval),
+                        };
+                        self.selection = SceneId::MapSegment(existing);
+                        self.message = format!("compared #{existing} with {}", describe_id(id));
+                        return;
+                    }
+                }
+            }
+        }
+        self.selection = id;
+    }
+
+    fn toggle_layer(&mut self, layer: Layer) {
+        let on = self.settings.layers().contains(layer);
+        self.settings.set_layer(layer, !on);
+    }
+
+    fn zoom_to_selection(&mut self) {
+        match self.ends_of(self.selection) {
+            Some(ends) => {
+                let length = (ends.b.point - ends.a.point).norm();
+                let rect =
+                    ViewRect::new(ends.a.point, ends.b.point).expanded(length.max(0.5) * 0.75);
+                self.map_view.request = Some(ViewRequest::Frame(rect));
+            }
+            None => self.message = "select a segment to zoom to it".to_owned(),
+        }
+    }
+
+    // Export.
+
+    fn export_dialog(&mut self) {
+        let name = format!("snapshot-{}.svg", self.current());
+        if let Some(path) = rfd::FileDialog::new()
+            .add_filter("SVG", &["svg"])
+            .set_file_name(name)
+            .save_file()
+        {
+            self.apply(Command::ExportSvg(path));
+        }
+    }
+
+    fn export_to(&mut self, path: &Path) {
+        match self.export_svg(path) {
+            Ok(()) => self.message = format!("exported {}", path.display()),
+            Err(e) => {
+                self.banner = Some(e);
+                self.message = "export failed".to_owned();
+            }
+        }
+    }
+
+    /// Writes what the map view shows to `path` as SVG (atomically).
+    pub fn export_svg(&mut self, path: &Path) -> Result<(), String> {
+        let scene = self
+            .scene_with(self.map_view.world_per_px())
+            .ok_or_else(|| "nothing to export".to_owned())?;
+        let view = self
+            .map_view
+            .visible_m
+            .unwrap_or_else(|| default_view(&scene));
+        let (w, h) = self.map_view.size_px;
+        let size = (w.max(400) + 180, h.max(300) + 60);
+        let title = format!("{} — snapshot {}", self.run().name, self.current());
+        let svg = to_svg(&scene, view, size, &title, self.run().units);
+        write_svg_atomically(path, &svg)
+            .map_err(|e| format!("Could not write {}: {e}", path.display()))
+    }
+
+    // Parameters and the A/B baseline.
+
+    /// Applies new parameters: validated, remembered, and the run replayed in the background.
+    fn set_params(&mut self, params: Params) {
+        if let Err(e) = params.validate() {
+            self.message = format!("parameters refused: {e}");
+            return;
+        }
+        self.params = params.clone();
+        self.settings.params = (params != Params::paper()).then_some(params);
+        let run = self.loaded.replay.run().clone();
+        if let Some(b) = &mut self.baseline {
+            b.cancel_job();
+            b.diff = None;
+        }
+        self.start_background(run, JobKind::Rerun);
+    }
+
+    fn load_params_dialog(&mut self) {
+        if let Some(path) = rfd::FileDialog::new()
+            .add_filter("parameters", &["json"])
+            .pick_file()
+        {
+            self.load_params(&path);
+        }
+    }
+
+    fn save_params_dialog(&mut self) {
+        if let Some(path) = rfd::FileDialog::new()
+            .add_filter("parameters", &["json"])
+            .set_file_name("params.json")
+            .save_file()
+        {
+            self.save_params(&path);
+        }
+    }
+
+    fn load_params(&mut self, path: &Path) {
+        let result = std::fs::read_to_string(path)
+            .map_err(|e| e.to_string())
+            .and_then(|text| serde_json::from_str::<ParamsFile>(&text).map_err(|e| e.to_string()))
+            .and_then(|file| Params::paper().with_file(&file).map_err(|e| e.to_string()));
+        match result {
+            Ok(params) => {
+                self.set_params(params);
+                self.message = format!("loaded parameters from {}", path.display());
+            }
+            Err(e) => {
+                self.banner = Some(format!(
+                    "Could not load parameters from {}: {e}",
+                    path.display()
+                ));
+                self.message = "parameters unchanged".to_owned();
+            }
+        }
+    }
+
+    fn save_params(&mut self, path: &Path) {
+        let file = self.params.to_file(self.run().units);
+        let result = serde_json::to_string_pretty(&file)
+            .map_err(|e| e.to_string())
+            .and_then(|text| {
+                write_text_atomically(path, &(text + "\n")).map_err(|e| e.to_string())
+            });
+        match result {
+            Ok(()) => self.message = format!("saved parameters to {}", path.display()),
+            Err(e) => {
+                self.banner = Some(format!("Could not write {}: {e}", path.display()));
+                self.message = "saving the parameters failed".to_owned();
+            }
+        }
+    }
+
+    fn pin_baseline(&mut self) {
+        self.baseline = Some(Baseline::pin(self.loaded.replay.clone(), self.view.clone()));
+        self.start_diff();
+        self.message = "pinned the current parameters as the baseline".to_owned();
+    }
+
+    fn unpin(&mut self) {
+        if let Some(mut b) = self.baseline.take() {
+            b.cancel_job();
+            self.message = "baseline unpinned".to_owned();
+        }
+    }
+
+    // Bookmarks.
+
+    fn add_bookmark(&mut self, name: &str) {
+        let k = self.current();
+        let name = match name.trim() {
+            "" => format!("snapshot {k}"),
+            n => n.to_owned(),
+        };
+        self.message = format!("bookmarked snapshot {k} as {name:?}");
+        self.bookmarks.push(Bookmark { name, snapshot: k });
+        self.bookmarks.sort_by_key(|b| b.snapshot);
+        self.save_bookmarks();
+    }
+
+    fn remove_bookmark(&mut self, i: usize) {
+        if i < self.bookmarks.len() {
+            let b = self.bookmarks.remove(i);
+            self.message = format!("removed bookmark {:?}", b.name);
+            self.save_bookmarks();
+        }
+    }
+
+    fn save_bookmarks(&mut self) {
+        match self.loaded.source.clone() {
+            Source::BuiltIn(_) => self.settings.builtin_bookmarks = self.bookmarks.clone(),
+            Source::Bytes(_) => {
+                self.message = "bookmarks of a dropped file are kept until it closes".to_owned()
+            }
+            Source::File(path) => {
+                if let Err(e) = write_sidecar(&path, &self.bookmarks) {
+                    self.banner = Some(e);
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,300 @@
+//! A map segment (selected in the map or as an update): its ends, history and faces, how the
+//! updates of this step moved each end, the decisions against it, and "compare with…", which
+//! runs the engine's own three tests against the next segment clicked.
+
+use super::context::{CompareState, InspectCtx};
+use super::names::{describe_id, outcome_name};
+use super::widgets::{coloured, header_row, heading, kv, test_cells, verdict, FAIL};
+use crate::app::command::Command;
+use crate::mapping::map::Segment;
+use crate::mapping::trace::{EndOrigin, EndRole, PairEvaluation, UpdateTrace};
+use crate::mapping::{SegmentId, SegmentKind};
+use crate::scene::SceneId;
+use egui::RichText;
+
+pub(super) fn map_segment_ui(
+    ui: &mut egui::Ui,
+    ctx: &InspectCtx,
+    id: SegmentId,
+    compare: &CompareState,
+    commands: &mut Vec<Command>,
+) {
+    let view = ctx.view;
+    let after = view.map_after.segment(id);
+    let seg = after.or_else(|| view.map_before.segment(id));
+    let Some(seg) = seg else {
+        heading(ui, &format!("Segment #{id}"));
+        ui.label("not in the map at this snapshot");
+        return;
+    };
+    heading(ui, &format!("Map segment #{id}"));
+    if after.is_none() {
+        ui.label(RichText::new("removed in this step (shown as it stood before)").color(FAIL));
+    }
+    details_ui(ui, ctx, seg);
+    if seg.created < view.index {
+        ui.horizontal(|ui| {
+            if ui
+                .button(format!("Go to snapshot {} (created)", seg.created))
+                .clicked()
+            {
+                commands.push(Command::Seek(seg.created));
+            }
+        });
+    }
+    for u in view.trace.updates.iter().filter(|u| u.segment == id) {
+        update_ui(ui, ctx, u);
+    }
+    let deciding: Vec<_> = view
+        .trace
+        .decisions
+        .iter()
+        .filter(|d| d.existing == Some(id))
+        .collect();
+    if !deciding.is_empty() {
+        heading(ui, "Decisions against it in this step");
+        for d in deciding {
+            if ui
+                .link(format!("n{}: {}", d.new_segment, outcome_name(d.outcome)))
+                .clicked()
+            {
+                commands.push(Command::Select(SceneId::NewSegment(d.new_segment)));
+            }
+        }
+    }
+    compare_ui(ui, ctx, id, compare, commands);
+}
+
+/// The segment's ends, faces and history.
+fn details_ui(ui: &mut egui::Ui, ctx: &InspectCtx, seg: &Segment) {
+    egui::Grid::new("map_segment")
+        .num_columns(2)
+        .show(ui, |ui| {
+            kv(
+                ui,
+                "kind",
+                match seg.kind {
+                    SegmentKind::Fitted => "fitted",
+                    SegmentKind::Interpolated => "interpolated (correlation link)",
+                },
+            );
+            kv(ui, "end a", ctx.end(&seg.a));
+            kv(ui, "end b", ctx.end(&seg.b));
+            kv(ui, "length", ctx.len(seg.length()));
+            kv(
+                ui,
+                "face / object",
+                format!("{} / {}", seg.face, seg.object),
+            );
+            kv(ui, "points", seg.points.len().to_string());
+            kv(ui, "created at", format!("snapshot {}", seg.created));
+            let updated = if seg.updated.is_empty() {
+                "never".to_owned()
+            } else {
+                seg.updated
+                    .iter()
+                    .map(|k| k.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            kv(ui, "updated at", updated);
+        });
+}
+
+/// How one update of this step moved the segment's ends.
+fn update_ui(ui: &mut egui::Ui, ctx: &InspectCtx, u: &UpdateTrace) {
+    heading(
+        ui,
+        &format!(
+            "Updated in this step by n{} ({})",
+            u.new_segment,
+            outcome_name(u.outcome)
+        ),
+    );
+    egui::Grid::new(("fates", u.new_segment))
+        .striped(true)
+        .num_columns(4)
+        .show(ui, |ui| {
+            header_row(ui, &["End", "Range", "Compared with", "Fate"]);
+            for f in &u.fates {
+                ui.label(origin_name(f.origin));
+                ui.label(ctx.len(f.before.range_m));
+                ui.label(origin_name(f.compared_with));
+                ui.label(format!(
+                    "{}{}",
+                    role_name(f.role),
+                    if f.is_end_after { ", an end after" } else { "" }
+                ));
+                ui.end_row();
+            }
+        });
+    if u.fallback_tls {
+        ui.label("the defining points nearly coincided: l_u is the TLS line of the four");
+    }
+    if let Some(r) = &u.refit {
+        ui.label(format!(
+            "post-update split test failed (worst {} > {}): refitted into {:?}",
+            ctx.len(r.worst.value),
+            ctx.len(r.worst.threshold),
+            r.pieces
+        ));
+    }
+    for a in &u.absorbed {
+        let c = &a.evaluation.colinearity.test;
+        ui.label(format!(
+            "merged duplicate s{} into s{} (merge_duplicates): it matches (angle {:.1}°, d {} ≤ {})",
+            a.segment,
+            a.into,
+            a.evaluation.orientation.value.to_degrees(),
+            ctx.len(c.value),
+            ctx.len(c.threshold),
+        ));
+    }
+}
+
+/// "Compare with…": the button, the armed state, or the three tests once compared.
+fn compare_ui(
+    ui: &mut egui::Ui,
+    ctx: &InspectCtx,
+    id: SegmentId,
+    compare: &CompareState,
+    commands: &mut Vec<Command>,
+) {
+    heading(ui, "Compare");
+    match compare {
+        CompareState::Armed(e) if *e == id => {
+            ui.label("Click another segment in the map (or a new segment) to run the three tests.");
+            if ui.button("Cancel").clicked() {
+                commands.push(Command::CancelCompare);
+            }
+        }
+        CompareState::Done {
+            existing,
+            other,
+            eval,
+        } if *existing == id => {
+            ui.label(format!(
+                "{} as l_n against #{id} as l_e:",
+                describe_id(*other)
+            ));
+            pair_ui(ui, ctx, eval);
+            if ui.button("Compare with another…").clicked() {
+                commands.push(Command::CompareWith(id));
+            }
+        }
+        _ => {
+            if ui
+                .button("Compare with…")
+                .on_hover_text("evaluate orientation, colinearity and overlap against the next segment you click")
+                .clicked()
+            {
+                commands.push(Command::CompareWith(id));
+            }
+        }
+    }
+}
+
+fn origin_name(o: EndOrigin) -> &'static str {
+    match o {
+        EndOrigin::ExistingLeft => "e_L",
+        EndOrigin::ExistingRight => "e_R",
+        EndOrigin::NewLeft => "n_L",
+        EndOrigin::NewRight => "n_R",
+    }
+}
+
+fn role_name(r: EndRole) -> &'static str {
+    match r {
+        EndRole::Kept => "kept (smaller range)",
+        EndRole::Middle => "kept as middle point M",
+        EndRole::Projected => "projected onto l_u (larger range)",
+        EndRole::Dropped => "dropped (inner, less confident than M)",
+    }
+}
+
+/// The three tests of a pair, as a vertical table (for "compare with…").
+fn pair_ui(ui: &mut egui::Ui, ctx: &InspectCtx, e: &PairEvaluation) {
+    let deg = |r: f64| format!("{:.2}°", r.to_degrees());
+    egui::Grid::new("pair")
+        .striped(true)
+        .num_columns(4)
+        .show(ui, |ui| {
+            header_row(ui, &["Test", "Value", "Threshold", "Result"]);
+            ui.label("Orientation");
+            test_cells(
+                ui,
+                deg(e.orientation.value),
+                deg(e.orientation.threshold),
+                &e.orientation,
+            );
+            ui.end_row();
+            ui.label("Colinearity d");
+            test_cells(
+                ui,
+                ctx.len(e.colinearity.test.value),
+                ctx.len(e.colinearity.test.threshold),
+                &e.colinearity.test,
+            );
+            ui.end_row();
+            ui.label("  D1 / D2 / D3");
+            ui.label(format!(
+                "{} / {} / {}",
+                ctx.len(e.colinearity.d1_m),
+                ctx.len(e.colinearity.d2_m),
+                ctx.len(e.colinearity.d3_m)
+            ));
+            ui.end_row();
+            ui.label("MPC (t_mid)");
+            coloured(ui, format!("{:.3}", e.overlap.mid_param), e.overlap.mpc);
+            ui.label("[0, 1]");
+            verdict(ui, e.overlap.mpc);
+            ui.end_row();
+            ui.label("EPC (t_L / t_R)");
+            coloured(
+                ui,
+                format!("{:.3} / {:.3}", e.overlap.left_param, e.overlap.right_param),
+                e.overlap.epc,
+            );
+            ui.label("[0, 1]");
+            verdict(ui, e.overlap.epc);
+            ui.end_row();
+            ui.label("Containment");
+            ui.label(format!(
+                "{:.3} / {:.3}",
+                e.overlap.existing_on_new_params[0], e.overlap.existing_on_new_params[1]
+            ));
+            ui.label("[0, 1]");
+            verdict(ui, e.overlap.containment);
+            ui.end_row();
+        });
+    let verdict_text = if e.is_match() {
+        "would MATCH"
+    } else if e.is_extension() {
+        "would EXTEND (if outermost)"
+    } else if e.fails_only_orientation() {
+        "fails only orientation: would be DISMISSED"
+    } else {
+        "no match"
+    };
+    ui.label(RichText::new(verdict_text).strong());
+}
+
+/// A map segment's hover text.
+pub(super) fn map_segment_hover(ctx: &InspectCtx, sid: SegmentId) -> Option<String> {
+    let view = ctx.view;
+    let s = view
+        .map_after
+        .segment(sid)
+        .or_else(|| view.map_before.segment(sid))?;
+    Some(format!(
+        "segment #{sid} ({})\na {}\nb {}\nlength {}\nface {}",
+        match s.kind {
+            SegmentKind::Fitted => "fitted",
+            SegmentKind::Interpolated => "interpolated",
+        },
+        ctx.end(&s.a),
+        ctx.end(&s.b),
+        ctx.len(s.length()),
+        s.face
+    ))
+}

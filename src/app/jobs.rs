@@ -1,0 +1,141 @@
+//! Work on threads, so the window stays responsive: replaying a large run being opened or the
+//! open run under new parameters ([`ReplayJob`]), and comparing a pinned baseline with the
+//! current parameters ([`DiffJob`]). Each job reports progress and can be cancelled; the app
+//! polls it once a frame and installs the result.
+
+use super::loaded::Source;
+use crate::diff::{diff_run, RunDiff};
+use crate::mapping::Params;
+use crate::replay::{Replay, DEFAULT_CHECKPOINT_INTERVAL};
+use crate::run::Run;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::mpsc::{Receiver, TryRecvError};
+use std::sync::Arc;
+
+/// Runs with at least this many snapshots are replayed on a background thread.
+pub const BACKGROUND_MIN_SNAPSHOTS: usize = 2000;
+
+/// Where a job stands.
+pub(super) enum JobPoll<T> {
+    /// Finished with this result.
+    Done(T),
+    /// Still working.
+    Running,
+    /// The thread ended without a result.
+    Stopped,
+}
+
+/// Work on a thread over a number of snapshots: its progress, its cancel flag and its result.
+pub(super) struct Task<T> {
+    total: usize,
+    done: Arc<AtomicUsize>,
+    cancel: Arc<AtomicBool>,
+    result: Receiver<T>,
+}
+
+impl<T: Send + 'static> Task<T> {
+    /// Runs `work` on a thread over `total` snapshots. `work` gets the progress callback the
+    /// engine calls with the snapshots done (it answers whether to go on) and gives its result,
+    /// if any. A cancelled task sends nothing.
+    fn spawn(
+        total: usize,
+        work: impl FnOnce(&mut dyn FnMut(usize) -> bool) -> Option<T> + Send + 'static,
+    ) -> Self {
+        let done = Arc::new(AtomicUsize::new(0));
+        let cancel = Arc::new(AtomicBool::new(false));
+        let (tx, rx) = std::sync::mpsc::channel();
+        let (p, c) = (done.clone(), cancel.clone());
+        std::thread::spawn(move || {
+            let result = work(&mut |n| {
+                p.store(n, Ordering::Relaxed);
+                !c.load(Ordering::Relaxed)
+            });
+            if let Some(value) = result.filter(|_| !c.load(Ordering::Relaxed)) {
+                let _ = tx.send(value);
+            }
+        });
+        Task {
+            total,
+            done,
+            cancel,
+            result: rx,
+        }
+    }
+}
+
+impl<T> Task<T> {
+    /// Asks the thread to stop; it sends no result then.
+    pub(super) fn cancel(&self) {
+        self.cancel.store(true, Ordering::Relaxed);
+    }
+
+    /// Snapshots done so far.
+    pub(super) fn done(&self) -> usize {
+        self.done.load(Ordering::Relaxed)
+    }
+
+    /// Snapshots to do.
+    pub(super) fn total(&self) -> usize {
+        self.total
+    }
+
+    /// The part done, 0 to 1.
+    pub(super) fn fraction(&self) -> f32 {
+        self.done() as f32 / self.total.max(1) as f32
+    }
+
+    /// The result, once there.
+    pub(super) fn poll(&self) -> JobPoll<T> {
+        match self.result.try_recv() {
+            Ok(value) => JobPoll::Done(value),
+            Err(TryRecvError::Empty) => JobPoll::Running,
+            Err(TryRecvError::Disconnected) => JobPoll::Stopped,
+        }
+    }
+}
+
+/// What a background replay is for.
+pub(super) enum JobKind {
+    /// A run being opened.
+    Open { source: Source, keep_index: bool },
+    /// The open run under new parameters.
+    Rerun,
+}
+
+/// A replay being built on a thread.
+pub(super) struct ReplayJob {
+    pub(super) kind: JobKind,
+    /// What the status bar says it does.
+    pub(super) label: String,
+    pub(super) started: std::time::Instant,
+    pub(super) task: Task<Replay>,
+}
+
+impl ReplayJob {
+    /// Starts replaying `run` under `params` on a thread.
+    pub(super) fn start(run: Arc<Run>, params: Params, kind: JobKind) -> Self {
+        let task = Task::spawn(run.snapshots.len(), move |report| {
+            Replay::build(run, params, DEFAULT_CHECKPOINT_INTERVAL, report).ok()
+        });
+        let label = match &kind {
+            JobKind::Open { source, .. } => format!("replaying {}", source.display_name()),
+            JobKind::Rerun => "re-running with new parameters".to_owned(),
+        };
+        ReplayJob {
+            kind,
+            label,
+            started: std::time::Instant::now(),
+            task,
+        }
+    }
+}
+
+/// The A/B comparison being computed on a thread.
+pub(super) type DiffJob = Task<RunDiff>;
+
+/// Starts comparing `run` under `baseline` (A) and `current` (B) on a thread.
+pub(super) fn start_diff(run: Arc<Run>, baseline: Params, current: Params) -> DiffJob {
+    Task::spawn(run.snapshots.len(), move |report| {
+        Some(diff_run(&run, &baseline, &current, report))
+    })
+}

@@ -1,0 +1,241 @@
+//! Opening a run and installing replays: the app's constructors (the first run), then a file
+//! or dropped bytes imported, replayed on the spot when small or on a thread ([`super::jobs`])
+//! when large or re-run under new parameters, and installed when done with its bookmarks. The
+//! baseline's comparison is started and collected here too.
+
+use super::app::SonarApp;
+use super::bookmarks::read_sidecar;
+use super::inspector::CompareState;
+use super::jobs::{JobKind, JobPoll, ReplayJob, BACKGROUND_MIN_SNAPSHOTS};
+use super::loaded::{Loaded, Source};
+use super::map_view::{MapViewState, ViewRequest};
+use super::params_panel::ParamsPanelState;
+use super::settings::Settings;
+use crate::import::{import_any, ImportOptions};
+use crate::mapping::Params;
+use crate::replay::Replay;
+use crate::run::Run;
+use crate::scene::SceneId;
+use std::path::Path;
+use std::sync::Arc;
+
+impl SonarApp {
+    /// The app on `run` (shown as built in), with settings from `storage` when given.
+    pub fn new(run: Run, storage: Option<&dyn eframe::Storage>) -> Self {
+        let name = run.name.clone();
+        Self::with_source(run, Source::BuiltIn(name), storage)
+    }
+
+    /// The app on `run`, which came from `source`.
+    pub fn with_source(run: Run, source: Source, storage: Option<&dyn eframe::Storage>) -> Self {
+        let (settings, notice) = Settings::load_with_notice(storage);
+        let params = settings.params.clone().unwrap_or_else(Params::paper);
+        let loaded = Loaded::prepare(run, source, &params);
+        let mut app = SonarApp {
+            settings,
+            params,
+            loaded,
+            background: None,
+            background_min_snapshots: BACKGROUND_MIN_SNAPSHOTS,
+            view: None,
+            playing: false,
+            play_clock_s: 0.0,
+            selection: SceneId::None,
+            compare: CompareState::Off,
+            decision_filter: None,
+            banner: None,
+            message: String::new(),
+            map_view: MapViewState::default(),
+            pending: Vec::new(),
+            show_shortcuts: false,
+            jump_text: String::new(),
+            params_panel: ParamsPanelState::default(),
+            baseline: None,
+            bookmarks: Vec::new(),
+            bookmark_text: String::new(),
+            last_rerun_s: None,
+        };
+        app.seek(0);
+        app.load_bookmarks();
+        app.message = match notice {
+            Some(n) => n,
+            None => format!("opened {}", app.loaded.source.display_name()),
+        };
+        app
+    }
+
+    /// Waits (sleeping) until no background work is left, at most `timeout`; for tests and
+    /// measurements. Returns false on timeout.
+    pub fn wait_idle(&mut self, timeout: std::time::Duration) -> bool {
+        let ctx = egui::Context::default();
+        let deadline = std::time::Instant::now() + timeout;
+        while self.is_loading() {
+            if std::time::Instant::now() > deadline {
+                return false;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(5));
+            self.poll_background(&ctx);
+        }
+        true
+    }
+
+    pub(super) fn open_path(&mut self, path: &Path, keep_index: bool) {
+        match std::fs::read(path) {
+            Ok(bytes) => self.open_bytes(&bytes, Source::File(path.to_path_buf()), keep_index),
+            Err(e) => {
+                self.banner = Some(format!("Could not read {}: {e}", path.display()));
+                self.message = "open failed; the previous run stays open".to_owned();
+            }
+        }
+    }
+
+    pub(super) fn open_bytes(&mut self, bytes: &[u8], source: Source, keep_index: bool) {
+        let name = source.display_name();
+        // The importer is picked from the content: sonarmap-log, Player/Stage, MCAP or a table
+        // (Player logs with geometry and MCAP with /tf_static need no layout).
+        match import_any(bytes, &name, &ImportOptions::default()).map(|i| i.run) {
+            Ok(run) if run.snapshots.len() >= self.background_min_snapshots => {
+                self.start_background(Arc::new(run), JobKind::Open { source, keep_index });
+            }
+            Ok(run) => self.install(Loaded::prepare(run, source, &self.params), keep_index),
+            Err(e) => {
+                // The importer's error already names the file and the place.
+                self.banner = Some(format!("Could not open the log: {e}"));
+                self.message = "open failed; the previous run stays open".to_owned();
+            }
+        }
+    }
+
+    /// Replays a large run on a thread; the current run stays usable meanwhile.
+    pub(super) fn start_background(&mut self, run: Arc<Run>, kind: JobKind) {
+        if let Some(old) = self.background.take() {
+            old.task.cancel();
+        }
+        let job = ReplayJob::start(run, self.params.clone(), kind);
+        self.message = format!("{}…", job.label);
+        self.background = Some(job);
+    }
+
+    /// Installs a finished background replay or comparison.
+    pub(super) fn poll_background(&mut self, ctx: &egui::Context) {
+        self.poll_diff(ctx);
+        let Some(job) = &self.background else {
+            return;
+        };
+        match job.task.poll() {
+            JobPoll::Done(replay) => {
+                let job = self.background.take().expect("checked above");
+                match job.kind {
+                    JobKind::Open { source, keep_index } => {
+                        self.install(Loaded::new(replay, source), keep_index)
+                    }
+                    JobKind::Rerun => {
+                        let s = job.started.elapsed().as_secs_f64();
+                        self.last_rerun_s = Some(s);
+                        self.install_rerun(replay);
+                        self.message = format!(
+                            "re-ran {} snapshots with the new parameters in {s:.2} s",
+                            self.len()
+                        );
+                    }
+                }
+            }
+            JobPoll::Running => ctx.request_repaint(),
+            JobPoll::Stopped => {
+                self.background = None;
+                self.banner =
+                    Some("the replay stopped unexpectedly; the previous run stays open".to_owned());
+            }
+        }
+    }
+
+    fn poll_diff(&mut self, ctx: &egui::Context) {
+        if let Some(message) = self.baseline.as_mut().and_then(|b| b.poll(ctx)) {
+            self.message = message;
+        }
+    }
+
+    /// Starts comparing the baseline with the replay shown, on a thread.
+    pub(super) fn start_diff(&mut self) {
+        let current = self.loaded.replay.params().clone();
+        let run = self.loaded.replay.run().clone();
+        if let Some(baseline) = &mut self.baseline {
+            baseline.start_diff(run, current);
+        }
+    }
+
+    fn install(&mut self, loaded: Loaded, keep_index: bool) {
+        let k = self.current();
+        let name = loaded.source.display_name();
+        if let Source::File(path) = &loaded.source {
+            let path = path.clone();
+            self.settings.remember(&path);
+        }
+        self.loaded = loaded;
+        self.view = None;
+        if let Some(mut b) = self.baseline.take() {
+            b.cancel_job();
+        }
+        self.load_bookmarks();
+        self.selection = SceneId::None;
+        self.compare = CompareState::Off;
+        self.playing = false;
+        self.banner = None;
+        self.seek(if keep_index { k } else { 0 });
+        if !keep_index {
+            self.map_view.request = Some(ViewRequest::Fit);
+        }
+        self.message = format!(
+            "{} {name}: {} snapshots",
+            if keep_index { "reloaded" } else { "opened" },
+            self.len()
+        );
+        self.report_step_failure();
+    }
+
+    /// Installs a re-run of the open run: same snapshot, the selection when it still exists.
+    fn install_rerun(&mut self, replay: Replay) {
+        let k = self.current();
+        let selection = self.selection;
+        self.loaded = Loaded::new(replay, self.loaded.source.clone());
+        self.view = None;
+        self.seek(k);
+        self.selection = if self.exists(selection) {
+            selection
+        } else {
+            SceneId::None
+        };
+        if matches!(self.compare, CompareState::Done { .. }) {
+            self.compare = CompareState::Off;
+        }
+        self.report_step_failure();
+        self.start_diff();
+    }
+
+    /// Shows in the banner a step that failed while replaying: the run stays open up to the
+    /// snapshot before it.
+    fn report_step_failure(&mut self) {
+        if let Some(failure) = self.loaded.replay.failure() {
+            self.banner = Some(format!(
+                "{}: {failure}. The run is open up to the snapshot before it.",
+                self.loaded.source.display_name()
+            ));
+        }
+    }
+
+    /// Reads the open run's bookmarks: the settings' for the built-in run, the sidecar file's
+    /// for a log file, none for a dropped file.
+    pub(super) fn load_bookmarks(&mut self) {
+        self.bookmarks = match &self.loaded.source {
+            Source::BuiltIn(_) => self.settings.builtin_bookmarks.clone(),
+            Source::Bytes(_) => Vec::new(),
+            Source::File(path) => match read_sidecar(path) {
+                Ok(bookmarks) => bookmarks,
+                Err(message) => {
+                    self.message = message;
+                    Vec::new()
+                }
+            },
+        };
+    }
+}

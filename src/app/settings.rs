@@ -1,0 +1,180 @@
+//! The persisted settings: UI state that survives restarts, kept by eframe under
+//! [`SETTINGS_KEY`]. Every field has a default (`#[serde(default)]`), and a value that does not
+//! parse is replaced by its default, never a crash. Runtime state lives in [`super::SonarApp`].
+
+use super::bookmarks::Bookmark;
+use crate::mapping::Params;
+use crate::scene::{Layer, LayerSet};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// Key of the persisted [`Settings`] in eframe's storage.
+pub const SETTINGS_KEY: &str = "sonarmap.settings";
+
+/// Most recent files remembered.
+const MAX_RECENT: usize = 10;
+
+/// UI state that survives restarts. Every field has a default, and a value that does not parse
+/// is ignored (the whole struct falls back to its default), never a crash.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Settings {
+    /// Machine names ([`Layer::name`]) of the layers switched off.
+    pub hidden_layers: Vec<String>,
+    /// Recently opened files, most recent first.
+    pub recent: Vec<PathBuf>,
+    /// Playback rate, snapshots per second.
+    pub rate: f32,
+    /// Last window size in points (eframe also restores it by itself).
+    pub window_size: Option<[f32; 2]>,
+    /// The last parameters applied (lengths in metres); `None`: the paper's.
+    pub params: Option<Params>,
+    /// Bookmarks of the built-in run (a log file keeps its own in a sidecar file).
+    pub builtin_bookmarks: Vec<Bookmark>,
+    /// Draw the baseline's map ghosted under the current one while a baseline is pinned.
+    pub baseline_ghost: bool,
+    /// The page shown in the left panel.
+    pub left_tab: LeftTab,
+}
+
+/// The pages of the left panel.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LeftTab {
+    /// Live parameters and the A/B baseline.
+    #[default]
+    Parameters,
+    /// Layer switches and legend.
+    Layers,
+    /// Bookmarks of the run.
+    Bookmarks,
+}
+
+impl LeftTab {
+    /// Every page, in the order shown.
+    pub const ALL: [LeftTab; 3] = [LeftTab::Parameters, LeftTab::Layers, LeftTab::Bookmarks];
+
+    /// The tab's label.
+    pub fn label(self) -> &'static str {
+        match self {
+            LeftTab::Parameters => "Parameters",
+            LeftTab::Layers => "Layers",
+            LeftTab::Bookmarks => "Bookmarks",
+        }
+    }
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            hidden_layers: vec![Layer::Beams.name().to_owned()],
+            recent: Vec::new(),
+            rate: 4.0,
+            window_size: None,
+            params: None,
+            builtin_bookmarks: Vec::new(),
+            baseline_ghost: true,
+            left_tab: LeftTab::Parameters,
+        }
+    }
+}
+
+impl Settings {
+    /// Reads the settings from `storage`; a missing or corrupt value gives the defaults.
+    pub fn load(storage: Option<&dyn eframe::Storage>) -> Self {
+        Self::load_with_notice(storage).0
+    }
+
+    /// Reads the settings from `storage`, value by value: a value that does not parse (or is
+    /// out of range) is replaced by its default and named in the notice; text that is not a
+    /// JSON object gives the defaults and a notice.
+    pub fn load_with_notice(storage: Option<&dyn eframe::Storage>) -> (Self, Option<String>) {
+        use serde_json::Value;
+        let Some(text) = storage.and_then(|s| s.get_string(SETTINGS_KEY)) else {
+            return (Settings::default(), None);
+        };
+        let stored = match serde_json::from_str::<Value>(&text) {
+            Ok(Value::Object(map)) => map,
+            Ok(_) => {
+                return (
+                    Settings::default(),
+                    Some("settings ignored: not a JSON object; using the defaults".to_owned()),
+                )
+            }
+            Err(e) => {
+                return (
+                    Settings::default(),
+                    Some(format!(
+                        "settings ignored: not JSON ({e}); using the defaults"
+                    )),
+                )
+            }
+        };
+        let mut merged = match serde_json::to_value(Settings::default()) {
+            Ok(Value::Object(map)) => map,
+            _ => return (Settings::default(), None),
+        };
+        let mut bad = Vec::new();
+        for (key, value) in stored {
+            let mut trial = merged.clone();
+            trial.insert(key.clone(), value);
+            if serde_json::from_value::<Settings>(Value::Object(trial.clone())).is_ok() {
+                merged = trial;
+            } else {
+                bad.push(key);
+            }
+        }
+        let mut settings: Settings =
+            serde_json::from_value(Value::Object(merged)).unwrap_or_default();
+        if let Some(e) = settings.params.as_ref().and_then(|p| p.validate().err()) {
+            settings.params = None;
+            bad.push(format!("params ({e})"));
+        }
+        let rate = settings.rate;
+        let settings = settings.sanitised();
+        if settings.rate != rate {
+            bad.push("rate".to_owned());
+        }
+        let notice = (!bad.is_empty()).then(|| {
+            format!(
+                "ignored corrupt settings: {}; using defaults for them",
+                bad.join(", ")
+            )
+        });
+        (settings, notice)
+    }
+
+    fn sanitised(mut self) -> Self {
+        if !self.rate.is_finite() || self.rate <= 0.0 {
+            self.rate = Settings::default().rate;
+        }
+        self.rate = self.rate.clamp(0.25, 60.0);
+        self.recent.truncate(MAX_RECENT);
+        self
+    }
+
+    /// The layers switched on.
+    pub fn layers(&self) -> LayerSet {
+        let mut set = LayerSet::all();
+        for name in &self.hidden_layers {
+            if let Some(layer) = Layer::from_name(name) {
+                set.set(layer, false);
+            }
+        }
+        set
+    }
+
+    pub(super) fn set_layer(&mut self, layer: Layer, on: bool) {
+        self.hidden_layers.retain(|n| n != layer.name());
+        if !on {
+            self.hidden_layers.push(layer.name().to_owned());
+        }
+    }
+
+    /// Puts `path` first in the recent files (once), keeping at most [`MAX_RECENT`].
+    pub(super) fn remember(&mut self, path: &Path) {
+        self.recent.retain(|p| p != path);
+        self.recent.insert(0, path.to_path_buf());
+        self.recent.truncate(MAX_RECENT);
+    }
+}
