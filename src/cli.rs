@@ -72,7 +72,7 @@ pub struct SoakArgs {
 
 const DIFF_HELP: &str = "Compare the decisions of two parameter sets on one log; prints one JSON object.
 
-New segments of A and B are paired by their supporting readings. A decision differs when the outcome differs (kind \"outcome\"), when the same outcome names another existing segment (\"existing_segment\"), or when only one parameter set fitted the segment (\"only_in_a\", \"only_in_b\"). Output: snapshots (where any decision differs), decisions (each with both sides: outcome, rule, existing segment), and eval_a / eval_b (the figures of `sonarmap eval`) when the log has a floor plan.";
+New segments of A and B are paired by their supporting readings. A decision differs when the outcome differs (kind \"outcome\"), when the same outcome names another existing segment (\"existing_segment\"), or when only one parameter set fitted the segment (\"only_in_a\", \"only_in_b\"). Each difference has a cause: \"direct\" when the new segment and the map within reach of a matching test are the same under A and B (the parameter change itself), \"consequential\" when an earlier difference changed what the decision saw. Output: snapshots (where any decision differs), first_difference, direct and consequential (counts of decisions), direct_snapshots, decisions (each with its cause and both sides: outcome, rule, existing segment), and eval_a / eval_b (the figures of `sonarmap eval`) when the log has a floor plan.";
 
 /// `sonarmap diff`.
 #[derive(Debug, Args)]

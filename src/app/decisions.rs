@@ -50,11 +50,15 @@ fn side_text(side: &DecisionSide) -> String {
 
 /// The note beside a decision that differs from the baseline (A = baseline, B = current).
 pub fn baseline_note(d: &DecisionDifference) -> String {
+    let cause = match d.cause {
+        crate::diff::Cause::Direct => "direct",
+        crate::diff::Cause::Consequential => "consequential",
+    };
     match (d.kind, &d.a) {
         (DifferenceKind::OnlyInB, _) | (_, None) => {
-            "≠ baseline: not fitted under the baseline".to_owned()
+            format!("≠ baseline ({cause}): not fitted under the baseline")
         }
-        (_, Some(a)) => format!("≠ baseline: was {}", side_text(a)),
+        (_, Some(a)) => format!("≠ baseline ({cause}): was {}", side_text(a)),
     }
 }
 

@@ -12,7 +12,7 @@ use super::jobs::JobKind;
 use super::layers::layers_ui;
 use super::map_view::map_view_ui;
 use super::menu::{handle_shortcuts, menu_bar_ui, shortcuts_window_ui};
-use super::params_panel::{params_panel_ui, ParamsPanelInfo};
+use super::params_panel::{params_panel_ui, BaselineSummary, ParamsPanelInfo};
 use super::settings::{LeftTab, SETTINGS_KEY};
 use super::timeline::{timeline_ui, TimelineInfo};
 use crate::scene::{format_length, Scene, SceneId};
@@ -90,7 +90,7 @@ impl SonarApp {
                     .baseline
                     .as_ref()
                     .and_then(|b| b.diff.as_ref())
-                    .map(|d| d.snapshots.as_slice()),
+                    .map(|d| d.direct_snapshots.as_slice()),
                 playing: self.playing,
                 rate: self.settings.rate,
             };
@@ -150,7 +150,7 @@ impl SonarApp {
                 .baseline
                 .as_ref()
                 .and_then(|b| b.diff.as_ref())
-                .map(|d| d.snapshots.len()),
+                .map(BaselineSummary::of),
         };
         commands.extend(params_panel_ui(ui, &mut self.params_panel, &info));
         if self.baseline.is_some() {

@@ -139,6 +139,31 @@ impl ParamsPanelState {
     }
 }
 
+/// The comparison with the pinned baseline, in figures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BaselineSummary {
+    /// Snapshots where any decision differs.
+    pub snapshots: usize,
+    /// Differences the parameter change made itself.
+    pub direct: usize,
+    /// Differences that follow from earlier ones.
+    pub consequential: usize,
+    /// The first snapshot that differs.
+    pub first: Option<usize>,
+}
+
+impl BaselineSummary {
+    /// The figures of a comparison.
+    pub fn of(diff: &crate::diff::RunDiff) -> Self {
+        Self {
+            snapshots: diff.snapshots.len(),
+            direct: diff.direct,
+            consequential: diff.consequential,
+            first: diff.first_difference,
+        }
+    }
+}
+
 /// What the panel shows besides the parameters.
 #[derive(Clone, Copy, Debug)]
 pub struct ParamsPanelInfo<'a> {
@@ -152,8 +177,8 @@ pub struct ParamsPanelInfo<'a> {
     pub pinned: bool,
     /// Fraction done of the baseline comparison, while it runs.
     pub diff_progress: Option<f32>,
-    /// Snapshots where a decision differs from the baseline (when known).
-    pub differing: Option<usize>,
+    /// How the current parameters' decisions differ from the baseline's (when known).
+    pub differing: Option<BaselineSummary>,
 }
 
 /// Draws the panel.
@@ -358,11 +383,29 @@ pub fn params_panel_ui(
                         .desired_width(100.0)
                         .text("comparing…"),
                 );
-            } else if let Some(n) = info.differing {
+            } else if let Some(d) = info.differing {
                 ui.label(
-                    RichText::new(format!("{n} snapshots differ from the baseline"))
-                        .color(super::timeline::BASELINE_COLOUR),
+                    RichText::new(format!(
+                        "{} snapshots differ from the baseline: {} direct, {} consequential \
+                         decisions",
+                        d.snapshots, d.direct, d.consequential
+                    ))
+                    .color(super::timeline::BASELINE_COLOUR),
+                )
+                .on_hover_text(
+                    "Direct: the same new segment met the same map and was decided otherwise \
+                     (the parameter change itself). Consequential: what it met differs because \
+                     an earlier decision differed. The timeline marks the direct ones.",
                 );
+                if let Some(k) = d.first {
+                    if ui
+                        .button("First difference")
+                        .on_hover_text("Go to the first snapshot that differs from the baseline")
+                        .clicked()
+                    {
+                        commands.push(Command::Seek(k));
+                    }
+                }
             }
         } else if ui
             .button("Pin as baseline")

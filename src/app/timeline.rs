@@ -21,7 +21,8 @@ pub struct TimelineInfo<'a> {
     pub t_s: f64,
     /// Snapshots with a mark, ascending.
     pub marks: &'a [usize],
-    /// Snapshots where a decision differs from the pinned baseline, when known.
+    /// Snapshots where a decision differs directly from the pinned baseline (the parameter
+    /// change itself, not its consequences), when known.
     pub baseline_marks: Option<&'a [usize]>,
     /// True while playing.
     pub playing: bool,
@@ -97,8 +98,11 @@ pub fn timeline_ui(ui: &mut egui::Ui, info: &TimelineInfo, jump_text: &mut Strin
         ui.label(format!("{} marks", info.marks.len()));
         if let Some(diff) = info.baseline_marks {
             ui.label(
-                RichText::new(format!("≠ baseline: {} snapshots", diff.len()))
-                    .color(BASELINE_COLOUR),
+                RichText::new(format!(
+                    "≠ baseline: {} snapshots with a direct difference",
+                    diff.len()
+                ))
+                .color(BASELINE_COLOUR),
             );
         }
         ui.separator();

@@ -502,15 +502,24 @@ fn pinning_a_baseline_then_changing_theta_marks_the_differing_decisions() {
         .expect("comparison computed")
         .clone();
     assert!(!diff.snapshots.is_empty(), "θ_o = 3° changes some decision");
-    let label = format!("≠ baseline: {} snapshots", diff.snapshots.len());
+    // The timeline marks only the snapshots with a direct difference (the parameter change
+    // itself), fewer than those that differ at all.
+    assert!(diff.direct > 0 && diff.direct_snapshots.len() < diff.snapshots.len());
+    let label = format!(
+        "≠ baseline: {} snapshots with a direct difference",
+        diff.direct_snapshots.len()
+    );
     assert!(
         h.query_by_label(&label).is_some(),
         "timeline shows {label:?}"
     );
 
+    // "First difference" seeks to the first snapshot that differs.
     let k = diff.snapshots[0];
-    h.state_mut().push(Command::Seek(k));
+    assert_eq!(diff.first_difference, Some(k));
+    h.get_by_label("First difference").click();
     h.run();
+    assert_eq!(h.state().current(), k);
     let here = h.state().differences_here();
     assert!(!here.is_empty());
     assert!(
