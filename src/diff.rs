@@ -199,6 +199,23 @@ fn same_ends(x: &[EndPoint; 2], y: &[EndPoint; 2]) -> bool {
     same_end(&x[0], &y[0]) && same_end(&x[1], &y[1])
 }
 
+impl<'a> Inputs<'a> {
+    fn of(
+        trace: &'a StepTrace,
+        map_before: &'a Map,
+        map_after: &'a Map,
+        params: &'a Params,
+    ) -> Self {
+        Self {
+            trace,
+            map_before,
+            map_after,
+            touched: touched(trace),
+            params,
+        }
+    }
+}
+
 /// Ids of the map segments a step changed: updated, split by a refit, absorbed, or moved by a
 /// corner.
 fn touched(trace: &StepTrace) -> Vec<SegmentId> {
@@ -347,20 +364,10 @@ pub fn diff_run_keeping_maps(
         let (ta, tb) = (ma.step(snapshot), mb.step(snapshot));
         let mut step = diff_step(&ta, &tb);
         if !step.is_empty() {
-            let side_a = Inputs {
-                trace: &ta,
-                map_before: &before_a,
-                map_after: ma.map(),
-                touched: touched(&ta),
-                params: a,
-            };
-            let side_b = Inputs {
-                trace: &tb,
-                map_before: &before_b,
-                map_after: mb.map(),
-                touched: touched(&tb),
-                params: b,
-            };
+            let (side_a, side_b) = (
+                Inputs::of(&ta, &before_a, ma.map(), a),
+                Inputs::of(&tb, &before_b, mb.map(), b),
+            );
             for d in &mut step {
                 d.cause = classify(d, &side_a, &side_b);
             }

@@ -158,62 +158,9 @@ fn decide_untraced(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::Point;
-    use crate::mapping::map::EndPoint;
     use crate::mapping::matching::decide_by_the_rule;
+    use crate::mapping::matching::test_support::*;
     use proptest::strategy::Strategy;
-
-    fn ends(ax: f64, ay: f64, da: f64, bx: f64, by: f64, db: f64) -> SegmentEnds {
-        let end = |x, y, d| EndPoint {
-            point: Point::new(x, y),
-            range_m: d,
-        };
-        SegmentEnds {
-            a: end(ax, ay, da),
-            b: end(bx, by, db),
-        }
-    }
-
-    /// A segment within a few metres of the origin, ranges from 0.3 to 4 m.
-    fn any_ends() -> impl Strategy<Value = SegmentEnds> {
-        let coord = -3.0f64..3.0;
-        let range = 0.3f64..4.0;
-        (
-            coord.clone(),
-            coord.clone(),
-            range.clone(),
-            coord.clone(),
-            coord,
-            range,
-        )
-            .prop_map(|(ax, ay, da, bx, by, db)| ends(ax, ay, da, bx, by, db))
-    }
-
-    /// A copy of `e` moved by (`dx`, `dy`), turned by `turn` about its mid-point and scaled by
-    /// `scale`: near-duplicates, crossing and parallel segments, so every rule gets exercised.
-    fn near(e: &SegmentEnds, dx: f64, dy: f64, turn: f64, scale: f64) -> SegmentEnds {
-        let m = e.mid();
-        let (s, c) = turn.sin_cos();
-        let place = |p: &EndPoint| {
-            let v = (p.point - m) * scale;
-            EndPoint {
-                point: Point::new(m.x + dx + c * v.x - s * v.y, m.y + dy + s * v.x + c * v.y),
-                range_m: p.range_m,
-            }
-        };
-        SegmentEnds {
-            a: place(&e.a),
-            b: place(&e.b),
-        }
-    }
-
-    fn cand(new: &SegmentEnds, id: SegmentId, e: SegmentEnds, outermost: bool) -> Candidate {
-        Candidate::new(new, id, e, FaceId::from(outermost))
-    }
-
-    fn outermost_in_face_1(_: SegmentId, face: FaceId) -> bool {
-        face == 1
-    }
 
     proptest::proptest! {
         #[test]

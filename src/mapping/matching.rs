@@ -342,12 +342,14 @@ pub(super) fn test_candidate(
     is_match
 }
 
+/// Segments and candidates for the tests of matching and its fast paths.
 #[cfg(test)]
-mod tests {
+pub(super) mod test_support {
     use super::*;
     use crate::geometry::Point;
+    use proptest::strategy::Strategy;
 
-    fn ends(ax: f64, ay: f64, da: f64, bx: f64, by: f64, db: f64) -> SegmentEnds {
+    pub(crate) fn ends(ax: f64, ay: f64, da: f64, bx: f64, by: f64, db: f64) -> SegmentEnds {
         SegmentEnds {
             a: EndPoint {
                 point: Point::new(ax, ay),
@@ -359,6 +361,62 @@ mod tests {
             },
         }
     }
+
+    /// A candidate in face 1 (where every segment is outermost) or face 0 (where none is).
+    pub(crate) fn cand(
+        new: &SegmentEnds,
+        id: SegmentId,
+        e: SegmentEnds,
+        outermost: bool,
+    ) -> Candidate {
+        Candidate::new(new, id, e, FaceId::from(outermost))
+    }
+
+    pub(crate) fn outermost_in_face_1(_: SegmentId, face: FaceId) -> bool {
+        face == 1
+    }
+
+    /// A segment within a few metres of the origin, ranges from 0.3 to 4 m.
+    pub(crate) fn any_ends() -> impl Strategy<Value = SegmentEnds> {
+        let coord = -3.0f64..3.0;
+        let range = 0.3f64..4.0;
+        (
+            coord.clone(),
+            coord.clone(),
+            range.clone(),
+            coord.clone(),
+            coord,
+            range,
+        )
+            .prop_map(|(ax, ay, da, bx, by, db)| ends(ax, ay, da, bx, by, db))
+    }
+
+    /// A copy of `e` moved by (`dx`, `dy`), turned by `turn` about its mid-point and scaled by
+    /// `scale`: near-duplicates, crossing and parallel segments, so every rule gets exercised.
+    pub(crate) fn near(e: &SegmentEnds, dx: f64, dy: f64, turn: f64, scale: f64) -> SegmentEnds {
+        let m = e.mid();
+        let (s, c) = turn.sin_cos();
+        let place = |p: &EndPoint| {
+            let v = (p.point - m) * scale;
+            EndPoint {
+                point: crate::geometry::Point::new(
+                    m.x + dx + c * v.x - s * v.y,
+                    m.y + dy + s * v.x + c * v.y,
+                ),
+                range_m: p.range_m,
+            }
+        };
+        SegmentEnds {
+            a: place(&e.a),
+            b: place(&e.b),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::test_support::*;
+    use super::*;
 
     #[test]
     fn colinearity_threshold_is_the_papers_formula_at_xi_3() {
@@ -426,15 +484,6 @@ mod tests {
         assert!(!contains.mpc && contains.containment && !contains.epc);
         let none = evaluate_pair(&p, &ends(12.0, 0.0, 50.0, 30.0, 0.0, 50.0), 1, &e).overlap;
         assert!(!none.mpc && !none.epc && !none.containment);
-    }
-
-    /// A candidate in face 1 (where every segment is outermost) or face 0 (where none is).
-    fn cand(new: &SegmentEnds, id: SegmentId, e: SegmentEnds, outermost: bool) -> Candidate {
-        Candidate::new(new, id, e, FaceId::from(outermost))
-    }
-
-    fn outermost_in_face_1(_: SegmentId, face: FaceId) -> bool {
-        face == 1
     }
 
     /// `decide` for new segment 0, with candidates in face 1 outermost.
@@ -510,44 +559,6 @@ mod tests {
         );
         let d = decide_in_face_1(&p, &n, &mut []);
         assert_eq!(d.rule, Rule::NoCandidates);
-    }
-
-    use proptest::strategy::Strategy;
-
-    /// A segment within a few metres of the origin, ranges from 0.3 to 4 m.
-    fn any_ends() -> impl Strategy<Value = SegmentEnds> {
-        let coord = -3.0f64..3.0;
-        let range = 0.3f64..4.0;
-        (
-            coord.clone(),
-            coord.clone(),
-            range.clone(),
-            coord.clone(),
-            coord,
-            range,
-        )
-            .prop_map(|(ax, ay, da, bx, by, db)| ends(ax, ay, da, bx, by, db))
-    }
-
-    /// A copy of `e` moved by (`dx`, `dy`), turned by `turn` about its mid-point and scaled by
-    /// `scale`: near-duplicates, crossing and parallel segments, so every rule gets exercised.
-    fn near(e: &SegmentEnds, dx: f64, dy: f64, turn: f64, scale: f64) -> SegmentEnds {
-        let m = e.mid();
-        let (s, c) = turn.sin_cos();
-        let place = |p: &EndPoint| {
-            let v = (p.point - m) * scale;
-            EndPoint {
-                point: crate::geometry::Point::new(
-                    m.x + dx + c * v.x - s * v.y,
-                    m.y + dy + s * v.x + c * v.y,
-                ),
-                range_m: p.range_m,
-            }
-        };
-        SegmentEnds {
-            a: place(&e.a),
-            b: place(&e.b),
-        }
     }
 
     proptest::proptest! {
