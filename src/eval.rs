@@ -21,7 +21,7 @@
 //!   (`null` when no wall is visible).
 
 use crate::geometry::{distance_to_segment, line_angle_between, projection_param};
-use crate::mapping::{Map, Params, SegmentKind};
+use crate::mapping::{Map, Params, Segment, SegmentId, SegmentKind};
 use crate::run::{FloorPlan, Run};
 use crate::units::inches;
 use serde::{Deserialize, Serialize};
@@ -88,60 +88,196 @@ fn intersection_measure(a: &[(f64, f64)], b: &[(f64, f64)]) -> f64 {
     total
 }
 
+/// What `eval` says of one fitted map segment.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", tag = "verdict")]
+pub enum Verdict {
+    /// Both end-points within tolerance of wall `wall` (its index in the floor plan) and its
+    /// angle to it at most `θ_o`.
+    OnWall {
+        /// Index of the wall.
+        wall: usize,
+        /// Mean distance of the two end-points to the wall, metres.
+        endpoint_error_m: f64,
+        /// Angle to the wall, radians.
+        angle_rad: f64,
+    },
+    /// Both end-points within tolerance of pillar `pillar`'s circle.
+    OnPillar {
+        /// Index of the pillar.
+        pillar: usize,
+        /// Mean distance of the two end-points to the circle, metres.
+        endpoint_error_m: f64,
+    },
+    /// On no wall and no pillar.
+    Spurious,
+}
+
+impl Verdict {
+    /// True for a segment on a wall or pillar.
+    pub fn is_true(&self) -> bool {
+        !matches!(self, Verdict::Spurious)
+    }
+}
+
+/// The verdict of `eval` on segment `s` against `floor_plan` (see the module's definitions):
+/// the wall with the smallest summed end-point distance among those it lies on, else the first
+/// pillar it lies on, else spurious.
+pub fn segment_verdict(s: &Segment, floor_plan: &FloorPlan, params: &Params) -> Verdict {
+    let tol = |range_m: f64| (params.accuracy_pct * range_m / 100.0).max(inches(1.0));
+    let (ta, tb) = (tol(s.a.range_m), tol(s.b.range_m));
+    let dir = s.b.point - s.a.point;
+    let mut best: Option<(usize, f64, f64)> = None;
+    for (i, w) in floor_plan.walls.iter().enumerate() {
+        let da = distance_to_segment(&s.a.point, &w.a, &w.b);
+        let db = distance_to_segment(&s.b.point, &w.a, &w.b);
+        let angle = line_angle_between(&dir, &(w.b - w.a));
+        if da <= ta
+            && db <= tb
+            && angle <= params.orientation_rad + 1e-12
+            && best.is_none_or(|b| da + db < b.1)
+        {
+            best = Some((i, da + db, angle));
+        }
+    }
+    if let Some((wall, d, angle_rad)) = best {
+        return Verdict::OnWall {
+            wall,
+            endpoint_error_m: d / 2.0,
+            angle_rad,
+        };
+    }
+    floor_plan
+        .circles
+        .iter()
+        .enumerate()
+        .find_map(|(pillar, c)| {
+            let da = ((s.a.point - c.centre).norm() - c.radius_m).abs();
+            let db = ((s.b.point - c.centre).norm() - c.radius_m).abs();
+            (da <= ta && db <= tb).then_some(Verdict::OnPillar {
+                pillar,
+                endpoint_error_m: (da + db) / 2.0,
+            })
+        })
+        .unwrap_or(Verdict::Spurious)
+}
+
+/// The verdict of every fitted segment of `map`, in map order.
+pub fn map_verdicts(
+    map: &Map,
+    floor_plan: &FloorPlan,
+    params: &Params,
+) -> Vec<(SegmentId, Verdict)> {
+    map.segments
+        .iter()
+        .filter(|s| s.kind == SegmentKind::Fitted)
+        .map(|s| (s.id, segment_verdict(s, floor_plan, params)))
+        .collect()
+}
+
+/// The figures of the map alone (before visibility): counts, error sums and each wall's
+/// covered intervals.
+struct MapPart {
+    fitted: usize,
+    true_count: usize,
+    endpoint_sum: f64,
+    endpoint_n: usize,
+    angle_sum: f64,
+    angle_n: usize,
+    covered: Vec<Vec<(f64, f64)>>,
+}
+
+impl MapPart {
+    fn of(map: &Map, floor_plan: &FloorPlan, params: &Params) -> Self {
+        let walls = &floor_plan.walls;
+        let mut part = MapPart {
+            fitted: 0,
+            true_count: 0,
+            endpoint_sum: 0.0,
+            endpoint_n: 0,
+            angle_sum: 0.0,
+            angle_n: 0,
+            covered: vec![Vec::new(); walls.len()],
+        };
+        for s in map
+            .segments
+            .iter()
+            .filter(|s| s.kind == SegmentKind::Fitted)
+        {
+            part.fitted += 1;
+            match segment_verdict(s, floor_plan, params) {
+                Verdict::OnWall {
+                    wall,
+                    endpoint_error_m,
+                    angle_rad,
+                } => {
+                    part.true_count += 1;
+                    part.endpoint_sum += 2.0 * endpoint_error_m;
+                    part.endpoint_n += 2;
+                    part.angle_sum += angle_rad;
+                    part.angle_n += 1;
+                    let w = &walls[wall];
+                    let pa = projection_param(&s.a.point, &w.a, &w.b).clamp(0.0, 1.0);
+                    let pb = projection_param(&s.b.point, &w.a, &w.b).clamp(0.0, 1.0);
+                    part.covered[wall].push((pa.min(pb), pa.max(pb)));
+                }
+                Verdict::OnPillar {
+                    endpoint_error_m, ..
+                } => {
+                    part.true_count += 1;
+                    part.endpoint_sum += 2.0 * endpoint_error_m;
+                    part.endpoint_n += 2;
+                }
+                Verdict::Spurious => {}
+            }
+        }
+        part
+    }
+
+    fn spurious_fraction(&self) -> f64 {
+        if self.fitted == 0 {
+            0.0
+        } else {
+            1.0 - self.true_count as f64 / self.fitted as f64
+        }
+    }
+}
+
+/// The spurious fraction and the coverage of `eval` for `map` (without the visibility figures,
+/// which need the whole run): the figures the inspector shows for the snapshot on screen.
+pub fn truth_figures(map: &Map, floor_plan: &FloorPlan, params: &Params) -> (f64, f64) {
+    let part = MapPart::of(map, floor_plan, params);
+    let (mut wall_length, mut covered_length) = (0.0, 0.0);
+    for (w, covered) in floor_plan.walls.iter().zip(part.covered.iter()) {
+        let len = (w.b - w.a).norm();
+        wall_length += len;
+        covered_length += measure(&union(covered.clone())) * len;
+    }
+    let coverage = if wall_length > 0.0 {
+        covered_length / wall_length
+    } else {
+        0.0
+    };
+    (part.spurious_fraction(), coverage)
+}
+
 /// Compares `map` with `floor_plan`; `run` gives the readings (for visibility) and the units,
 /// `params` the resolution `ξ`, `θ_o`, `t_gap`, `d_max` and `min_range`.
 pub fn evaluate(map: &Map, run: &Run, floor_plan: &FloorPlan, params: &Params) -> EvalReport {
     let floor_m = inches(1.0);
     let tol = |range_m: f64| (params.accuracy_pct * range_m / 100.0).max(floor_m);
     let walls = &floor_plan.walls;
-    let mut covered: Vec<Vec<(f64, f64)>> = vec![Vec::new(); walls.len()];
-    let (mut fitted, mut true_count) = (0usize, 0usize);
-    let (mut endpoint_sum, mut endpoint_n) = (0.0, 0usize);
-    let (mut angle_sum, mut angle_n) = (0.0, 0usize);
-    for s in map
-        .segments
-        .iter()
-        .filter(|s| s.kind == SegmentKind::Fitted)
-    {
-        fitted += 1;
-        let (ta, tb) = (tol(s.a.range_m), tol(s.b.range_m));
-        let dir = s.b.point - s.a.point;
-        let mut best: Option<(usize, f64, f64)> = None;
-        for (i, w) in walls.iter().enumerate() {
-            let da = distance_to_segment(&s.a.point, &w.a, &w.b);
-            let db = distance_to_segment(&s.b.point, &w.a, &w.b);
-            let angle = line_angle_between(&dir, &(w.b - w.a));
-            if da <= ta
-                && db <= tb
-                && angle <= params.orientation_rad + 1e-12
-                && best.is_none_or(|b| da + db < b.1)
-            {
-                best = Some((i, da + db, angle));
-            }
-        }
-        if let Some((i, d, angle)) = best {
-            true_count += 1;
-            endpoint_sum += d;
-            endpoint_n += 2;
-            angle_sum += angle;
-            angle_n += 1;
-            let w = &walls[i];
-            let pa = projection_param(&s.a.point, &w.a, &w.b).clamp(0.0, 1.0);
-            let pb = projection_param(&s.b.point, &w.a, &w.b).clamp(0.0, 1.0);
-            covered[i].push((pa.min(pb), pa.max(pb)));
-            continue;
-        }
-        let on_circle = floor_plan.circles.iter().find_map(|c| {
-            let da = ((s.a.point - c.centre).norm() - c.radius_m).abs();
-            let db = ((s.b.point - c.centre).norm() - c.radius_m).abs();
-            (da <= ta && db <= tb).then_some(da + db)
-        });
-        if let Some(d) = on_circle {
-            true_count += 1;
-            endpoint_sum += d;
-            endpoint_n += 2;
-        }
-    }
+    let part = MapPart::of(map, floor_plan, params);
+    let spurious_fraction = part.spurious_fraction();
+    let MapPart {
+        fitted,
+        true_count,
+        endpoint_sum,
+        endpoint_n,
+        angle_sum,
+        angle_n,
+        mut covered,
+    } = part;
     // Visibility from the kept readings.
     let mut marks: Vec<Vec<(f64, f64)>> = vec![Vec::new(); walls.len()];
     for snap in &run.snapshots {
@@ -201,11 +337,7 @@ pub fn evaluate(map: &Map, run: &Run, floor_plan: &FloorPlan, params: &Params) -
         units: u.symbol().to_string(),
         segments: fitted,
         true_segments: true_count,
-        spurious_fraction: if fitted == 0 {
-            0.0
-        } else {
-            1.0 - true_count as f64 / fitted as f64
-        },
+        spurious_fraction,
         mean_endpoint_error: (endpoint_n > 0).then(|| u.from_m(endpoint_sum / endpoint_n as f64)),
         mean_angle_error_deg: (angle_n > 0).then(|| (angle_sum / angle_n as f64).to_degrees()),
         coverage: if wall_length > 0.0 {
