@@ -13,6 +13,7 @@ use super::loaded::{Loaded, Source};
 use super::map_view::MapViewState;
 use super::params_panel::ParamsPanelState;
 use super::settings::Settings;
+use super::truth::TruthView;
 use crate::diff::{DecisionDifference, RunDiff};
 use crate::mapping::matching::SegmentEnds;
 use crate::mapping::{Outcome, Params};
@@ -29,6 +30,8 @@ pub struct SonarApp {
     pub(super) background: Option<ReplayJob>,
     pub(super) background_min_snapshots: usize,
     pub(super) view: Option<StepView>,
+    /// `eval`'s verdicts on the map shown, when the run has a floor plan.
+    pub(super) truth: Option<TruthView>,
     pub(super) playing: bool,
     pub(super) play_clock_s: f64,
     pub(super) selection: SceneId,
@@ -179,6 +182,11 @@ impl SonarApp {
         &self.compare
     }
 
+    /// `eval`'s verdicts and figures for the snapshot shown (with a floor plan).
+    pub fn truth(&self) -> Option<&TruthView> {
+        self.truth.as_ref()
+    }
+
     /// The last status message.
     pub fn message(&self) -> &str {
         &self.message
@@ -191,7 +199,8 @@ impl SonarApp {
 
     pub(super) fn scene_with(&self, world_per_px: f64) -> Option<Scene> {
         let view = self.view.as_ref()?;
-        let input = SceneInput::from_view(self.loaded.replay.run(), view);
+        let truth = self.truth.as_ref().map(|t| t.verdicts.as_slice());
+        let input = SceneInput::from_view(self.loaded.replay.run(), view).with_truth(truth);
         let options = ViewOptions {
             layers: self.settings.layers(),
             world_per_px,
@@ -205,6 +214,10 @@ impl SonarApp {
             return;
         }
         self.view = self.loaded.replay.view(k);
+        self.truth = self
+            .view
+            .as_ref()
+            .and_then(|v| TruthView::of(self.loaded.replay.run(), v, self.loaded.replay.params()));
         if let Some(b) = &mut self.baseline {
             b.seek(k);
         }

@@ -177,6 +177,7 @@ impl SonarApp {
                             .baseline
                             .as_ref()
                             .and_then(|b| b.view.as_ref().map(|v| (&b.params, v))),
+                        truth: self.truth.as_ref(),
                     };
                     egui::Panel::top("decisions")
                         .resizable(true)
@@ -210,6 +211,7 @@ impl SonarApp {
                             view,
                             params: self.loaded.replay.params(),
                             baseline: None,
+                            truth: self.truth.as_ref(),
                         },
                         id,
                     )
@@ -263,6 +265,14 @@ impl SonarApp {
             if let Some(r) = self.map_view.ruler_text(units) {
                 ui.separator();
                 ui.label(format!("ruler {r}"));
+            }
+            if let Some(truth) = &self.truth {
+                ui.separator();
+                ui.label(truth.summary()).on_hover_text(
+                    "The map shown against the floor plan, as `sonarmap eval` scores it: \
+                     the share of fitted segments on no wall, and the share of wall length \
+                     covered. The Truth layer colours each segment.",
+                );
             }
             ui.separator();
             ui.label(&self.message);

@@ -38,6 +38,7 @@ impl SonarApp {
             background: None,
             background_min_snapshots: BACKGROUND_MIN_SNAPSHOTS,
             view: None,
+            truth: None,
             playing: false,
             play_clock_s: 0.0,
             selection: SceneId::None,

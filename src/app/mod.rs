@@ -37,6 +37,7 @@ mod params_panel;
 mod scene_item;
 mod settings;
 mod timeline;
+mod truth;
 
 pub use app::SonarApp;
 pub use bookmarks::{bookmarks_path, Bookmark};
@@ -50,6 +51,7 @@ pub use map_view::{MapViewState, ViewRequest};
 pub use params_panel::{format_number, ParamsPanelState};
 pub use settings::{LeftTab, Settings, SETTINGS_KEY};
 pub use timeline::snapshot_label;
+pub use truth::TruthView;
 
 /// Opens the inspector window on `app` (blocks until the window closes).
 pub fn run_native(

@@ -67,7 +67,10 @@ impl LeftTab {
 impl Default for Settings {
     fn default() -> Self {
         Settings {
-            hidden_layers: vec![Layer::Beams.name().to_owned()],
+            hidden_layers: vec![
+                Layer::Beams.name().to_owned(),
+                Layer::Truth.name().to_owned(),
+            ],
             recent: Vec::new(),
             rate: 4.0,
             window_size: None,

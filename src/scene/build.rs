@@ -7,9 +7,10 @@ use super::layer::{Layer, LayerSet};
 use super::primitive::{MarkerShape, Primitive, SceneId, Shape, TextAlign};
 use super::style::{decision_marker, palette, Role};
 use super::{format_length, Scene};
+use crate::eval::Verdict;
 use crate::geometry::{lerp, projection_param, unit, Point, Pose};
 use crate::mapping::trace::{CorrelationKind, ReadingTrace};
-use crate::mapping::{Map, Outcome, SegmentKind, StepTrace};
+use crate::mapping::{Map, Outcome, SegmentId, SegmentKind, StepTrace};
 use crate::run::Run;
 use crate::units::inches;
 
@@ -29,6 +30,9 @@ pub struct SceneInput<'a> {
     pub map_before: &'a Map,
     /// The map after step `k`.
     pub map_after: &'a Map,
+    /// `eval`'s verdict on the fitted segments of `map_after`, when the run has a floor plan
+    /// (the truth layer).
+    pub truth: Option<&'a [(SegmentId, Verdict)]>,
 }
 
 impl<'a> SceneInput<'a> {
@@ -41,7 +45,14 @@ impl<'a> SceneInput<'a> {
             previous_step: view.previous.as_ref(),
             map_before: &view.map_before,
             map_after: &view.map_after,
+            truth: None,
         }
+    }
+
+    /// The input with `eval`'s verdicts on the map after the step (the truth layer).
+    pub fn with_truth(mut self, truth: Option<&'a [(SegmentId, Verdict)]>) -> Self {
+        self.truth = truth;
+        self
     }
 }
 
@@ -98,6 +109,7 @@ pub fn build_scene(input: &SceneInput, options: &ViewOptions) -> Scene {
             Layer::Clusters => b.clusters(),
             Layer::Updates => b.updates(),
             Layer::Map => b.map_after(),
+            Layer::Truth => b.truth(),
             Layer::NewSegments => b.new_segments(),
             Layer::PreviousSnapshot => b.previous_snapshot(),
             Layer::CurrentPoints => b.current_points(),
@@ -411,6 +423,27 @@ impl Builder<'_, '_> {
                     );
                 }
             }
+        }
+    }
+
+    fn truth(&mut self) {
+        let Some(truth) = self.input.truth else {
+            return;
+        };
+        for (id, verdict) in truth {
+            let Some(s) = self.input.map_after.segment(*id) else {
+                continue;
+            };
+            let role = if verdict.is_true() {
+                Role::TruthTrue
+            } else {
+                Role::TruthSpurious
+            };
+            let shape = Shape::Segment {
+                a: s.a.point,
+                b: s.b.point,
+            };
+            self.push(Layer::Truth, role, SceneId::MapSegment(*id), shape);
         }
     }
 

@@ -18,6 +18,9 @@ pub enum Layer {
     Updates,
     /// The map after this step (the current map).
     Map,
+    /// The map's fitted segments coloured by `eval`'s verdict against the floor plan (on a
+    /// wall or pillar, or spurious), when the run has one.
+    Truth,
     /// Segments fitted in this snapshot, before matching.
     NewSegments,
     /// Points and fitted segments of the previous snapshot (red, as the paper's figures).
@@ -38,7 +41,7 @@ pub enum Layer {
 
 impl Layer {
     /// Every layer, in drawing order.
-    pub const ALL: [Layer; 15] = [
+    pub const ALL: [Layer; 16] = [
         Layer::FloorPlan,
         Layer::MapBefore,
         Layer::Beams,
@@ -46,6 +49,7 @@ impl Layer {
         Layer::Clusters,
         Layer::Updates,
         Layer::Map,
+        Layer::Truth,
         Layer::NewSegments,
         Layer::PreviousSnapshot,
         Layer::CurrentPoints,
@@ -66,6 +70,7 @@ impl Layer {
             Layer::Clusters => "clusters",
             Layer::Updates => "updates",
             Layer::Map => "map",
+            Layer::Truth => "truth",
             Layer::NewSegments => "new-segments",
             Layer::PreviousSnapshot => "previous-snapshot",
             Layer::CurrentPoints => "current-points",
@@ -87,6 +92,7 @@ impl Layer {
             Layer::Clusters => "Clusters",
             Layer::Updates => "Updates",
             Layer::Map => "Map",
+            Layer::Truth => "Truth (eval verdicts)",
             Layer::NewSegments => "New segments",
             Layer::PreviousSnapshot => "Previous snapshot",
             Layer::CurrentPoints => "Current points",

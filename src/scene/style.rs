@@ -160,6 +160,10 @@ pub enum Role {
     MapInterpolated,
     /// A map segment's end-point.
     MapEndPoint,
+    /// A map segment on a wall or pillar of the floor plan (`eval`).
+    TruthTrue,
+    /// A map segment on no wall or pillar (`eval`).
+    TruthSpurious,
     /// A segment fitted in this snapshot.
     NewSegment,
     /// A point of the previous snapshot.
@@ -209,6 +213,7 @@ impl Role {
             Role::Cluster | Role::ClusterBreak => Layer::Clusters,
             Role::UpdateBefore | Role::UpdateAfter | Role::UpdateProjection => Layer::Updates,
             Role::MapFitted | Role::MapInterpolated | Role::MapEndPoint => Layer::Map,
+            Role::TruthTrue | Role::TruthSpurious => Layer::Truth,
             Role::NewSegment => Layer::NewSegments,
             Role::PreviousPoint | Role::PreviousSegment => Layer::PreviousSnapshot,
             Role::CurrentPoint => Layer::CurrentPoints,
@@ -245,6 +250,8 @@ impl Role {
             Role::MapEndPoint => Style::line(BLUISH_GREEN, 1.0)
                 .filled(BLUISH_GREEN)
                 .sized(5.0),
+            Role::TruthTrue => Style::line(BLUISH_GREEN, 7.0).faded(0.45),
+            Role::TruthSpurious => Style::line(VERMILLION, 7.0).faded(0.6),
             Role::NewSegment => Style::line(BLUE, 2.0),
             Role::PreviousPoint => Style::line(VERMILLION, 1.0).filled(VERMILLION).sized(6.0),
             Role::PreviousSegment => Style::line(VERMILLION, 1.5).faded(0.8),
@@ -292,6 +299,8 @@ impl Role {
             Role::MapFitted => "map segment",
             Role::MapInterpolated => "interpolated link",
             Role::MapEndPoint => return None,
+            Role::TruthTrue => "on a wall (eval)",
+            Role::TruthSpurious => "spurious (eval)",
             Role::NewSegment => "fitted this snapshot",
             Role::PreviousPoint => "previous snapshot",
             Role::PreviousSegment => "previous snapshot's fit",

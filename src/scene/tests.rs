@@ -230,6 +230,7 @@ fn build(f: &Fixture, options: &ViewOptions, with_previous: bool) -> Scene {
         previous_step: with_previous.then_some(&f.previous),
         map_before: &f.before,
         map_after: &f.after,
+        truth: None,
     };
     build_scene(&input, options)
 }

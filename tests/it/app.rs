@@ -641,3 +641,54 @@ fn bookmarks_are_added_jumped_to_and_saved_beside_the_log() {
     other.apply(Command::Open(log));
     assert_eq!(other.bookmarks(), h.state().bookmarks());
 }
+
+#[test]
+fn the_truth_layer_and_status_bar_show_evals_verdicts_on_the_map_shown() {
+    use sonarmap::eval::{segment_verdict, truth_figures};
+    use sonarmap::scene::{Layer, Role};
+    let mut h = building();
+    let last = h.state().len() - 1;
+    h.state_mut().push(Command::Seek(last));
+    h.run();
+    // The same figures as `eval` on the map after the last step.
+    let run = h.state().run().clone();
+    let plan = run
+        .floor_plan
+        .clone()
+        .expect("the building has a floor plan");
+    let params = h.state().shown_params().clone();
+    let map = h.state().step_view().expect("a view").map_after.clone();
+    let (spurious, coverage) = truth_figures(&map, &plan, &params);
+    let truth = h.state().truth().expect("truth with a floor plan");
+    assert_eq!(
+        (truth.spurious_fraction, truth.coverage),
+        (spurious, coverage)
+    );
+    assert!(
+        h.query_by_label(&truth.summary()).is_some(),
+        "status bar shows {:?}",
+        truth.summary()
+    );
+    // Off by default; on, one primitive a fitted segment, coloured by its verdict.
+    assert!(!h.state().layers().contains(Layer::Truth));
+    h.state_mut().push(Command::ToggleLayer(Layer::Truth));
+    h.run();
+    let scene = h.state().scene().expect("a scene");
+    let drawn: Vec<_> = scene.layer(Layer::Truth).collect();
+    let fitted: Vec<_> = map
+        .segments
+        .iter()
+        .filter(|s| s.kind == sonarmap::mapping::SegmentKind::Fitted)
+        .collect();
+    assert_eq!(drawn.len(), fitted.len());
+    for (p, s) in drawn.iter().zip(&fitted) {
+        let expected = if segment_verdict(s, &plan, &params).is_true() {
+            Role::TruthTrue
+        } else {
+            Role::TruthSpurious
+        };
+        assert_eq!(p.role, expected);
+    }
+    assert!(drawn.iter().any(|p| p.role == Role::TruthSpurious));
+    assert!(drawn.iter().any(|p| p.role == Role::TruthTrue));
+}

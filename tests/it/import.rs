@@ -770,6 +770,7 @@ fn write_png(run: &Run, mapper: &Mapper, traces: &[StepTrace]) {
         previous_step: traces.get(k.wrapping_sub(1)),
         map_before: before.map(),
         map_after: mapper.map(),
+        truth: None,
     };
     let scene = build_scene(&input, &ViewOptions::default());
     let svg = to_svg(

@@ -429,6 +429,7 @@ fn blue_room_scene(b: &BlueRoom, options: &ViewOptions) -> Scene {
         previous_step: Some(&b.steps[0]),
         map_before: &b.maps[1],
         map_after: &b.maps[2],
+        truth: None,
     };
     build_scene(&input, options)
 }

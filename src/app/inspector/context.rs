@@ -21,6 +21,8 @@ pub struct InspectCtx<'a> {
     pub params: &'a Params,
     /// The pinned baseline's parameters and its step at the same snapshot.
     pub baseline: Option<(&'a Params, &'a StepView)>,
+    /// `eval`'s verdicts on the map shown, when the run has a floor plan.
+    pub truth: Option<&'a crate::app::TruthView>,
 }
 
 impl InspectCtx<'_> {

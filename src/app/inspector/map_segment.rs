@@ -98,7 +98,34 @@ fn details_ui(ui: &mut egui::Ui, ctx: &InspectCtx, seg: &Segment) {
                     .join(", ")
             };
             kv(ui, "updated at", updated);
+            if let Some(verdict) = ctx.truth.and_then(|t| t.verdict(seg.id)) {
+                kv(ui, "truth (eval)", truth_text(ctx, verdict));
+            }
         });
+}
+
+/// `eval`'s verdict on a segment, with its numbers.
+fn truth_text(ctx: &InspectCtx, verdict: &crate::eval::Verdict) -> String {
+    use crate::eval::Verdict;
+    match *verdict {
+        Verdict::OnWall {
+            wall,
+            endpoint_error_m,
+            angle_rad,
+        } => format!(
+            "on wall {wall}: end-point error {}, angle {:.1}°",
+            ctx.len(endpoint_error_m),
+            angle_rad.to_degrees()
+        ),
+        Verdict::OnPillar {
+            pillar,
+            endpoint_error_m,
+        } => format!(
+            "on pillar {pillar}: end-point error {}",
+            ctx.len(endpoint_error_m)
+        ),
+        Verdict::Spurious => "spurious: on no wall or pillar within tolerance".to_owned(),
+    }
 }
 
 /// How one update of this step moved the segment's ends.
