@@ -68,6 +68,10 @@ pub struct SoakArgs {
     /// Seed of the first scene of each kind.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Only these parameter sets (paper, extended, paper+memory, paper+constant_depth,
+    /// paper+merge_duplicates, paper+support_cap, paper+corner_guard); default all.
+    #[arg(long, value_delimiter = ',')]
+    pub only: Vec<String>,
 }
 
 const DIFF_HELP: &str = "Compare the decisions of two parameter sets on one log; prints one JSON object.
@@ -690,14 +694,30 @@ pub fn execute(command: &Command) -> Result<()> {
 
 fn soak_command(args: &SoakArgs) -> Result<()> {
     let started = std::time::Instant::now();
-    let report = sonarmap::soak::soak(args.runs_per_kind, args.snapshots, args.seed, |r| {
-        eprint!(
-            "\r{} runs, {} snapshots, {} failures",
-            r.runs,
-            r.snapshots,
-            r.failures.len()
+    let known: Vec<&str> = sonarmap::soak::soak_variants()
+        .iter()
+        .map(|(n, _)| *n)
+        .collect();
+    if let Some(bad) = args.only.iter().find(|o| !known.contains(&o.as_str())) {
+        bail!(
+            "--only {bad}: not a parameter set of the soak ({})",
+            known.join(", ")
         );
-    });
+    }
+    let report = sonarmap::soak::soak_variants_named(
+        args.runs_per_kind,
+        args.snapshots,
+        args.seed,
+        &args.only,
+        |r| {
+            eprint!(
+                "\r{} runs, {} snapshots, {} failures",
+                r.runs,
+                r.snapshots,
+                r.failures.len()
+            );
+        },
+    );
     eprintln!();
     #[derive(serde::Serialize)]
     struct Failure {

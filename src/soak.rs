@@ -162,10 +162,24 @@ pub fn soak(
     runs_per_kind: usize,
     snapshots: usize,
     first_seed: u64,
+    progress: impl FnMut(&SoakReport),
+) -> SoakReport {
+    soak_variants_named(runs_per_kind, snapshots, first_seed, &[], progress)
+}
+
+/// [`soak`] with only the parameter sets named in `only` (all when it is empty).
+pub fn soak_variants_named(
+    runs_per_kind: usize,
+    snapshots: usize,
+    first_seed: u64,
+    only: &[String],
     mut progress: impl FnMut(&SoakReport),
 ) -> SoakReport {
     let mut report = SoakReport::default();
-    let variants = soak_variants();
+    let mut variants = soak_variants();
+    if !only.is_empty() {
+        variants.retain(|(name, _)| only.iter().any(|o| o == name));
+    }
     for seed in first_seed..first_seed + runs_per_kind as u64 {
         for kind in SceneKind::ALL {
             let run = family_run(kind, seed, snapshots);
