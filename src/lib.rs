@@ -17,6 +17,7 @@ pub mod eval;
 pub mod export;
 pub mod geometry;
 pub mod import;
+pub mod lineage;
 pub mod log;
 pub mod mapping;
 pub mod replay;

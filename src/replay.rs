@@ -5,6 +5,7 @@
 //! of every step (for timeline marks); [`Replay::view`] then replays at most `interval + 1`
 //! steps from the nearest checkpoint.
 
+use crate::lineage::Lineage;
 use crate::mapping::trace::{Outcome, StepTrace};
 use crate::mapping::{Map, Mapper, MapperState, Params, StepFailure};
 use crate::run::{Run, Snapshot};
@@ -127,6 +128,7 @@ pub struct Replay {
     summaries: Vec<StepSummary>,
     final_map: Map,
     failure: Option<StepFailure>,
+    lineage: Arc<Lineage>,
 }
 
 /// The build was cancelled by its progress callback.
@@ -154,12 +156,16 @@ impl Replay {
         let mut checkpoints = Vec::with_capacity(run.snapshots.len() / interval + 1);
         let mut summaries = Vec::with_capacity(run.snapshots.len());
         let mut failure = None;
+        let mut lineage = Lineage::default();
         for (k, snapshot) in run.snapshots.iter().enumerate() {
             if k % interval == 0 {
                 checkpoints.push(mapper.state());
             }
             match mapper.try_step(snapshot) {
-                Ok(trace) => summaries.push(StepSummary::of(&trace, mapper.map().segments.len())),
+                Ok(trace) => {
+                    summaries.push(StepSummary::of(&trace, mapper.map().segments.len()));
+                    lineage.record(&trace);
+                }
                 Err(f) => {
                     failure = Some(f);
                     break;
@@ -177,6 +183,7 @@ impl Replay {
             summaries,
             final_map: Map::default(),
             failure,
+            lineage: Arc::new(lineage),
         };
         replay.final_map = if replay.failure.is_some() {
             // The failed step may have left the mapper half-way: replay up to the last good one.
@@ -188,6 +195,11 @@ impl Replay {
             mapper.map().clone()
         };
         Ok(replay)
+    }
+
+    /// Every map segment's life, as the replay recorded it.
+    pub fn lineage(&self) -> &Lineage {
+        &self.lineage
     }
 
     /// The step that failed, when one did: the replay then ends at the snapshot before it.

@@ -178,6 +178,7 @@ impl SonarApp {
                             .as_ref()
                             .and_then(|b| b.view.as_ref().map(|v| (&b.params, v))),
                         truth: self.truth.as_ref(),
+                        lineage: self.loaded.replay.lineage(),
                     };
                     egui::Panel::top("decisions")
                         .resizable(true)
@@ -212,6 +213,7 @@ impl SonarApp {
                             params: self.loaded.replay.params(),
                             baseline: None,
                             truth: self.truth.as_ref(),
+                            lineage: self.loaded.replay.lineage(),
                         },
                         id,
                     )

@@ -692,3 +692,49 @@ fn the_truth_layer_and_status_bar_show_evals_verdicts_on_the_map_shown() {
     assert!(drawn.iter().any(|p| p.role == Role::TruthSpurious));
     assert!(drawn.iter().any(|p| p.role == Role::TruthTrue));
 }
+
+#[test]
+fn a_segments_lineage_leads_to_the_decision_that_made_it() {
+    use sonarmap::lineage::LineageEvent;
+    let mut h = building();
+    let last = h.state().len() - 1;
+    h.state_mut().push(Command::Seek(last));
+    h.run();
+    // A segment of the final map that was updated after it was made.
+    let view = h.state().step_view().expect("a view").clone();
+    let seg = view
+        .map_after
+        .segments
+        .iter()
+        .find(|s| s.created > 0 && !s.updated.is_empty())
+        .expect("an updated segment")
+        .clone();
+    h.state_mut()
+        .push(Command::Select(SceneId::MapSegment(seg.id)));
+    h.run();
+    assert!(h.query_by_label_contains("Lineage (").is_some());
+    // The first event names the decision; its button goes there and selects it.
+    let replay =
+        sonarmap::replay::Replay::new(h.state().run().clone(), h.state().shown_params().clone());
+    let Some(&LineageEvent::Created {
+        snapshot,
+        new_segment,
+    }) = replay.lineage().of(seg.id, last).first()
+    else {
+        panic!("segment #{} was made by a decision", seg.id);
+    };
+    assert_eq!(snapshot, seg.created);
+    h.get_by_label(&format!(
+        "snapshot {snapshot}: made by n{new_segment} (new face)"
+    ))
+    .click();
+    h.run();
+    assert_eq!(h.state().current(), seg.created);
+    assert_eq!(
+        h.state().selection(),
+        SceneId::Decision {
+            new_segment,
+            existing: None
+        }
+    );
+}

@@ -7,6 +7,7 @@ mod engine_properties;
 mod engine_rules;
 mod eval;
 mod import;
+mod lineage;
 mod log;
 mod scene;
 mod sim;

@@ -23,6 +23,8 @@ pub struct InspectCtx<'a> {
     pub baseline: Option<(&'a Params, &'a StepView)>,
     /// `eval`'s verdicts on the map shown, when the run has a floor plan.
     pub truth: Option<&'a crate::app::TruthView>,
+    /// Every segment's life, indexed by the replay.
+    pub lineage: &'a crate::lineage::Lineage,
 }
 
 impl InspectCtx<'_> {

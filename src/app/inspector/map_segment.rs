@@ -25,6 +25,7 @@ pub(super) fn map_segment_ui(
     let Some(seg) = seg else {
         heading(ui, &format!("Segment #{id}"));
         ui.label("not in the map at this snapshot");
+        lineage_ui(ui, ctx, id, commands);
         return;
     };
     heading(ui, &format!("Map segment #{id}"));
@@ -32,6 +33,7 @@ pub(super) fn map_segment_ui(
         ui.label(RichText::new("removed in this step (shown as it stood before)").color(FAIL));
     }
     details_ui(ui, ctx, seg);
+    lineage_ui(ui, ctx, id, commands);
     if seg.created < view.index {
         ui.horizontal(|ui| {
             if ui
@@ -101,6 +103,83 @@ fn details_ui(ui: &mut egui::Ui, ctx: &InspectCtx, seg: &Segment) {
             if let Some(verdict) = ctx.truth.and_then(|t| t.verdict(seg.id)) {
                 kv(ui, "truth (eval)", truth_text(ctx, verdict));
             }
+        });
+}
+
+/// The segment's life up to the snapshot shown, one button an event: it goes to the snapshot
+/// and selects what the event names.
+fn lineage_ui(ui: &mut egui::Ui, ctx: &InspectCtx, id: SegmentId, commands: &mut Vec<Command>) {
+    use crate::lineage::{CorrelationResult, LineageEvent};
+    let events = ctx.lineage.of(id, ctx.view.index);
+    egui::CollapsingHeader::new(format!("Lineage ({} events)", events.len()))
+        .id_salt(("lineage", id))
+        .default_open(true)
+        .show(ui, |ui| {
+            egui::ScrollArea::vertical()
+                .id_salt(("lineage_scroll", id))
+                .max_height(220.0)
+                .show(ui, |ui| {
+                    for event in events {
+                        let (text, target) = match *event {
+                            LineageEvent::Created { new_segment, .. } => (
+                                format!("made by n{new_segment} (new face)"),
+                                SceneId::Decision {
+                                    new_segment,
+                                    existing: None,
+                                },
+                            ),
+                            LineageEvent::Updated {
+                                new_segment,
+                                outcome,
+                                refit,
+                                ..
+                            } => (
+                                format!(
+                                    "{} by n{new_segment}{}",
+                                    outcome_name(outcome),
+                                    if refit { ", refitted" } else { "" }
+                                ),
+                                SceneId::Update(id),
+                            ),
+                            LineageEvent::SplitOff { piece, .. } => (
+                                format!("its refit left piece #{piece}"),
+                                SceneId::MapSegment(piece),
+                            ),
+                            LineageEvent::SplitFrom { parent, .. } => (
+                                format!("a piece of #{parent}'s refit"),
+                                SceneId::MapSegment(parent),
+                            ),
+                            LineageEvent::Absorbed { segment, .. } => (
+                                format!("absorbed duplicate #{segment}"),
+                                SceneId::Update(id),
+                            ),
+                            LineageEvent::AbsorbedInto { into, .. } => {
+                                (format!("merged into #{into}"), SceneId::MapSegment(into))
+                            }
+                            LineageEvent::Correlated {
+                                other,
+                                correlation,
+                                result,
+                                ..
+                            } => (
+                                format!(
+                                    "{} with #{other}",
+                                    match result {
+                                        CorrelationResult::Corner => "corner",
+                                        CorrelationResult::Link => "connecting segment",
+                                        CorrelationResult::Shared => "shared end-point",
+                                    }
+                                ),
+                                SceneId::Correlation(correlation),
+                            ),
+                        };
+                        let label = format!("snapshot {}: {text}", event.snapshot());
+                        if ui.button(label).clicked() {
+                            commands.push(Command::Seek(event.snapshot()));
+                            commands.push(Command::Select(target));
+                        }
+                    }
+                });
         });
 }
 

@@ -1,0 +1,74 @@
+//! Segment lineage against the map it describes, on generated lap runs in both presets.
+
+use sonarmap::lineage::LineageEvent;
+use sonarmap::mapping::Params;
+use sonarmap::replay::Replay;
+use sonarmap::sim::SceneKind;
+use std::sync::Arc;
+
+#[test]
+fn every_segment_of_the_map_was_made_or_split_off_and_every_merged_one_says_where_it_went() {
+    for (kind, params) in [
+        (SceneKind::CorridorWithDoors, Params::extended()),
+        (SceneKind::LRoom, Params::paper()),
+    ] {
+        let run = sonarmap::soak::family_run(kind, 5, 600);
+        let replay = Replay::new(Arc::new(run), params);
+        let last = replay.len() - 1;
+        let lineage = replay.lineage();
+        let map = replay.final_map();
+        assert!(!map.segments.is_empty());
+        for s in map
+            .segments
+            .iter()
+            .filter(|s| s.kind == sonarmap::mapping::SegmentKind::Fitted)
+        {
+            let events = lineage.of(s.id, last);
+            match events.first() {
+                Some(LineageEvent::Created { snapshot, .. })
+                | Some(LineageEvent::SplitFrom { snapshot, .. }) => {
+                    assert_eq!(*snapshot, s.created.max(*snapshot), "#{}", s.id);
+                }
+                other => panic!("#{} begins with {other:?}", s.id),
+            }
+            assert!(
+                events
+                    .windows(2)
+                    .all(|w| w[0].snapshot() <= w[1].snapshot()),
+                "#{} in order",
+                s.id
+            );
+            assert!(
+                !events
+                    .iter()
+                    .any(|e| matches!(e, LineageEvent::AbsorbedInto { .. })),
+                "#{} is still in the map",
+                s.id
+            );
+            // Its last update is the map's last record of one (refit pieces inherit their
+            // parent's record, so only for segments made by a decision).
+            if !matches!(events.first(), Some(LineageEvent::Created { .. })) {
+                continue;
+            }
+            let updated = events
+                .iter()
+                .filter_map(|e| match e {
+                    LineageEvent::Updated { snapshot, .. } => Some(*snapshot),
+                    _ => None,
+                })
+                .next_back();
+            assert_eq!(updated, s.updated.last().copied(), "#{}", s.id);
+        }
+        // A segment that left the map was merged away (only merging removes segments).
+        let gone: Vec<u32> = (0..map.next_segment_id)
+            .filter(|&id| map.segment(id).is_none())
+            .collect();
+        for id in gone {
+            let events = lineage.of(id, last);
+            assert!(
+                matches!(events.last(), Some(LineageEvent::AbsorbedInto { .. })),
+                "#{id} left the map: {events:?}"
+            );
+        }
+    }
+}
