@@ -5,10 +5,11 @@
 //! of every step (for timeline marks); [`Replay::view`] then replays at most `interval + 1`
 //! steps from the nearest checkpoint.
 
+use crate::eval::segment_verdict;
 use crate::lineage::Lineage;
 use crate::mapping::trace::{Outcome, StepTrace};
 use crate::mapping::{Map, Mapper, MapperState, Params, StepFailure};
-use crate::run::{Run, Snapshot};
+use crate::run::{FloorPlan, Run, Snapshot};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
@@ -41,6 +42,9 @@ pub struct StepSummary {
     pub warnings: u32,
     /// Map segments after the step.
     pub segments: u32,
+    /// New faces whose segment `eval` calls spurious right after the step (with a floor plan).
+    #[serde(default)]
+    pub spurious_new_faces: u32,
 }
 
 impl StepSummary {
@@ -66,7 +70,26 @@ impl StepSummary {
                 .count() as u32,
             warnings: trace.warnings.len() as u32,
             segments: segments as u32,
+            spurious_new_faces: 0,
         }
+    }
+
+    /// Counts the step's new faces that lie on no wall of `plan` in `map` (the map after the
+    /// step), by `eval`'s verdict.
+    pub fn count_spurious_new_faces(
+        &mut self,
+        trace: &StepTrace,
+        map: &Map,
+        plan: &FloorPlan,
+        params: &Params,
+    ) {
+        self.spurious_new_faces = trace
+            .decisions
+            .iter()
+            .filter(|d| d.outcome == Outcome::NewFace)
+            .filter_map(|d| d.result.and_then(|id| map.segment(id)))
+            .filter(|s| !segment_verdict(s, plan, params).is_true())
+            .count() as u32;
     }
 
     /// True when the step deserves a timeline mark: a dismissal, an extension, a warning or a
@@ -163,7 +186,11 @@ impl Replay {
             }
             match mapper.try_step(snapshot) {
                 Ok(trace) => {
-                    summaries.push(StepSummary::of(&trace, mapper.map().segments.len()));
+                    let mut summary = StepSummary::of(&trace, mapper.map().segments.len());
+                    if let Some(plan) = &run.floor_plan {
+                        summary.count_spurious_new_faces(&trace, mapper.map(), plan, &params);
+                    }
+                    summaries.push(summary);
                     lineage.record(&trace);
                 }
                 Err(f) => {

@@ -16,7 +16,7 @@ use super::settings::Settings;
 use super::truth::TruthView;
 use crate::diff::{DecisionDifference, RunDiff};
 use crate::mapping::matching::SegmentEnds;
-use crate::mapping::{Outcome, Params};
+use crate::mapping::Params;
 use crate::replay::StepView;
 use crate::run::Run;
 use crate::scene::{build_scene, LayerSet, Scene, SceneId, SceneInput, ViewOptions};
@@ -36,7 +36,7 @@ pub struct SonarApp {
     pub(super) play_clock_s: f64,
     pub(super) selection: SceneId,
     pub(super) compare: CompareState,
-    pub(super) decision_filter: Option<Outcome>,
+    pub(super) decision_filter: super::decisions::DecisionFilter,
     pub(super) banner: Option<String>,
     pub(super) message: String,
     pub(super) map_view: MapViewState,

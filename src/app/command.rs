@@ -4,7 +4,7 @@
 
 use super::settings::LeftTab;
 use crate::geometry::Point;
-use crate::mapping::{Outcome, Params, SegmentId};
+use crate::mapping::{Params, SegmentId};
 use crate::scene::{Layer, SceneId};
 use std::path::PathBuf;
 
@@ -49,7 +49,7 @@ pub enum Command {
     /// Switch a layer on or off.
     ToggleLayer(Layer),
     /// Show only decisions with this outcome (`None`: all).
-    FilterDecisions(Option<Outcome>),
+    FilterDecisions(super::decisions::DecisionFilter),
     /// Fit the map view to the scene.
     FitView,
     /// Zoom the map view onto the selected segment.

@@ -4,18 +4,53 @@
 use super::command::Command;
 use super::inspector::{centre_of, outcome_name, InspectCtx};
 use super::timeline::BASELINE_COLOUR;
+use super::truth::TruthView;
 use crate::diff::{DecisionDifference, DecisionSide, DifferenceKind};
 use crate::mapping::trace::DecisionTrace;
 use crate::mapping::{Outcome, Rule};
 use crate::scene::SceneId;
 use egui::RichText;
 
-const FILTERS: [Option<Outcome>; 5] = [
-    None,
-    Some(Outcome::Match),
-    Some(Outcome::Extension),
-    Some(Outcome::Dismissed),
-    Some(Outcome::NewFace),
+/// Which decisions the list shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DecisionFilter {
+    /// Every decision.
+    #[default]
+    All,
+    /// Decisions with this outcome.
+    Outcome(Outcome),
+    /// Decisions that made or updated a segment `eval` calls spurious (with a floor plan).
+    Spurious,
+}
+
+impl DecisionFilter {
+    /// True when decision `d` passes; `truth` gives the verdicts on the map shown.
+    fn keeps(self, d: &DecisionTrace, truth: Option<&TruthView>) -> bool {
+        match self {
+            DecisionFilter::All => true,
+            DecisionFilter::Outcome(o) => d.outcome == o,
+            DecisionFilter::Spurious => d
+                .result
+                .and_then(|id| truth.and_then(|t| t.verdict(id)))
+                .is_some_and(|v| !v.is_true()),
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            DecisionFilter::All => "All",
+            DecisionFilter::Outcome(o) => outcome_name(o),
+            DecisionFilter::Spurious => "→ spurious",
+        }
+    }
+}
+
+const FILTERS: [DecisionFilter; 5] = [
+    DecisionFilter::All,
+    DecisionFilter::Outcome(Outcome::Match),
+    DecisionFilter::Outcome(Outcome::Extension),
+    DecisionFilter::Outcome(Outcome::Dismissed),
+    DecisionFilter::Outcome(Outcome::NewFace),
 ];
 
 fn short_rule(r: Rule) -> &'static str {
@@ -67,7 +102,7 @@ pub fn baseline_note(d: &DecisionDifference) -> String {
 pub fn decisions_ui(
     ui: &mut egui::Ui,
     ctx: &InspectCtx,
-    filter: Option<Outcome>,
+    filter: DecisionFilter,
     selection: SceneId,
     differences: Option<&[DecisionDifference]>,
 ) -> Vec<Command> {
@@ -75,16 +110,20 @@ pub fn decisions_ui(
     let decisions = &ctx.view.trace.decisions;
     ui.horizontal_wrapped(|ui| {
         ui.label(RichText::new(format!("Decisions ({})", decisions.len())).strong());
-        for f in FILTERS {
-            let count = decisions
-                .iter()
-                .filter(|d| f.is_none_or(|o| d.outcome == o))
-                .count();
-            let name = f.map_or("All", outcome_name);
-            if ui
-                .selectable_label(filter == f, format!("{name} {count}"))
-                .clicked()
-            {
+        // "→ spurious" only with a floor plan to judge by.
+        let spurious = ctx.truth.map(|_| DecisionFilter::Spurious);
+        for f in FILTERS.into_iter().chain(spurious) {
+            let count = decisions.iter().filter(|d| f.keeps(d, ctx.truth)).count();
+            let label = ui.selectable_label(filter == f, format!("{} {count}", f.name()));
+            let label = if f == DecisionFilter::Spurious {
+                label.on_hover_text(
+                    "Decisions that made or updated a segment eval calls spurious (on no wall \
+                     of the floor plan)",
+                )
+            } else {
+                label
+            };
+            if label.clicked() {
                 commands.push(Command::FilterDecisions(f));
             }
         }
@@ -96,10 +135,7 @@ pub fn decisions_ui(
             if decisions.is_empty() {
                 ui.label(RichText::new("no segment was fitted in this snapshot").weak());
             }
-            for d in decisions
-                .iter()
-                .filter(|d| filter.is_none_or(|o| d.outcome == o))
-            {
+            for d in decisions.iter().filter(|d| filter.keeps(d, ctx.truth)) {
                 let selected = matches!(selection, SceneId::NewSegment(i) if i == d.new_segment);
                 let differs = differences.and_then(|all| {
                     all.iter()

@@ -91,6 +91,7 @@ impl SonarApp {
                     .as_ref()
                     .and_then(|b| b.diff.as_ref())
                     .map(|d| d.direct_snapshots.as_slice()),
+                spurious_marks: &self.loaded.spurious_marks,
                 playing: self.playing,
                 rate: self.settings.rate,
             };

@@ -1,7 +1,7 @@
 //! The open run: where it came from, its replay and the snapshots marked on the timeline.
 
 use crate::mapping::Params;
-use crate::replay::Replay;
+use crate::replay::{Replay, StepSummary};
 use crate::run::Run;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -32,6 +32,8 @@ pub(super) struct Loaded {
     pub(super) source: Source,
     pub(super) replay: Replay,
     pub(super) marks: Vec<usize>,
+    /// Snapshots that made a segment `eval` calls spurious (with a floor plan).
+    pub(super) spurious_marks: Vec<usize>,
 }
 
 impl Loaded {
@@ -42,17 +44,22 @@ impl Loaded {
 
     /// A finished replay, with the notable snapshots marked.
     pub(super) fn new(replay: Replay, source: Source) -> Loaded {
-        let marks = replay
-            .summaries()
-            .iter()
-            .enumerate()
-            .filter(|(_, s)| s.is_notable())
-            .map(|(k, _)| k)
-            .collect();
+        let marked = |keep: fn(&StepSummary) -> bool| {
+            replay
+                .summaries()
+                .iter()
+                .enumerate()
+                .filter(|(_, s)| keep(s))
+                .map(|(k, _)| k)
+                .collect()
+        };
+        let marks = marked(StepSummary::is_notable);
+        let spurious_marks = marked(|s| s.spurious_new_faces > 0);
         Loaded {
             source,
             replay,
             marks,
+            spurious_marks,
         }
     }
 }

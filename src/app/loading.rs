@@ -43,7 +43,7 @@ impl SonarApp {
             play_clock_s: 0.0,
             selection: SceneId::None,
             compare: CompareState::Off,
-            decision_filter: None,
+            decision_filter: Default::default(),
             banner: None,
             message: String::new(),
             map_view: MapViewState::default(),

@@ -42,7 +42,7 @@ mod truth;
 pub use app::SonarApp;
 pub use bookmarks::{bookmarks_path, Bookmark};
 pub use command::Command;
-pub use decisions::decision_row_text;
+pub use decisions::{decision_row_text, DecisionFilter};
 pub use headless::{FrameStats, HeadlessMapView};
 pub use inspector::{describe_id, outcome_name, CompareState};
 pub use jobs::BACKGROUND_MIN_SNAPSHOTS;

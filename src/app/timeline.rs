@@ -24,6 +24,8 @@ pub struct TimelineInfo<'a> {
     /// Snapshots where a decision differs directly from the pinned baseline (the parameter
     /// change itself, not its consequences), when known.
     pub baseline_marks: Option<&'a [usize]>,
+    /// Snapshots that made a segment `eval` calls spurious (with a floor plan).
+    pub spurious_marks: &'a [usize],
     /// True while playing.
     pub playing: bool,
     /// Playback rate, snapshots per second.
@@ -96,6 +98,19 @@ pub fn timeline_ui(ui: &mut egui::Ui, info: &TimelineInfo, jump_text: &mut Strin
             commands.push(Command::NextMark);
         }
         ui.label(format!("{} marks", info.marks.len()));
+        if !info.spurious_marks.is_empty() {
+            ui.label(
+                RichText::new(format!(
+                    "{} with a spurious new segment",
+                    info.spurious_marks.len()
+                ))
+                .color(Color32::from_rgb(0xD5, 0x5E, 0x00)),
+            )
+            .on_hover_text(
+                "Snapshots whose new faces eval calls spurious (on no wall of the floor \
+                 plan): the ticks above the slider",
+            );
+        }
         if let Some(diff) = info.baseline_marks {
             ui.label(
                 RichText::new(format!(
@@ -161,6 +176,18 @@ pub fn timeline_ui(ui: &mut egui::Ui, info: &TimelineInfo, jump_text: &mut Strin
         painter.line_segment(
             [egui::pos2(x, rect.top()), egui::pos2(x, rect.bottom())],
             Stroke::new(2.0, mark_colour),
+        );
+    }
+    // Spurious creations: a short tick above the slider, in the truth layer's colour.
+    let spurious_colour = Color32::from_rgb(0xD5, 0x5E, 0x00);
+    for &m in info.spurious_marks {
+        let x = x_of(m);
+        painter.line_segment(
+            [
+                egui::pos2(x, rect.top() - 3.0),
+                egui::pos2(x, rect.center().y),
+            ],
+            Stroke::new(2.0, spurious_colour),
         );
     }
     for &m in info.baseline_marks.unwrap_or_default() {
