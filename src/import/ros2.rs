@@ -34,30 +34,76 @@
 //! which message), a Range/Odometry/TFMessage that is not CDR of its type (too short, a string
 //! running past the end, an unknown encapsulation).
 
-use super::assemble::{assemble, sensor_with_max_range, Hardware, RawSnapshot};
-use super::cdr::{header, yaw_of, CdrError, CdrReader};
+use super::assemble::{assemble, sensor_with_max_range, Hardware, Place, RawSnapshot};
+use super::cdr::{header, header_bytes, yaw_of, CdrError, CdrReader};
 use super::error::{at, ImportError};
+use super::mcap_check;
 use super::options::ImportOptions;
+use super::pose_track;
 use super::pose_track::PoseTrack;
+use super::sane;
 use super::summary::{Format, ImportSummary, Imported};
 use crate::geometry::Pose;
 use crate::log::MAX_SENSORS;
 use crate::sonar::{SensorLayout, SensorMount};
 use crate::units::Units;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
+use std::f64::consts::PI;
 
 /// The first bytes of every MCAP file.
 pub const MCAP_MAGIC: &[u8] = b"\x89MCAP0\r\n";
 
 struct RangeMsg {
+    /// The message's index in the file.
     index: usize,
-    topic: String,
+    /// Interned topic ([`Collected::topics`]).
+    topic: u32,
+    /// Interned frame id ([`Collected::frames`]).
+    frame: u32,
     t: f64,
-    frame: String,
     fov: f64,
     min: f64,
     max: f64,
     range: f64,
+}
+
+/// Distinct strings, each kept once (a topic or frame id may be long and repeated in every
+/// message: keeping one copy per message let a 1 MB topic name take gigabytes).
+#[derive(Default)]
+struct Names {
+    index: HashMap<Vec<u8>, u32>,
+    names: Vec<String>,
+}
+
+impl Names {
+    fn intern(&mut self, bytes: &[u8]) -> u32 {
+        if let Some(&i) = self.index.get(bytes) {
+            return i;
+        }
+        let i = self.names.len() as u32;
+        self.names.push(String::from_utf8_lossy(bytes).into_owned());
+        self.index.insert(bytes.to_vec(), i);
+        i
+    }
+}
+
+/// What a channel's messages are.
+#[derive(Clone, Copy)]
+enum Kind {
+    Range(u32),
+    Odometry,
+    StaticTf,
+    LeftOut,
+}
+
+/// What the messages gave.
+struct Collected {
+    ranges: Vec<RangeMsg>,
+    topics: Names,
+    frames: Names,
+    track: PoseTrack,
+    odometry_frame: Option<String>,
+    static_tf: BTreeMap<String, (String, Tf)>,
 }
 
 /// A 2-D rigid transform (x, y, yaw).
@@ -70,7 +116,36 @@ fn compose(a: Tf, b: Tf) -> Tf {
 }
 
 fn place(index: usize, topic: &str) -> String {
-    format!("MCAP message {index} (topic {topic})")
+    format!("MCAP message {index} (topic {})", sane::quote(topic))
+}
+
+/// A value of a message that no robot produces, refused with its place and field.
+fn bad_value(file: &str, index: usize, topic: &str, field: &str, message: String) -> ImportError {
+    at(
+        file,
+        format!("{}, field {field}", place(index, topic)),
+        message,
+    )
+}
+
+/// Checks a quaternion is finite and near unit length (a rotation); `field` names it.
+fn rotation(q: [f64; 4], field: &str) -> Result<f64, (String, String)> {
+    let norm = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if !(q.iter().all(|v| v.is_finite()) && (0.5..=2.0).contains(&norm)) {
+        return Err((
+            field.to_string(),
+            format!(
+                "({}, {}, {}, {}) is not a rotation: expected a finite quaternion of length 1",
+                q[0], q[1], q[2], q[3]
+            ),
+        ));
+    }
+    Ok(yaw_of(q[0], q[1], q[2], q[3]))
+}
+
+/// Checks a position (metres) is finite and within 10 km; `field` names it.
+fn position(v: f64, field: &str) -> Result<f64, (String, String)> {
+    sane::length(v, 1.0, "a position in metres", "m").map_err(|m| (field.to_string(), m))
 }
 
 fn cdr_error(file: &str, index: usize, topic: &str, e: CdrError) -> ImportError {
@@ -114,78 +189,206 @@ pub fn import_mcap(
             "expected the MCAP magic bytes 89 4D 43 41 50 30 0D 0A",
         ));
     }
-    if !(options.window_s.is_finite() && options.window_s >= 0.0) {
-        return Err(ImportError::BadOption {
-            option: "--window".into(),
-            message: format!("{}: expected a duration of at least 0 s", options.window_s),
-        });
-    }
+    options.check()?;
+    mcap_check::check(bytes, file)?;
     let mut summary = ImportSummary::default();
+    let collected = contain_panic(file, || collect(bytes, file, &mut summary))?;
+    assemble_mcap(collected, file, options, summary)
+}
+
+/// Runs `f`, which calls into the `mcap` crate, turning a panic there into an error naming
+/// the file (the last line of defence: [`mcap_check`] checks the lengths first). The panic's
+/// own message is not printed.
+fn contain_panic<T>(
+    file: &str,
+    f: impl FnOnce() -> Result<T, ImportError>,
+) -> Result<T, ImportError> {
+    use std::cell::Cell;
+    use std::panic::{catch_unwind, AssertUnwindSafe};
+    use std::sync::Once;
+    thread_local! {
+        static QUIET: Cell<bool> = const { Cell::new(false) };
+    }
+    static HOOK: Once = Once::new();
+    HOOK.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if !QUIET.with(Cell::get) {
+                previous(info);
+            }
+        }));
+    });
+    let was = QUIET.with(|q| q.replace(true));
+    let result = catch_unwind(AssertUnwindSafe(f));
+    QUIET.with(|q| q.set(was));
+    result.unwrap_or_else(|panic| {
+        let what = panic
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| panic.downcast_ref::<String>().cloned())
+            .unwrap_or_default();
+        Err(at(
+            file,
+            "MCAP file",
+            format!(
+                "the MCAP reader failed ({}): expected a well-formed MCAP file",
+                sane::quote(&what)
+            ),
+        ))
+    })
+}
+
+/// Reads the messages (the part that calls into the `mcap` crate).
+fn collect(
+    bytes: &[u8],
+    file: &str,
+    summary: &mut ImportSummary,
+) -> Result<Collected, ImportError> {
     let stream = mcap::MessageStream::new(bytes)
         .map_err(|e| at(file, "MCAP header", format!("{e}: expected an MCAP file")))?;
-    let mut ranges = Vec::new();
-    let mut track = PoseTrack::default();
-    let mut odometry_frame: Option<String> = None;
-    let mut static_tf: BTreeMap<String, (String, Tf)> = BTreeMap::new();
-    let mut left_out: BTreeMap<String, usize> = BTreeMap::new();
+    let mut c = Collected {
+        ranges: Vec::new(),
+        topics: Names::default(),
+        frames: Names::default(),
+        track: PoseTrack::default(),
+        odometry_frame: None,
+        static_tf: BTreeMap::new(),
+    };
+    let mut kinds: HashMap<u16, Kind> = HashMap::new();
+    let mut left_out: BTreeMap<u16, (String, usize)> = BTreeMap::new();
     for (index, message) in stream.enumerate() {
         let message = message.map_err(|e| {
             at(
                 file,
-                format!("MCAP record after message {}", index.saturating_sub(1)),
+                if index == 0 {
+                    "MCAP file, before the first message".to_string()
+                } else {
+                    format!("MCAP file, after message {}", index - 1)
+                },
                 format!("{e}: expected a readable MCAP record"),
             )
         })?;
-        let topic = message.channel.topic.as_str();
-        let schema = message
-            .channel
-            .schema
-            .as_ref()
-            .map(|s| s.name.as_str())
-            .unwrap_or("");
-        let kind = match schema {
-            "sensor_msgs/msg/Range" | "sensor_msgs/Range" => 0,
-            "nav_msgs/msg/Odometry" | "nav_msgs/Odometry" => 1,
-            "tf2_msgs/msg/TFMessage" | "tf2_msgs/TFMessage" if topic == "/tf_static" => 2,
-            _ => {
-                *left_out.entry(format!("{topic} ({schema})")).or_default() += 1;
-                continue;
+        let channel = &message.channel;
+        let topic = channel.topic.as_str();
+        let kind = *kinds.entry(channel.id).or_insert_with(|| {
+            let schema = channel
+                .schema
+                .as_ref()
+                .map(|s| s.name.as_str())
+                .unwrap_or("");
+            let kind = match schema {
+                "sensor_msgs/msg/Range" | "sensor_msgs/Range" => {
+                    Kind::Range(c.topics.intern(topic.as_bytes()))
+                }
+                "nav_msgs/msg/Odometry" | "nav_msgs/Odometry" => Kind::Odometry,
+                "tf2_msgs/msg/TFMessage" | "tf2_msgs/TFMessage" if topic == "/tf_static" => {
+                    Kind::StaticTf
+                }
+                _ => {
+                    left_out.insert(
+                        channel.id,
+                        (
+                            format!("{} ({})", sane::quote(topic), sane::quote(schema)),
+                            0,
+                        ),
+                    );
+                    return Kind::LeftOut;
+                }
+            };
+            if channel.message_encoding != "cdr" {
+                left_out.insert(
+                    channel.id,
+                    (
+                        format!(
+                            "{} (encoding {:?}, expected \"cdr\")",
+                            sane::quote(topic),
+                            sane::quote(&channel.message_encoding)
+                        ),
+                        0,
+                    ),
+                );
+                return Kind::LeftOut;
             }
-        };
-        if message.channel.message_encoding != "cdr" {
-            *left_out
-                .entry(format!(
-                    "{topic} (encoding {:?}, expected \"cdr\")",
-                    message.channel.message_encoding
-                ))
-                .or_default() += 1;
-            continue;
-        }
+            kind
+        });
         let log_t = message.log_time as f64 * 1e-9;
         let err = |e| cdr_error(file, index, topic, e);
-        let mut r = CdrReader::new(&message.data).map_err(err)?;
+        let bad =
+            |(field, message): (String, String)| bad_value(file, index, topic, &field, message);
+        let stamp = |t: f64| {
+            let t = if t == 0.0 { log_t } else { t };
+            sane::time(t, "a time in seconds").map_err(|m| {
+                bad((
+                    if t == log_t {
+                        "log_time"
+                    } else {
+                        "header.stamp"
+                    }
+                    .to_string(),
+                    m,
+                ))
+            })
+        };
         match kind {
-            0 => {
-                let (t, frame) = header(&mut r).map_err(err)?;
+            Kind::LeftOut => {
+                if let Some(e) = left_out.get_mut(&channel.id) {
+                    e.1 += 1;
+                }
+                continue;
+            }
+            Kind::Range(topic_id) => {
+                let mut r = CdrReader::new(&message.data).map_err(err)?;
+                let (t, frame) = header_bytes(&mut r).map_err(err)?;
                 r.u8("radiation_type").map_err(err)?;
                 let fov = r.f32("field_of_view").map_err(err)? as f64;
                 let min = r.f32("min_range").map_err(err)? as f64;
                 let max = r.f32("max_range").map_err(err)? as f64;
                 let range = r.f32("range").map_err(err)? as f64;
-                ranges.push(RangeMsg {
+                let t = stamp(t)?;
+                if !(fov.is_finite() && (0.0..=PI).contains(&fov)) {
+                    return Err(bad((
+                        "field_of_view".into(),
+                        format!("{fov} rad: expected a beam width from 0 (unknown) to π rad"),
+                    )));
+                }
+                for (v, field) in [(min, "min_range"), (max, "max_range")] {
+                    sane::length(v, 1.0, "a range in metres", "m")
+                        .map_err(|m| bad((field.into(), m)))?;
+                    if v < 0.0 {
+                        return Err(bad((
+                            field.into(),
+                            format!("{v} m is negative: expected a range of at least 0 m"),
+                        )));
+                    }
+                }
+                if min >= max {
+                    return Err(bad((
+                        "min_range".into(),
+                        format!("{min} m is not below max_range {max} m: expected min_range < max_range"),
+                    )));
+                }
+                if range.is_finite() && range < 0.0 {
+                    return Err(bad((
+                        "range".into(),
+                        format!("{range} m is negative: expected a range of at least 0 m, or ±inf for no echo (REP 117)"),
+                    )));
+                }
+                let frame = c.frames.intern(frame);
+                c.ranges.push(RangeMsg {
                     index,
-                    topic: topic.to_string(),
-                    t: if t == 0.0 { log_t } else { t },
+                    topic: topic_id,
                     frame,
+                    t,
                     fov,
                     min,
                     max,
                     range,
                 });
             }
-            1 => {
-                let (t, _) = header(&mut r).map_err(err)?;
-                let child = r.string("child_frame_id").map_err(err)?;
+            Kind::Odometry => {
+                let mut r = CdrReader::new(&message.data).map_err(err)?;
+                let (t, _) = header_bytes(&mut r).map_err(err)?;
+                let child = r.string_bytes("child_frame_id").map_err(err)?;
                 let x = r.f64("pose.pose.position.x").map_err(err)?;
                 let y = r.f64("pose.pose.position.y").map_err(err)?;
                 r.f64("pose.pose.position.z").map_err(err)?;
@@ -196,14 +399,13 @@ pub fn import_mcap(
                     r.f64("pose.pose.orientation.w").map_err(err)?,
                 ];
                 r.skip_f64(36, "pose.covariance").map_err(err)?;
-                let t = if t == 0.0 { log_t } else { t };
-                let yaw = yaw_of(q[0], q[1], q[2], q[3]);
-                if ![x, y, yaw].iter().all(|v| v.is_finite()) {
-                    summary.skip(place(index, topic), "the pose is not finite");
-                    continue;
-                }
-                odometry_frame.get_or_insert(child);
-                if !track.push(t, Pose::new(x, y, yaw)) {
+                let t = stamp(t)?;
+                let x = position(x, "pose.pose.position.x").map_err(bad)?;
+                let y = position(y, "pose.pose.position.y").map_err(bad)?;
+                let yaw = rotation(q, "pose.pose.orientation").map_err(bad)?;
+                c.odometry_frame
+                    .get_or_insert_with(|| String::from_utf8_lossy(child).into_owned());
+                if !c.track.push(t, Pose::new(x, y, yaw)) {
                     summary.skip(
                         place(index, topic),
                         format!("odometry time {t} is earlier than the previous odometry's"),
@@ -214,7 +416,8 @@ pub fn import_mcap(
                     ));
                 }
             }
-            _ => {
+            Kind::StaticTf => {
+                let mut r = CdrReader::new(&message.data).map_err(err)?;
                 let n = r.u32("transforms (sequence length)").map_err(err)? as usize;
                 if n > message.data.len() {
                     return Err(err(CdrError {
@@ -225,43 +428,80 @@ pub fn import_mcap(
                         ),
                     }));
                 }
-                for _ in 0..n {
+                for j in 0..n {
                     let (_, parent) = header(&mut r).map_err(err)?;
                     let child = r.string("child_frame_id").map_err(err)?;
                     let x = r.f64("transform.translation.x").map_err(err)?;
                     let y = r.f64("transform.translation.y").map_err(err)?;
-                    r.f64("transform.translation.z").map_err(err)?;
+                    let z = r.f64("transform.translation.z").map_err(err)?;
                     let q = [
                         r.f64("transform.rotation.x").map_err(err)?,
                         r.f64("transform.rotation.y").map_err(err)?,
                         r.f64("transform.rotation.z").map_err(err)?,
                         r.f64("transform.rotation.w").map_err(err)?,
                     ];
-                    static_tf.insert(child, (parent, Tf(x, y, yaw_of(q[0], q[1], q[2], q[3]))));
+                    let at_j = |f: &str| format!("transforms[{j}].transform.{f}");
+                    let x = position(x, &at_j("translation.x")).map_err(bad)?;
+                    let y = position(y, &at_j("translation.y")).map_err(bad)?;
+                    position(z, &at_j("translation.z")).map_err(bad)?;
+                    let yaw = rotation(q, &at_j("rotation")).map_err(bad)?;
+                    c.static_tf.insert(child, (parent, Tf(x, y, yaw)));
                 }
             }
         }
     }
-    for (what, n) in &left_out {
+    for (what, n) in left_out.values() {
         summary.warn(format!("{n} messages on {what} were left out"));
     }
+    Ok(c)
+}
+
+/// The sensors, the firing cycles and the run from what the messages gave.
+fn assemble_mcap(
+    collected: Collected,
+    file: &str,
+    options: &ImportOptions,
+    mut summary: ImportSummary,
+) -> Result<Imported, ImportError> {
+    let Collected {
+        ranges,
+        topics,
+        frames,
+        track,
+        odometry_frame,
+        static_tf,
+    } = collected;
     if ranges.is_empty() {
         return Err(ImportError::NoSnapshots {
             file: file.to_string(),
             why: "no sensor_msgs/msg/Range message in CDR".to_string(),
         });
     }
-    // The sensors.
-    let key = |m: &RangeMsg| {
-        if m.frame.is_empty() {
-            m.topic.clone()
+    // The sensors: a reading's key is its frame id, else its topic.
+    let key = |m: &RangeMsg| -> &str {
+        let frame = &frames.names[m.frame as usize];
+        if frame.is_empty() {
+            &topics.names[m.topic as usize]
         } else {
-            m.frame.clone()
+            frame
         }
     };
-    let mut distinct: Vec<String> = ranges.iter().map(key).collect();
-    distinct.sort_by_key(|a| natural_key(a));
-    distinct.dedup();
+    let mut distinct: Vec<&str> = Vec::new();
+    {
+        let mut seen_frames = vec![false; frames.names.len()];
+        let mut seen_topics = vec![false; topics.names.len()];
+        for m in &ranges {
+            let seen = if frames.names[m.frame as usize].is_empty() {
+                &mut seen_topics[m.topic as usize]
+            } else {
+                &mut seen_frames[m.frame as usize]
+            };
+            if !*seen {
+                *seen = true;
+                distinct.push(key(m));
+            }
+        }
+    }
     if distinct.len() > MAX_SENSORS {
         return Err(ImportError::NoSnapshots {
             file: file.to_string(),
@@ -271,7 +511,16 @@ pub fn import_mcap(
             ),
         });
     }
-    let (layout, index_of): (SensorLayout, BTreeMap<String, usize>) = match &options.layout {
+    distinct.sort_by_cached_key(|a| natural_key(a));
+    distinct.dedup();
+    let quoted = |names: &[&str]| {
+        let mut list: Vec<String> = names.iter().take(20).map(|n| sane::quote(n)).collect();
+        if names.len() > 20 {
+            list.push(format!("... {} more", names.len() - 20));
+        }
+        list.join(", ")
+    };
+    let (layout, index_of): (SensorLayout, BTreeMap<&str, usize>) = match &options.layout {
         Some(l) if !l.frames.is_empty() => (l.layout.clone(), BTreeMap::new()),
         Some(l) => {
             if distinct.len() != l.layout.len() {
@@ -280,12 +529,12 @@ pub fn import_mcap(
                     what: format!(
                         "the recording has {} sonar frames ({}) but the layout has {} sensors and no `frames` map to say which is which",
                         distinct.len(),
-                        distinct.join(", "),
+                        quoted(&distinct),
                         l.layout.len()
                     ),
                 });
             }
-            let map = distinct.iter().cloned().zip(0..).collect();
+            let map = distinct.iter().copied().zip(0..).collect();
             (l.layout.clone(), map)
         }
         None => {
@@ -299,14 +548,14 @@ pub fn import_mcap(
                 .clone()
                 .unwrap_or_else(|| "base_link".to_string());
             let mut mounts = Vec::new();
-            for frame in &distinct {
+            for &frame in &distinct {
                 let mut acc: Option<Tf> = None;
-                let mut current = frame.clone();
+                let mut current = frame;
                 for _ in 0..64 {
                     if current == base {
                         break;
                     }
-                    let Some((parent, tf)) = static_tf.get(&current) else {
+                    let Some((parent, tf)) = static_tf.get(current) else {
                         acc = None;
                         break;
                     };
@@ -314,62 +563,109 @@ pub fn import_mcap(
                         Some(a) => compose(*tf, a),
                         None => *tf,
                     });
-                    current = parent.clone();
+                    current = parent;
                 }
                 match acc {
-                    Some(Tf(x, y, yaw)) if current == base => mounts.push(SensorMount {
-                        x_m: x,
-                        y_m: y,
-                        heading_rad: yaw,
-                    }),
-                    _ => {
-                        return Err(ImportError::NeedsLayout {
-                            file: file.to_string(),
-                            what: format!("/tf_static has no chain of transforms from {base} to the sonar frame {frame}"),
+                    Some(Tf(x, y, yaw)) if current == base => {
+                        for v in [x, y] {
+                            sane::length(v, 1.0, "a sonar mount within 10 km of the robot", "m")
+                                .map_err(|m| {
+                                    at(
+                                        file,
+                                        format!(
+                                            "/tf_static, the chain from {} to {}",
+                                            sane::quote(&base),
+                                            sane::quote(frame)
+                                        ),
+                                        m,
+                                    )
+                                })?;
+                        }
+                        mounts.push(SensorMount {
+                            x_m: x,
+                            y_m: y,
+                            heading_rad: pose_track::wrap_pi(yaw),
                         })
                     }
+                    _ => return Err(ImportError::NeedsLayout {
+                        file: file.to_string(),
+                        what: format!(
+                            "/tf_static has no chain of transforms from {} to the sonar frame {}",
+                            sane::quote(&base),
+                            sane::quote(frame)
+                        ),
+                    }),
                 }
             }
-            let map = distinct.iter().cloned().zip(0..).collect();
+            let map = distinct.iter().copied().zip(0..).collect();
             (SensorLayout { mounts }, map)
         }
     };
     let n = layout.len();
-    // Readings: sensor index, time, value.
+    // The sensor of each frame and topic, looked up once per name rather than per reading.
+    let sensor_of: Box<dyn Fn(&RangeMsg) -> Option<usize>> = match &options.layout {
+        Some(l) if !l.frames.is_empty() => {
+            let by_frame: Vec<Option<usize>> = frames
+                .names
+                .iter()
+                .map(|f| l.frames.get(f).copied())
+                .collect();
+            let by_topic: Vec<Option<usize>> = topics
+                .names
+                .iter()
+                .map(|t| l.frames.get(t).copied())
+                .collect();
+            Box::new(move |m: &RangeMsg| by_frame[m.frame as usize].or(by_topic[m.topic as usize]))
+        }
+        _ => {
+            let by_frame: Vec<Option<usize>> = frames
+                .names
+                .iter()
+                .map(|f| index_of.get(f.as_str()).copied())
+                .collect();
+            let by_topic: Vec<Option<usize>> = topics
+                .names
+                .iter()
+                .map(|t| index_of.get(t.as_str()).copied())
+                .collect();
+            let frames = &frames;
+            Box::new(move |m: &RangeMsg| {
+                if frames.names[m.frame as usize].is_empty() {
+                    by_topic[m.topic as usize]
+                } else {
+                    by_frame[m.frame as usize]
+                }
+            })
+        }
+    };
+    // Readings: time, sensor index, value, message index.
     let mut readings: Vec<(f64, usize, Option<f64>, usize)> = Vec::with_capacity(ranges.len());
     let mut last_t = vec![f64::NEG_INFINITY; n];
     let mut largest_max = 0.0f64;
     let mut smallest_min = f64::INFINITY;
     let mut fov = None;
     for m in &ranges {
-        let k = match &options.layout {
-            Some(l) if !l.frames.is_empty() => {
-                match l.frames.get(&m.frame).or_else(|| l.frames.get(&m.topic)) {
-                    Some(&k) => k,
-                    None => {
-                        summary.skip(
-                            place(m.index, &m.topic),
-                            format!(
-                                "neither frame {:?} nor the topic is in the layout's frames",
-                                m.frame
-                            ),
-                        );
-                        continue;
-                    }
-                }
-            }
-            _ => index_of.get(&key(m)).copied().unwrap_or(usize::MAX),
+        let topic = &topics.names[m.topic as usize];
+        let Some(k) = sensor_of(m) else {
+            summary.skip(
+                place(m.index, topic),
+                format!(
+                    "neither frame {:?} nor the topic is in the layout's frames",
+                    sane::quote(&frames.names[m.frame as usize])
+                ),
+            );
+            continue;
         };
         if k >= n {
             summary.skip(
-                place(m.index, &m.topic),
+                place(m.index, topic),
                 format!("sensor index {k} is not in the layout"),
             );
             continue;
         }
-        if !m.t.is_finite() || m.t < last_t[k] {
+        if m.t < last_t[k] {
             summary.skip(
-                place(m.index, &m.topic),
+                place(m.index, topic),
                 format!(
                     "time {} is earlier than the previous reading of sensor {k}",
                     m.t
@@ -377,18 +673,14 @@ pub fn import_mcap(
             );
             summary.warn(format!(
                 "{}: time goes backwards; message skipped",
-                place(m.index, &m.topic)
+                place(m.index, topic)
             ));
             continue;
         }
         last_t[k] = m.t;
-        if m.max.is_finite() {
-            largest_max = largest_max.max(m.max);
-        }
-        if m.min.is_finite() && m.min >= 0.0 {
-            smallest_min = smallest_min.min(m.min);
-        }
-        if m.fov.is_finite() && m.fov > 0.0 {
+        largest_max = largest_max.max(m.max);
+        smallest_min = smallest_min.min(m.min);
+        if m.fov > 0.0 {
             fov.get_or_insert(m.fov);
         }
         let echo = m.range.is_finite() && m.range >= m.min && m.range <= m.max;
@@ -397,14 +689,34 @@ pub fn import_mcap(
         }
         readings.push((m.t, k, echo.then_some(m.range), m.index));
     }
+    drop(sensor_of);
+    drop(ranges);
     readings.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.3.cmp(&b.3)));
-    // Firing cycles.
+    // Firing cycles. Each cycle holds a slot per sensor, so the slots are bounded by the
+    // readings (a hostile file must not make a million cycles of ten thousand sensors).
+    let slot_limit = 4 * readings.len() + 65_536;
+    let mut slots = 0usize;
     let mut raw = Vec::new();
     let mut missing = 0;
+    let mut seen = vec![false; n];
     let mut i = 0;
     while i < readings.len() {
         let t0 = readings[i].0;
-        let mut seen = vec![false; n];
+        slots += n;
+        if slots > slot_limit {
+            return Err(ImportError::NoSnapshots {
+                file: file.to_string(),
+                why: format!(
+                    "{} readings of {n} sensors make more than {} firing cycles (the first {} end before the cycle starting at MCAP message {}): expected most cycles to read most sensors (is --window {} s too short?)",
+                    readings.len(),
+                    raw.len(),
+                    raw.len(),
+                    readings[i].3,
+                    options.window_s
+                ),
+            });
+        }
+        seen.iter_mut().for_each(|s| *s = false);
         let mut ranges_m = vec![None; n];
         let mut sum_t = 0.0;
         let mut j = i;
@@ -418,10 +730,10 @@ pub fn import_mcap(
             sum_t += t;
             j += 1;
         }
-        missing += seen.iter().filter(|s| !**s).count();
+        missing += n - (j - i);
         raw.push(RawSnapshot {
             t: sum_t / (j - i) as f64,
-            place: format!("the cycle starting at MCAP message {}", readings[i].3),
+            place: Place::Cycle(readings[i].3),
             ranges_m,
         });
         i = j;
@@ -454,7 +766,7 @@ pub fn import_mcap(
         raw,
         &track,
         options.fixed_pose,
-        "no nav_msgs/msg/Odometry messages",
+        "no nav_msgs/msg/Odometry messages in CDR",
         hw,
         &mut summary,
     )?;
