@@ -84,7 +84,8 @@ pub fn parse_layout(bytes: &[u8], source_name: &str) -> Result<Layout, ImportErr
                 f,
                 format!("$.frames.{name}"),
                 format!(
-                    "sensor index {k} is not a sensor of the layout: expected a whole number from 0 to {}",
+                    "sensor index {} is not a sensor of the layout: expected a whole number from 0 to {}",
+                    sane::show(k),
                     layout.len().saturating_sub(1)
                 ),
             ));
@@ -156,7 +157,10 @@ fn check_values(
         if w > 180.0 {
             return Err(fail(
                 "$.sensor.beam_width_deg",
-                format!("{w}°: expected a beam width greater than 0 and at most 180°"),
+                format!(
+                    "{}°: expected a beam width greater than 0 and at most 180°",
+                    sane::show(w)
+                ),
             ));
         }
     }
@@ -164,7 +168,10 @@ fn check_values(
         if a > 100.0 {
             return Err(fail(
                 "$.sensor.accuracy_pct",
-                format!("{a} %: expected an accuracy greater than 0 and at most 100 %"),
+                format!(
+                    "{} %: expected an accuracy greater than 0 and at most 100 %",
+                    sane::show(a)
+                ),
             ));
         }
     }

@@ -49,6 +49,8 @@ use crate::sonar::{SensorLayout, SensorMount};
 use crate::units::Units;
 use std::collections::{BTreeMap, HashMap};
 use std::f64::consts::PI;
+use std::rc::Rc;
+use std::sync::Arc;
 
 /// The first bytes of every MCAP file.
 pub const MCAP_MAGIC: &[u8] = b"\x89MCAP0\r\n";
@@ -61,28 +63,32 @@ struct RangeMsg {
     /// Interned frame id ([`Collected::frames`]).
     frame: u32,
     t: f64,
-    fov: f64,
-    min: f64,
-    max: f64,
-    range: f64,
+    // As in the message (float32).
+    fov: f32,
+    min: f32,
+    max: f32,
+    range: f32,
 }
 
 /// Distinct strings, each kept once (a topic or frame id may be long and repeated in every
 /// message: keeping one copy per message let a 1 MB topic name take gigabytes).
+/// Bytes that are not UTF-8 are replaced (U+FFFD), as for every name read from a message.
 #[derive(Default)]
 struct Names {
-    index: HashMap<Vec<u8>, u32>,
-    names: Vec<String>,
+    index: HashMap<Rc<str>, u32>,
+    names: Vec<Rc<str>>,
 }
 
 impl Names {
     fn intern(&mut self, bytes: &[u8]) -> u32 {
-        if let Some(&i) = self.index.get(bytes) {
+        let text = String::from_utf8_lossy(bytes);
+        if let Some(&i) = self.index.get(text.as_ref()) {
             return i;
         }
         let i = self.names.len() as u32;
-        self.names.push(String::from_utf8_lossy(bytes).into_owned());
-        self.index.insert(bytes.to_vec(), i);
+        let name: Rc<str> = Rc::from(text.as_ref());
+        self.names.push(name.clone());
+        self.index.insert(name, i);
         i
     }
 }
@@ -99,7 +105,9 @@ enum Kind {
 /// What the messages gave.
 struct Collected {
     ranges: Vec<RangeMsg>,
-    topics: Names,
+    /// The Range channels' topics (the channel itself, shared with the MCAP reader: a topic
+    /// is not copied).
+    topics: Vec<Arc<mcap::Channel<'static>>>,
     frames: Names,
     track: PoseTrack,
     odometry_frame: Option<String>,
@@ -136,7 +144,10 @@ fn rotation(q: [f64; 4], field: &str) -> Result<f64, (String, String)> {
             field.to_string(),
             format!(
                 "({}, {}, {}, {}) is not a rotation: expected a finite quaternion of length 1",
-                q[0], q[1], q[2], q[3]
+                sane::show(q[0]),
+                sane::show(q[1]),
+                sane::show(q[2]),
+                sane::show(q[3])
             ),
         ));
     }
@@ -156,24 +167,52 @@ fn cdr_error(file: &str, index: usize, topic: &str, e: CdrError) -> ImportError 
     )
 }
 
-/// Natural order: digit runs compare as numbers (`sonar_2` < `sonar_10`).
-fn natural_key(s: &str) -> Vec<(u8, u128, String)> {
-    let mut out = Vec::new();
-    let mut rest = s;
-    while !rest.is_empty() {
-        let digits = rest.len() - rest.trim_start_matches(|c: char| c.is_ascii_digit()).len();
-        if digits > 0 {
-            let (d, r) = rest.split_at(digits);
-            out.push((0, d.parse().unwrap_or(u128::MAX), d.to_string()));
-            rest = r;
-        } else {
-            let other = rest.len() - rest.trim_start_matches(|c: char| !c.is_ascii_digit()).len();
-            let (t, r) = rest.split_at(other);
-            out.push((1, 0, t.to_string()));
-            rest = r;
-        }
+/// Natural order: digit runs compare as numbers (`sonar_2` < `sonar_10`; between equal
+/// numbers, as text: `02` before `2`), other runs as text. Allocates nothing.
+fn natural_cmp(a: &str, b: &str) -> std::cmp::Ordering {
+    use std::cmp::Ordering;
+    fn run(s: &str, digits: bool) -> (&str, &str) {
+        let n = s.len()
+            - s.trim_start_matches(|c: char| c.is_ascii_digit() == digits)
+                .len();
+        s.split_at(n)
     }
-    out
+    let (mut a, mut b) = (a, b);
+    loop {
+        match (a.is_empty(), b.is_empty()) {
+            (true, true) => return Ordering::Equal,
+            (true, false) => return Ordering::Less,
+            (false, true) => return Ordering::Greater,
+            _ => {}
+        }
+        let da = a.starts_with(|c: char| c.is_ascii_digit());
+        let db = b.starts_with(|c: char| c.is_ascii_digit());
+        if da != db {
+            // A number before text.
+            return if da {
+                Ordering::Less
+            } else {
+                Ordering::Greater
+            };
+        }
+        let (ra, rest_a) = run(a, da);
+        let (rb, rest_b) = run(b, db);
+        let order = if da {
+            let ta = ra.trim_start_matches('0');
+            let tb = rb.trim_start_matches('0');
+            ta.len()
+                .cmp(&tb.len())
+                .then_with(|| ta.cmp(tb))
+                .then_with(|| ra.cmp(rb))
+        } else {
+            ra.cmp(rb)
+        };
+        if order != Ordering::Equal {
+            return order;
+        }
+        a = rest_a;
+        b = rest_b;
+    }
 }
 
 /// Imports a ROS 2 MCAP recording. `file` names it in errors. Pure.
@@ -248,7 +287,7 @@ fn collect(
         .map_err(|e| at(file, "MCAP header", format!("{e}: expected an MCAP file")))?;
     let mut c = Collected {
         ranges: Vec::new(),
-        topics: Names::default(),
+        topics: Vec::new(),
         frames: Names::default(),
         track: PoseTrack::default(),
         odometry_frame: None,
@@ -278,7 +317,8 @@ fn collect(
                 .unwrap_or("");
             let kind = match schema {
                 "sensor_msgs/msg/Range" | "sensor_msgs/Range" => {
-                    Kind::Range(c.topics.intern(topic.as_bytes()))
+                    c.topics.push(channel.clone());
+                    Kind::Range(c.topics.len() as u32 - 1)
                 }
                 "nav_msgs/msg/Odometry" | "nav_msgs/Odometry" => Kind::Odometry,
                 "tf2_msgs/msg/TFMessage" | "tf2_msgs/TFMessage" if topic == "/tf_static" => {
@@ -340,37 +380,50 @@ fn collect(
                 let mut r = CdrReader::new(&message.data).map_err(err)?;
                 let (t, frame) = header_bytes(&mut r).map_err(err)?;
                 r.u8("radiation_type").map_err(err)?;
-                let fov = r.f32("field_of_view").map_err(err)? as f64;
-                let min = r.f32("min_range").map_err(err)? as f64;
-                let max = r.f32("max_range").map_err(err)? as f64;
-                let range = r.f32("range").map_err(err)? as f64;
+                let fov = r.f32("field_of_view").map_err(err)?;
+                let min = r.f32("min_range").map_err(err)?;
+                let max = r.f32("max_range").map_err(err)?;
+                let range = r.f32("range").map_err(err)?;
                 let t = stamp(t)?;
-                if !(fov.is_finite() && (0.0..=PI).contains(&fov)) {
+                if !(fov.is_finite() && (0.0..=PI).contains(&(fov as f64))) {
                     return Err(bad((
                         "field_of_view".into(),
-                        format!("{fov} rad: expected a beam width from 0 (unknown) to π rad"),
+                        format!(
+                            "{} rad: expected a beam width from 0 (unknown) to π rad",
+                            sane::show(fov as f64)
+                        ),
                     )));
                 }
                 for (v, field) in [(min, "min_range"), (max, "max_range")] {
-                    sane::length(v, 1.0, "a range in metres", "m")
+                    sane::length(v as f64, 1.0, "a range in metres", "m")
                         .map_err(|m| bad((field.into(), m)))?;
                     if v < 0.0 {
                         return Err(bad((
                             field.into(),
-                            format!("{v} m is negative: expected a range of at least 0 m"),
+                            format!(
+                                "{} m is negative: expected a range of at least 0 m",
+                                sane::show(v as f64)
+                            ),
                         )));
                     }
                 }
                 if min >= max {
                     return Err(bad((
                         "min_range".into(),
-                        format!("{min} m is not below max_range {max} m: expected min_range < max_range"),
+                        format!(
+                            "{} m is not below max_range {} m: expected min_range < max_range",
+                            sane::show(min as f64),
+                            sane::show(max as f64)
+                        ),
                     )));
                 }
                 if range.is_finite() && range < 0.0 {
                     return Err(bad((
                         "range".into(),
-                        format!("{range} m is negative: expected a range of at least 0 m, or ±inf for no echo (REP 117)"),
+                        format!(
+                            "{} m is negative: expected a range of at least 0 m, or ±inf for no echo (REP 117)",
+                            sane::show(range as f64)
+                        ),
                     )));
                 }
                 let frame = c.frames.intern(frame);
@@ -478,10 +531,11 @@ fn assemble_mcap(
         });
     }
     // The sensors: a reading's key is its frame id, else its topic.
+    let topic_of = |m: &RangeMsg| topics[m.topic as usize].topic.as_str();
     let key = |m: &RangeMsg| -> &str {
         let frame = &frames.names[m.frame as usize];
         if frame.is_empty() {
-            &topics.names[m.topic as usize]
+            topic_of(m)
         } else {
             frame
         }
@@ -489,7 +543,7 @@ fn assemble_mcap(
     let mut distinct: Vec<&str> = Vec::new();
     {
         let mut seen_frames = vec![false; frames.names.len()];
-        let mut seen_topics = vec![false; topics.names.len()];
+        let mut seen_topics = vec![false; topics.len()];
         for m in &ranges {
             let seen = if frames.names[m.frame as usize].is_empty() {
                 &mut seen_topics[m.topic as usize]
@@ -511,7 +565,7 @@ fn assemble_mcap(
             ),
         });
     }
-    distinct.sort_by_cached_key(|a| natural_key(a));
+    distinct.sort_by(|a, b| natural_cmp(a, b));
     distinct.dedup();
     let quoted = |names: &[&str]| {
         let mut list: Vec<String> = names.iter().take(20).map(|n| sane::quote(n)).collect();
@@ -587,14 +641,16 @@ fn assemble_mcap(
                             heading_rad: pose_track::wrap_pi(yaw),
                         })
                     }
-                    _ => return Err(ImportError::NeedsLayout {
-                        file: file.to_string(),
-                        what: format!(
+                    _ => {
+                        return Err(ImportError::NeedsLayout {
+                            file: file.to_string(),
+                            what: format!(
                             "/tf_static has no chain of transforms from {} to the sonar frame {}",
                             sane::quote(&base),
                             sane::quote(frame)
                         ),
-                    }),
+                        })
+                    }
                 }
             }
             let map = distinct.iter().copied().zip(0..).collect();
@@ -608,12 +664,11 @@ fn assemble_mcap(
             let by_frame: Vec<Option<usize>> = frames
                 .names
                 .iter()
-                .map(|f| l.frames.get(f).copied())
+                .map(|f| l.frames.get(f.as_ref()).copied())
                 .collect();
             let by_topic: Vec<Option<usize>> = topics
-                .names
                 .iter()
-                .map(|t| l.frames.get(t).copied())
+                .map(|c| l.frames.get(&c.topic).copied())
                 .collect();
             Box::new(move |m: &RangeMsg| by_frame[m.frame as usize].or(by_topic[m.topic as usize]))
         }
@@ -621,12 +676,11 @@ fn assemble_mcap(
             let by_frame: Vec<Option<usize>> = frames
                 .names
                 .iter()
-                .map(|f| index_of.get(f.as_str()).copied())
+                .map(|f| index_of.get(f.as_ref()).copied())
                 .collect();
             let by_topic: Vec<Option<usize>> = topics
-                .names
                 .iter()
-                .map(|t| index_of.get(t.as_str()).copied())
+                .map(|c| index_of.get(c.topic.as_str()).copied())
                 .collect();
             let frames = &frames;
             Box::new(move |m: &RangeMsg| {
@@ -645,7 +699,7 @@ fn assemble_mcap(
     let mut smallest_min = f64::INFINITY;
     let mut fov = None;
     for m in &ranges {
-        let topic = &topics.names[m.topic as usize];
+        let topic = topic_of(m);
         let Some(k) = sensor_of(m) else {
             summary.skip(
                 place(m.index, topic),
@@ -678,23 +732,23 @@ fn assemble_mcap(
             continue;
         }
         last_t[k] = m.t;
-        largest_max = largest_max.max(m.max);
-        smallest_min = smallest_min.min(m.min);
+        largest_max = largest_max.max(m.max as f64);
+        smallest_min = smallest_min.min(m.min as f64);
         if m.fov > 0.0 {
-            fov.get_or_insert(m.fov);
+            fov.get_or_insert(m.fov as f64);
         }
         let echo = m.range.is_finite() && m.range >= m.min && m.range <= m.max;
         if !echo {
             summary.turned_no_echo += 1;
         }
-        readings.push((m.t, k, echo.then_some(m.range), m.index));
+        readings.push((m.t, k, echo.then_some(m.range as f64), m.index));
     }
     drop(sensor_of);
     drop(ranges);
     readings.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.3.cmp(&b.3)));
     // Firing cycles. Each cycle holds a slot per sensor, so the slots are bounded by the
     // readings (a hostile file must not make a million cycles of ten thousand sensors).
-    let slot_limit = 4 * readings.len() + 65_536;
+    let slot_limit = 4 * readings.len() + n;
     let mut slots = 0usize;
     let mut raw = Vec::new();
     let mut missing = 0;
@@ -775,4 +829,35 @@ fn assemble_mcap(
         summary,
         format: Format::Mcap,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn natural_order() {
+        let mut names = vec![
+            "sonar_10", "sonar_2", "b", "sonar_02", "a1", "sonar_1x", "10", "9",
+        ];
+        names.sort_by(|a, b| natural_cmp(a, b));
+        assert_eq!(
+            names,
+            ["9", "10", "a1", "b", "sonar_1x", "sonar_02", "sonar_2", "sonar_10"]
+        );
+    }
+
+    #[test]
+    fn a_panic_in_the_reader_becomes_an_error_naming_the_file() {
+        let e = contain_panic::<()>("x.mcap", || panic!("range start index 9 out of range"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("x.mcap: MCAP file: the MCAP reader failed"),
+            "{e}"
+        );
+        assert!(e.contains("range start index 9"), "{e}");
+        // Later panics elsewhere are reported as usual (the hook is only quiet inside).
+        assert_eq!(contain_panic("x", || Ok(3)), Ok(3));
+    }
 }

@@ -25,15 +25,31 @@ pub const QUOTE_CHARS: usize = 60;
 /// what was expected (`what`, `unit` is the unit `v` and `limit` are written in).
 pub fn within(v: f64, limit: f64, what: &str, unit: &str) -> Result<f64, String> {
     if !v.is_finite() {
-        return Err(format!("{v} is not a finite number: expected {what}"));
+        return Err(format!(
+            "{} is not a finite number: expected {what}",
+            show(v)
+        ));
     }
     if v.abs() > limit {
         return Err(format!(
-            "{v} is beyond ±{} {unit}: expected {what} that a robot can produce",
+            "{} is beyond ±{} {unit}: expected {what} that a robot can produce",
+            show(v),
             fmt_limit(limit)
         ));
     }
     Ok(v)
+}
+
+/// A number for a message: as Rust writes it, but in exponent form when that is shorter
+/// (`1e308`, not 309 digits).
+pub fn show(v: f64) -> String {
+    let plain = v.to_string();
+    let exp = format!("{v:e}");
+    if exp.len() < plain.len() {
+        exp
+    } else {
+        plain
+    }
 }
 
 /// A limit as a short number (`10000`, `393700.79`).

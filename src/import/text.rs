@@ -147,7 +147,10 @@ pub(crate) fn count(
         return Err(at(
             file,
             format!("line {}, field {}", line.number, index + 1),
-            format!("{v} is not a count: expected {what}, a whole number from 0 to {max}"),
+            format!(
+                "{} is not a count: expected {what}, a whole number from 0 to {max}",
+                super::sane::show(v)
+            ),
         ));
     }
     Ok(v as usize)

@@ -1,0 +1,1 @@
+//! Fuzz tests that check the contract of issue 18 (filled in next).
