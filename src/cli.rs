@@ -467,7 +467,7 @@ fn emit_each<'a>(results: impl Iterator<Item = (&'a Path, Result<String>)>) -> R
 
 /// Prints a failed log's error on stderr, naming the log unless the error already does.
 fn report_failure(path: &Path, e: &anyhow::Error) {
-    let message = format!("{e:#}");
+    let message = sonarmap::import::sane::escape(&format!("{e:#}"));
     let name = path.display().to_string();
     if message.contains(&name) {
         eprintln!("{message}");

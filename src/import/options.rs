@@ -83,7 +83,7 @@ impl ImportOptions {
             option: option.into(),
             message,
         };
-        if !(self.window_s >= 0.0) {
+        if self.window_s.is_nan() || self.window_s < 0.0 {
             return Err(bad(
                 "--window",
                 format!("{}: expected a duration of at least 0 s", self.window_s),
@@ -91,7 +91,7 @@ impl ImportOptions {
         }
         sane::time(self.window_s, "a duration in seconds").map_err(|m| bad("--window", m))?;
         if let Some(r) = self.max_range_m {
-            if !(r > 0.0) {
+            if r.is_nan() || r <= 0.0 {
                 return Err(bad(
                     "--max-range",
                     format!("{r} m: expected a range greater than 0"),

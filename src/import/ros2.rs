@@ -102,6 +102,29 @@ enum Kind {
     LeftOut,
 }
 
+/// The sensor of a reading, looked up once per frame id and topic rather than per reading.
+struct SensorOf {
+    by_frame: Vec<Option<usize>>,
+    by_topic: Vec<Option<usize>>,
+    frame_empty: Vec<bool>,
+    /// The layout's `frames` decide: the frame id, else the topic. Otherwise the sensors are
+    /// the frame ids, or the topics for readings without one.
+    layout_frames: bool,
+}
+
+impl SensorOf {
+    fn get(&self, m: &RangeMsg) -> Option<usize> {
+        let (f, t) = (m.frame as usize, m.topic as usize);
+        if self.layout_frames {
+            self.by_frame[f].or(self.by_topic[t])
+        } else if self.frame_empty[f] {
+            self.by_topic[t]
+        } else {
+            self.by_frame[f]
+        }
+    }
+}
+
 /// What the messages gave.
 struct Collected {
     ranges: Vec<RangeMsg>,
@@ -659,38 +682,25 @@ fn assemble_mcap(
     };
     let n = layout.len();
     // The sensor of each frame and topic, looked up once per name rather than per reading.
-    let sensor_of: Box<dyn Fn(&RangeMsg) -> Option<usize>> = match &options.layout {
-        Some(l) if !l.frames.is_empty() => {
-            let by_frame: Vec<Option<usize>> = frames
-                .names
-                .iter()
-                .map(|f| l.frames.get(f.as_ref()).copied())
-                .collect();
-            let by_topic: Vec<Option<usize>> = topics
-                .iter()
-                .map(|c| l.frames.get(&c.topic).copied())
-                .collect();
-            Box::new(move |m: &RangeMsg| by_frame[m.frame as usize].or(by_topic[m.topic as usize]))
-        }
-        _ => {
-            let by_frame: Vec<Option<usize>> = frames
-                .names
-                .iter()
-                .map(|f| index_of.get(f.as_ref()).copied())
-                .collect();
-            let by_topic: Vec<Option<usize>> = topics
-                .iter()
-                .map(|c| index_of.get(c.topic.as_str()).copied())
-                .collect();
-            let frames = &frames;
-            Box::new(move |m: &RangeMsg| {
-                if frames.names[m.frame as usize].is_empty() {
-                    by_topic[m.topic as usize]
-                } else {
-                    by_frame[m.frame as usize]
-                }
+    let layout_frames = options.layout.as_ref().filter(|l| !l.frames.is_empty());
+    let sensor_of = SensorOf {
+        by_frame: frames
+            .names
+            .iter()
+            .map(|f| match layout_frames {
+                Some(l) => l.frames.get(f.as_ref()).copied(),
+                None => index_of.get(f.as_ref()).copied(),
             })
-        }
+            .collect(),
+        by_topic: topics
+            .iter()
+            .map(|c| match layout_frames {
+                Some(l) => l.frames.get(&c.topic).copied(),
+                None => index_of.get(c.topic.as_str()).copied(),
+            })
+            .collect(),
+        frame_empty: frames.names.iter().map(|f| f.is_empty()).collect(),
+        layout_frames: layout_frames.is_some(),
     };
     // Readings: time, sensor index, value, message index.
     let mut readings: Vec<(f64, usize, Option<f64>, usize)> = Vec::with_capacity(ranges.len());
@@ -700,7 +710,7 @@ fn assemble_mcap(
     let mut fov = None;
     for m in &ranges {
         let topic = topic_of(m);
-        let Some(k) = sensor_of(m) else {
+        let Some(k) = sensor_of.get(m) else {
             summary.skip(
                 place(m.index, topic),
                 format!(

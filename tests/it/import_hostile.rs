@@ -670,7 +670,8 @@ fn mcap_range_fields_no_sonar_produces_are_refused_with_message_and_field() {
         assert_eq!(i.run.snapshots[0].ranges_m[2], None, "{r}");
         check_run(&i.run);
     }
-    let cases: &[((f32, f32, f32, f32), &[&str])] = &[
+    type Fields = (f32, f32, f32, f32);
+    let cases: &[(Fields, &[&str])] = &[
         ((-0.4, 0.15, 5.0, 1.0), &["field field_of_view"]),
         ((f32::NAN, 0.15, 5.0, 1.0), &["field field_of_view"]),
         ((7.0, 0.15, 5.0, 1.0), &["field field_of_view"]),
@@ -700,10 +701,9 @@ fn mcap_range_fields_no_sonar_produces_are_refused_with_message_and_field() {
 fn tf_fields(xyz: [f64; 3], q: [f64; 4]) -> Vec<u8> {
     let mut c = Cdr::new(true);
     c.u32(4);
-    for k in 0..4 {
+    for (k, &(x, y, yaw)) in MOUNTS.iter().enumerate() {
         c.header(0.0, "base_link");
         c.string(&format!("sonar_{k}"));
-        let (x, y, yaw) = MOUNTS[k];
         if k == 1 {
             for v in xyz {
                 c.f64(v);
@@ -761,7 +761,12 @@ fn mcap_non_finite_and_absurd_poses_and_mounts_are_refused() {
     let good_odom: Vec<(f64, f64, [f64; 4])> = (0..5).map(|_| (0.0, 0.0, UNIT_Q)).collect();
     let good_tf = tf_fields(
         [0.0, 0.2, 0.1],
-        [0.0, 0.0, 0.7071067811865476, 0.7071067811865476],
+        [
+            0.0,
+            0.0,
+            std::f64::consts::FRAC_1_SQRT_2,
+            std::f64::consts::FRAC_1_SQRT_2,
+        ],
     );
     let i = import_mcap(&mcap_with_tf_and_odom(&good_tf, &good_odom), "m.mcap", &o).unwrap();
     check_run(&i.run);
@@ -1149,4 +1154,63 @@ fn firing_cycles_cannot_outgrow_the_readings() {
     // Ten thousand names and a cycle of ten thousand slots cost more per byte than a ring of
     // 16 does; 30 million slots would have been 480 MB.
     assert!(peak <= 6 * b.len(), "peak {peak} for {} bytes", b.len());
+}
+
+// ------------------------------------------------------------------ the command line
+
+#[test]
+fn the_command_line_exits_2_with_escaped_messages_on_hostile_files() {
+    let bin = env!("CARGO_BIN_EXE_sonarmap");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.json");
+    let mut tiny = MAGIC.to_vec();
+    tiny.push(0x01);
+    tiny.extend_from_slice(&[0xFF; 8]);
+    let mut esc = mcap_start(b"/sonar_");
+    for k in 0..4u16 {
+        let t = 10.0 + 0.02 * k as f64;
+        let frame = format!("sonar_{k}\u{1b}[2J");
+        esc.extend(message_record(
+            1 + k,
+            0,
+            t,
+            &range_msg(true, t, &frame, 1.0),
+        ));
+    }
+    esc.extend(mcap_end());
+    let json = br#"{"format": "sonarmap-log", "version": 1, "units": "\u001b[2J",
+        "robot": {"radius": 1, "sonars": {"ring": {"count": 1, "spacing_deg": 0}}},
+        "snapshots": [{"pose": {"x": 0, "y": 0, "heading_deg": 0}, "ranges": [1]}]}"#;
+    let cut = b"0.0 1 6665 sonar 00 4 1 1 0 0 0\n0.0 1 6665 position2d 00 1 1 0 0 0 0 0 0 0\n0.1 1 6665 sonar 00 1 1 1 6.4";
+    for (name, bytes) in [
+        ("tiny.mcap", &tiny[..]),
+        ("esc.mcap", &esc[..]),
+        ("esc.json", &json[..]),
+        ("cut.log", &cut[..]),
+    ] {
+        let input = dir.path().join(name);
+        std::fs::write(&input, bytes).unwrap();
+        for args in [
+            vec![
+                "convert",
+                input.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+            ],
+            vec!["run", input.to_str().unwrap()],
+        ] {
+            let o = std::process::Command::new(bin)
+                .args(&args)
+                .output()
+                .unwrap();
+            let stderr = String::from_utf8_lossy(&o.stderr);
+            assert_eq!(o.status.code(), Some(2), "{name} {args:?}: {stderr}");
+            assert!(stderr.contains(name), "{name}: {stderr}");
+            assert!(
+                !stderr.chars().any(|c| c.is_control() && c != '\n'),
+                "{name}: raw control characters: {stderr:?}"
+            );
+            assert!(!out.exists());
+        }
+    }
 }
