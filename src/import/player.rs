@@ -30,10 +30,13 @@
 //!   lose the run).
 //! - No odometry at all: refused unless a fixed pose is given.
 //!
-//! # Refused (with the file, the line and what was expected)
+//! # Refused (with the file, the line and field, and what was expected)
 //! A line with fewer than 7 fields (6 for Player 1.x), text where a number goes, a count that
 //! does not match the number of values that follow, a negative range, a range count that
-//! differs from the geometry, non-UTF-8 bytes.
+//! differs from the geometry, non-UTF-8 bytes, a last line without a newline (the file was cut
+//! short, perhaps in the middle of a number), and values no robot produces (see
+//! [`super::sane`]): times beyond ±1e10 s, positions, mounts and ranges beyond 10 km, headings
+//! and yaws beyond ±1e5 rad, anything not finite.
 
 use super::assemble::{assemble, sensor_with_max_range, Hardware, Place, RawSnapshot};
 use super::error::{at, ImportError};

@@ -18,7 +18,7 @@
 //!   order (`sonar_2` before `sonar_10`) as sensors 0, 1, ...; without `--layout` the sonars
 //!   are those frame ids in natural order and their mounts come from `/tf_static`. With
 //!   neither, the import is refused and the error names `--layout`.
-//! - A reading outside `[min_range, max_range]` of its message, or not finite, is no echo
+//! - A reading outside `[min_range, max_range]` of its message, or ±inf or NaN, is no echo
 //!   (REP 117), as is one at or beyond `--max-range` (default: the layout's, else the largest
 //!   `max_range` of the messages).
 //! - Snapshots: the readings, sorted by time, are cut into firing cycles of the ring. A cycle
@@ -29,10 +29,20 @@
 //! - A reading or odometry message earlier than the previous one of the same sensor or odometry
 //!   topic is skipped with a warning. No odometry: refused unless a fixed pose is given.
 //!
-//! # Refused (with the file, the message index, topic and byte offset, and what was expected)
-//! Bytes that are not MCAP or a record the `mcap` crate cannot read (the error says after
-//! which message), a Range/Odometry/TFMessage that is not CDR of its type (too short, a string
-//! running past the end, an unknown encapsulation).
+//! # Refused (with the file, the message index, topic and field or byte offset, and what was expected)
+//! - Bytes that are not MCAP; a record whose declared length (or that of a string, map or
+//!   byte array inside it) runs past the bytes present, at the top level or in a chunk (the
+//!   error gives the record's byte offset; checked before the `mcap` crate sees the file, and
+//!   a panic inside the crate is contained as an error); a compressed chunk (this build reads
+//!   uncompressed recordings); a record the `mcap` crate cannot read (the error says after
+//!   which message).
+//! - A Range/Odometry/TFMessage that is not CDR of its type (too short, a string running past
+//!   the end, an unknown encapsulation).
+//! - Values no robot produces: a Range's field of view outside 0..π, a negative or non-finite
+//!   `min_range` or `max_range`, `min_range ≥ max_range`, a negative finite `range`; an
+//!   odometry or /tf_static position that is not finite or beyond 10 km, a quaternion that is
+//!   not a finite rotation; a time beyond ±1e10 s; firing cycles with many more slots than
+//!   readings (a `--window` far too short for the ring).
 
 use super::assemble::{assemble, sensor_with_max_range, Hardware, Place, RawSnapshot};
 use super::cdr::{header, header_bytes, yaw_of, CdrError, CdrReader};

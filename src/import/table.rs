@@ -18,7 +18,9 @@
 //! # Refused (with the file, the line and what was expected)
 //! A line whose field count is not `1 + n`, `4 + n` or `4` as the form requires, text where a
 //! number goes, a negative range, time going backwards (a table is written by one program in
-//! order: a decreasing time is an error, not a warning), no layout.
+//! order: a decreasing time is an error, not a warning), no layout, a last line without a
+//! newline (the file was cut short), and values no robot produces (see [`super::sane`]):
+//! times beyond ±1e10 s, positions and ranges beyond 10 km, headings beyond ±1e5 rad.
 
 use super::assemble::{assemble, sensor_with_max_range, Hardware, Place, RawSnapshot};
 use super::error::{at, ImportError};
