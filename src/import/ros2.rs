@@ -806,7 +806,9 @@ fn assemble_mcap(
         }
         missing += n - (j - i);
         raw.push(RawSnapshot {
-            t: sum_t / (j - i) as f64,
+            // The mean, kept within the cycle's readings (rounding must not put it after the
+            // next cycle's first reading: times may not decrease).
+            t: (sum_t / (j - i) as f64).clamp(t0, readings[j - 1].0),
             place: Place::Cycle(readings[i].3),
             ranges_m,
         });

@@ -1214,3 +1214,67 @@ fn the_command_line_exits_2_with_escaped_messages_on_hostile_files() {
         }
     }
 }
+
+#[test]
+fn run_logs_with_values_no_robot_produces_are_refused_with_the_json_path() {
+    // What convert writes the loader takes back; what no robot produces it refuses, so that
+    // `import_any` on a hostile run log keeps the same contract as the importers.
+    let log = |snapshot: &str, robot: &str| {
+        format!(
+            r#"{{"format": "sonarmap-log", "version": 1, "units": "m", "robot": {robot},
+                "snapshots": [{snapshot}]}}"#
+        )
+    };
+    let ring = r#"{"radius": 0.2, "sonars": {"ring": {"count": 2, "spacing_deg": 180}}}"#;
+    let good = r#"{"t": 1, "pose": {"x": 1, "y": 2, "heading_deg": 30}, "ranges": [1, null]}"#;
+    let i = import_any(
+        log(good, ring).as_bytes(),
+        "l.json",
+        &ImportOptions::default(),
+    )
+    .unwrap();
+    check_run(&i.run);
+    for (snapshot, robot, path) in [
+        (
+            r#"{"t": 1e300, "pose": {"x": 1, "y": 2, "heading_deg": 30}, "ranges": [1, null]}"#,
+            ring,
+            "$.snapshots[0].t",
+        ),
+        (
+            r#"{"pose": {"x": 1e300, "y": 2, "heading_deg": 30}, "ranges": [1, null]}"#,
+            ring,
+            "$.snapshots[0].pose.x",
+        ),
+        (
+            r#"{"pose": {"x": 1, "y": 2, "heading_deg": 1e308}, "ranges": [1, null]}"#,
+            ring,
+            "$.snapshots[0].pose.heading_deg",
+        ),
+        (
+            r#"{"pose": {"x": 1, "y": 2, "heading_deg": 0}, "ranges": [1, 1e308]}"#,
+            ring,
+            "$.snapshots[0].ranges[1]",
+        ),
+        (
+            good,
+            r#"{"radius": 0.2, "sonars": {"ring": {"count": 2, "spacing_deg": 1e308}}}"#,
+            "$.robot.sonars.ring.spacing_deg",
+        ),
+        (
+            good,
+            r#"{"sonars": [{"x": 1e300, "y": 0, "heading_deg": 0}, {"x": 0, "y": 0, "heading_deg": 0}]}"#,
+            "$.robot.sonars[0].x",
+        ),
+    ] {
+        let m = refused(
+            import_any(
+                log(snapshot, robot).as_bytes(),
+                "l.json",
+                &ImportOptions::default(),
+            ),
+            "l.json",
+            &[path],
+        );
+        assert!(m.len() < 300, "{m}");
+    }
+}
