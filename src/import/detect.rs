@@ -36,7 +36,7 @@ pub fn detect(bytes: &[u8]) -> Option<Format> {
         .lines()
         .map(|l| l.split('#').next().unwrap_or(""))
         .map(|l| {
-            l.split(|c: char| c == ',' || c.is_whitespace())
+            l.split(|c: char| c == ',' || c.is_ascii_whitespace())
                 .filter(|f| !f.is_empty())
                 .collect::<Vec<_>>()
         })

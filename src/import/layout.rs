@@ -147,36 +147,53 @@ fn check_values(
                     sane::length(v, u, "a mount offset", sym)
                         .map_err(|e| fail(&format!("$.robot.sonars[{k}].{name}"), e))?;
                 }
-                sane::heading_deg(m.heading_deg, "a mount heading")
-                    .map_err(|e| fail(&format!("$.robot.sonars[{k}].heading_deg"), e))?;
+                sane::within(
+                    m.heading_deg,
+                    720.0,
+                    "a mount heading within two turns",
+                    "°",
+                )
+                .map_err(|e| fail(&format!("$.robot.sonars[{k}].heading_deg"), e))?;
             }
         }
     }
     let given = file.sensor.unwrap_or_default();
     if let Some(w) = given.beam_width_deg {
-        if w > 180.0 {
+        if !(sane::MIN_BEAM_DEG..=180.0).contains(&w) {
             return Err(fail(
                 "$.sensor.beam_width_deg",
                 format!(
-                    "{}°: expected a beam width greater than 0 and at most 180°",
-                    sane::show(w)
+                    "{}°: expected a beam width from {}° to 180°",
+                    sane::show(w),
+                    sane::MIN_BEAM_DEG
                 ),
             ));
         }
     }
     if let Some(a) = given.accuracy_pct {
-        if a > 100.0 {
+        if !(sane::MIN_ACCURACY_PCT..=100.0).contains(&a) {
             return Err(fail(
                 "$.sensor.accuracy_pct",
                 format!(
-                    "{} %: expected an accuracy greater than 0 and at most 100 %",
-                    sane::show(a)
+                    "{} %: expected an accuracy from {} % to 100 %",
+                    sane::show(a),
+                    sane::MIN_ACCURACY_PCT
                 ),
             ));
         }
     }
     if let Some(r) = given.max_range {
         sane::length(r, u, "a maximum range", sym).map_err(|m| fail("$.sensor.max_range", m))?;
+        if r * u < sane::MIN_MAX_RANGE_M {
+            return Err(fail(
+                "$.sensor.max_range",
+                format!(
+                    "{} {sym}: expected a maximum range of at least {} m",
+                    sane::show(r),
+                    sane::MIN_MAX_RANGE_M
+                ),
+            ));
+        }
     }
     if let Some(r) = given.min_range {
         sane::length(r, u, "a minimum range", sym).map_err(|m| fail("$.sensor.min_range", m))?;

@@ -91,10 +91,14 @@ impl ImportOptions {
         }
         sane::time(self.window_s, "a duration in seconds").map_err(|m| bad("--window", m))?;
         if let Some(r) = self.max_range_m {
-            if r.is_nan() || r <= 0.0 {
+            if r.is_nan() || r < sane::MIN_MAX_RANGE_M {
                 return Err(bad(
                     "--max-range",
-                    format!("{r} m: expected a range greater than 0"),
+                    format!(
+                        "{} m: expected a range of at least {} m",
+                        sane::show(r),
+                        sane::MIN_MAX_RANGE_M
+                    ),
                 ));
             }
             sane::length(r, 1.0, "a range", "m").map_err(|m| bad("--max-range", m))?;

@@ -143,8 +143,9 @@ pub fn import_player(
         raw: Vec::new(),
         last_sonar_t: f64::NEG_INFINITY,
     };
-    let mut sonar_device: Option<String> = None;
-    let mut position_device: Option<String> = None;
+    // The first sonar and position devices: interface and index (leading zeros dropped).
+    let mut sonar_device: Option<(String, String)> = None;
+    let mut position_device: Option<(String, String)> = None;
     let mut ignored = 0usize;
     for line in lines(text, false, file) {
         let line = line?;
@@ -162,7 +163,7 @@ pub fn import_player(
         let t = checked(&line, 0, "the time in seconds", file, sane::time)?;
         let v1 = f[5].contains(['.', 'e', 'E']);
         let interface = f[3];
-        let device = format!("{interface}:{}", f[4].trim_start_matches('0'));
+        let index = f[4].trim_start_matches('0');
         let is_sonar = interface == "sonar";
         let is_position = interface == "position2d" || (v1 && interface == "position");
         if !is_sonar && !is_position {
@@ -175,11 +176,13 @@ pub fn import_player(
             &mut position_device
         };
         match slot {
-            None => *slot = Some(device.clone()),
-            Some(d) if *d != device => {
+            None => *slot = Some((interface.to_string(), index.to_string())),
+            Some((i, k)) if i != interface || k != index => {
                 summary.skip(
                     format!("line {}", line.number),
-                    format!("{device}: only the first device seen, {d}, is imported"),
+                    format!(
+                        "{interface}:{index}: only the first device seen, {i}:{k}, is imported"
+                    ),
                 );
                 continue;
             }

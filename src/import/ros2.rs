@@ -418,12 +418,15 @@ fn collect(
                 let max = r.f32("max_range").map_err(err)?;
                 let range = r.f32("range").map_err(err)?;
                 let t = stamp(t)?;
-                if !(fov.is_finite() && (0.0..=PI).contains(&(fov as f64))) {
+                let narrowest = sane::MIN_BEAM_DEG.to_radians();
+                if !(fov == 0.0 || (fov.is_finite() && (narrowest..=PI).contains(&(fov as f64)))) {
                     return Err(bad((
                         "field_of_view".into(),
                         format!(
-                            "{} rad: expected a beam width from 0 (unknown) to π rad",
-                            sane::show(fov as f64)
+                            "{} rad: expected a beam width from {} rad ({}°) to π rad, or 0 (unknown)",
+                            sane::show(fov as f64),
+                            sane::show(narrowest),
+                            sane::MIN_BEAM_DEG
                         ),
                     )));
                 }
@@ -439,6 +442,16 @@ fn collect(
                             ),
                         )));
                     }
+                }
+                if (max as f64) < sane::MIN_MAX_RANGE_M {
+                    return Err(bad((
+                        "max_range".into(),
+                        format!(
+                            "{} m: expected a maximum range of at least {} m",
+                            sane::show(max as f64),
+                            sane::MIN_MAX_RANGE_M
+                        ),
+                    )));
                 }
                 if min >= max {
                     return Err(bad((

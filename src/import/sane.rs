@@ -18,6 +18,20 @@ pub const MAX_TIME_S: f64 = 1e10;
 /// The largest heading or yaw magnitude, radians (about 16,000 turns).
 pub const MAX_HEADING_RAD: f64 = 1e5;
 
+/// The narrowest beam, degrees: a beam width (or ROS field of view) between 0 and this is
+/// no sonar's (and would be written as 0, which the log format refuses).
+pub const MIN_BEAM_DEG: f64 = 0.01;
+
+/// The shortest maximum range, metres (1 mm).
+pub const MIN_MAX_RANGE_M: f64 = 1e-3;
+
+/// The smallest accuracy, percent of range.
+pub const MIN_ACCURACY_PCT: f64 = 1e-3;
+
+/// The log loader's bounds are this factor wider than the importers' (a value at an
+/// importer's bound, converted to the log's unit and rounded, still loads).
+pub const LOADER_SLACK: f64 = 1.0 + 1e-6;
+
 /// The largest number of characters of file text quoted in a message.
 pub const QUOTE_CHARS: usize = 60;
 

@@ -35,7 +35,7 @@ pub(crate) fn utf8<'a>(bytes: &'a [u8], file: &str) -> Result<&'a str, ImportErr
 
 /// The lines with content, one at a time (nothing is kept: memory does not grow with the file):
 /// `#` starts a comment (to the end of the line), blank lines are left out. Fields are split on
-/// whitespace, and on commas too when `commas` is true. A line longer than
+/// ASCII whitespace, and on commas too when `commas` is true. A line longer than
 /// [`MAX_LINE_BYTES`] is refused, and so is a last line with content but no newline: the file
 /// was cut short, perhaps in the middle of a number (`6.4770` cut to `6.4`).
 pub(crate) fn lines<'a>(
@@ -62,13 +62,15 @@ pub(crate) fn lines<'a>(
                 Some(c) => &raw[..c],
                 None => raw,
             };
+            // ASCII whitespace only (fast; a text log's other characters are field content,
+            // refused where a number goes).
             let fields: Vec<&str> = if commas {
                 content
-                    .split(|c: char| c == ',' || c.is_whitespace())
+                    .split(|c: char| c == ',' || c.is_ascii_whitespace())
                     .filter(|f| !f.is_empty())
                     .collect()
             } else {
-                content.split_whitespace().collect()
+                content.split_ascii_whitespace().collect()
             };
             if fields.is_empty() {
                 return None;

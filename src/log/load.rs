@@ -121,20 +121,31 @@ fn bad(
 }
 
 /// Checks a length (in a unit of `metres_per_unit` metres) is finite and within the 10 km of
-/// any building (the bound every importer holds lengths to).
+/// any building (the bound every importer holds lengths to, with [`sane::LOADER_SLACK`]).
 fn length(
     v: f64,
     metres_per_unit: f64,
     file: &str,
     path: impl Into<String>,
 ) -> Result<f64, LogError> {
-    sane::length(v, metres_per_unit, "", "")
-        .map_err(|_| bad(file, path, sane::show(v), "a finite length within 10 km"))
+    sane::within(
+        v,
+        sane::MAX_LENGTH_M / metres_per_unit * sane::LOADER_SLACK,
+        "",
+        "",
+    )
+    .map_err(|_| bad(file, path, sane::show(v), "a finite length within 10 km"))
 }
 
 /// Checks a heading in degrees is finite and within ±1e5 rad (some 16,000 turns).
 fn heading(v: f64, file: &str, path: impl Into<String>) -> Result<f64, LogError> {
-    sane::heading_deg(v, "").map_err(|_| {
+    sane::within(
+        v,
+        sane::MAX_HEADING_RAD.to_degrees() * sane::LOADER_SLACK,
+        "",
+        "",
+    )
+    .map_err(|_| {
         bad(
             file,
             path,

@@ -820,3 +820,12 @@ proptest! {
         bytes_case(seed);
     }
 }
+
+/// Inputs the long runs found (`IMPORT_FUZZ_CASES=5000000 --release`), kept as tests.
+#[test]
+fn inputs_the_long_runs_found() {
+    // A mount at 10 km, written in inches and rounded, was just beyond the loader's bound.
+    player_case(6329489640392051133);
+    // A Range field of view of a few 1e-39 rad was written as a beam width of 0°.
+    mcap_case(2643182937703160269);
+}
