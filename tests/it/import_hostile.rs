@@ -1278,3 +1278,24 @@ fn run_logs_with_values_no_robot_produces_are_refused_with_the_json_path() {
         assert!(m.len() < 300, "{m}");
     }
 }
+
+#[test]
+fn a_summary_keeps_a_thousand_skipped_places_and_counts_the_rest() {
+    // Each stale sonar line is skipped with a place and a warning; a file of them must not
+    // grow the summary without bound.
+    let mut text = String::from(PLAYER_HEAD);
+    text += "0.0 1 6665 position2d 00 1 1 0 0 0 0 0 0 0\n";
+    text += "100.0 1 6665 sonar 00 1 1 2 1 1\n";
+    for i in 0..2500 {
+        text += &format!("{}.0 1 6665 sonar 00 1 1 2 1 1\n", 99 - i % 50);
+    }
+    text += "100.5 1 6665 position2d 00 1 1 0 0 0 0 0 0 0\n";
+    let i = import_player(text.as_bytes(), "stale.log", &ImportOptions::default()).unwrap();
+    assert_eq!(i.summary.skipped.len(), 1000);
+    assert_eq!(i.summary.skipped_more, 1500);
+    assert_eq!(i.summary.warnings.len(), 1000);
+    let shown = i.summary.to_string();
+    assert!(shown.contains("skipped 2500"), "{}", &shown[..200]);
+    assert!(shown.contains("... and 2480 more skipped"));
+    assert!(shown.lines().count() < 1100);
+}
