@@ -267,6 +267,15 @@ pub fn read_params(args: &ParamArgs) -> Result<Params> {
 
 /// Writes `text` to a temporary file next to `path` and renames it into place.
 pub fn write_atomic(path: &Path, text: &str) -> Result<()> {
+    write_atomic_with(path, |f| f.write_all(text.as_bytes()))
+}
+
+/// [`write_atomic`] with the content written by `write` (through a buffer), for output too
+/// large to hold as one string first.
+pub fn write_atomic_with(
+    path: &Path,
+    write: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<()>,
+) -> Result<()> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),
@@ -280,8 +289,9 @@ pub fn write_atomic(path: &Path, text: &str) -> Result<()> {
         std::process::id()
     ));
     let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(text.as_bytes())?;
+        let mut f = std::io::BufWriter::new(std::fs::File::create(&tmp)?);
+        write(&mut f)?;
+        let f = f.into_inner().map_err(|e| e.into_error())?;
         f.sync_all()?;
         std::fs::rename(&tmp, path)
     })();
@@ -503,7 +513,7 @@ fn emit_each<'a>(results: impl Iterator<Item = (&'a Path, Result<String>)>) -> R
 
 /// Prints a failed log's error on stderr, naming the log unless the error already does.
 fn report_failure(path: &Path, e: &anyhow::Error) {
-    let message = format!("{e:#}");
+    let message = sonarmap::import::sane::escape(&format!("{e:#}"));
     let name = path.display().to_string();
     if message.contains(&name) {
         eprintln!("{message}");

@@ -1,7 +1,7 @@
 //! `sonarmap convert` and [`load_any`]: reading recorded runs of any supported format from
 //! files (the importers themselves are pure, in `sonarmap::import`).
 
-use crate::cli::write_atomic;
+use crate::cli::write_atomic_with;
 use anyhow::{anyhow, Context, Result};
 use clap::{Args, ValueEnum};
 use sonarmap::geometry::Pose;
@@ -9,7 +9,7 @@ use sonarmap::import::{
     builtin_layout, import_any, parse_layout, AngleUnit, Format, ImportOptions, Imported, Layout,
     NamedBytes, DEFAULT_WINDOW_S,
 };
-use sonarmap::log::save_run;
+use sonarmap::log::write_run;
 use sonarmap::run::Run;
 use sonarmap::units::Units;
 use std::path::{Path, PathBuf};
@@ -153,7 +153,7 @@ pub fn convert_command(args: &ConvertArgs) -> Result<()> {
         poses,
     };
     let imported = import_file(&args.input, &options)?;
-    write_atomic(&args.out, &save_run(&imported.run))?;
+    write_atomic_with(&args.out, |f| write_run(&imported.run, f))?;
     println!(
         "{} ({}): {}",
         args.input.display(),

@@ -87,7 +87,12 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            // Control characters from a file's content (a frame id, a JSON string) must not
+            // reach the terminal raw.
+            eprintln!(
+                "error: {}",
+                sonarmap::import::sane::escape(&format!("{e:#}"))
+            );
             ExitCode::from(2)
         }
     }

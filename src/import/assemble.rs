@@ -9,12 +9,30 @@ use crate::run::{Run, Snapshot};
 use crate::sonar::{SensorLayout, SensorSpec};
 use crate::units::Units;
 
+/// Where a snapshot came from, for skip reasons (formatted only when used).
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Place {
+    /// A line of a text file.
+    Line(usize),
+    /// The firing cycle starting at this MCAP message.
+    Cycle(usize),
+}
+
+impl std::fmt::Display for Place {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        match self {
+            Place::Line(n) => write!(f, "line {n}"),
+            Place::Cycle(i) => write!(f, "the cycle starting at MCAP message {i}"),
+        }
+    }
+}
+
 /// A snapshot before its pose is known.
 pub(crate) struct RawSnapshot {
     /// Seconds.
     pub t: f64,
     /// Where it came from (`line 12`), for skip reasons.
-    pub place: String,
+    pub place: Place,
     /// One per sensor, metres; `None` is no echo.
     pub ranges_m: Vec<Option<f64>>,
 }
@@ -72,7 +90,7 @@ pub(crate) fn assemble(
                 }
                 PoseAt::Unknown => {
                     summary.skip(
-                        s.place,
+                        s.place.to_string(),
                         format!(
                             "time {} is more than {CLAMP_LIMIT_S} s before the first or after the last odometry",
                             s.t

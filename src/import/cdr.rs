@@ -101,6 +101,11 @@ impl<'a> CdrReader<'a> {
 
     /// A `string` (lossy UTF-8, NUL dropped).
     pub fn string(&mut self, what: &str) -> Result<String, CdrError> {
+        Ok(String::from_utf8_lossy(self.string_bytes(what)?).into_owned())
+    }
+
+    /// A `string`'s bytes (NUL dropped), borrowed from the message: nothing is allocated.
+    pub fn string_bytes(&mut self, what: &str) -> Result<&'a [u8], CdrError> {
         let at = self.pos;
         let len = self.u32(what)? as usize;
         let end = self.pos.checked_add(len).filter(|&e| e <= self.bytes.len());
@@ -116,7 +121,7 @@ impl<'a> CdrReader<'a> {
         let raw = &self.bytes[self.pos..end];
         let raw = raw.strip_suffix(&[0]).unwrap_or(raw);
         self.pos = end;
-        Ok(String::from_utf8_lossy(raw).into_owned())
+        Ok(raw)
     }
 
     /// Skips `n` `float64` values.
@@ -130,9 +135,15 @@ impl<'a> CdrReader<'a> {
 
 /// A `std_msgs/Header`: the stamp in seconds and the frame id.
 pub fn header(r: &mut CdrReader) -> Result<(f64, String), CdrError> {
+    let (t, frame) = header_bytes(r)?;
+    Ok((t, String::from_utf8_lossy(frame).into_owned()))
+}
+
+/// A `std_msgs/Header`: the stamp in seconds and the frame id's bytes (borrowed).
+pub fn header_bytes<'a>(r: &mut CdrReader<'a>) -> Result<(f64, &'a [u8]), CdrError> {
     let sec = r.i32("header.stamp.sec")?;
     let nanosec = r.u32("header.stamp.nanosec")?;
-    let frame = r.string("header.frame_id")?;
+    let frame = r.string_bytes("header.frame_id")?;
     Ok((sec as f64 + nanosec as f64 * 1e-9, frame))
 }
 

@@ -26,16 +26,17 @@ pub fn detect(bytes: &[u8]) -> Option<Format> {
         return Some(Format::SonarmapLog);
     }
     let head = &bytes[..bytes.len().min(64 * 1024)];
+    // Detection reads the text up to the first byte that is not UTF-8 (the importer then
+    // refuses that byte with its line).
     let text = match std::str::from_utf8(head) {
         Ok(t) => t,
-        Err(e) if e.error_len().is_none() => std::str::from_utf8(&head[..e.valid_up_to()]).ok()?,
-        Err(_) => return None,
+        Err(e) => std::str::from_utf8(&head[..e.valid_up_to()]).ok()?,
     };
     let content: Vec<Vec<&str>> = text
         .lines()
         .map(|l| l.split('#').next().unwrap_or(""))
         .map(|l| {
-            l.split(|c: char| c == ',' || c.is_whitespace())
+            l.split(|c: char| c == ',' || c.is_ascii_whitespace())
                 .filter(|f| !f.is_empty())
                 .collect::<Vec<_>>()
         })
@@ -86,10 +87,28 @@ pub fn import_any(
     }
 }
 
-/// The first bytes, for the error message.
+/// The first bytes, for the error message (and where the text stops being UTF-8, if it does
+/// in the first 64 KiB).
 fn describe_start(bytes: &[u8]) -> String {
     if bytes.iter().all(|b| b.is_ascii_whitespace()) {
         return "the file is empty".to_string();
+    }
+    let head = &bytes[..bytes.len().min(64 * 1024)];
+    if let Err(e) = std::str::from_utf8(head) {
+        if e.error_len().is_some() {
+            let at = e.valid_up_to();
+            let line = 1 + head[..at].iter().filter(|&&b| b == b'\n').count();
+            let column = at
+                - head[..at]
+                    .iter()
+                    .rposition(|&b| b == b'\n')
+                    .map_or(0, |p| p + 1);
+            return format!(
+                "line {line}, byte {at} (column {}) is 0x{:02X}, not UTF-8 text",
+                column + 1,
+                head[at]
+            );
+        }
     }
     let head: String = String::from_utf8_lossy(&bytes[..bytes.len().min(40)])
         .chars()

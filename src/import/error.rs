@@ -1,6 +1,7 @@
 //! Errors of the importers. Every message names the file, the place (line, field, MCAP message
 //! index and topic) and what was expected.
 
+use super::sane::escape;
 use crate::log::LogError;
 use thiserror::Error;
 
@@ -62,11 +63,12 @@ pub enum ImportError {
     Json(#[from] LogError),
 }
 
-/// `ImportError::At` from its parts.
+/// `ImportError::At` from its parts; control characters in them are escaped (they may quote
+/// the file).
 pub(crate) fn at(file: &str, place: impl Into<String>, message: impl Into<String>) -> ImportError {
     ImportError::At {
-        file: file.to_string(),
-        place: place.into(),
-        message: message.into(),
+        file: escape(file),
+        place: escape(&place.into()),
+        message: escape(&message.into()),
     }
 }

@@ -15,6 +15,7 @@
 //! - `frames` (optional) maps a ROS `frame_id` or topic to a sensor index, for MCAP files.
 
 use super::error::ImportError;
+use super::sane;
 use crate::log::{
     check_header, layout_from_robot, parse_json, parse_units, sensor_from_file, RobotFile,
     SensorFile,
@@ -74,15 +75,28 @@ pub fn parse_layout(bytes: &[u8], source_name: &str) -> Result<Layout, ImportErr
     let units = parse_units(&file.units, f)?;
     let (layout, robot_radius_m) = layout_from_robot(&file.robot, units, f, "$.robot")?;
     let sensor = sensor_from_file(file.sensor.as_ref(), units, f, "$.sensor")?;
+    check_values(&file, units, robot_radius_m, &sensor, f)?;
     let mut frames = BTreeMap::new();
+    let mut frame_of: BTreeMap<usize, &str> = BTreeMap::new();
     for (name, &k) in &file.frames {
         if !(k.fract() == 0.0 && k >= 0.0 && (k as usize) < layout.len()) {
             return Err(super::error::at(
                 f,
                 format!("$.frames.{name}"),
                 format!(
-                    "sensor index {k} is not a sensor of the layout: expected a whole number from 0 to {}",
+                    "sensor index {} is not a sensor of the layout: expected a whole number from 0 to {}",
+                    sane::show(k),
                     layout.len().saturating_sub(1)
+                ),
+            ));
+        }
+        if let Some(other) = frame_of.insert(k as usize, name) {
+            return Err(super::error::at(
+                f,
+                format!("$.frames.{}", sane::quote(name)),
+                format!(
+                    "sensor {k} is already the sensor of frame {}: expected one frame or topic per sensor (two would make two snapshots of one firing)",
+                    sane::quote(other)
                 ),
             ));
         }
@@ -97,6 +111,109 @@ pub fn parse_layout(bytes: &[u8], source_name: &str) -> Result<Layout, ImportErr
         max_range_given: file.sensor.and_then(|s| s.max_range).is_some(),
         frames,
     })
+}
+
+/// Holds the layout's values to what a robot has (the run-log loader checks only that they
+/// are finite): mounts and radius within 10 km, ring spacing and first heading within a
+/// turn, mount headings within ±[`sane::MAX_HEADING_RAD`], a beam width up to 180°, accuracy
+/// up to 100 %, `max_range` within 10 km and above `min_range`.
+fn check_values(
+    file: &LayoutFile,
+    units: Units,
+    radius_m: Option<f64>,
+    sensor: &SensorSpec,
+    f: &str,
+) -> Result<(), ImportError> {
+    let fail = |path: &str, message: String| super::error::at(f, path, message);
+    let u = units.metres_per_unit();
+    let sym = units.symbol();
+    if let Some(r) = radius_m {
+        sane::length(r / u, u, "a robot radius", sym).map_err(|m| fail("$.robot.radius", m))?;
+    }
+    match &file.robot.sonars {
+        crate::log::SonarsFile::Ring(ring) => {
+            let turn = |v: f64, path: &str| {
+                sane::within(v, 360.0, "an angle within a turn", "°").map_err(|m| fail(path, m))
+            };
+            turn(ring.spacing_deg, "$.robot.sonars.ring.spacing_deg")?;
+            turn(
+                ring.first_deg.unwrap_or(0.0),
+                "$.robot.sonars.ring.first_deg",
+            )?;
+        }
+        crate::log::SonarsFile::Mounts(mounts) => {
+            for (k, m) in mounts.iter().enumerate() {
+                for (v, name) in [(m.x, "x"), (m.y, "y")] {
+                    sane::length(v, u, "a mount offset", sym)
+                        .map_err(|e| fail(&format!("$.robot.sonars[{k}].{name}"), e))?;
+                }
+                sane::within(
+                    m.heading_deg,
+                    720.0,
+                    "a mount heading within two turns",
+                    "°",
+                )
+                .map_err(|e| fail(&format!("$.robot.sonars[{k}].heading_deg"), e))?;
+            }
+        }
+    }
+    let given = file.sensor.unwrap_or_default();
+    if let Some(w) = given.beam_width_deg {
+        if !(sane::MIN_BEAM_DEG..=180.0).contains(&w) {
+            return Err(fail(
+                "$.sensor.beam_width_deg",
+                format!(
+                    "{}°: expected a beam width from {}° to 180°",
+                    sane::show(w),
+                    sane::MIN_BEAM_DEG
+                ),
+            ));
+        }
+    }
+    if let Some(a) = given.accuracy_pct {
+        if !(sane::MIN_ACCURACY_PCT..=100.0).contains(&a) {
+            return Err(fail(
+                "$.sensor.accuracy_pct",
+                format!(
+                    "{} %: expected an accuracy from {} % to 100 %",
+                    sane::show(a),
+                    sane::MIN_ACCURACY_PCT
+                ),
+            ));
+        }
+    }
+    if let Some(r) = given.max_range {
+        sane::length(r, u, "a maximum range", sym).map_err(|m| fail("$.sensor.max_range", m))?;
+        if r * u < sane::MIN_MAX_RANGE_M {
+            return Err(fail(
+                "$.sensor.max_range",
+                format!(
+                    "{} {sym}: expected a maximum range of at least {} m",
+                    sane::show(r),
+                    sane::MIN_MAX_RANGE_M
+                ),
+            ));
+        }
+    }
+    if let Some(r) = given.min_range {
+        sane::length(r, u, "a minimum range", sym).map_err(|m| fail("$.sensor.min_range", m))?;
+    }
+    if sensor.min_range_m >= sensor.max_range_m {
+        let path = if given.min_range.is_some() {
+            "$.sensor.min_range"
+        } else {
+            "$.sensor.max_range"
+        };
+        return Err(fail(
+            path,
+            format!(
+                "min_range {} {sym} is not below max_range {} {sym}: expected min_range < max_range",
+                sensor.min_range_m / u,
+                sensor.max_range_m / u
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// A shipped layout by name: `pioneer_8_8` or `nomad_200`.

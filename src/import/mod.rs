@@ -8,18 +8,25 @@
 //! - [`table`]: `t x y heading r...` or `t r...` plus `t x y heading`.
 //! - [`layout`]: the `sonarmap-layout` file that `--layout` reads, and the shipped layouts.
 //!
-//! Every importer refuses what it cannot read with an [`ImportError`] naming the file, the
-//! line (or MCAP message) and what was expected; none panics on any input (property-tested).
+//! Every input ends one of two ways (issue 18): it is refused with an [`ImportError`] naming
+//! the file, the place (line and field, MCAP record offset or message index and field, JSON
+//! path) and what was expected; or it is imported as a run that the log format accepts and
+//! that maps without a non-finite number. Values no robot produces are refused ([`sane`]),
+//! declared lengths are checked against the bytes present, memory stays a small multiple of
+//! the input, and control characters from a file are escaped in every message. The fuzz tests
+//! (`tests/it/import_fuzz.rs`) check this contract on mutated recordings.
 
 mod assemble;
 pub mod cdr;
 mod detect;
 mod error;
 pub mod layout;
+mod mcap_check;
 mod options;
 pub mod player;
 pub mod pose_track;
 pub mod ros2;
+pub mod sane;
 mod summary;
 pub mod table;
 mod text;

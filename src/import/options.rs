@@ -1,6 +1,8 @@
 //! What the caller tells an importer: the layout, the no-echo range, units, the fixed pose.
 
+use super::error::ImportError;
 use super::layout::Layout;
+use super::sane;
 use crate::geometry::Pose;
 use crate::units::Units;
 
@@ -68,5 +70,45 @@ impl Default for ImportOptions {
             fixed_pose: None,
             poses: None,
         }
+    }
+}
+
+impl ImportOptions {
+    /// Refuses options no importer can use, whatever the format: a `--window` that is not a
+    /// duration of at least 0 s (or is longer than any recording), a `--max-range` that is
+    /// not a length greater than 0 within 10 km, a `--fixed-pose` beyond 10 km or with a
+    /// heading no robot turns to.
+    pub fn check(&self) -> Result<(), ImportError> {
+        let bad = |option: &str, message: String| ImportError::BadOption {
+            option: option.into(),
+            message,
+        };
+        if self.window_s.is_nan() || self.window_s < 0.0 {
+            return Err(bad(
+                "--window",
+                format!("{}: expected a duration of at least 0 s", self.window_s),
+            ));
+        }
+        sane::time(self.window_s, "a duration in seconds").map_err(|m| bad("--window", m))?;
+        if let Some(r) = self.max_range_m {
+            if r.is_nan() || r < sane::MIN_MAX_RANGE_M {
+                return Err(bad(
+                    "--max-range",
+                    format!(
+                        "{} m: expected a range of at least {} m",
+                        sane::show(r),
+                        sane::MIN_MAX_RANGE_M
+                    ),
+                ));
+            }
+            sane::length(r, 1.0, "a range", "m").map_err(|m| bad("--max-range", m))?;
+        }
+        if let Some(p) = self.fixed_pose {
+            for (v, what) in [(p.x, "x"), (p.y, "y")] {
+                sane::length(v, 1.0, what, "m").map_err(|m| bad("--fixed-pose", m))?;
+            }
+            sane::heading_rad(p.heading_rad, "a heading").map_err(|m| bad("--fixed-pose", m))?;
+        }
+        Ok(())
     }
 }

@@ -30,17 +30,21 @@
 //!   lose the run).
 //! - No odometry at all: refused unless a fixed pose is given.
 //!
-//! # Refused (with the file, the line and what was expected)
+//! # Refused (with the file, the line and field, and what was expected)
 //! A line with fewer than 7 fields (6 for Player 1.x), text where a number goes, a count that
 //! does not match the number of values that follow, a negative range, a range count that
-//! differs from the geometry, non-UTF-8 bytes.
+//! differs from the geometry, non-UTF-8 bytes, a last line without a newline (the file was cut
+//! short, perhaps in the middle of a number), and values no robot produces (see
+//! [`super::sane`]): times beyond ±1e10 s, positions, mounts and ranges beyond 10 km, headings
+//! and yaws beyond ±1e5 rad, anything not finite.
 
-use super::assemble::{assemble, sensor_with_max_range, Hardware, RawSnapshot};
+use super::assemble::{assemble, sensor_with_max_range, Hardware, Place, RawSnapshot};
 use super::error::{at, ImportError};
 use super::options::ImportOptions;
 use super::pose_track::PoseTrack;
+use super::sane;
 use super::summary::{Format, ImportSummary, Imported};
-use super::text::{count, lines, number, utf8, Line};
+use super::text::{checked, count, lines, number, utf8, Line};
 use crate::geometry::Pose;
 use crate::log::MAX_SENSORS;
 use crate::sonar::{SensorLayout, SensorMount};
@@ -65,21 +69,62 @@ pub fn looks_like_player_line(fields: &[&str]) -> bool {
         && fields[4].parse::<u64>().is_ok()
 }
 
-enum Event {
-    Ranges {
+/// What the lines gave so far, read in one pass (nothing per line is kept but the snapshots).
+struct Reading {
+    /// The first geometry message: its line and mounts.
+    geometry: Option<(usize, Vec<SensorMount>)>,
+    /// Later geometry messages that differ from the first.
+    geometry_changes: usize,
+    track: PoseTrack,
+    /// Sonar snapshots in file order (ranges not yet checked against the layout's count).
+    raw: Vec<RawSnapshot>,
+    last_sonar_t: f64,
+}
+
+impl Reading {
+    fn geometry(&mut self, line: usize, mounts: Vec<SensorMount>) {
+        match &self.geometry {
+            None => self.geometry = Some((line, mounts)),
+            Some((_, first)) if *first != mounts => self.geometry_changes += 1,
+            Some(_) => {}
+        }
+    }
+
+    fn odometry(&mut self, t: f64, line: usize, pose: Pose, summary: &mut ImportSummary) {
+        if !self.track.push(t, pose) {
+            summary.skip(
+                format!("line {line}"),
+                format!("odometry time {t} is earlier than the previous odometry's"),
+            );
+            summary.warn(format!("line {line}: time goes backwards; line skipped"));
+        }
+    }
+
+    fn ranges(
+        &mut self,
         t: f64,
         line: usize,
-        ranges: Vec<f64>,
-    },
-    Geometry {
-        line: usize,
-        mounts: Vec<SensorMount>,
-    },
-    Odometry {
-        t: f64,
-        line: usize,
-        pose: Pose,
-    },
+        ranges_m: Vec<Option<f64>>,
+        summary: &mut ImportSummary,
+    ) {
+        if t < self.last_sonar_t {
+            summary.skip(
+                format!("line {line}"),
+                format!(
+                    "sonar time {t} is earlier than the previous sonar message's {}",
+                    self.last_sonar_t
+                ),
+            );
+            summary.warn(format!("line {line}: time goes backwards; line skipped"));
+            return;
+        }
+        self.last_sonar_t = t;
+        self.raw.push(RawSnapshot {
+            t,
+            place: Place::Line(line),
+            ranges_m,
+        });
+    }
 }
 
 /// Imports a Player/Stage text log. `file` names it in errors. Pure.
@@ -88,13 +133,22 @@ pub fn import_player(
     file: &str,
     options: &ImportOptions,
 ) -> Result<Imported, ImportError> {
+    options.check()?;
     let text = utf8(bytes, file)?;
     let mut summary = ImportSummary::default();
-    let mut events = Vec::new();
-    let mut sonar_device: Option<String> = None;
-    let mut position_device: Option<String> = None;
+    let mut reading = Reading {
+        geometry: None,
+        geometry_changes: 0,
+        track: PoseTrack::default(),
+        raw: Vec::new(),
+        last_sonar_t: f64::NEG_INFINITY,
+    };
+    // The first sonar and position devices: interface and index (leading zeros dropped).
+    let mut sonar_device: Option<(String, String)> = None;
+    let mut position_device: Option<(String, String)> = None;
     let mut ignored = 0usize;
-    for line in lines(text, false, file)? {
+    for line in lines(text, false, file) {
+        let line = line?;
         let f = &line.fields;
         if !looks_like_player_line(f) {
             return Err(at(
@@ -106,10 +160,10 @@ pub fn import_player(
                 ),
             ));
         }
-        let t = number(&line, 0, "the time in seconds", file)?;
+        let t = checked(&line, 0, "the time in seconds", file, sane::time)?;
         let v1 = f[5].contains(['.', 'e', 'E']);
         let interface = f[3];
-        let device = format!("{interface}:{}", f[4].trim_start_matches('0'));
+        let index = f[4].trim_start_matches('0');
         let is_sonar = interface == "sonar";
         let is_position = interface == "position2d" || (v1 && interface == "position");
         if !is_sonar && !is_position {
@@ -122,11 +176,13 @@ pub fn import_player(
             &mut position_device
         };
         match slot {
-            None => *slot = Some(device.clone()),
-            Some(d) if *d != device => {
+            None => *slot = Some((interface.to_string(), index.to_string())),
+            Some((i, k)) if i != interface || k != index => {
                 summary.skip(
                     format!("line {}", line.number),
-                    format!("{device}: only the first device seen, {d}, is imported"),
+                    format!(
+                        "{interface}:{index}: only the first device seen, {i}:{k}, is imported"
+                    ),
                 );
                 continue;
             }
@@ -148,21 +204,11 @@ pub fn import_player(
                         file,
                     ));
                 }
-                events.push(Event::Geometry {
-                    line: line.number,
-                    mounts,
-                });
-                events.push(Event::Ranges {
-                    t,
-                    line: line.number,
-                    ranges,
-                });
+                reading.geometry(line.number, mounts);
+                reading.ranges(t, line.number, ranges, &mut summary);
             } else {
-                events.push(Event::Odometry {
-                    t,
-                    line: line.number,
-                    pose: pose(&line, 6, file)?,
-                });
+                let p = pose(&line, 6, file)?;
+                reading.odometry(t, line.number, p, &mut summary);
             }
             continue;
         }
@@ -192,11 +238,7 @@ pub fn import_player(
                         file,
                     ));
                 }
-                events.push(Event::Ranges {
-                    t,
-                    line: line.number,
-                    ranges,
-                });
+                reading.ranges(t, line.number, ranges, &mut summary);
             }
             (true, (1, 2)) | (true, (4, 1)) => {
                 let n = count(&line, 7, "the transducer pose count", MAX_SENSORS, file)?;
@@ -211,16 +253,12 @@ pub fn import_player(
                         file,
                     ));
                 }
-                events.push(Event::Geometry {
-                    line: line.number,
-                    mounts,
-                });
+                reading.geometry(line.number, mounts);
             }
-            (false, (1, 1)) => events.push(Event::Odometry {
-                t,
-                line: line.number,
-                pose: pose(&line, 7, file)?,
-            }),
+            (false, (1, 1)) => {
+                let p = pose(&line, 7, file)?;
+                reading.odometry(t, line.number, p, &mut summary);
+            }
             _ => ignored += 1,
         }
     }
@@ -229,7 +267,7 @@ pub fn import_player(
             "{ignored} lines of other interfaces or message types were left out"
         ));
     }
-    build(events, file, options, summary)
+    build(reading, file, options, summary)
 }
 
 fn field_count(line: &Line, expected: usize, what: &str, file: &str) -> ImportError {
@@ -241,7 +279,12 @@ fn field_count(line: &Line, expected: usize, what: &str, file: &str) -> ImportEr
 }
 
 /// `n` values after the count at `count_at`; for Player 2/3 ranges the line must end there.
-fn values(line: &Line, count_at: usize, n: usize, file: &str) -> Result<Vec<f64>, ImportError> {
+fn values(
+    line: &Line,
+    count_at: usize,
+    n: usize,
+    file: &str,
+) -> Result<Vec<Option<f64>>, ImportError> {
     let end = count_at + 1 + n;
     if line.fields.len() < end {
         return Err(field_count(
@@ -253,7 +296,9 @@ fn values(line: &Line, count_at: usize, n: usize, file: &str) -> Result<Vec<f64>
     }
     let mut out = Vec::with_capacity(n);
     for i in count_at + 1..end {
-        let v = number(line, i, "a range in metres", file)?;
+        let v = checked(line, i, "a range in metres", file, |v, what| {
+            sane::length(v, 1.0, what, "m")
+        })?;
         if v < 0.0 {
             return Err(at(
                 file,
@@ -261,7 +306,7 @@ fn values(line: &Line, count_at: usize, n: usize, file: &str) -> Result<Vec<f64>
                 format!("range {v} is negative: expected a range of at least 0 m"),
             ));
         }
-        out.push(v);
+        out.push(Some(v));
     }
     Ok(out)
 }
@@ -285,9 +330,15 @@ fn poses(
         .map(|k| {
             let i = from + per * k;
             Ok(SensorMount {
-                x_m: number(line, i, "a transducer x in metres", file)?,
-                y_m: number(line, i + 1, "a transducer y in metres", file)?,
-                heading_rad: number(line, i + per - 1, "a transducer yaw in radians", file)?,
+                x_m: checked(line, i, "a transducer x in metres", file, metres)?,
+                y_m: checked(line, i + 1, "a transducer y in metres", file, metres)?,
+                heading_rad: checked(
+                    line,
+                    i + per - 1,
+                    "a transducer yaw in radians",
+                    file,
+                    sane::heading_rad,
+                )?,
             })
         })
         .collect()
@@ -295,22 +346,30 @@ fn poses(
 
 fn pose(line: &Line, from: usize, file: &str) -> Result<Pose, ImportError> {
     Ok(Pose::new(
-        number(line, from, "px in metres", file)?,
-        number(line, from + 1, "py in metres", file)?,
-        number(line, from + 2, "pa in radians", file)?,
+        checked(line, from, "px in metres", file, metres)?,
+        checked(line, from + 1, "py in metres", file, metres)?,
+        checked(line, from + 2, "pa in radians", file, sane::heading_rad)?,
     ))
 }
 
+/// A length in metres within the bounds of [`sane`].
+fn metres(v: f64, what: &str) -> Result<f64, String> {
+    sane::length(v, 1.0, what, "m")
+}
+
 fn build(
-    events: Vec<Event>,
+    reading: Reading,
     file: &str,
     options: &ImportOptions,
     mut summary: ImportSummary,
 ) -> Result<Imported, ImportError> {
-    let geometry = events.iter().find_map(|e| match e {
-        Event::Geometry { line, mounts } => Some((*line, mounts.clone())),
-        _ => None,
-    });
+    let Reading {
+        geometry,
+        geometry_changes,
+        track,
+        raw,
+        ..
+    } = reading;
     let (layout, layout_from) = match (&options.layout, geometry) {
         (Some(l), _) => (l.layout.clone(), "the --layout file".to_string()),
         (None, Some((line, mounts))) => {
@@ -333,56 +392,18 @@ fn build(
             })
         }
     };
-    let mut track = PoseTrack::default();
-    let mut raw = Vec::new();
-    let mut last_sonar_t = f64::NEG_INFINITY;
-    let mut geometry_changes = 0;
-    for e in events {
-        match e {
-            Event::Geometry { mounts, .. } => {
-                if options.layout.is_none() && mounts != layout.mounts {
-                    geometry_changes += 1;
-                }
-            }
-            Event::Odometry { t, line, pose } => {
-                if !track.push(t, pose) {
-                    summary.skip(
-                        format!("line {line}"),
-                        format!("odometry time {t} is earlier than the previous odometry's"),
-                    );
-                    summary.warn(format!("line {line}: time goes backwards; line skipped"));
-                }
-            }
-            Event::Ranges { t, line, ranges } => {
-                if ranges.len() != layout.len() {
-                    return Err(at(
-                        file,
-                        format!("line {line}"),
-                        format!(
-                            "{} ranges: expected one per sensor, {} ({layout_from})",
-                            ranges.len(),
-                            layout.len()
-                        ),
-                    ));
-                }
-                if t < last_sonar_t {
-                    summary.skip(
-                        format!("line {line}"),
-                        format!("sonar time {t} is earlier than the previous sonar message's {last_sonar_t}"),
-                    );
-                    summary.warn(format!("line {line}: time goes backwards; line skipped"));
-                    continue;
-                }
-                last_sonar_t = t;
-                raw.push(RawSnapshot {
-                    t,
-                    place: format!("line {line}"),
-                    ranges_m: ranges.into_iter().map(Some).collect(),
-                });
-            }
-        }
+    if let Some(s) = raw.iter().find(|s| s.ranges_m.len() != layout.len()) {
+        return Err(at(
+            file,
+            s.place.to_string(),
+            format!(
+                "{} ranges: expected one per sensor, {} ({layout_from})",
+                s.ranges_m.len(),
+                layout.len()
+            ),
+        ));
     }
-    if geometry_changes > 0 {
+    if options.layout.is_none() && geometry_changes > 0 {
         summary.warn(format!(
             "{geometry_changes} later geometry messages differ from the first; the first is used"
         ));

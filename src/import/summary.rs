@@ -1,5 +1,6 @@
 //! What an import did: counts, skipped input with reasons, warnings.
 
+use super::sane::escape;
 use crate::run::Run;
 use std::fmt;
 
@@ -51,20 +52,36 @@ pub struct ImportSummary {
     pub skipped: Vec<Skipped>,
     /// Anything else the user should know.
     pub warnings: Vec<String>,
+    /// Skipped places beyond the first [`KEPT`] (counted, not kept: a hostile file must not
+    /// grow the summary without bound).
+    pub skipped_more: usize,
+    /// Warnings beyond the first [`KEPT`].
+    pub warnings_more: usize,
 }
+
+/// How many skipped places and warnings a summary keeps (the rest are counted).
+pub const KEPT: usize = 1000;
 
 impl ImportSummary {
     /// Records input left out.
     pub fn skip(&mut self, place: impl Into<String>, reason: impl Into<String>) {
+        if self.skipped.len() >= KEPT {
+            self.skipped_more += 1;
+            return;
+        }
         self.skipped.push(Skipped {
-            place: place.into(),
-            reason: reason.into(),
+            place: escape(&place.into()),
+            reason: escape(&reason.into()),
         });
     }
 
     /// Records a warning.
     pub fn warn(&mut self, warning: impl Into<String>) {
-        self.warnings.push(warning.into());
+        if self.warnings.len() >= KEPT {
+            self.warnings_more += 1;
+            return;
+        }
+        self.warnings.push(escape(&warning.into()));
     }
 }
 
@@ -77,17 +94,21 @@ impl fmt::Display for ImportSummary {
             self.snapshots,
             self.readings,
             self.turned_no_echo,
-            self.skipped.len(),
-            self.warnings.len()
+            self.skipped.len() + self.skipped_more,
+            self.warnings.len() + self.warnings_more
         )?;
         for s in self.skipped.iter().take(20) {
             write!(f, "\n  skipped {}: {}", s.place, s.reason)?;
         }
-        if self.skipped.len() > 20 {
-            write!(f, "\n  ... and {} more skipped", self.skipped.len() - 20)?;
+        let more = self.skipped.len() + self.skipped_more;
+        if more > 20 {
+            write!(f, "\n  ... and {} more skipped", more - 20)?;
         }
         for w in &self.warnings {
             write!(f, "\n  warning: {w}")?;
+        }
+        if self.warnings_more > 0 {
+            write!(f, "\n  ... and {} more warnings", self.warnings_more)?;
         }
         Ok(())
     }

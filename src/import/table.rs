@@ -18,14 +18,17 @@
 //! # Refused (with the file, the line and what was expected)
 //! A line whose field count is not `1 + n`, `4 + n` or `4` as the form requires, text where a
 //! number goes, a negative range, time going backwards (a table is written by one program in
-//! order: a decreasing time is an error, not a warning), no layout.
+//! order: a decreasing time is an error, not a warning), no layout, a last line without a
+//! newline (the file was cut short), and values no robot produces (see [`super::sane`]):
+//! times beyond ±1e10 s, positions and ranges beyond 10 km, headings beyond ±1e5 rad.
 
-use super::assemble::{assemble, sensor_with_max_range, Hardware, RawSnapshot};
+use super::assemble::{assemble, sensor_with_max_range, Hardware, Place, RawSnapshot};
 use super::error::{at, ImportError};
-use super::options::ImportOptions;
+use super::options::{AngleUnit, ImportOptions};
 use super::pose_track::PoseTrack;
+use super::sane;
 use super::summary::{Format, ImportSummary, Imported};
-use super::text::{lines, number, utf8, Line};
+use super::text::{checked, lines, utf8, Line};
 use crate::geometry::Pose;
 use crate::units::Units;
 
@@ -44,16 +47,19 @@ fn is_no_echo(field: &str) -> bool {
     )
 }
 
-/// The content lines, the header left out.
-fn table_lines<'a>(text: &'a str, file: &str) -> Result<Vec<Line<'a>>, ImportError> {
-    let mut all = lines(text, true, file)?;
-    if all
-        .first()
-        .is_some_and(|l| l.fields[0].parse::<f64>().is_err())
-    {
-        all.remove(0);
-    }
-    Ok(all)
+/// The content lines, one at a time, the header left out.
+fn table_lines<'a>(
+    text: &'a str,
+    file: &'a str,
+) -> impl Iterator<Item = Result<Line<'a>, ImportError>> + 'a {
+    lines(text, true, file)
+        .enumerate()
+        .filter(|(i, l)| {
+            !(*i == 0
+                && l.as_ref()
+                    .is_ok_and(|l| l.fields[0].parse::<f64>().is_err()))
+        })
+        .map(|(_, l)| l)
 }
 
 fn expect_fields(line: &Line, expected: usize, form: &str, file: &str) -> Result<(), ImportError> {
@@ -68,7 +74,7 @@ fn expect_fields(line: &Line, expected: usize, form: &str, file: &str) -> Result
 }
 
 fn time(line: &Line, previous: &mut f64, file: &str) -> Result<f64, ImportError> {
-    let t = number(line, 0, "the time in seconds", file)?;
+    let t = checked(line, 0, "the time in seconds", file, sane::time)?;
     if t < *previous {
         return Err(at(
             file,
@@ -80,12 +86,28 @@ fn time(line: &Line, previous: &mut f64, file: &str) -> Result<f64, ImportError>
     Ok(t)
 }
 
+/// The pose columns `x y heading` (fields 2 to 4) of a line, held to the bounds of [`sane`].
+fn pose(line: &Line, units: Units, heading: AngleUnit, file: &str) -> Result<Pose, ImportError> {
+    let length =
+        |v: f64, what: &str| sane::length(v, units.metres_per_unit(), what, units.symbol());
+    let angle = |v: f64, what: &str| match heading {
+        AngleUnit::Degrees => sane::heading_deg(v, what),
+        AngleUnit::Radians => sane::heading_rad(v, what),
+    };
+    Ok(Pose::new(
+        units.to_m(checked(line, 1, "x", file, length)?),
+        units.to_m(checked(line, 2, "y", file, length)?),
+        heading.to_rad(checked(line, 3, "the heading", file, angle)?),
+    ))
+}
+
 /// Imports a table (and the poses table of `options.poses`). `file` names it in errors. Pure.
 pub fn import_table(
     bytes: &[u8],
     file: &str,
     options: &ImportOptions,
 ) -> Result<Imported, ImportError> {
+    options.check()?;
     let Some(layout) = &options.layout else {
         return Err(ImportError::NeedsLayout {
             file: file.to_string(),
@@ -98,24 +120,20 @@ pub fn import_table(
     let text = utf8(bytes, file)?;
     let mut summary = ImportSummary::default();
     let mut track = PoseTrack::default();
-    let body = table_lines(text, file)?;
+    let mut body = table_lines(text, file).peekable();
     // The form is read off the first line: `1 + n` fields is ranges only, `4 + n` has poses.
-    let separate = body.first().is_some_and(|l| l.fields.len() == 1 + n);
+    let separate = matches!(body.peek(), Some(Ok(l)) if l.fields.len() == 1 + n);
     if !separate && options.poses.is_some() {
         summary.warn("--poses is ignored: the table has its own pose columns");
     }
     if let Some(poses) = options.poses.as_ref().filter(|_| separate) {
         let pf = poses.name.as_str();
         let mut previous = f64::NEG_INFINITY;
-        for line in table_lines(utf8(&poses.bytes, pf)?, pf)? {
+        for line in table_lines(utf8(&poses.bytes, pf)?, pf) {
+            let line = line?;
             expect_fields(&line, 4, "t x y heading", pf)?;
             let t = time(&line, &mut previous, pf)?;
-            let pose = Pose::new(
-                units.to_m(number(&line, 1, "x", pf)?),
-                units.to_m(number(&line, 2, "y", pf)?),
-                heading.to_rad(number(&line, 3, "the heading", pf)?),
-            );
-            track.push(t, pose);
+            track.push(t, pose(&line, units, heading, pf)?);
         }
     }
     let first_range = if separate { 1 } else { 4 };
@@ -127,15 +145,11 @@ pub fn import_table(
     let mut raw = Vec::new();
     let mut previous = f64::NEG_INFINITY;
     for line in body {
+        let line = line?;
         expect_fields(&line, first_range + n, &form, file)?;
         let t = time(&line, &mut previous, file)?;
         if !separate {
-            let pose = Pose::new(
-                units.to_m(number(&line, 1, "x", file)?),
-                units.to_m(number(&line, 2, "y", file)?),
-                heading.to_rad(number(&line, 3, "the heading", file)?),
-            );
-            track.push(t, pose);
+            track.push(t, pose(&line, units, heading, file)?);
         }
         let mut ranges_m = Vec::with_capacity(n);
         for i in first_range..first_range + n {
@@ -143,7 +157,9 @@ pub fn import_table(
                 ranges_m.push(None);
                 continue;
             }
-            let v = number(&line, i, "a range, or - for no echo", file)?;
+            let v = checked(&line, i, "a range, or - for no echo", file, |v, what| {
+                sane::length(v, units.metres_per_unit(), what, units.symbol())
+            })?;
             if v < 0.0 {
                 return Err(at(
                     file,
@@ -155,7 +171,7 @@ pub fn import_table(
         }
         raw.push(RawSnapshot {
             t,
-            place: format!("line {}", line.number),
+            place: Place::Line(line.number),
             ranges_m,
         });
     }
@@ -166,12 +182,19 @@ pub fn import_table(
         robot_radius_m: layout.robot_radius_m,
         sensor: sensor_with_max_range(Some(layout), options.max_range_m, None),
     };
+    let what_odometry = match &options.poses {
+        Some(p) if separate => format!(
+            "the --poses file {} has no pose lines",
+            sane::quote(&p.name)
+        ),
+        _ => "the table has no pose columns and no --poses file".to_string(),
+    };
     let run = assemble(
         file,
         raw,
         &track,
         options.fixed_pose,
-        "the table has no pose columns and no --poses file",
+        &what_odometry,
         hw,
         &mut summary,
     )?;

@@ -33,43 +33,60 @@ pub(crate) fn utf8<'a>(bytes: &'a [u8], file: &str) -> Result<&'a str, ImportErr
     })
 }
 
-/// The lines with content: `#` starts a comment (to the end of the line), blank lines are left
-/// out. Fields are split on whitespace, and on commas too when `commas` is true.
+/// The lines with content, one at a time (nothing is kept: memory does not grow with the file):
+/// `#` starts a comment (to the end of the line), blank lines are left out. Fields are split on
+/// ASCII whitespace, and on commas too when `commas` is true. A line longer than
+/// [`MAX_LINE_BYTES`] is refused, and so is a last line with content but no newline: the file
+/// was cut short, perhaps in the middle of a number (`6.4770` cut to `6.4`).
 pub(crate) fn lines<'a>(
     text: &'a str,
     commas: bool,
-    file: &str,
-) -> Result<Vec<Line<'a>>, ImportError> {
-    let mut out = Vec::new();
-    for (i, raw) in text.lines().enumerate() {
-        let number = i + 1;
-        if raw.len() > MAX_LINE_BYTES {
-            return Err(at(
-                file,
-                format!("line {number}"),
-                format!(
-                    "the line is {} bytes long: expected at most {MAX_LINE_BYTES}",
-                    raw.len()
-                ),
-            ));
-        }
-        let content = match raw.find('#') {
-            Some(c) => &raw[..c],
-            None => raw,
-        };
-        let fields: Vec<&str> = if commas {
-            content
-                .split(|c: char| c == ',' || c.is_whitespace())
-                .filter(|f| !f.is_empty())
-                .collect()
-        } else {
-            content.split_whitespace().collect()
-        };
-        if !fields.is_empty() {
-            out.push(Line { number, fields });
-        }
-    }
-    Ok(out)
+    file: &'a str,
+) -> impl Iterator<Item = Result<Line<'a>, ImportError>> + 'a {
+    text.split_inclusive('\n')
+        .enumerate()
+        .filter_map(move |(i, raw)| {
+            let number = i + 1;
+            if raw.len() > MAX_LINE_BYTES {
+                return Some(Err(at(
+                    file,
+                    format!("line {number}"),
+                    format!(
+                        "the line is {} bytes long: expected at most {MAX_LINE_BYTES}",
+                        raw.len()
+                    ),
+                )));
+            }
+            let complete = raw.ends_with('\n');
+            let content = match raw.find('#') {
+                Some(c) => &raw[..c],
+                None => raw,
+            };
+            // ASCII whitespace only (fast; a text log's other characters are field content,
+            // refused where a number goes).
+            let fields: Vec<&str> = if commas {
+                content
+                    .split(|c: char| c == ',' || c.is_ascii_whitespace())
+                    .filter(|f| !f.is_empty())
+                    .collect()
+            } else {
+                content.split_ascii_whitespace().collect()
+            };
+            if fields.is_empty() {
+                return None;
+            }
+            if !complete {
+                return Some(Err(at(
+                    file,
+                    format!("line {number}"),
+                    format!(
+                        "the file ends in this line, without a newline, after {:?}: expected complete lines (the file may have been cut short; if it is whole, end it with a newline)",
+                        clip(fields.last().copied().unwrap_or(""))
+                    ),
+                )));
+            }
+            Some(Ok(Line { number, fields }))
+        })
 }
 
 /// Parses field `index` (0-based) of `line` as a finite number; `what` names it in the error.
@@ -100,6 +117,25 @@ pub(crate) fn number(
     }
 }
 
+/// Parses field `index` as a number that `check` (one of [`super::sane`]'s bounds) accepts;
+/// `what` names it in the error, with the line and field.
+pub(crate) fn checked(
+    line: &Line,
+    index: usize,
+    what: &str,
+    file: &str,
+    check: impl Fn(f64, &str) -> Result<f64, String>,
+) -> Result<f64, ImportError> {
+    let v = number(line, index, what, file)?;
+    check(v, what).map_err(|m| {
+        at(
+            file,
+            format!("line {}, field {}", line.number, index + 1),
+            m,
+        )
+    })
+}
+
 /// Parses field `index` as a count (a whole number, at most `max`).
 pub(crate) fn count(
     line: &Line,
@@ -113,7 +149,10 @@ pub(crate) fn count(
         return Err(at(
             file,
             format!("line {}, field {}", line.number, index + 1),
-            format!("{v} is not a count: expected {what}, a whole number from 0 to {max}"),
+            format!(
+                "{} is not a count: expected {what}, a whole number from 0 to {max}",
+                super::sane::show(v)
+            ),
         ));
     }
     Ok(v as usize)

@@ -4,6 +4,7 @@ use super::duplicates::{check_duplicates, Found};
 use super::error::LogError;
 use super::file::{FloorPlanFile, LogFile, RobotFile, SensorFile, SonarsFile, LOG_FORMAT};
 use crate::geometry::{Point, Pose};
+use crate::import::sane;
 use crate::run::{Circle, FloorPlan, Run, Snapshot, Wall};
 use crate::sonar::{SensorLayout, SensorMount, SensorSpec};
 use crate::units::Units;
@@ -119,13 +120,39 @@ fn bad(
     }
 }
 
-/// Checks a number is finite; `path` names it.
-fn finite(v: f64, file: &str, path: impl Into<String>) -> Result<f64, LogError> {
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(bad(file, path, v, "a finite number"))
-    }
+/// Checks a length (in a unit of `metres_per_unit` metres) is finite and within the 10 km of
+/// any building (the bound every importer holds lengths to, with [`sane::LOADER_SLACK`]).
+fn length(
+    v: f64,
+    metres_per_unit: f64,
+    file: &str,
+    path: impl Into<String>,
+) -> Result<f64, LogError> {
+    sane::within(
+        v,
+        sane::MAX_LENGTH_M / metres_per_unit * sane::LOADER_SLACK,
+        "",
+        "",
+    )
+    .map_err(|_| bad(file, path, sane::show(v), "a finite length within 10 km"))
+}
+
+/// Checks a heading in degrees is finite and within ±1e5 rad (some 16,000 turns).
+fn heading(v: f64, file: &str, path: impl Into<String>) -> Result<f64, LogError> {
+    sane::within(
+        v,
+        sane::MAX_HEADING_RAD.to_degrees() * sane::LOADER_SLACK,
+        "",
+        "",
+    )
+    .map_err(|_| {
+        bad(
+            file,
+            path,
+            sane::show(v),
+            "a finite heading within ±1e5 rad in degrees",
+        )
+    })
 }
 
 /// Checks a length is finite and at least 0.
@@ -145,7 +172,15 @@ pub(crate) fn layout_from_robot(
     at: &str,
 ) -> Result<(SensorLayout, Option<f64>), LogError> {
     let radius_m = match robot.radius {
-        Some(r) => Some(units.to_m(non_negative(r, file, format!("{at}.radius"))?)),
+        Some(r) => {
+            non_negative(r, file, format!("{at}.radius"))?;
+            Some(units.to_m(length(
+                r,
+                units.metres_per_unit(),
+                file,
+                format!("{at}.radius"),
+            )?))
+        }
         None => None,
     };
     let layout = match &robot.sonars {
@@ -176,8 +211,8 @@ pub(crate) fn layout_from_robot(
                     "at most 10000 sonars",
                 ));
             }
-            let spacing = finite(ring.spacing_deg, file, format!("{path}.spacing_deg"))?;
-            let first = finite(
+            let spacing = heading(ring.spacing_deg, file, format!("{path}.spacing_deg"))?;
+            let first = heading(
                 ring.first_deg.unwrap_or(0.0),
                 file,
                 format!("{path}.first_deg"),
@@ -213,10 +248,11 @@ pub(crate) fn layout_from_robot(
                 .iter()
                 .enumerate()
                 .map(|(k, m)| {
+                    let u = units.metres_per_unit();
                     Ok(SensorMount {
-                        x_m: units.to_m(finite(m.x, file, format!("{path}[{k}].x"))?),
-                        y_m: units.to_m(finite(m.y, file, format!("{path}[{k}].y"))?),
-                        heading_rad: finite(
+                        x_m: units.to_m(length(m.x, u, file, format!("{path}[{k}].x"))?),
+                        y_m: units.to_m(length(m.y, u, file, format!("{path}[{k}].y"))?),
+                        heading_rad: heading(
                             m.heading_deg,
                             file,
                             format!("{path}[{k}].heading_deg"),
@@ -262,11 +298,27 @@ pub(crate) fn sensor_from_file(
             None => default.beam_width_rad,
         },
         max_range_m: match s.max_range {
-            Some(v) => units.to_m(positive(v, "max_range")?),
+            Some(v) => {
+                positive(v, "max_range")?;
+                units.to_m(length(
+                    v,
+                    units.metres_per_unit(),
+                    file,
+                    format!("{at}.max_range"),
+                )?)
+            }
             None => default.max_range_m,
         },
         min_range_m: match s.min_range {
-            Some(v) => units.to_m(non_negative(v, file, format!("{at}.min_range"))?),
+            Some(v) => {
+                non_negative(v, file, format!("{at}.min_range"))?;
+                units.to_m(length(
+                    v,
+                    units.metres_per_unit(),
+                    file,
+                    format!("{at}.min_range"),
+                )?)
+            }
             None => default.min_range_m,
         },
     };
@@ -291,8 +343,8 @@ pub(crate) fn floor_plan_from_file(
                 "[x1, y1, x2, y2] or [x1, y1, x2, y2, roughness_deg]",
             ));
         }
-        for (j, v) in w.iter().enumerate() {
-            finite(*v, file, format!("{path}[{j}]"))?;
+        for (j, v) in w.iter().enumerate().take(4) {
+            length(*v, units.metres_per_unit(), file, format!("{path}[{j}]"))?;
         }
         let roughness_rad = match w.get(4) {
             Some(&r) if (0.0..=90.0).contains(&r) => Some(r.to_radians()),
@@ -323,8 +375,9 @@ pub(crate) fn floor_plan_from_file(
                 "[cx, cy, r]",
             ));
         }
-        finite(c[0], file, format!("{path}[0]"))?;
-        finite(c[1], file, format!("{path}[1]"))?;
+        for (j, v) in c.iter().enumerate() {
+            length(*v, units.metres_per_unit(), file, format!("{path}[{j}]"))?;
+        }
         let r = c[2];
         if !(r.is_finite() && r > 0.0) {
             return Err(bad(
@@ -364,7 +417,15 @@ pub fn run_from_file(file: LogFile, source_name: &str) -> Result<Run, LogError> 
     let mut snapshots = Vec::with_capacity(file.snapshots.len());
     let mut previous_t = f64::NEG_INFINITY;
     for (i, s) in file.snapshots.into_iter().enumerate() {
-        let t = finite(s.t.unwrap_or(i as f64), f, format!("$.snapshots[{i}].t"))?;
+        let t = s.t.unwrap_or(i as f64);
+        sane::time(t, "").map_err(|_| {
+            bad(
+                f,
+                format!("$.snapshots[{i}].t"),
+                sane::show(t),
+                "a finite time within ±1e10 s",
+            )
+        })?;
         if t < previous_t {
             return Err(LogError::TimeDecreases {
                 file: f.to_string(),
@@ -374,9 +435,10 @@ pub fn run_from_file(file: LogFile, source_name: &str) -> Result<Run, LogError> 
             });
         }
         previous_t = t;
-        let x = finite(s.pose.x, f, format!("$.snapshots[{i}].pose.x"))?;
-        let y = finite(s.pose.y, f, format!("$.snapshots[{i}].pose.y"))?;
-        let h = finite(
+        let u = units.metres_per_unit();
+        let x = length(s.pose.x, u, f, format!("$.snapshots[{i}].pose.x"))?;
+        let y = length(s.pose.y, u, f, format!("$.snapshots[{i}].pose.y"))?;
+        let h = heading(
             s.pose.heading_deg,
             f,
             format!("$.snapshots[{i}].pose.heading_deg"),
@@ -400,6 +462,7 @@ pub fn run_from_file(file: LogFile, source_name: &str) -> Result<Run, LogError> 
                         value: *v,
                     });
                 }
+                length(*v, u, f, format!("$.snapshots[{i}].ranges[{k}]"))?;
                 *v = units.to_m(*v);
             }
         }

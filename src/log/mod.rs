@@ -21,7 +21,7 @@ pub use file::{
 };
 pub use load::{load_run, parse_json, run_from_file, MAX_SENSORS};
 pub use map_file::{map_to_file, save_map, MapFile, MapSegmentFile, MAP_FORMAT};
-pub use save::{ring_parameters, run_to_file, save_run};
+pub use save::{ring_parameters, run_to_file, save_run, write_run};
 
 pub(crate) use load::{
     check_header, floor_plan_from_file, layout_from_robot, parse_units, sensor_from_file,

@@ -4,9 +4,10 @@ use super::file::{
     FloorPlanFile, LogFile, MountFile, PoseFile, RingFile, RobotFile, SensorFile, SnapshotFile,
     SonarsFile, LOG_FORMAT,
 };
-use crate::run::{FloorPlan, Run};
+use crate::run::{FloorPlan, Run, Snapshot};
 use crate::sonar::SensorLayout;
 use crate::units::Units;
+use std::io::Write;
 
 /// Rounds a value converted from metres to 12 significant decimal places below the unit, so
 /// that `48.2 in → m → in` is written `48.2` again (the difference is far below any
@@ -120,6 +121,17 @@ pub(crate) fn floor_plan_to_file(plan: &FloorPlan, units: Units) -> FloorPlanFil
 
 /// The file form of a run, lengths in the run's units.
 pub fn run_to_file(run: &Run) -> LogFile {
+    let mut file = head_to_file(run);
+    file.snapshots = run
+        .snapshots
+        .iter()
+        .map(|s| snapshot_to_file(s, run.units))
+        .collect();
+    file
+}
+
+/// The file form of a run without its snapshots.
+fn head_to_file(run: &Run) -> LogFile {
     let u = run.units;
     LogFile {
         format: LOG_FORMAT.to_string(),
@@ -134,19 +146,19 @@ pub fn run_to_file(run: &Run) -> LogFile {
             min_range: Some(len(u, run.sensor.min_range_m)),
         }),
         floor_plan: run.floor_plan.as_ref().map(|p| floor_plan_to_file(p, u)),
-        snapshots: run
-            .snapshots
-            .iter()
-            .map(|s| SnapshotFile {
-                t: Some(s.t),
-                pose: PoseFile {
-                    x: len(u, s.pose.x),
-                    y: len(u, s.pose.y),
-                    heading_deg: deg(s.pose.heading_rad),
-                },
-                ranges: s.ranges_m.iter().map(|r| r.map(|v| len(u, v))).collect(),
-            })
-            .collect(),
+        snapshots: Vec::new(),
+    }
+}
+
+fn snapshot_to_file(s: &Snapshot, u: Units) -> SnapshotFile {
+    SnapshotFile {
+        t: Some(s.t),
+        pose: PoseFile {
+            x: len(u, s.pose.x),
+            y: len(u, s.pose.y),
+            heading_deg: deg(s.pose.heading_rad),
+        },
+        ranges: s.ranges_m.iter().map(|r| r.map(|v| len(u, v))).collect(),
     }
 }
 
@@ -154,8 +166,15 @@ pub fn run_to_file(run: &Run) -> LogFile {
 /// first, then one line per snapshot (diff-friendly). `load_run(save_run(run))` gives the run
 /// back to within 1e-9 of a unit.
 pub fn save_run(run: &Run) -> String {
-    let mut head = run_to_file(run);
-    let snapshots = std::mem::take(&mut head.snapshots);
+    let mut out = Vec::new();
+    write_run(run, &mut out).expect("writing to memory does not fail");
+    String::from_utf8(out).expect("JSON is UTF-8")
+}
+
+/// [`save_run`] to a writer, one snapshot at a time: the file form of the whole run is never
+/// held in memory (for a run of millions of readings it was as large as the run itself).
+pub fn write_run<W: Write>(run: &Run, w: &mut W) -> std::io::Result<()> {
+    let mut head = head_to_file(run);
     let floor_plan = head.floor_plan.take();
     let mut text = serde_json::to_string_pretty(&head).expect("a log file serialises");
     // Replace the empty snapshot list with the floor plan (one wall a line) and one snapshot
@@ -185,14 +204,16 @@ pub fn save_run(run: &Run) -> String {
         text.push_str("\n  },\n  ");
     }
     text.push_str("\"snapshots\": [\n");
-    for (i, s) in snapshots.iter().enumerate() {
-        text.push_str("    ");
-        text.push_str(&serde_json::to_string(s).expect("a snapshot serialises"));
-        if i + 1 < snapshots.len() {
-            text.push(',');
+    w.write_all(text.as_bytes())?;
+    let n = run.snapshots.len();
+    for (i, s) in run.snapshots.iter().enumerate() {
+        w.write_all(b"    ")?;
+        serde_json::to_writer(&mut *w, &snapshot_to_file(s, run.units))
+            .map_err(std::io::Error::other)?;
+        if i + 1 < n {
+            w.write_all(b",")?;
         }
-        text.push('\n');
+        w.write_all(b"\n")?;
     }
-    text.push_str("  ]\n}\n");
-    text
+    w.write_all(b"  ]\n}\n")
 }

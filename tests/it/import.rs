@@ -1,11 +1,10 @@
 //! Importers of recorded runs (issue 7): hand-written Player/Stage and table fixtures, MCAP
 //! files written here with the `mcap` crate, round trips through the run log, Stage-style
-//! Pioneer and Nomad-style runs mapped, every refusal naming its place, and no panic on any
-//! bytes (proptest).
+//! Pioneer and Nomad-style runs mapped, every refusal naming its place (the fuzz tests are in
+//! `import_fuzz.rs`, hostile inputs in `import_hostile.rs`).
 //! Set `SONARMAP_IMPORT_PNG=/tmp/pioneer.png` to keep the rendered Pioneer map for eyes (and
 //! its SVG and the Stage-style Player log beside it).
 
-use proptest::prelude::*;
 use sonarmap::geometry::Pose;
 use sonarmap::import::{
     builtin_layout, detect, import_any, import_mcap, import_player, import_table, parse_layout,
@@ -57,7 +56,7 @@ fn check_round_trip(run: &Run) {
 }
 
 /// Expects an error whose message contains every part.
-fn check_err(result: Result<Imported, ImportError>, parts: &[&str]) {
+pub(super) fn check_err(result: Result<Imported, ImportError>, parts: &[&str]) {
     let e = match result {
         Ok(i) => panic!(
             "expected an error with {parts:?}, got {} snapshots",
@@ -70,7 +69,7 @@ fn check_err(result: Result<Imported, ImportError>, parts: &[&str]) {
     }
 }
 
-fn map_all(run: &Run) -> (Mapper, Vec<StepTrace>) {
+pub(super) fn map_all(run: &Run) -> (Mapper, Vec<StepTrace>) {
     let mut mapper = Mapper::new(
         Params::preset(Preset::Paper),
         run.layout.clone(),
@@ -274,7 +273,7 @@ fn player_refusals_name_the_line_and_what_was_expected() {
 
 // ------------------------------------------------------------------ tables
 
-fn nomad_options() -> ImportOptions {
+pub(super) fn nomad_options() -> ImportOptions {
     ImportOptions {
         layout: builtin_layout("nomad_200"),
         units: Some(Units::Inches),
@@ -355,24 +354,24 @@ fn table_refusals_name_the_line_and_what_was_expected() {
 // ------------------------------------------------------------------ MCAP
 
 /// A CDR writer for the test messages (little or big endian).
-struct Cdr {
-    b: Vec<u8>,
+pub(super) struct Cdr {
+    pub(super) b: Vec<u8>,
     le: bool,
 }
 
 impl Cdr {
-    fn new(le: bool) -> Self {
+    pub(super) fn new(le: bool) -> Self {
         Cdr {
             b: vec![0, le as u8, 0, 0],
             le,
         }
     }
-    fn align(&mut self, n: usize) {
+    pub(super) fn align(&mut self, n: usize) {
         while !(self.b.len() - 4).is_multiple_of(n) {
             self.b.push(0);
         }
     }
-    fn put(&mut self, le: &[u8], n: usize) {
+    pub(super) fn put(&mut self, le: &[u8], n: usize) {
         self.align(n);
         if self.le {
             self.b.extend_from_slice(le);
@@ -380,36 +379,36 @@ impl Cdr {
             self.b.extend(le.iter().rev());
         }
     }
-    fn u8(&mut self, v: u8) {
+    pub(super) fn u8(&mut self, v: u8) {
         self.b.push(v);
     }
-    fn u32(&mut self, v: u32) {
+    pub(super) fn u32(&mut self, v: u32) {
         self.put(&v.to_le_bytes(), 4);
     }
-    fn f32(&mut self, v: f32) {
+    pub(super) fn f32(&mut self, v: f32) {
         self.put(&v.to_le_bytes(), 4);
     }
-    fn f64(&mut self, v: f64) {
+    pub(super) fn f64(&mut self, v: f64) {
         self.put(&v.to_le_bytes(), 8);
     }
-    fn string(&mut self, s: &str) {
+    pub(super) fn string(&mut self, s: &str) {
         self.u32(s.len() as u32 + 1);
         self.b.extend_from_slice(s.as_bytes());
         self.b.push(0);
     }
-    fn header(&mut self, t: f64, frame: &str) {
+    pub(super) fn header(&mut self, t: f64, frame: &str) {
         self.put(&(t.floor() as i32).to_le_bytes(), 4);
         self.u32(((t - t.floor()) * 1e9).round() as u32);
         self.string(frame);
     }
-    fn quaternion_yaw(&mut self, yaw: f64) {
+    pub(super) fn quaternion_yaw(&mut self, yaw: f64) {
         for v in [0.0, 0.0, (yaw / 2.0).sin(), (yaw / 2.0).cos()] {
             self.f64(v);
         }
     }
 }
 
-fn range_msg(le: bool, t: f64, frame: &str, range: f32) -> Vec<u8> {
+pub(super) fn range_msg(le: bool, t: f64, frame: &str, range: f32) -> Vec<u8> {
     let mut c = Cdr::new(le);
     c.header(t, frame);
     c.u8(0);
@@ -419,7 +418,7 @@ fn range_msg(le: bool, t: f64, frame: &str, range: f32) -> Vec<u8> {
     c.b
 }
 
-fn odom_msg(t: f64, x: f64, y: f64, yaw: f64) -> Vec<u8> {
+pub(super) fn odom_msg(t: f64, x: f64, y: f64, yaw: f64) -> Vec<u8> {
     let mut c = Cdr::new(true);
     c.header(t, "odom");
     c.string("base_link");
@@ -436,7 +435,7 @@ fn odom_msg(t: f64, x: f64, y: f64, yaw: f64) -> Vec<u8> {
     c.b
 }
 
-fn tf_msg(mounts: &[(f64, f64, f64)]) -> Vec<u8> {
+pub(super) fn tf_msg(mounts: &[(f64, f64, f64)]) -> Vec<u8> {
     let mut c = Cdr::new(true);
     c.u32(mounts.len() as u32);
     for (k, &(x, y, yaw)) in mounts.iter().enumerate() {
@@ -450,7 +449,7 @@ fn tf_msg(mounts: &[(f64, f64, f64)]) -> Vec<u8> {
     c.b
 }
 
-const MOUNTS: [(f64, f64, f64); 4] = [
+pub(super) const MOUNTS: [(f64, f64, f64); 4] = [
     (0.2, 0.0, 0.0),
     (0.0, 0.2, std::f64::consts::FRAC_PI_2),
     (-0.2, 0.0, std::f64::consts::PI - 1e-9),
@@ -461,7 +460,7 @@ const MOUNTS: [(f64, f64, f64); 4] = [
 /// sonars (one topic each) 20 ms apart within a cycle, cycles 0.25 s apart. Sonar 1 of cycle
 /// 1 reads infinity, sonar 2 of cycle 2 reads beyond max_range, sonar 3 of cycle 0 is
 /// big-endian; `truncate` cuts one Range message short.
-fn write_mcap(with_tf: bool, truncate: bool) -> Vec<u8> {
+pub(super) fn write_mcap(with_tf: bool, truncate: bool) -> Vec<u8> {
     let mut w = mcap::WriteOptions::new()
         .compression(None)
         .create(Cursor::new(Vec::new()))
@@ -668,7 +667,7 @@ fn content_decides_the_importer() {
 
 // ------------------------------------------------------------------ realistic runs
 
-fn pioneer_plan_json() -> String {
+pub(super) fn pioneer_plan_json() -> String {
     let layout: serde_json::Value =
         serde_json::from_str(include_str!("../../assets/pioneer_8_8.layout.json")).unwrap();
     serde_json::json!({
@@ -683,7 +682,7 @@ fn pioneer_plan_json() -> String {
 }
 
 /// A run written as Stage's writelog would: geometry, then odometry and sonar lines.
-fn to_player2(run: &Run) -> String {
+pub(super) fn to_player2(run: &Run) -> String {
     let mut s = String::from("## Player version 3.0.2\n## File version 0.3.0\n");
     let g: Vec<String> = run
         .layout
@@ -920,84 +919,5 @@ fn convert_writes_a_log_that_run_reads_and_run_reads_a_player_log_directly() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("t.csv: line 1"));
 }
 
-// ------------------------------------------------------------------ no panic on any input
-
-fn all_importers(bytes: &[u8]) {
-    let with_layout = nomad_options();
-    let plain = ImportOptions::default();
-    for o in [&plain, &with_layout] {
-        let _ = import_player(bytes, "fuzz", o);
-        let _ = import_table(bytes, "fuzz", o);
-        let _ = import_mcap(bytes, "fuzz", o);
-        let _ = import_any(bytes, "fuzz", o);
-    }
-}
-
-/// Player-like lines built from the format's own tokens, so that the fuzzer gets past the
-/// line pattern into the field parsing.
-fn player_line() -> impl Strategy<Value = String> {
-    let token = prop_oneof![
-        Just("sonar".to_string()),
-        Just("position2d".to_string()),
-        Just("position".to_string()),
-        Just("001".to_string()),
-        Just("004".to_string()),
-        Just("002".to_string()),
-        Just("16".to_string()),
-        Just("4".to_string()),
-        Just("nan".to_string()),
-        Just("-1".to_string()),
-        Just("1e308".to_string()),
-        (-10.0f64..10.0).prop_map(|v| format!("{v:.3}")),
-        (0u32..20).prop_map(|v| v.to_string()),
-        "[a-z#,]{0,3}",
-    ];
-    (0.0f64..5.0, prop::collection::vec(token, 0..24))
-        .prop_map(|(t, rest)| format!("{t:.2} 1 6665 {}", rest.join(" ")))
-}
-
-proptest! {
-    // 3000 cases a test by default; `IMPORT_FUZZ_CASES=N` for a longer run.
-    #![proptest_config(ProptestConfig {
-        cases: std::env::var("IMPORT_FUZZ_CASES").ok().and_then(|c| c.parse().ok()).unwrap_or(3000),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    })]
-
-    #[test]
-    fn no_panic_on_arbitrary_bytes(bytes in prop::collection::vec(any::<u8>(), 0..600)) {
-        all_importers(&bytes);
-        let mut mcap = b"\x89MCAP0\r\n".to_vec();
-        mcap.extend_from_slice(&bytes);
-        all_importers(&mcap);
-    }
-
-    #[test]
-    fn no_panic_on_arbitrary_text(text in "\\PC{0,400}") {
-        all_importers(text.as_bytes());
-    }
-
-    #[test]
-    fn no_panic_on_player_like_lines(lines in prop::collection::vec(player_line(), 0..30)) {
-        all_importers(lines.join("\n").as_bytes());
-    }
-
-    #[test]
-    fn no_panic_on_table_like_lines(rows in prop::collection::vec(prop::collection::vec(prop_oneof![
-        (-300.0f64..300.0).prop_map(|v| format!("{v:.2}")), Just("-".to_string()), Just("x".to_string()), Just("inf".to_string())
-    ], 0..22), 0..12)) {
-        let text: Vec<String> = rows.iter().map(|r| r.join(",")).collect();
-        all_importers(text.join("\n").as_bytes());
-    }
-
-    #[test]
-    fn no_panic_on_corrupted_mcap(cuts in prop::collection::vec((0usize..4000, any::<u8>()), 1..6), len in 0usize..4000) {
-        let mut bytes = write_mcap(true, false);
-        for (at, b) in cuts {
-            let n = bytes.len();
-            bytes[at % n] = b;
-        }
-        bytes.truncate(8 + len.min(bytes.len()));
-        all_importers(&bytes);
-    }
-}
+// The fuzz tests, which check the contract for what is accepted, are in `import_fuzz.rs`; the
+// hostile inputs of issue 18 in `import_hostile.rs`.
