@@ -182,6 +182,11 @@ impl SonarApp {
         &self.compare
     }
 
+    /// What each step of the open run did, in counts.
+    pub fn step_summaries(&self) -> &[crate::replay::StepSummary] {
+        self.loaded.replay.summaries()
+    }
+
     /// `eval`'s verdicts and figures for the snapshot shown (with a floor plan).
     pub fn truth(&self) -> Option<&TruthView> {
         self.truth.as_ref()

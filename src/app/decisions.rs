@@ -40,7 +40,7 @@ impl DecisionFilter {
         match self {
             DecisionFilter::All => "All",
             DecisionFilter::Outcome(o) => outcome_name(o),
-            DecisionFilter::Spurious => "→ spurious",
+            DecisionFilter::Spurious => "Spurious",
         }
     }
 }
@@ -110,7 +110,7 @@ pub fn decisions_ui(
     let decisions = &ctx.view.trace.decisions;
     ui.horizontal_wrapped(|ui| {
         ui.label(RichText::new(format!("Decisions ({})", decisions.len())).strong());
-        // "→ spurious" only with a floor plan to judge by.
+        // "Spurious" only with a floor plan to judge by.
         let spurious = ctx.truth.map(|_| DecisionFilter::Spurious);
         for f in FILTERS.into_iter().chain(spurious) {
             let count = decisions.iter().filter(|d| f.keeps(d, ctx.truth)).count();

@@ -738,3 +738,48 @@ fn a_segments_lineage_leads_to_the_decision_that_made_it() {
         }
     );
 }
+
+#[test]
+fn spurious_creations_are_marked_and_their_decisions_can_be_filtered() {
+    use sonarmap::app::DecisionFilter;
+    let mut h = building();
+    assert!(
+        h.query_by_label_contains("with a spurious new segment")
+            .is_some(),
+        "the timeline counts the snapshots with a spurious creation"
+    );
+    // The first such snapshot: its spurious filter keeps exactly the decisions whose segment
+    // eval calls spurious, at least one new face among them.
+    let summaries = h.state().step_summaries().to_vec();
+    let k = summaries
+        .iter()
+        .position(|s| s.spurious_new_faces > 0)
+        .expect("the building makes spurious segments");
+    h.state_mut().push(Command::Seek(k));
+    h.run();
+    let truth = h.state().truth().expect("a floor plan").clone();
+    let view = h.state().step_view().unwrap().clone();
+    let spurious: Vec<usize> = view
+        .trace
+        .decisions
+        .iter()
+        .filter(|d| {
+            d.result
+                .and_then(|id| truth.verdict(id))
+                .is_some_and(|v| !v.is_true())
+        })
+        .map(|d| d.new_segment)
+        .collect();
+    assert!(!spurious.is_empty());
+    h.state_mut()
+        .push(Command::FilterDecisions(DecisionFilter::Spurious));
+    h.run();
+    for d in &view.trace.decisions {
+        let row = sonarmap::app::decision_row_text(d);
+        assert_eq!(
+            h.query_by_label(&row).is_some(),
+            spurious.contains(&d.new_segment),
+            "{row}"
+        );
+    }
+}
