@@ -4,6 +4,9 @@
 use super::command::Command;
 use egui::{Color32, RichText, Sense, Stroke, Vec2};
 
+/// Colour of spurious creations (the truth layer's vermillion).
+const SPURIOUS_COLOUR: Color32 = Color32::from_rgb(0xD5, 0x5E, 0x00);
+
 /// Colour of what differs from the pinned baseline (timeline marks, decision notes).
 pub const BASELINE_COLOUR: Color32 = Color32::from_rgb(0xcc, 0x44, 0xdd);
 
@@ -104,11 +107,11 @@ pub fn timeline_ui(ui: &mut egui::Ui, info: &TimelineInfo, jump_text: &mut Strin
                     "{} with a spurious new segment",
                     info.spurious_marks.len()
                 ))
-                .color(Color32::from_rgb(0xD5, 0x5E, 0x00)),
+                .color(SPURIOUS_COLOUR),
             )
             .on_hover_text(
                 "Snapshots whose new faces eval calls spurious (on no wall of the floor \
-                 plan): the ticks above the slider",
+                 plan): the short ticks at the top of the marks strip",
             );
         }
         if let Some(diff) = info.baseline_marks {
@@ -159,7 +162,9 @@ pub fn timeline_ui(ui: &mut egui::Ui, info: &TimelineInfo, jump_text: &mut Strin
     if slider.changed() && k != info.current {
         commands.push(Command::Seek(k));
     }
-    let (rect, response) = ui.allocate_exact_size(Vec2::new(slider_width, 10.0), Sense::click());
+    // A strip of marks: spurious creations in its top band, notable steps below them.
+    let (rect, response) = ui.allocate_exact_size(Vec2::new(slider_width, 14.0), Sense::click());
+    let band_m = rect.top() + 5.0;
     let left = slider.rect.left() + 6.0;
     let right = slider.rect.right() - 6.0;
     let x_of = |m: usize| {
@@ -174,20 +179,16 @@ pub fn timeline_ui(ui: &mut egui::Ui, info: &TimelineInfo, jump_text: &mut Strin
     for &m in info.marks {
         let x = x_of(m);
         painter.line_segment(
-            [egui::pos2(x, rect.top()), egui::pos2(x, rect.bottom())],
+            [egui::pos2(x, band_m + 1.0), egui::pos2(x, rect.bottom())],
             Stroke::new(2.0, mark_colour),
         );
     }
-    // Spurious creations: a short tick above the slider, in the truth layer's colour.
-    let spurious_colour = Color32::from_rgb(0xD5, 0x5E, 0x00);
+    // Spurious creations: short ticks in the top band, in the truth layer's colour.
     for &m in info.spurious_marks {
         let x = x_of(m);
         painter.line_segment(
-            [
-                egui::pos2(x, rect.top() - 3.0),
-                egui::pos2(x, rect.center().y),
-            ],
-            Stroke::new(2.0, spurious_colour),
+            [egui::pos2(x, rect.top()), egui::pos2(x, band_m)],
+            Stroke::new(2.0, SPURIOUS_COLOUR),
         );
     }
     for &m in info.baseline_marks.unwrap_or_default() {
