@@ -205,7 +205,14 @@ impl SonarApp {
     pub(super) fn scene_with(&self, world_per_px: f64) -> Option<Scene> {
         let view = self.view.as_ref()?;
         let truth = self.truth.as_ref().map(|t| t.verdicts.as_slice());
-        let input = SceneInput::from_view(self.loaded.replay.run(), view).with_truth(truth);
+        // A selected map segment shows where its supporting readings were read.
+        let support_of = match self.selection {
+            SceneId::MapSegment(id) | SceneId::Update(id) => Some(id),
+            _ => None,
+        };
+        let input = SceneInput::from_view(self.loaded.replay.run(), view)
+            .with_truth(truth)
+            .with_support_of(support_of);
         let options = ViewOptions {
             layers: self.settings.layers(),
             world_per_px,

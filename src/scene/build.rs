@@ -33,6 +33,8 @@ pub struct SceneInput<'a> {
     /// `eval`'s verdict on the fitted segments of `map_after`, when the run has a floor plan
     /// (the truth layer).
     pub truth: Option<&'a [(SegmentId, Verdict)]>,
+    /// A map segment whose supporting readings are drawn, from every snapshot they came from.
+    pub support_of: Option<SegmentId>,
 }
 
 impl<'a> SceneInput<'a> {
@@ -46,7 +48,14 @@ impl<'a> SceneInput<'a> {
             map_before: &view.map_before,
             map_after: &view.map_after,
             truth: None,
+            support_of: None,
         }
+    }
+
+    /// The input with the supporting readings of map segment `id` drawn.
+    pub fn with_support_of(mut self, id: Option<SegmentId>) -> Self {
+        self.support_of = id;
+        self
     }
 
     /// The input with `eval`'s verdicts on the map after the step (the truth layer).
@@ -108,7 +117,10 @@ pub fn build_scene(input: &SceneInput, options: &ViewOptions) -> Scene {
             Layer::Balls => b.balls(),
             Layer::Clusters => b.clusters(),
             Layer::Updates => b.updates(),
-            Layer::Map => b.map_after(),
+            Layer::Map => {
+                b.map_after();
+                b.support_points();
+            }
             Layer::Truth => b.truth(),
             Layer::NewSegments => b.new_segments(),
             Layer::PreviousSnapshot => b.previous_snapshot(),
@@ -423,6 +435,32 @@ impl Builder<'_, '_> {
                     );
                 }
             }
+        }
+    }
+
+    /// The supporting readings of the segment asked for, each marked where it was read.
+    fn support_points(&mut self) {
+        let Some(id) = self.input.support_of else {
+            return;
+        };
+        let seg = self
+            .input
+            .map_after
+            .segment(id)
+            .or_else(|| self.input.map_before.segment(id));
+        let Some(seg) = seg else {
+            return;
+        };
+        for q in seg.points.iter() {
+            let reading = SceneId::Reading {
+                snapshot: q.reading.snapshot,
+                sensor: q.reading.sensor,
+            };
+            let shape = Shape::Marker {
+                at: q.point,
+                shape: MarkerShape::Ring,
+            };
+            self.push(Layer::Map, Role::SupportPoint, reading, shape);
         }
     }
 

@@ -160,6 +160,8 @@ pub enum Role {
     MapInterpolated,
     /// A map segment's end-point.
     MapEndPoint,
+    /// A supporting reading of the selected map segment, from whichever snapshot it came.
+    SupportPoint,
     /// A map segment on a wall or pillar of the floor plan (`eval`).
     TruthTrue,
     /// A map segment on no wall or pillar (`eval`).
@@ -212,7 +214,9 @@ impl Role {
             Role::Ball => Layer::Balls,
             Role::Cluster | Role::ClusterBreak => Layer::Clusters,
             Role::UpdateBefore | Role::UpdateAfter | Role::UpdateProjection => Layer::Updates,
-            Role::MapFitted | Role::MapInterpolated | Role::MapEndPoint => Layer::Map,
+            Role::MapFitted | Role::MapInterpolated | Role::MapEndPoint | Role::SupportPoint => {
+                Layer::Map
+            }
             Role::TruthTrue | Role::TruthSpurious => Layer::Truth,
             Role::NewSegment => Layer::NewSegments,
             Role::PreviousPoint | Role::PreviousSegment => Layer::PreviousSnapshot,
@@ -252,6 +256,7 @@ impl Role {
                 .sized(5.0),
             Role::TruthTrue => Style::line(BLUISH_GREEN, 7.0).faded(0.45),
             Role::TruthSpurious => Style::line(VERMILLION, 7.0).faded(0.6),
+            Role::SupportPoint => Style::line(YELLOW, 1.5).sized(8.0),
             Role::NewSegment => Style::line(BLUE, 2.0),
             Role::PreviousPoint => Style::line(VERMILLION, 1.0).filled(VERMILLION).sized(6.0),
             Role::PreviousSegment => Style::line(VERMILLION, 1.5).faded(0.8),
@@ -299,6 +304,7 @@ impl Role {
             Role::MapFitted => "map segment",
             Role::MapInterpolated => "interpolated link",
             Role::MapEndPoint => return None,
+            Role::SupportPoint => "supporting reading (selected segment)",
             Role::TruthTrue => "on a wall (eval)",
             Role::TruthSpurious => "spurious (eval)",
             Role::NewSegment => "fitted this snapshot",

@@ -231,6 +231,7 @@ fn build(f: &Fixture, options: &ViewOptions, with_previous: bool) -> Scene {
         map_before: &f.before,
         map_after: &f.after,
         truth: None,
+        support_of: None,
     };
     build_scene(&input, options)
 }

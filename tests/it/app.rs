@@ -713,6 +713,23 @@ fn a_segments_lineage_leads_to_the_decision_that_made_it() {
         .push(Command::Select(SceneId::MapSegment(seg.id)));
     h.run();
     assert!(h.query_by_label_contains("Lineage (").is_some());
+    // Its supporting readings are drawn where they were read, whatever their snapshot.
+    let scene = h.state().scene().expect("a scene");
+    let rings: Vec<_> = scene
+        .primitives
+        .iter()
+        .filter(|p| p.role == sonarmap::scene::Role::SupportPoint)
+        .collect();
+    assert_eq!(rings.len(), seg.points.len());
+    for (p, q) in rings.iter().zip(seg.points.iter()) {
+        assert_eq!(
+            p.id,
+            SceneId::Reading {
+                snapshot: q.reading.snapshot,
+                sensor: q.reading.sensor
+            }
+        );
+    }
     // The first event names the decision; its button goes there and selects it.
     let replay =
         sonarmap::replay::Replay::new(h.state().run().clone(), h.state().shown_params().clone());

@@ -770,6 +770,7 @@ fn write_png(run: &Run, mapper: &Mapper, traces: &[StepTrace]) {
         map_before: before.map(),
         map_after: mapper.map(),
         truth: None,
+        support_of: None,
     };
     let scene = build_scene(&input, &ViewOptions::default());
     let svg = to_svg(

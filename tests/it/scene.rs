@@ -430,6 +430,7 @@ fn blue_room_scene(b: &BlueRoom, options: &ViewOptions) -> Scene {
         map_before: &b.maps[1],
         map_after: &b.maps[2],
         truth: None,
+        support_of: None,
     };
     build_scene(&input, options)
 }

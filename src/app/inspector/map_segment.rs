@@ -88,7 +88,17 @@ fn details_ui(ui: &mut egui::Ui, ctx: &InspectCtx, seg: &Segment) {
                 "face / object",
                 format!("{} / {}", seg.face, seg.object),
             );
-            kv(ui, "points", seg.points.len().to_string());
+            let snapshots = seg.points.iter().map(|q| q.reading.snapshot);
+            let span = match (snapshots.clone().min(), snapshots.max()) {
+                (Some(a), Some(b)) if a != b => format!(" from snapshots {a}–{b}"),
+                (Some(a), _) => format!(" from snapshot {a}"),
+                _ => String::new(),
+            };
+            kv(
+                ui,
+                "points",
+                format!("{}{span} (yellow rings in the map)", seg.points.len()),
+            );
             kv(ui, "created at", format!("snapshot {}", seg.created));
             let updated = if seg.updated.is_empty() {
                 "never".to_owned()

@@ -26,7 +26,12 @@ pub(super) fn reading_ui(
         &format!("Reading: sensor {sensor}, snapshot {snapshot}"),
     );
     let Some(trace) = trace else {
-        ui.label("not in this step");
+        // A supporting reading of an older snapshot: offer to go there.
+        ui.label("read in another snapshot");
+        if ui.button(format!("Go to snapshot {snapshot}")).clicked() {
+            commands.push(Command::Seek(snapshot));
+            commands.push(Command::Select(SceneId::Reading { snapshot, sensor }));
+        }
         return;
     };
     let Some(r) = trace.readings.iter().find(|r| r.sensor == sensor) else {
