@@ -159,7 +159,7 @@ pub struct RunDiff {
     pub snapshots: Vec<usize>,
     /// The differences, by snapshot.
     pub decisions: Vec<DecisionDifference>,
-    /// The first snapshot with a difference (where to start looking).
+    /// The first snapshot with a direct difference: where the parameter change first acts.
     #[serde(default)]
     pub first_difference: Option<usize>,
     /// Differences the parameter change made itself.
@@ -383,10 +383,10 @@ pub fn diff_run_keeping_maps(
 impl RunDiff {
     /// Adds snapshot `k`'s differences (none empty) and counts them.
     fn add_step(&mut self, k: usize, step: Vec<DecisionDifference>) {
-        self.first_difference.get_or_insert(k);
         self.snapshots.push(k);
         let direct = step.iter().filter(|d| d.cause == Cause::Direct).count();
         if direct > 0 {
+            self.first_difference.get_or_insert(k);
             self.direct_snapshots.push(k);
         }
         self.direct += direct;

@@ -148,7 +148,7 @@ pub struct BaselineSummary {
     pub direct: usize,
     /// Differences that follow from earlier ones.
     pub consequential: usize,
-    /// The first snapshot that differs.
+    /// The first snapshot with a direct difference.
     pub first: Option<usize>,
 }
 
@@ -400,7 +400,10 @@ pub fn params_panel_ui(
                 if let Some(k) = d.first {
                     if ui
                         .button("First difference")
-                        .on_hover_text("Go to the first snapshot that differs from the baseline")
+                        .on_hover_text(
+                            "Go to the first snapshot where the parameter change itself makes a \
+                             decision differ (a direct difference)",
+                        )
                         .clicked()
                     {
                         commands.push(Command::Seek(k));

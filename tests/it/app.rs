@@ -514,8 +514,8 @@ fn pinning_a_baseline_then_changing_theta_marks_the_differing_decisions() {
         "timeline shows {label:?}"
     );
 
-    // "First difference" seeks to the first snapshot that differs.
-    let k = diff.snapshots[0];
+    // "First difference" seeks to the first direct difference.
+    let k = diff.direct_snapshots[0];
     assert_eq!(diff.first_difference, Some(k));
     h.get_by_label("First difference").click();
     h.run();
