@@ -49,6 +49,7 @@ impl SonarApp {
             }
             Command::CancelCompare => self.compare = CompareState::Off,
             Command::ToggleLayer(layer) => self.toggle_layer(layer),
+            Command::TogglePlots => self.settings.show_plots = !self.settings.show_plots,
             Command::FilterDecisions(filter) => self.decision_filter = filter,
             Command::FitView => self.map_view.request = Some(ViewRequest::Fit),
             Command::ZoomToSelection => self.zoom_to_selection(),

@@ -48,6 +48,8 @@ pub enum Command {
     CancelCompare,
     /// Switch a layer on or off.
     ToggleLayer(Layer),
+    /// Show or hide the run plots under the timeline.
+    TogglePlots,
     /// Show only decisions with this outcome (`None`: all).
     FilterDecisions(super::decisions::DecisionFilter),
     /// Fit the map view to the scene.

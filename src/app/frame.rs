@@ -13,6 +13,7 @@ use super::layers::layers_ui;
 use super::map_view::map_view_ui;
 use super::menu::{handle_shortcuts, menu_bar_ui, shortcuts_window_ui};
 use super::params_panel::{params_panel_ui, BaselineSummary, ParamsPanelInfo};
+use super::run_plots::run_plots_ui;
 use super::settings::{LeftTab, SETTINGS_KEY};
 use super::timeline::{timeline_ui, TimelineInfo};
 use crate::scene::{format_length, Scene, SceneId};
@@ -92,11 +93,31 @@ impl SonarApp {
                     .and_then(|b| b.diff.as_ref())
                     .map(|d| d.direct_snapshots.as_slice()),
                 spurious_marks: &self.loaded.spurious_marks,
+                show_plots: self.settings.show_plots,
                 playing: self.playing,
                 rate: self.settings.rate,
             };
             commands.extend(timeline_ui(ui, &info, &mut self.jump_text));
         });
+        if self.settings.show_plots {
+            egui::Panel::bottom("run_plots")
+                .resizable(true)
+                .show(ui, |ui| {
+                    let baseline = self
+                        .baseline
+                        .as_ref()
+                        .filter(|b| b.diff.is_some())
+                        .map(|b| b.replay.summaries());
+                    let current = self.current();
+                    commands.extend(run_plots_ui(
+                        ui,
+                        &mut self.settings.run_plot,
+                        self.loaded.replay.summaries(),
+                        baseline,
+                        current,
+                    ));
+                });
+        }
     }
 
     /// The left panel: the tabs and the page shown.

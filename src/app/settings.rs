@@ -35,6 +35,10 @@ pub struct Settings {
     pub baseline_ghost: bool,
     /// The page shown in the left panel.
     pub left_tab: LeftTab,
+    /// Show the run plots under the timeline.
+    pub show_plots: bool,
+    /// What the run plots show.
+    pub run_plot: super::run_plots::RunPlot,
 }
 
 /// The pages of the left panel.
@@ -77,6 +81,8 @@ impl Default for Settings {
             params: None,
             builtin_bookmarks: Vec::new(),
             baseline_ghost: true,
+            show_plots: false,
+            run_plot: Default::default(),
             left_tab: LeftTab::Parameters,
         }
     }

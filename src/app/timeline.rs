@@ -29,6 +29,8 @@ pub struct TimelineInfo<'a> {
     pub baseline_marks: Option<&'a [usize]>,
     /// Snapshots that made a segment `eval` calls spurious (with a floor plan).
     pub spurious_marks: &'a [usize],
+    /// True while the run plots are shown.
+    pub show_plots: bool,
     /// True while playing.
     pub playing: bool,
     /// Playback rate, snapshots per second.
@@ -99,6 +101,13 @@ pub fn timeline_ui(ui: &mut egui::Ui, info: &TimelineInfo, jump_text: &mut Strin
             .clicked()
         {
             commands.push(Command::NextMark);
+        }
+        if ui
+            .selectable_label(info.show_plots, "Plots")
+            .on_hover_text("Per-snapshot plots of the whole run, under the timeline")
+            .clicked()
+        {
+            commands.push(Command::TogglePlots);
         }
         ui.label(format!("{} marks", info.marks.len()));
         if !info.spurious_marks.is_empty() {

@@ -800,3 +800,21 @@ fn spurious_creations_are_marked_and_their_decisions_can_be_filtered() {
         );
     }
 }
+
+#[test]
+fn the_run_plots_open_under_the_timeline_and_switch_curves() {
+    let mut h = building();
+    assert!(h.query_by_label("Readings").is_none(), "closed by default");
+    h.get_by_label("Plots").click();
+    h.run();
+    assert!(h.state().settings().show_plots);
+    for name in ["Segments", "Decisions", "Readings", "Spurious new faces"] {
+        assert!(h.query_by_label(name).is_some(), "{name} choice");
+    }
+    h.get_by_label("Decisions").click();
+    h.run();
+    assert_eq!(
+        h.state().settings().run_plot,
+        sonarmap::app::RunPlot::Decisions
+    );
+}

@@ -1,0 +1,149 @@
+//! The run plots: per-snapshot curves of the whole run under the timeline (egui_plot), linked
+//! to it: a line marks the snapshot shown and a click seeks. Read from the replay's step
+//! summaries (computed once per replay, off the UI thread), thinned to at most a point per
+//! column of pixels; with a baseline pinned, its curves are drawn dashed beside the current ones.
+
+use super::command::Command;
+use crate::replay::StepSummary;
+use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints, VLine};
+use serde::{Deserialize, Serialize};
+
+/// A curve: its name and its value at a step.
+type Series = (&'static str, fn(&StepSummary) -> u32);
+
+/// What the plots show.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RunPlot {
+    /// Segments in the map after each step.
+    #[default]
+    Segments,
+    /// Decisions by outcome.
+    Decisions,
+    /// Readings kept and discarded.
+    Readings,
+    /// New faces that `eval` calls spurious (with a floor plan).
+    Spurious,
+}
+
+impl RunPlot {
+    const ALL: [RunPlot; 4] = [
+        RunPlot::Segments,
+        RunPlot::Decisions,
+        RunPlot::Readings,
+        RunPlot::Spurious,
+    ];
+
+    fn label(self) -> &'static str {
+        match self {
+            RunPlot::Segments => "Segments",
+            RunPlot::Decisions => "Decisions",
+            RunPlot::Readings => "Readings",
+            RunPlot::Spurious => "Spurious new faces",
+        }
+    }
+
+    /// The curves: name and value per step.
+    fn series(self) -> Vec<Series> {
+        match self {
+            RunPlot::Segments => vec![("segments", |s| s.segments)],
+            RunPlot::Decisions => vec![
+                ("match", |s| s.matches),
+                ("extension", |s| s.extensions),
+                ("dismissed", |s| s.dismissals),
+                ("new face", |s| s.new_faces),
+            ],
+            RunPlot::Readings => vec![("kept", |s| s.kept), ("discarded", |s| s.discarded)],
+            RunPlot::Spurious => vec![("spurious new faces", |s| s.spurious_new_faces)],
+        }
+    }
+}
+
+/// At most `columns` points of `value` over `summaries`: each the largest value of its bucket
+/// of snapshots (so a spike is never thinned away), at the bucket's first snapshot.
+pub fn thinned(
+    summaries: &[StepSummary],
+    value: fn(&StepSummary) -> u32,
+    columns: usize,
+) -> Vec<[f64; 2]> {
+    let bucket = summaries.len().div_ceil(columns.max(1)).max(1);
+    summaries
+        .chunks(bucket)
+        .enumerate()
+        .map(|(i, chunk)| {
+            let top = chunk.iter().map(value).max().unwrap_or(0);
+            [(i * bucket) as f64, f64::from(top)]
+        })
+        .collect()
+}
+
+/// Draws the plots of `summaries` (and of the baseline's, dashed); `current` is the snapshot
+/// shown. Returns the seek a click asks for, and the plot chosen.
+pub fn run_plots_ui(
+    ui: &mut egui::Ui,
+    shown: &mut RunPlot,
+    summaries: &[StepSummary],
+    baseline: Option<&[StepSummary]>,
+    current: usize,
+) -> Vec<Command> {
+    let mut commands = Vec::new();
+    ui.horizontal(|ui| {
+        ui.label("Plot");
+        for p in RunPlot::ALL {
+            ui.selectable_value(shown, p, p.label());
+        }
+        ui.label(egui::RichText::new("click: go to the snapshot").weak());
+    });
+    let columns = ui.available_width().max(100.0) as usize;
+    let plot = Plot::new("run_plots")
+        .height(ui.available_height().clamp(80.0, 200.0))
+        .legend(Legend::default())
+        .allow_drag(false)
+        .allow_scroll(false)
+        .allow_zoom(false)
+        .allow_boxed_zoom(false)
+        .include_y(0.0);
+    let response = plot.show(ui, |plot_ui| {
+        for (name, value) in shown.series() {
+            let points = PlotPoints::from(thinned(summaries, value, columns));
+            plot_ui.line(Line::new(name, points));
+            if let Some(b) = baseline {
+                let points = PlotPoints::from(thinned(b, value, columns));
+                plot_ui.line(
+                    Line::new(format!("{name} (baseline)"), points)
+                        .style(LineStyle::dashed_loose()),
+                );
+            }
+        }
+        plot_ui.vline(VLine::new("snapshot shown", current as f64));
+        plot_ui.pointer_coordinate()
+    });
+    if response.response.clicked() {
+        if let Some(p) = response.inner {
+            let last = summaries.len().saturating_sub(1);
+            commands.push(Command::Seek((p.x.round().max(0.0) as usize).min(last)));
+        }
+    }
+    commands
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn thinning_keeps_each_buckets_peak() {
+        let summaries: Vec<StepSummary> = (0..10u32)
+            .map(|k| StepSummary {
+                segments: if k == 7 { 100 } else { k },
+                ..StepSummary::default()
+            })
+            .collect();
+        // Buckets of 4: [0..4) peak 3, [4..8) peak 100 (the spike at 7), [8..10) peak 9.
+        assert_eq!(
+            thinned(&summaries, |s| s.segments, 3),
+            vec![[0.0, 3.0], [4.0, 100.0], [8.0, 9.0]]
+        );
+        assert_eq!(thinned(&summaries, |s| s.segments, 100).len(), 10);
+    }
+}
