@@ -102,6 +102,7 @@ impl SonarApp {
         if self.settings.show_plots {
             egui::Panel::bottom("run_plots")
                 .resizable(true)
+                .default_size(170.0)
                 .show(ui, |ui| {
                     let baseline = self
                         .baseline

@@ -96,7 +96,7 @@ pub fn run_plots_ui(
     });
     let columns = ui.available_width().max(100.0) as usize;
     let plot = Plot::new("run_plots")
-        .height(ui.available_height().clamp(80.0, 200.0))
+        .height(ui.available_height().max(100.0))
         .legend(Legend::default())
         .allow_drag(false)
         .allow_scroll(false)
