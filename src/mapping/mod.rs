@@ -5,6 +5,7 @@ pub mod correlate;
 pub mod extensions;
 pub mod fast_path;
 pub mod fit;
+pub mod flip;
 mod guard;
 pub mod ids;
 pub mod index;

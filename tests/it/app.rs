@@ -818,3 +818,38 @@ fn the_run_plots_open_under_the_timeline_and_switch_curves() {
         sonarmap::app::RunPlot::Decisions
     );
 }
+
+#[test]
+fn a_decision_shows_its_margins_and_where_its_tests_would_flip() {
+    let mut h = building();
+    // The first decision that tested a candidate.
+    let (k, d) = (0..h.state().len())
+        .find_map(|k| {
+            h.state_mut().push(Command::Seek(k));
+            h.run();
+            let view = h.state().step_view()?;
+            view.trace
+                .decisions
+                .iter()
+                .find(|d| !d.mpc_stage.is_empty())
+                .map(|d| (k, d.clone()))
+        })
+        .expect("a decision with candidates");
+    assert_eq!(h.state().current(), k);
+    h.state_mut()
+        .push(Command::Select(SceneId::NewSegment(d.new_segment)));
+    h.run();
+    assert!(h
+        .query_by_label("Flip points (this test alone, the map as it is)")
+        .is_some());
+    let c = &d.mpc_stage[0].evaluation;
+    let theta = format!("{:.2}°", c.orientation.value.to_degrees());
+    assert!(
+        h.query_all_by_label(&theta).next().is_some(),
+        "θ_o flip {theta}"
+    );
+    assert!(
+        h.query_all_by_label_contains("margin").next().is_some(),
+        "test cells show their margin"
+    );
+}

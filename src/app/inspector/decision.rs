@@ -55,6 +55,56 @@ pub(super) fn decision_ui(
             commands.push(Command::Select(SceneId::MapSegment(e)));
         }
     }
+    flip_points_ui(ui, ctx, d);
+}
+
+/// Where each test's result would flip, for the deciding candidate and the nearest one that
+/// failed, and the t_gap that would break or join the new segment's cluster
+/// (`mapping::flip`): this test alone, the map as it is.
+fn flip_points_ui(ui: &mut egui::Ui, ctx: &InspectCtx, d: &DecisionTrace) {
+    use crate::mapping::flip::{cluster_gap_flips, colinearity_flip_pct, orientation_flip_rad};
+    heading(ui, "Flip points (this test alone, the map as it is)");
+    let deciding = d
+        .mpc_stage
+        .iter()
+        .find(|c| Some(c.evaluation.existing) == d.existing);
+    let failed = d
+        .mpc_stage
+        .iter()
+        .filter(|c| Some(c.evaluation.existing) != d.existing)
+        .find(|c| !c.evaluation.is_match());
+    egui::Grid::new("flip_points")
+        .striped(true)
+        .num_columns(3)
+        .show(ui, |ui| {
+            header_row(ui, &["Candidate", "θ_o flips at", "ξ flips at"]);
+            for (role, c) in [("deciding", deciding), ("nearest failed", failed)] {
+                let Some(c) = c else { continue };
+                let e = &c.evaluation;
+                ui.label(format!("#{} ({role})", e.existing));
+                ui.label(format!("{:.2}°", orientation_flip_rad(e).to_degrees()));
+                ui.label(format!("{:.3} %", colinearity_flip_pct(&e.colinearity)));
+                ui.end_row();
+            }
+        });
+    let trace = &ctx.view.trace;
+    let cluster = trace
+        .clusters
+        .iter()
+        .find(|c| c.new_segments.contains(&d.new_segment));
+    if let Some(cluster) = cluster {
+        let (inner, ends) = cluster_gap_flips(cluster, &trace.gaps);
+        let mut parts = Vec::new();
+        if let Some(g) = inner {
+            parts.push(format!("breaks below t_gap = {}", ctx.len(g)));
+        }
+        for g in ends.iter().flatten() {
+            parts.push(format!("joins a neighbour at t_gap = {}", ctx.len(*g)));
+        }
+        if !parts.is_empty() {
+            ui.label(format!("Its cluster {}.", parts.join("; ")));
+        }
+    }
 }
 
 /// The readings of new segment `i` of `trace`, sorted (how A/B pairs segments).
@@ -261,18 +311,8 @@ fn candidate_row_ui(
     }
     ui.label(ctx.len(c.distance_m));
     ui.label(if c.outermost { "yes" } else { "no" });
-    test_cells(
-        ui,
-        deg(e.orientation.value),
-        deg(e.orientation.threshold),
-        &e.orientation,
-    );
-    test_cells(
-        ui,
-        ctx.len(e.colinearity.test.value),
-        ctx.len(e.colinearity.test.threshold),
-        &e.colinearity.test,
-    );
+    test_cells(ui, &e.orientation, &deg);
+    test_cells(ui, &e.colinearity.test, &|m| ctx.len(m));
     ui.label(ctx.len(e.colinearity.d1_m));
     ui.label(ctx.len(e.colinearity.d2_m));
     ui.label(ctx.len(e.colinearity.d3_m));

@@ -337,20 +337,10 @@ fn pair_ui(ui: &mut egui::Ui, ctx: &InspectCtx, e: &PairEvaluation) {
         .show(ui, |ui| {
             header_row(ui, &["Test", "Value", "Threshold", "Result"]);
             ui.label("Orientation");
-            test_cells(
-                ui,
-                deg(e.orientation.value),
-                deg(e.orientation.threshold),
-                &e.orientation,
-            );
+            test_cells(ui, &e.orientation, &deg);
             ui.end_row();
             ui.label("Colinearity d");
-            test_cells(
-                ui,
-                ctx.len(e.colinearity.test.value),
-                ctx.len(e.colinearity.test.threshold),
-                &e.colinearity.test,
-            );
+            test_cells(ui, &e.colinearity.test, &|m| ctx.len(m));
             ui.end_row();
             ui.label("  D1 / D2 / D3");
             ui.label(format!(

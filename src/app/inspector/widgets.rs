@@ -37,8 +37,16 @@ pub(super) fn header_row(ui: &mut egui::Ui, headers: &[&str]) {
     ui.end_row();
 }
 
-pub(super) fn test_cells(ui: &mut egui::Ui, value: String, threshold: String, t: &Test) {
-    coloured(ui, value, t.pass);
-    ui.label(threshold);
-    verdict(ui, t.pass);
+/// A test's cells: its value, its threshold, and the verdict with the margin (threshold -
+/// value: how far inside or outside it the test fell), each length or angle written by `fmt`.
+pub(super) fn test_cells(ui: &mut egui::Ui, t: &Test, fmt: &dyn Fn(f64) -> String) {
+    coloured(ui, fmt(t.value), t.pass);
+    ui.label(fmt(t.threshold));
+    let (text, colour) = if t.pass {
+        ("pass", PASS)
+    } else {
+        ("FAIL", FAIL)
+    };
+    ui.label(RichText::new(format!("{text}, margin {}", fmt(t.threshold - t.value))).color(colour))
+        .on_hover_text("margin = threshold - value: positive inside the test, negative outside");
 }
