@@ -11,6 +11,7 @@ use super::inspector::CompareState;
 use super::jobs::ReplayJob;
 use super::loaded::{Loaded, Source};
 use super::map_view::MapViewState;
+use super::marks::MarkKind;
 use super::params_panel::ParamsPanelState;
 use super::settings::Settings;
 use super::truth::TruthView;
@@ -152,9 +153,39 @@ impl SonarApp {
         &self.loaded.source
     }
 
-    /// Snapshots with a timeline mark.
-    pub fn marks(&self) -> &[usize] {
-        &self.loaded.marks
+    /// Snapshots with a timeline mark of a kind switched on, ascending (prev/next mark follow
+    /// them).
+    pub fn marks(&self) -> Vec<usize> {
+        let hidden = &self.settings.hidden_marks;
+        let mut marks = self.loaded.marks.shown(hidden);
+        if !hidden.contains(&MarkKind::DirectDifferences) {
+            marks.extend(self.direct_difference_marks().iter().copied());
+            marks.sort_unstable();
+            marks.dedup();
+        }
+        marks
+    }
+
+    /// Snapshots where a decision differs directly from the pinned baseline (when compared).
+    pub(super) fn direct_difference_marks(&self) -> &[usize] {
+        self.baseline
+            .as_ref()
+            .and_then(|b| b.diff.as_ref())
+            .map_or(&[][..], |d| d.direct_snapshots.as_slice())
+    }
+
+    /// The number of marks of each kind, and whether the kind is shown.
+    pub fn mark_counts(&self) -> Vec<(MarkKind, usize, bool)> {
+        MarkKind::ALL
+            .into_iter()
+            .map(|kind| {
+                let count = match kind {
+                    MarkKind::DirectDifferences => self.direct_difference_marks().len(),
+                    _ => self.loaded.marks.of_kind(kind).len(),
+                };
+                (kind, count, !self.settings.hidden_marks.contains(&kind))
+            })
+            .collect()
     }
 
     /// The step shown.

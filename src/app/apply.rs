@@ -50,6 +50,14 @@ impl SonarApp {
             Command::CancelCompare => self.compare = CompareState::Off,
             Command::ToggleLayer(layer) => self.toggle_layer(layer),
             Command::TogglePlots => self.settings.show_plots = !self.settings.show_plots,
+            Command::ToggleMarkKind(kind) => {
+                let hidden = &mut self.settings.hidden_marks;
+                if hidden.contains(&kind) {
+                    hidden.retain(|k| *k != kind);
+                } else {
+                    hidden.push(kind);
+                }
+            }
             Command::FilterDecisions(filter) => self.decision_filter = filter,
             Command::FitView => self.map_view.request = Some(ViewRequest::Fit),
             Command::ZoomToSelection => self.zoom_to_selection(),
@@ -104,16 +112,16 @@ impl SonarApp {
 
     fn next_mark(&mut self) {
         let k = self.current();
-        match self.loaded.marks.iter().find(|&&m| m > k) {
-            Some(&m) => self.seek(m),
+        match self.marks().into_iter().find(|&m| m > k) {
+            Some(m) => self.seek(m),
             None => self.message = "no mark after this snapshot".to_owned(),
         }
     }
 
     fn prev_mark(&mut self) {
         let k = self.current();
-        match self.loaded.marks.iter().rev().find(|&&m| m < k) {
-            Some(&m) => self.seek(m),
+        match self.marks().into_iter().rev().find(|&m| m < k) {
+            Some(m) => self.seek(m),
             None => self.message = "no mark before this snapshot".to_owned(),
         }
     }

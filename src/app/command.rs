@@ -50,6 +50,8 @@ pub enum Command {
     ToggleLayer(Layer),
     /// Show or hide the run plots under the timeline.
     TogglePlots,
+    /// Show or hide one kind of timeline mark.
+    ToggleMarkKind(super::marks::MarkKind),
     /// Show only decisions with this outcome (`None`: all).
     FilterDecisions(super::decisions::DecisionFilter),
     /// Fit the map view to the scene.

@@ -11,6 +11,7 @@ use super::inspector::{hover_text, inspector_ui, InspectCtx};
 use super::jobs::JobKind;
 use super::layers::layers_ui;
 use super::map_view::map_view_ui;
+use super::marks::MarkKind;
 use super::menu::{handle_shortcuts, menu_bar_ui, shortcuts_window_ui};
 use super::params_panel::{params_panel_ui, BaselineSummary, ParamsPanelInfo};
 use super::run_plots::run_plots_ui;
@@ -82,17 +83,28 @@ impl SonarApp {
 
     fn timeline_panel_ui(&mut self, ui: &mut egui::Ui, commands: &mut Vec<Command>) {
         egui::Panel::bottom("timeline").show(ui, |ui| {
+            let marks = self.marks();
+            let counts = self.mark_counts();
+            let shown = |kind: MarkKind, marks: &'_ [usize]| -> Vec<usize> {
+                if self.settings.hidden_marks.contains(&kind) {
+                    Vec::new()
+                } else {
+                    marks.to_vec()
+                }
+            };
+            let spurious = shown(
+                MarkKind::SpuriousCreations,
+                self.loaded.marks.of_kind(MarkKind::SpuriousCreations),
+            );
+            let direct = shown(MarkKind::DirectDifferences, self.direct_difference_marks());
             let info = TimelineInfo {
                 len: self.len(),
                 current: self.current(),
                 t_s: self.view.as_ref().map_or(0.0, |v| v.trace.t),
-                marks: &self.loaded.marks,
-                baseline_marks: self
-                    .baseline
-                    .as_ref()
-                    .and_then(|b| b.diff.as_ref())
-                    .map(|d| d.direct_snapshots.as_slice()),
-                spurious_marks: &self.loaded.spurious_marks,
+                marks: &marks,
+                mark_counts: &counts,
+                baseline_marks: self.baseline.as_ref().map(|_| direct.as_slice()),
+                spurious_marks: &spurious,
                 show_plots: self.settings.show_plots,
                 playing: self.playing,
                 rate: self.settings.rate,

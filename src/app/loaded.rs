@@ -1,7 +1,8 @@
 //! The open run: where it came from, its replay and the snapshots marked on the timeline.
 
+use super::marks::MarksByKind;
 use crate::mapping::Params;
-use crate::replay::{Replay, StepSummary};
+use crate::replay::Replay;
 use crate::run::Run;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -31,9 +32,8 @@ impl Source {
 pub(super) struct Loaded {
     pub(super) source: Source,
     pub(super) replay: Replay,
-    pub(super) marks: Vec<usize>,
-    /// Snapshots that made a segment `eval` calls spurious (with a floor plan).
-    pub(super) spurious_marks: Vec<usize>,
+    /// The marks of the replay's steps, by kind (A/B differences come from the baseline).
+    pub(super) marks: MarksByKind,
 }
 
 impl Loaded {
@@ -42,24 +42,13 @@ impl Loaded {
         Self::new(Replay::new(Arc::new(run), params.clone()), source)
     }
 
-    /// A finished replay, with the notable snapshots marked.
+    /// A finished replay, with its steps' marks.
     pub(super) fn new(replay: Replay, source: Source) -> Loaded {
-        let marked = |keep: fn(&StepSummary) -> bool| {
-            replay
-                .summaries()
-                .iter()
-                .enumerate()
-                .filter(|(_, s)| keep(s))
-                .map(|(k, _)| k)
-                .collect()
-        };
-        let marks = marked(StepSummary::is_notable);
-        let spurious_marks = marked(|s| s.spurious_new_faces > 0);
+        let marks = MarksByKind::of(replay.summaries(), None);
         Loaded {
             source,
             replay,
             marks,
-            spurious_marks,
         }
     }
 }

@@ -37,6 +37,8 @@ pub struct Settings {
     pub left_tab: LeftTab,
     /// Show the run plots under the timeline.
     pub show_plots: bool,
+    /// Kinds of timeline mark switched off.
+    pub hidden_marks: Vec<super::marks::MarkKind>,
     /// What the run plots show.
     pub run_plot: super::run_plots::RunPlot,
 }
@@ -82,6 +84,7 @@ impl Default for Settings {
             builtin_bookmarks: Vec::new(),
             baseline_ghost: true,
             show_plots: false,
+            hidden_marks: Vec::new(),
             run_plot: Default::default(),
             left_tab: LeftTab::Parameters,
         }

@@ -2,6 +2,7 @@
 //! "go to" field and marks where notable things happened.
 
 use super::command::Command;
+use super::marks::{density, MarkKind};
 use egui::{Color32, RichText, Sense, Stroke, Vec2};
 
 /// Colour of spurious creations (the truth layer's vermillion).
@@ -22,8 +23,10 @@ pub struct TimelineInfo<'a> {
     pub current: usize,
     /// Its time, seconds.
     pub t_s: f64,
-    /// Snapshots with a mark, ascending.
+    /// Snapshots with a mark of a kind shown, ascending.
     pub marks: &'a [usize],
+    /// Each kind of mark: its count and whether it is shown.
+    pub mark_counts: &'a [(MarkKind, usize, bool)],
     /// Snapshots where a decision differs directly from the pinned baseline (the parameter
     /// change itself, not its consequences), when known.
     pub baseline_marks: Option<&'a [usize]>,
@@ -109,7 +112,20 @@ pub fn timeline_ui(ui: &mut egui::Ui, info: &TimelineInfo, jump_text: &mut Strin
         {
             commands.push(Command::TogglePlots);
         }
-        ui.label(format!("{} marks", info.marks.len()));
+        ui.menu_button(format!("{} marks", info.marks.len()), |ui| {
+            ui.label("Marks shown (prev/next mark follow them)");
+            for &(kind, count, shown) in info.mark_counts {
+                let mut on = shown;
+                if ui
+                    .checkbox(&mut on, format!("{} ({count})", kind.label()))
+                    .changed()
+                {
+                    commands.push(Command::ToggleMarkKind(kind));
+                }
+            }
+        })
+        .response
+        .on_hover_text("Choose the kinds of mark");
         if !info.spurious_marks.is_empty() {
             ui.label(
                 RichText::new(format!(
@@ -185,12 +201,27 @@ pub fn timeline_ui(ui: &mut egui::Ui, info: &TimelineInfo, jump_text: &mut Strin
     };
     let painter = ui.painter_at(rect.expand2(Vec2::new(8.0, 0.0)));
     let mark_colour = Color32::from_rgb(0xE6, 0x9F, 0x00);
-    for &m in info.marks {
-        let x = x_of(m);
-        painter.line_segment(
-            [egui::pos2(x, band_m + 1.0), egui::pos2(x, rect.bottom())],
-            Stroke::new(2.0, mark_colour),
-        );
+    let columns = (right - left).max(1.0) as usize;
+    if info.marks.len() > columns {
+        // More marks than pixels: a density strip, each column as strong as its share of marks.
+        let counts = density(info.marks, info.len, columns);
+        let most = counts.iter().copied().max().unwrap_or(1).max(1) as f32;
+        for (c, &n) in counts.iter().enumerate().filter(|(_, n)| **n > 0) {
+            let x = left + (right - left) * c as f32 / (columns.max(2) - 1) as f32;
+            let alpha = (0.25 + 0.75 * n as f32 / most).min(1.0);
+            painter.line_segment(
+                [egui::pos2(x, band_m + 1.0), egui::pos2(x, rect.bottom())],
+                Stroke::new(1.0, mark_colour.gamma_multiply(alpha)),
+            );
+        }
+    } else {
+        for &m in info.marks {
+            let x = x_of(m);
+            painter.line_segment(
+                [egui::pos2(x, band_m + 1.0), egui::pos2(x, rect.bottom())],
+                Stroke::new(2.0, mark_colour),
+            );
+        }
     }
     // Spurious creations: short ticks in the top band, in the truth layer's colour.
     for &m in info.spurious_marks {

@@ -858,3 +858,37 @@ fn a_decision_shows_its_margins_and_where_its_tests_would_flip() {
         "test cells show their margin"
     );
 }
+
+#[test]
+fn the_mark_filter_changes_the_marks_and_prev_next_follow_it() {
+    use sonarmap::app::MarkKind;
+    let mut h = building();
+    let all = h.state().marks();
+    let counts = h.state().mark_counts();
+    let dismissals = counts
+        .iter()
+        .find(|(k, _, _)| *k == MarkKind::Dismissals)
+        .map(|c| c.1)
+        .unwrap();
+    assert!(dismissals > 0 && dismissals < all.len());
+    // Keep only the dismissals: the marks are exactly the dismissal snapshots.
+    for (kind, _, _) in counts {
+        if kind != MarkKind::Dismissals {
+            h.state_mut().push(Command::ToggleMarkKind(kind));
+        }
+    }
+    h.run();
+    let only = h.state().marks();
+    assert_eq!(only.len(), dismissals);
+    assert!(only.iter().all(|m| all.contains(m)));
+    assert!(h.query_by_label(&format!("{dismissals} marks")).is_some());
+    // Next mark goes to the first dismissal.
+    h.state_mut().push(Command::Seek(0));
+    h.run();
+    let first = *only.iter().find(|&&m| m > 0).unwrap();
+    h.state_mut().push(Command::NextMark);
+    h.run();
+    assert_eq!(h.state().current(), first);
+    let summary = &h.state().step_summaries()[first];
+    assert!(summary.dismissals > 0);
+}
