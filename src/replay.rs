@@ -5,7 +5,7 @@
 //! of every step (for timeline marks); [`Replay::view`] then replays at most `interval + 1`
 //! steps from the nearest checkpoint.
 
-use crate::eval::segment_verdict;
+use crate::eval::{segment_verdict, truth_figures};
 use crate::lineage::Lineage;
 use crate::mapping::trace::{Outcome, StepTrace};
 use crate::mapping::{Map, Mapper, MapperState, Params, StepFailure};
@@ -152,6 +152,19 @@ pub struct Replay {
     final_map: Map,
     failure: Option<StepFailure>,
     lineage: Arc<Lineage>,
+    truth_curve: Vec<TruthSample>,
+}
+
+/// The map's figures against the floor plan after one step (`eval`'s spurious fraction and
+/// coverage), sampled at the replay's checkpoints.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TruthSample {
+    /// The step.
+    pub snapshot: usize,
+    /// 1 − true / fitted segments.
+    pub spurious_fraction: f64,
+    /// Covered wall length over total wall length.
+    pub coverage: f64,
 }
 
 /// The build was cancelled by its progress callback.
@@ -180,6 +193,7 @@ impl Replay {
         let mut summaries = Vec::with_capacity(run.snapshots.len());
         let mut failure = None;
         let mut lineage = Lineage::default();
+        let mut truth_curve = Vec::new();
         for (k, snapshot) in run.snapshots.iter().enumerate() {
             if k % interval == 0 {
                 checkpoints.push(mapper.state());
@@ -189,6 +203,17 @@ impl Replay {
                     let mut summary = StepSummary::of(&trace, mapper.map().segments.len());
                     if let Some(plan) = &run.floor_plan {
                         summary.count_spurious_new_faces(&trace, mapper.map(), plan, &params);
+                        // The whole map against the plan costs a pass over it: once a
+                        // checkpoint interval, and at the last step.
+                        if k % interval == interval - 1 || k + 1 == run.snapshots.len() {
+                            let (spurious_fraction, coverage) =
+                                truth_figures(mapper.map(), plan, &params);
+                            truth_curve.push(TruthSample {
+                                snapshot: k,
+                                spurious_fraction,
+                                coverage,
+                            });
+                        }
                     }
                     summaries.push(summary);
                     lineage.record(&trace);
@@ -211,6 +236,7 @@ impl Replay {
             final_map: Map::default(),
             failure,
             lineage: Arc::new(lineage),
+            truth_curve,
         };
         replay.final_map = if replay.failure.is_some() {
             // The failed step may have left the mapper half-way: replay up to the last good one.
@@ -222,6 +248,12 @@ impl Replay {
             mapper.map().clone()
         };
         Ok(replay)
+    }
+
+    /// The map's spurious fraction and coverage at every checkpoint interval (with a floor
+    /// plan; empty without).
+    pub fn truth_curve(&self) -> &[TruthSample] {
+        &self.truth_curve
     }
 
     /// Every map segment's life, as the replay recorded it.

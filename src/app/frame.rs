@@ -126,6 +126,7 @@ impl SonarApp {
                         ui,
                         &mut self.settings.run_plot,
                         self.loaded.replay.summaries(),
+                        self.loaded.replay.truth_curve(),
                         baseline,
                         current,
                     ));

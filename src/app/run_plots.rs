@@ -4,7 +4,7 @@
 //! column of pixels; with a baseline pinned, its curves are drawn dashed beside the current ones.
 
 use super::command::Command;
-use crate::replay::StepSummary;
+use crate::replay::{StepSummary, TruthSample};
 use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints, VLine};
 use serde::{Deserialize, Serialize};
 
@@ -24,14 +24,18 @@ pub enum RunPlot {
     Readings,
     /// New faces that `eval` calls spurious (with a floor plan).
     Spurious,
+    /// The map's spurious fraction and coverage (with a floor plan; sampled every checkpoint
+    /// interval).
+    Truth,
 }
 
 impl RunPlot {
-    const ALL: [RunPlot; 4] = [
+    const ALL: [RunPlot; 5] = [
         RunPlot::Segments,
         RunPlot::Decisions,
         RunPlot::Readings,
         RunPlot::Spurious,
+        RunPlot::Truth,
     ];
 
     fn label(self) -> &'static str {
@@ -40,6 +44,7 @@ impl RunPlot {
             RunPlot::Decisions => "Decisions",
             RunPlot::Readings => "Readings",
             RunPlot::Spurious => "Spurious new faces",
+            RunPlot::Truth => "Spurious fraction, coverage",
         }
     }
 
@@ -55,6 +60,7 @@ impl RunPlot {
             ],
             RunPlot::Readings => vec![("kept", |s| s.kept), ("discarded", |s| s.discarded)],
             RunPlot::Spurious => vec![("spurious new faces", |s| s.spurious_new_faces)],
+            RunPlot::Truth => Vec::new(),
         }
     }
 }
@@ -83,6 +89,7 @@ pub fn run_plots_ui(
     ui: &mut egui::Ui,
     shown: &mut RunPlot,
     summaries: &[StepSummary],
+    truth: &[TruthSample],
     baseline: Option<&[StepSummary]>,
     current: usize,
 ) -> Vec<Command> {
@@ -114,6 +121,21 @@ pub fn run_plots_ui(
                         .style(LineStyle::dashed_loose()),
                 );
             }
+        }
+        if *shown == RunPlot::Truth {
+            let curve = |f: fn(&TruthSample) -> f64| {
+                PlotPoints::from(
+                    truth
+                        .iter()
+                        .map(|t| [t.snapshot as f64, f(t)])
+                        .collect::<Vec<_>>(),
+                )
+            };
+            plot_ui.line(Line::new(
+                "spurious fraction",
+                curve(|t| t.spurious_fraction),
+            ));
+            plot_ui.line(Line::new("coverage", curve(|t| t.coverage)));
         }
         plot_ui.vline(VLine::new("snapshot shown", current as f64));
         plot_ui.pointer_coordinate()

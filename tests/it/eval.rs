@@ -126,3 +126,27 @@ fn an_empty_map_scores_zero() {
     );
     assert_eq!(r.mean_endpoint_error, None);
 }
+
+#[test]
+fn the_replays_truth_curve_samples_evals_figures_every_checkpoint_interval() {
+    use sonarmap::replay::Replay;
+    let run = sonarmap::log::load_run(
+        include_bytes!("../../assets/building.log.json"),
+        "building.log.json",
+    )
+    .unwrap();
+    let plan = run.floor_plan.clone().unwrap();
+    let params = sonarmap::mapping::Params::paper();
+    let replay =
+        Replay::build(std::sync::Arc::new(run), params.clone(), 50, &mut |_| true).unwrap();
+    let curve = replay.truth_curve();
+    // Steps 49, 99, …, 299 and the last, 304.
+    let at: Vec<usize> = curve.iter().map(|t| t.snapshot).collect();
+    assert_eq!(at, vec![49, 99, 149, 199, 249, 299, 304]);
+    let last = curve.last().unwrap();
+    let (spurious, coverage) = sonarmap::eval::truth_figures(replay.final_map(), &plan, &params);
+    assert_eq!(
+        (last.spurious_fraction, last.coverage),
+        (spurious, coverage)
+    );
+}
