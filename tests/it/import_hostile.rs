@@ -927,14 +927,12 @@ fn layouts_with_values_no_robot_has_are_refused_with_the_json_path() {
 
 // ------------------------------------------------------------------ what messages say
 
-#[test]
-fn control_characters_from_the_file_are_escaped_in_messages() {
-    // A frame id that would clear the screen: the layout has 2 sensors, the recording 4
-    // frames, and the error lists them.
+/// An MCAP of four range messages from frames `sonar_0` … `sonar_3`, each followed by `suffix`.
+fn mcap_with_frames_ending_in(suffix: &str) -> Vec<u8> {
     let mut b = mcap_start(b"/sonar_");
     for k in 0..4u16 {
         let t = 10.0 + 0.02 * k as f64;
-        let frame = format!("sonar_{k}\u{1b}[2J\u{7}");
+        let frame = format!("sonar_{k}{suffix}");
         b.extend(message_record(
             1 + k,
             0,
@@ -943,6 +941,14 @@ fn control_characters_from_the_file_are_escaped_in_messages() {
         ));
     }
     b.extend(mcap_end());
+    b
+}
+
+#[test]
+fn control_characters_from_the_file_are_escaped_in_messages() {
+    // A frame id that would clear the screen: the layout has 2 sensors, the recording 4
+    // frames, and the error lists them.
+    let b = mcap_with_frames_ending_in("\u{1b}[2J\u{7}");
     let two = parse_layout(
         br#"{"format": "sonarmap-layout", "version": 1, "units": "m",
              "robot": {"sonars": [{"x": 0, "y": 0, "heading_deg": 0}, {"x": 0, "y": 0, "heading_deg": 90}]}}"#,
@@ -1166,18 +1172,7 @@ fn the_command_line_exits_2_with_escaped_messages_on_hostile_files() {
     let mut tiny = MAGIC.to_vec();
     tiny.push(0x01);
     tiny.extend_from_slice(&[0xFF; 8]);
-    let mut esc = mcap_start(b"/sonar_");
-    for k in 0..4u16 {
-        let t = 10.0 + 0.02 * k as f64;
-        let frame = format!("sonar_{k}\u{1b}[2J");
-        esc.extend(message_record(
-            1 + k,
-            0,
-            t,
-            &range_msg(true, t, &frame, 1.0),
-        ));
-    }
-    esc.extend(mcap_end());
+    let esc = mcap_with_frames_ending_in("\u{1b}[2J");
     let json = br#"{"format": "sonarmap-log", "version": 1, "units": "\u001b[2J",
         "robot": {"radius": 1, "sonars": {"ring": {"count": 1, "spacing_deg": 0}}},
         "snapshots": [{"pose": {"x": 0, "y": 0, "heading_deg": 0}, "ranges": [1]}]}"#;
