@@ -57,6 +57,11 @@ pub struct BenchReport {
     pub svg_bytes_max: usize,
     /// Segments in the final map.
     pub final_segments: usize,
+    /// Seconds to build the replay (the whole run with checkpoints, step summaries, lineage
+    /// and, with a floor plan, the truth curve), as the inspector does on opening a run.
+    pub replay_build_s: f64,
+    /// The longest time to list any segment's lineage (every segment ever made), milliseconds.
+    pub lineage_ms_max: f64,
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -154,6 +159,7 @@ pub fn bench(
         drop(loaded);
     }
     alloc_count::start_counting();
+    let start = Instant::now();
     let replay = Replay::build(
         Arc::new(run.clone()),
         params.clone(),
@@ -161,7 +167,17 @@ pub fn bench(
         &mut |_| true,
     )
     .expect("never cancelled");
+    let replay_build_s = start.elapsed().as_secs_f64();
     alloc_count::stop_counting();
+    // Every segment's lineage, as the inspector lists it (the events and their snapshots).
+    let mut lineage_ms_max: f64 = 0.0;
+    for id in 0..replay.final_map().next_segment_id {
+        let start = Instant::now();
+        let events = replay.lineage().of(id, n - 1);
+        let rows: usize = events.iter().map(|e| format!("{e:?}").len()).sum();
+        std::hint::black_box(rows);
+        lineage_ms_max = lineage_ms_max.max(start.elapsed().as_secs_f64() * 1e3);
+    }
     let checkpoint_bytes = alloc_count::counted_bytes().max(0) as usize;
     let interval = replay.checkpoint_interval();
     // Seek to snapshots spread over the run, each the worst place after a checkpoint.
@@ -232,5 +248,7 @@ pub fn bench(
         svg_ms_median: median(svgs),
         svg_bytes_max,
         final_segments: replay.final_map().segments.len(),
+        replay_build_s,
+        lineage_ms_max,
     }
 }
