@@ -128,7 +128,21 @@ pub fn segment_verdict(s: &Segment, floor_plan: &FloorPlan, params: &Params) -> 
     let (ta, tb) = (tol(s.a.range_m), tol(s.b.range_m));
     let dir = s.b.point - s.a.point;
     let mut best: Option<(usize, f64, f64)> = None;
+    // Distance from `p` to the wall's bounding box: no more than to the wall itself, and cheap,
+    // so most walls are passed over before the exact test.
+    let off_box = |p: &crate::geometry::Point, w: &crate::run::Wall| {
+        let dx = (w.a.x.min(w.b.x) - p.x)
+            .max(p.x - w.a.x.max(w.b.x))
+            .max(0.0);
+        let dy = (w.a.y.min(w.b.y) - p.y)
+            .max(p.y - w.a.y.max(w.b.y))
+            .max(0.0);
+        dx.hypot(dy)
+    };
     for (i, w) in floor_plan.walls.iter().enumerate() {
+        if off_box(&s.a.point, w) > ta || off_box(&s.b.point, w) > tb {
+            continue;
+        }
         let da = distance_to_segment(&s.a.point, &w.a, &w.b);
         let db = distance_to_segment(&s.b.point, &w.a, &w.b);
         let angle = line_angle_between(&dir, &(w.b - w.a));

@@ -155,6 +155,10 @@ pub struct Replay {
     truth_curve: Vec<TruthSample>,
 }
 
+/// Most samples of the truth curve in a replay: a `paper` map of a long run holds hundreds of
+/// thousands of segments, each tested against every wall.
+pub const TRUTH_SAMPLES: usize = 32;
+
 /// The map's figures against the floor plan after one step (`eval`'s spurious fraction and
 /// coverage), sampled at the replay's checkpoints.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -194,6 +198,7 @@ impl Replay {
         let mut failure = None;
         let mut lineage = Lineage::default();
         let mut truth_curve = Vec::new();
+        let truth_every = interval.max(run.snapshots.len().div_ceil(TRUTH_SAMPLES));
         for (k, snapshot) in run.snapshots.iter().enumerate() {
             if k % interval == 0 {
                 checkpoints.push(mapper.state());
@@ -203,9 +208,10 @@ impl Replay {
                     let mut summary = StepSummary::of(&trace, mapper.map().segments.len());
                     if let Some(plan) = &run.floor_plan {
                         summary.count_spurious_new_faces(&trace, mapper.map(), plan, &params);
-                        // The whole map against the plan costs a pass over it: once a
-                        // checkpoint interval, and at the last step.
-                        if k % interval == interval - 1 || k + 1 == run.snapshots.len() {
+                        // The whole map against the plan costs a pass over it (times the
+                        // walls): once a checkpoint interval, at most TRUTH_SAMPLES times, and
+                        // at the last step.
+                        if (k + 1) % truth_every == 0 || k + 1 == run.snapshots.len() {
                             let (spurious_fraction, coverage) =
                                 truth_figures(mapper.map(), plan, &params);
                             truth_curve.push(TruthSample {
@@ -250,8 +256,8 @@ impl Replay {
         Ok(replay)
     }
 
-    /// The map's spurious fraction and coverage at every checkpoint interval (with a floor
-    /// plan; empty without).
+    /// The map's spurious fraction and coverage every checkpoint interval, or at most
+    /// [`TRUTH_SAMPLES`] times, and at the last step (with a floor plan; empty without).
     pub fn truth_curve(&self) -> &[TruthSample] {
         &self.truth_curve
     }
