@@ -822,6 +822,21 @@ fn the_run_plots_open_under_the_timeline_and_switch_curves() {
         h.state().settings().run_plot,
         sonarmap::app::RunPlot::Decisions
     );
+    // A click in the plot, halfway along, goes to the snapshot under it.
+    assert_eq!(h.state().current(), 0);
+    let choices = h.get_by_label("Segments").rect();
+    let at = egui::pos2(700.0, choices.bottom() + 60.0);
+    h.hover_at(at);
+    h.run();
+    h.drag_at(at);
+    h.drop_at(at);
+    h.run();
+    let k = h.state().current();
+    let len = h.state().len();
+    assert!(
+        k > len / 4 && k < 3 * len / 4,
+        "a click halfway along the plot went to snapshot {k} of {len}"
+    );
 }
 
 #[test]
