@@ -62,6 +62,8 @@ pub struct BenchReport {
     pub replay_build_s: f64,
     /// The longest time to list any segment's lineage (every segment ever made), milliseconds.
     pub lineage_ms_max: f64,
+    /// A frame of the run plots panel (1400 × 170 points, each plot, tessellated), median, ms.
+    pub plots_frame_ms_median: f64,
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -228,6 +230,16 @@ pub fn bench(
         svgs.push(start.elapsed().as_secs_f64() * 1e3);
         svg_bytes_max = svg_bytes_max.max(svg.len());
     }
+    // The run plots panel under the timeline, every plot, at the run's last snapshot.
+    let mut plots = crate::app::HeadlessRunPlots::new(1400.0, 170.0);
+    let mut plot_frames = Vec::new();
+    for plot in crate::app::RunPlot::ALL {
+        for _ in 0..3 {
+            let start = Instant::now();
+            plots.frame(plot, replay.summaries(), replay.truth_curve(), n - 1);
+            plot_frames.push(start.elapsed().as_secs_f64() * 1e3);
+        }
+    }
     BenchReport {
         params: params.to_file(crate::units::Units::Metres),
         cores: std::thread::available_parallelism().map_or(1, |c| c.get()),
@@ -250,5 +262,6 @@ pub fn bench(
         final_segments: replay.final_map().segments.len(),
         replay_build_s,
         lineage_ms_max,
+        plots_frame_ms_median: median(plot_frames),
     }
 }

@@ -3,6 +3,8 @@
 //! get them. `sonarmap bench` times frames with it; tests count what a frame draws.
 
 use super::map_view::{map_view_ui, MapViewState, ViewRequest};
+use super::run_plots::{run_plots_ui, RunPlot};
+use crate::replay::{StepSummary, TruthSample};
 use crate::scene::{Scene, SceneId};
 use crate::units::Units;
 
@@ -20,6 +22,66 @@ pub struct FrameStats {
     pub shapes: usize,
     /// Triangle-mesh vertices after tessellation.
     pub vertices: usize,
+}
+
+/// Runs `ui` for one frame on a fixed screen of `size_px` and tessellates what it painted.
+fn tessellated_frame(
+    ctx: &egui::Context,
+    size_px: (f32, f32),
+    ui: impl FnMut(&mut egui::Ui),
+) -> FrameStats {
+    let input = egui::RawInput {
+        screen_rect: Some(egui::Rect::from_min_size(
+            egui::Pos2::ZERO,
+            egui::vec2(size_px.0, size_px.1),
+        )),
+        ..Default::default()
+    };
+    let mut output = ctx.run_ui(input, ui);
+    let clipped = std::mem::take(&mut output.shapes);
+    let pixels_per_point = output.pixels_per_point;
+    // No renderer holds textures here: the font atlas updates are dropped.
+    output.drop_without_applying_deltas();
+    let shapes = clipped.len();
+    let meshes = ctx.tessellate(clipped, pixels_per_point);
+    let vertices = meshes
+        .iter()
+        .map(|m| match &m.primitive {
+            egui::epaint::Primitive::Mesh(mesh) => mesh.vertices.len(),
+            egui::epaint::Primitive::Callback(_) => 0,
+        })
+        .sum();
+    FrameStats { shapes, vertices }
+}
+
+/// The run plots panel drawn without a window, for `sonarmap bench`.
+pub struct HeadlessRunPlots {
+    ctx: egui::Context,
+    size_px: (f32, f32),
+}
+
+impl HeadlessRunPlots {
+    /// A panel of `width × height` points.
+    pub fn new(width: f32, height: f32) -> Self {
+        Self {
+            ctx: egui::Context::default(),
+            size_px: (width, height),
+        }
+    }
+
+    /// One frame of the panel showing `plot` of `summaries` (and `truth`) at snapshot `current`.
+    pub fn frame(
+        &mut self,
+        plot: RunPlot,
+        summaries: &[StepSummary],
+        truth: &[TruthSample],
+        current: usize,
+    ) -> FrameStats {
+        let mut shown = plot;
+        tessellated_frame(&self.ctx, self.size_px, |ui| {
+            run_plots_ui(ui, &mut shown, summaries, truth, None, current);
+        })
+    }
 }
 
 impl HeadlessMapView {
@@ -43,30 +105,9 @@ impl HeadlessMapView {
 
     /// Runs one frame of the map view showing `scene` and tessellates it.
     pub fn frame(&mut self, scene: &Scene, units: Units) -> FrameStats {
-        let input = egui::RawInput {
-            screen_rect: Some(egui::Rect::from_min_size(
-                egui::Pos2::ZERO,
-                egui::vec2(self.size_px.0, self.size_px.1),
-            )),
-            ..Default::default()
-        };
         let state = &mut self.state;
-        let mut output = self.ctx.run_ui(input, |ui| {
+        tessellated_frame(&self.ctx, self.size_px, |ui| {
             map_view_ui(ui, scene, units, state, SceneId::None, &|_| None, None);
-        });
-        let clipped = std::mem::take(&mut output.shapes);
-        let pixels_per_point = output.pixels_per_point;
-        // No renderer holds textures here: the font atlas updates are dropped.
-        output.drop_without_applying_deltas();
-        let shapes = clipped.len();
-        let meshes = self.ctx.tessellate(clipped, pixels_per_point);
-        let vertices = meshes
-            .iter()
-            .map(|m| match &m.primitive {
-                egui::epaint::Primitive::Mesh(mesh) => mesh.vertices.len(),
-                egui::epaint::Primitive::Callback(_) => 0,
-            })
-            .sum();
-        FrameStats { shapes, vertices }
+        })
     }
 }

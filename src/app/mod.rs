@@ -45,7 +45,7 @@ pub use app::SonarApp;
 pub use bookmarks::{bookmarks_path, Bookmark};
 pub use command::Command;
 pub use decisions::{decision_row_text, DecisionFilter};
-pub use headless::{FrameStats, HeadlessMapView};
+pub use headless::{FrameStats, HeadlessMapView, HeadlessRunPlots};
 pub use inspector::{describe_id, outcome_name, CompareState};
 pub use jobs::BACKGROUND_MIN_SNAPSHOTS;
 pub use loaded::Source;

@@ -30,7 +30,8 @@ pub enum RunPlot {
 }
 
 impl RunPlot {
-    const ALL: [RunPlot; 5] = [
+    /// Every plot.
+    pub const ALL: [RunPlot; 5] = [
         RunPlot::Segments,
         RunPlot::Decisions,
         RunPlot::Readings,
