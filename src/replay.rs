@@ -45,6 +45,10 @@ pub struct StepSummary {
     /// New faces whose segment `eval` calls spurious right after the step (with a floor plan).
     #[serde(default)]
     pub spurious_new_faces: u32,
+    /// Map segments offered as candidates to the step's new segments, summed: the step's
+    /// matching work.
+    #[serde(default)]
+    pub candidates: u32,
 }
 
 impl StepSummary {
@@ -71,6 +75,7 @@ impl StepSummary {
             warnings: trace.warnings.len() as u32,
             segments: segments as u32,
             spurious_new_faces: 0,
+            candidates: 0,
         }
     }
 
@@ -206,6 +211,7 @@ impl Replay {
             match mapper.try_step(snapshot) {
                 Ok(trace) => {
                     let mut summary = StepSummary::of(&trace, mapper.map().segments.len());
+                    summary.candidates = mapper.last_step_candidates() as u32;
                     if let Some(plan) = &run.floor_plan {
                         summary.count_spurious_new_faces(&trace, mapper.map(), plan, &params);
                         // The whole map against the plan costs a pass over it (times the

@@ -22,6 +22,8 @@ pub enum RunPlot {
     Decisions,
     /// Readings kept and discarded.
     Readings,
+    /// The step's matching work: candidates offered to its new segments.
+    StepCost,
     /// New faces that `eval` calls spurious (with a floor plan).
     Spurious,
     /// The map's spurious fraction and coverage (with a floor plan; sampled every checkpoint
@@ -31,10 +33,11 @@ pub enum RunPlot {
 
 impl RunPlot {
     /// Every plot.
-    pub const ALL: [RunPlot; 5] = [
+    pub const ALL: [RunPlot; 6] = [
         RunPlot::Segments,
         RunPlot::Decisions,
         RunPlot::Readings,
+        RunPlot::StepCost,
         RunPlot::Spurious,
         RunPlot::Truth,
     ];
@@ -44,6 +47,7 @@ impl RunPlot {
             RunPlot::Segments => "Segments",
             RunPlot::Decisions => "Decisions",
             RunPlot::Readings => "Readings",
+            RunPlot::StepCost => "Step cost",
             RunPlot::Spurious => "Spurious new faces",
             RunPlot::Truth => "Spurious fraction, coverage",
         }
@@ -60,6 +64,7 @@ impl RunPlot {
                 ("new face", |s| s.new_faces),
             ],
             RunPlot::Readings => vec![("kept", |s| s.kept), ("discarded", |s| s.discarded)],
+            RunPlot::StepCost => vec![("candidates offered", |s| s.candidates)],
             RunPlot::Spurious => vec![("spurious new faces", |s| s.spurious_new_faces)],
             RunPlot::Truth => Vec::new(),
         }

@@ -161,6 +161,12 @@ impl Mapper {
         &self.params
     }
 
+    /// The map segments the last step offered its new segments as candidates, summed over them:
+    /// the step's matching work (what grows with a map that piles up copies of its walls).
+    pub fn last_step_candidates(&self) -> usize {
+        self.buffers.candidates.len()
+    }
+
     /// Index the next step will get.
     pub fn next_snapshot(&self) -> usize {
         self.next_snapshot

@@ -258,3 +258,19 @@ fn a_new_face_whose_first_segment_was_merged_away_in_the_same_snapshot_keeps_its
         assert!(rejoined > 0, "the run still meets the scene that panicked");
     }
 }
+
+#[test]
+fn a_steps_cost_counts_at_least_every_candidate_its_decisions_tested() {
+    use sonarmap::replay::Replay;
+    let run = sonarmap::soak::family_run(sonarmap::sim::SceneKind::CorridorWithDoors, 9, 300);
+    let replay = Replay::new(std::sync::Arc::new(run), Params::paper());
+    let mut offered_any = false;
+    for k in (0..replay.len()).step_by(7) {
+        let view = replay.view(k).unwrap();
+        let tested: usize = view.trace.decisions.iter().map(|d| d.mpc_stage.len()).sum();
+        let cost = replay.summaries()[k].candidates as usize;
+        assert!(cost >= tested, "step {k}: {cost} offered, {tested} tested");
+        offered_any |= cost > 0;
+    }
+    assert!(offered_any);
+}
