@@ -746,6 +746,18 @@ fn a_segments_lineage_leads_to_the_decision_that_made_it() {
         panic!("segment #{} was made by a decision", seg.id);
     };
     assert_eq!(snapshot, seg.created);
+    // Its updates are listed too, each a button.
+    let updates = replay
+        .lineage()
+        .of(seg.id, last)
+        .iter()
+        .filter(|e| matches!(e, LineageEvent::Updated { .. }))
+        .count();
+    assert!(updates >= 1);
+    assert!(
+        h.query_all_by_label_contains(" by n").count() >= updates,
+        "an update row for each update"
+    );
     h.get_by_label(&format!(
         "snapshot {snapshot}: made by n{new_segment} (new face)"
     ))
