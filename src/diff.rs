@@ -476,6 +476,61 @@ mod tests {
     }
 
     #[test]
+    fn one_theta_change_makes_one_direct_difference_and_many_consequential_ones() {
+        use crate::sonar::SensorMount;
+        // Three sonars at x = 0, 1, 2 m facing +y: reading k lands at (k, D_k). Snapshot 0
+        // sees a wall along y = 2; snapshots 1 to 6 see a line tilted by atan(0.18) = 10.2°,
+        // 0.08 m off at its mid-point (colinearity threshold 0.06 + 0.015·4.16 = 0.122 m).
+        // θ_o = 15° matches it, θ_o = 5° dismisses it (it fails only the orientation test):
+        // a direct difference at snapshot 1. From then on the maps differ (A's wall was
+        // updated, B's was not), so every later difference is consequential.
+        let layout = SensorLayout {
+            mounts: (0..3)
+                .map(|k| SensorMount {
+                    x_m: f64::from(k),
+                    y_m: 0.0,
+                    heading_rad: std::f64::consts::FRAC_PI_2,
+                })
+                .collect(),
+        };
+        let snap = |t: f64, ranges: [f64; 3]| Snapshot {
+            t,
+            pose: Pose::new(0.0, 0.0, 0.0),
+            ranges_m: ranges.iter().map(|&r| Some(r)).collect(),
+        };
+        let mut snapshots = vec![snap(0.0, [2.0, 2.0, 2.0])];
+        snapshots.extend((1..=6).map(|t| snap(f64::from(t), [1.9, 2.08, 2.26])));
+        let run = Run {
+            name: "tilted".into(),
+            units: Units::Metres,
+            robot_radius_m: None,
+            layout,
+            sensor: SensorSpec::default(),
+            floor_plan: None,
+            snapshots,
+        };
+        let wide = Params::paper();
+        let narrow = Params {
+            orientation_rad: 5f64.to_radians(),
+            ..Params::paper()
+        };
+        let d = diff_run(&run, &wide, &narrow, &mut |_| true);
+        assert_eq!(d.first_difference, Some(1));
+        assert_eq!(d.direct, 1, "{:?}", d.decisions);
+        assert_eq!(d.direct_snapshots, vec![1]);
+        let first = &d.decisions[0];
+        assert_eq!(first.kind, DifferenceKind::Outcome);
+        assert_eq!(first.a.unwrap().outcome, Outcome::Match);
+        assert_eq!(first.b.unwrap().outcome, Outcome::Dismissed);
+        assert!(d.consequential >= 5, "{:?}", d.decisions);
+        assert!(d
+            .decisions
+            .iter()
+            .filter(|x| x.snapshot > 1)
+            .all(|x| x.cause == Cause::Consequential));
+    }
+
+    #[test]
     fn the_maps_kept_are_the_ones_each_parameter_set_makes_alone() {
         let run = two_wall_views();
         let loose = Params {
