@@ -403,7 +403,8 @@ mod tests {
             assert_eq!(view.previous, previous, "previous {k}");
             // The build steps with the slim trace; its summaries are the full trace's.
             let segments = mapper.map().segments.len();
-            let summary = StepSummary::of(&trace, segments);
+            let mut summary = StepSummary::of(&trace, segments);
+            summary.candidates = mapper.last_step_candidates() as u32;
             assert_eq!(replay.summaries()[k], summary, "summary {k}");
             previous = Some(trace);
         }
