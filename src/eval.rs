@@ -202,7 +202,9 @@ struct MapPart {
 }
 
 impl MapPart {
-    fn of(map: &Map, floor_plan: &FloorPlan, params: &Params) -> Self {
+    /// The figures of `map` from `verdicts`, the verdicts on its fitted segments in map order
+    /// ([`map_verdicts`]).
+    fn of(map: &Map, floor_plan: &FloorPlan, verdicts: &[(SegmentId, Verdict)]) -> Self {
         let walls = &floor_plan.walls;
         let mut part = MapPart {
             fitted: 0,
@@ -213,13 +215,12 @@ impl MapPart {
             angle_n: 0,
             covered: vec![Vec::new(); walls.len()],
         };
-        for s in map
-            .segments
+        for (s, verdict) in verdicts
             .iter()
-            .filter(|s| s.kind == SegmentKind::Fitted)
+            .filter_map(|(id, v)| map.segment(*id).map(|s| (s, v)))
         {
             part.fitted += 1;
-            match segment_verdict(s, floor_plan, params) {
+            match *verdict {
                 Verdict::OnWall {
                     wall,
                     endpoint_error_m,
@@ -258,9 +259,14 @@ impl MapPart {
 }
 
 /// The spurious fraction and the coverage of `eval` for `map` (without the visibility figures,
-/// which need the whole run): the figures the inspector shows for the snapshot on screen.
-pub fn truth_figures(map: &Map, floor_plan: &FloorPlan, params: &Params) -> (f64, f64) {
-    let part = MapPart::of(map, floor_plan, params);
+/// which need the whole run), from `verdicts` ([`map_verdicts`]): the figures the inspector
+/// shows for the snapshot on screen.
+pub fn truth_figures(
+    map: &Map,
+    floor_plan: &FloorPlan,
+    verdicts: &[(SegmentId, Verdict)],
+) -> (f64, f64) {
+    let part = MapPart::of(map, floor_plan, verdicts);
     let (mut wall_length, mut covered_length) = (0.0, 0.0);
     for (w, covered) in floor_plan.walls.iter().zip(part.covered.iter()) {
         let len = (w.b - w.a).norm();
@@ -281,7 +287,7 @@ pub fn evaluate(map: &Map, run: &Run, floor_plan: &FloorPlan, params: &Params) -
     let floor_m = inches(1.0);
     let tol = |range_m: f64| (params.accuracy_pct * range_m / 100.0).max(floor_m);
     let walls = &floor_plan.walls;
-    let part = MapPart::of(map, floor_plan, params);
+    let part = MapPart::of(map, floor_plan, &map_verdicts(map, floor_plan, params));
     let spurious_fraction = part.spurious_fraction();
     let MapPart {
         fitted,

@@ -5,7 +5,7 @@
 //! of every step (for timeline marks); [`Replay::view`] then replays at most `interval + 1`
 //! steps from the nearest checkpoint.
 
-use crate::eval::{segment_verdict, truth_figures};
+use crate::eval::{map_verdicts, segment_verdict, truth_figures};
 use crate::lineage::Lineage;
 use crate::mapping::trace::{Outcome, StepTrace};
 use crate::mapping::{Map, Mapper, MapperState, Params, StepFailure};
@@ -218,8 +218,9 @@ impl Replay {
                         // walls): once a checkpoint interval, at most TRUTH_SAMPLES times, and
                         // at the last step.
                         if (k + 1) % truth_every == 0 || k + 1 == run.snapshots.len() {
-                            let (spurious_fraction, coverage) =
-                                truth_figures(mapper.map(), plan, &params);
+                            let map = mapper.map();
+                            let verdicts = map_verdicts(map, plan, &params);
+                            let (spurious_fraction, coverage) = truth_figures(map, plan, &verdicts);
                             truth_curve.push(TruthSample {
                                 snapshot: k,
                                 spurious_fraction,

@@ -23,9 +23,10 @@ impl TruthView {
     /// The truth of `view` under `params`; `None` when `run` has no floor plan.
     pub fn of(run: &Run, view: &StepView, params: &Params) -> Option<Self> {
         let plan = run.floor_plan.as_ref()?;
-        let (spurious_fraction, coverage) = truth_figures(&view.map_after, plan, params);
+        let verdicts = map_verdicts(&view.map_after, plan, params);
+        let (spurious_fraction, coverage) = truth_figures(&view.map_after, plan, &verdicts);
         Some(Self {
-            verdicts: map_verdicts(&view.map_after, plan, params),
+            verdicts,
             spurious_fraction,
             coverage,
         })

@@ -663,7 +663,8 @@ fn the_truth_layer_and_status_bar_show_evals_verdicts_on_the_map_shown() {
         .expect("the building has a floor plan");
     let params = h.state().shown_params().clone();
     let map = h.state().step_view().expect("a view").map_after.clone();
-    let (spurious, coverage) = truth_figures(&map, &plan, &params);
+    let verdicts = sonarmap::eval::map_verdicts(&map, &plan, &params);
+    let (spurious, coverage) = truth_figures(&map, &plan, &verdicts);
     let truth = h.state().truth().expect("truth with a floor plan");
     assert_eq!(
         (truth.spurious_fraction, truth.coverage),

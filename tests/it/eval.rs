@@ -144,7 +144,9 @@ fn the_replays_truth_curve_samples_evals_figures_every_checkpoint_interval() {
     let at: Vec<usize> = curve.iter().map(|t| t.snapshot).collect();
     assert_eq!(at, vec![49, 99, 149, 199, 249, 299, 304]);
     let last = curve.last().unwrap();
-    let (spurious, coverage) = sonarmap::eval::truth_figures(replay.final_map(), &plan, &params);
+    let map = replay.final_map();
+    let verdicts = sonarmap::eval::map_verdicts(map, &plan, &params);
+    let (spurious, coverage) = sonarmap::eval::truth_figures(map, &plan, &verdicts);
     assert_eq!(
         (last.spurious_fraction, last.coverage),
         (spurious, coverage)
