@@ -14,7 +14,8 @@ use serde::Serialize;
 use std::sync::Arc;
 use std::time::Instant;
 
-/// The figures, as `bench` prints them.
+/// The figures, as `bench` prints them: the engine's always, the inspector's unless
+/// `--engine-only`.
 #[derive(Clone, Debug, Serialize)]
 pub struct BenchReport {
     /// Cores of the machine.
@@ -23,12 +24,37 @@ pub struct BenchReport {
     pub snapshots: usize,
     /// The parameters measured (a `--params` file's fields, in metres and degrees).
     pub params: crate::mapping::ParamsFile,
+    /// The engine alone.
+    #[serde(flatten)]
+    pub engine: EngineFigures,
+    /// The inspector's figures (absent with `--engine-only`).
+    #[serde(flatten)]
+    pub inspector: Option<InspectorFigures>,
+}
+
+/// What the mapper costs, trace off and on.
+#[derive(Clone, Debug, Serialize)]
+pub struct EngineFigures {
     /// Mapper steps per second with the trace off (median).
     pub engine_snapshots_per_s_trace_off: f64,
     /// Mapper steps per second with the full trace (median).
     pub engine_snapshots_per_s_trace_on: f64,
     /// Time of the last tenth of the run over the first tenth (median, trace off).
     pub engine_last_tenth_over_first_tenth: f64,
+    /// Candidates offered to the matching tests in the first tenth of the run, per snapshot.
+    pub candidates_per_snapshot_first_tenth: f64,
+    /// The same in the last tenth.
+    pub candidates_per_snapshot_last_tenth: f64,
+    /// Time per offered candidate, last tenth over first tenth (median, trace off): whether
+    /// the cost of one test stays flat while the map grows.
+    pub cost_per_candidate_last_tenth_over_first_tenth: f64,
+    /// Segments in the final map.
+    pub final_segments: usize,
+}
+
+/// What the inspector costs on the run: loading, replay, seeking, frames, SVG.
+#[derive(Clone, Debug, Serialize)]
+pub struct InspectorFigures {
     /// Seconds to parse and validate the run's JSON (median).
     pub load_s: f64,
     /// Peak heap during loading over the file size (0 when the counting allocator is absent).
@@ -55,8 +81,6 @@ pub struct BenchReport {
     pub svg_ms_median: f64,
     /// Largest size of those SVGs, bytes.
     pub svg_bytes_max: usize,
-    /// Segments in the final map.
-    pub final_segments: usize,
     /// Seconds to build the replay (the whole run with checkpoints, step summaries, lineage
     /// and, with a floor plan, the truth curve), as the inspector does on opening a run.
     pub replay_build_s: f64,
@@ -105,53 +129,123 @@ pub fn back_and_forth(lap: &Run, snapshots: usize) -> Run {
     run
 }
 
-/// Steps a mapper over `run`, returning total seconds and the seconds of the first and last tenth.
-fn time_engine(run: &Run, params: &Params, trace: bool) -> (f64, f64, f64) {
+/// One pass of the mapper over a run: total seconds, and the seconds and offered candidates
+/// of its first and last tenth.
+struct EnginePass {
+    total_s: f64,
+    first_s: f64,
+    last_s: f64,
+    first_candidates: usize,
+    last_candidates: usize,
+    final_segments: usize,
+}
+
+/// Steps a mapper over `run` with the trace on or off.
+fn time_engine(run: &Run, params: &Params, trace: bool) -> EnginePass {
     let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor).with_trace(trace);
     let n = run.snapshots.len();
     let tenth = (n / 10).max(1);
-    let (mut first, mut last) = (0.0, 0.0);
+    let mut pass = EnginePass {
+        total_s: 0.0,
+        first_s: 0.0,
+        last_s: 0.0,
+        first_candidates: 0,
+        last_candidates: 0,
+        final_segments: 0,
+    };
     let start = Instant::now();
     let mut mark = start;
     for (k, s) in run.snapshots.iter().enumerate() {
         std::hint::black_box(mapper.step(s));
+        if k < tenth {
+            pass.first_candidates += mapper.last_step_candidates();
+        } else if k >= n - tenth {
+            pass.last_candidates += mapper.last_step_candidates();
+        }
         if k + 1 == tenth {
-            first = mark.elapsed().as_secs_f64();
+            pass.first_s = mark.elapsed().as_secs_f64();
         }
         if k + 1 == n - tenth {
             mark = Instant::now();
         }
     }
     if n >= 2 * tenth {
-        last = mark.elapsed().as_secs_f64();
+        pass.last_s = mark.elapsed().as_secs_f64();
     }
-    (start.elapsed().as_secs_f64(), first, last)
+    pass.total_s = start.elapsed().as_secs_f64();
+    pass.final_segments = mapper.map().segments.len();
+    pass
+}
+
+fn ratio(num: f64, den: f64) -> f64 {
+    if den > 0.0 {
+        num / den
+    } else {
+        0.0
+    }
+}
+
+/// The engine's figures on `run` (`repeats` runs each, medians).
+pub fn bench_engine(run: &Run, params: &Params, repeats: usize) -> EngineFigures {
+    let n = run.snapshots.len();
+    let tenth = (n / 10).max(1) as f64;
+    let (mut off, mut on, mut tenths, mut per_candidate) = (vec![], vec![], vec![], vec![]);
+    let mut last_pass = None;
+    for _ in 0..repeats.max(1) {
+        let pass = time_engine(run, params, false);
+        off.push(n as f64 / pass.total_s);
+        tenths.push(ratio(pass.last_s, pass.first_s));
+        per_candidate.push(ratio(
+            pass.last_s / pass.last_candidates.max(1) as f64,
+            pass.first_s / pass.first_candidates.max(1) as f64,
+        ));
+        on.push(n as f64 / time_engine(run, params, true).total_s);
+        last_pass = Some(pass);
+    }
+    let pass = last_pass.expect("at least one repeat");
+    EngineFigures {
+        engine_snapshots_per_s_trace_off: median(off),
+        engine_snapshots_per_s_trace_on: median(on),
+        engine_last_tenth_over_first_tenth: median(tenths),
+        candidates_per_snapshot_first_tenth: pass.first_candidates as f64 / tenth,
+        candidates_per_snapshot_last_tenth: pass.last_candidates as f64 / tenth,
+        cost_per_candidate_last_tenth_over_first_tenth: median(per_candidate),
+        final_segments: pass.final_segments,
+    }
 }
 
 /// Measures everything on `run` (`repeats` runs each; the median is reported), the replay
-/// keeping a checkpoint every `checkpoint_interval` snapshots.
+/// keeping a checkpoint every `checkpoint_interval` snapshots; with `engine_only`, the engine
+/// alone.
 pub fn bench(
     run: &Run,
     params: &Params,
     repeats: usize,
     checkpoint_interval: usize,
+    engine_only: bool,
 ) -> BenchReport {
-    let repeats = repeats.max(1);
-    let n = run.snapshots.len();
-    let mut off = Vec::new();
-    let mut on = Vec::new();
-    let mut ratio = Vec::new();
-    for _ in 0..repeats {
-        let (total, first, last) = time_engine(run, params, false);
-        off.push(n as f64 / total);
-        ratio.push(if first > 0.0 { last / first } else { 0.0 });
-        let (total, _, _) = time_engine(run, params, true);
-        on.push(n as f64 / total);
+    BenchReport {
+        params: params.to_file(crate::units::Units::Metres),
+        cores: std::thread::available_parallelism().map_or(1, |c| c.get()),
+        snapshots: run.snapshots.len(),
+        engine: bench_engine(run, params, repeats),
+        inspector: (!engine_only)
+            .then(|| bench_inspector(run, params, repeats, checkpoint_interval)),
     }
+}
+
+/// The inspector's figures on `run`.
+fn bench_inspector(
+    run: &Run,
+    params: &Params,
+    repeats: usize,
+    checkpoint_interval: usize,
+) -> InspectorFigures {
+    let n = run.snapshots.len();
     let json = save_run(run);
     let mut loads = Vec::new();
     let mut peak = 0usize;
-    for _ in 0..repeats {
+    for _ in 0..repeats.max(1) {
         alloc_count::start_counting();
         let start = Instant::now();
         let loaded = load_run(json.as_bytes(), "bench");
@@ -240,13 +334,7 @@ pub fn bench(
             plot_frames.push(start.elapsed().as_secs_f64() * 1e3);
         }
     }
-    BenchReport {
-        params: params.to_file(crate::units::Units::Metres),
-        cores: std::thread::available_parallelism().map_or(1, |c| c.get()),
-        snapshots: n,
-        engine_snapshots_per_s_trace_off: median(off),
-        engine_snapshots_per_s_trace_on: median(on),
-        engine_last_tenth_over_first_tenth: median(ratio),
+    InspectorFigures {
         load_s: median(loads),
         load_peak_memory_over_file_size: peak as f64 / json.len() as f64,
         file_bytes: json.len(),
@@ -259,7 +347,6 @@ pub fn bench(
         frame_vertices_max: vertices_max,
         svg_ms_median: median(svgs),
         svg_bytes_max,
-        final_segments: replay.final_map().segments.len(),
         replay_build_s,
         lineage_ms_max,
         plots_frame_ms_median: median(plot_frames),

@@ -121,9 +121,40 @@ pub struct BenchArgs {
     /// Snapshots between the replay's checkpoints (default: the inspector's).
     #[arg(long, default_value_t = sonarmap::replay::DEFAULT_CHECKPOINT_INTERVAL)]
     pub checkpoint_interval: usize,
-    /// Mapping parameters.
-    #[command(flatten)]
-    pub params: ParamArgs,
+    /// Repeat each run's snapshots, lap after lap, to this many snapshots (each lap starts
+    /// again at the first pose; `t` counts snapshots): a robot patrolling the same walls.
+    #[arg(long, value_name = "N")]
+    pub laps: Option<usize>,
+    /// Measure the engine alone (no loading, replay, seek, frame or SVG figures).
+    #[arg(long)]
+    pub engine_only: bool,
+    /// A parameters file (docs/formats.md §6), applied on top of each preset.
+    #[arg(long, value_name = "P.json")]
+    pub params: Option<PathBuf>,
+    /// The parameter preset, or `all` for one line per preset.
+    #[arg(long, value_enum, default_value = "paper")]
+    pub preset: BenchPresetArg,
+}
+
+/// `bench --preset`: one preset, or every one.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum BenchPresetArg {
+    /// The paper alone.
+    Paper,
+    /// The paper with every extension.
+    Extended,
+    /// Every preset, one JSON line each.
+    All,
+}
+
+impl BenchPresetArg {
+    fn presets(self) -> Vec<PresetArg> {
+        match self {
+            BenchPresetArg::Paper => vec![PresetArg::Paper],
+            BenchPresetArg::Extended => vec![PresetArg::Extended],
+            BenchPresetArg::All => vec![PresetArg::Paper, PresetArg::Extended],
+        }
+    }
 }
 
 const EVAL_HELP: &str = "Compare the map of a log with its floor plan; prints one JSON object.
@@ -779,48 +810,85 @@ fn soak_command(args: &SoakArgs) -> Result<()> {
 }
 
 fn bench_command(args: &BenchArgs) -> Result<()> {
-    let params = read_params(&args.params)?;
-    let measure = |run: &Run| -> Result<sonarmap::bench::BenchReport> {
+    let presets: Vec<(PresetArg, Params)> = args
+        .preset
+        .presets()
+        .into_iter()
+        .map(|preset| {
+            let params = read_params(&ParamArgs {
+                params: args.params.clone(),
+                preset,
+            })?;
+            Ok((preset, params))
+        })
+        .collect::<Result<_>>()?;
+    let prepare = |run: Run| -> Result<Run> {
+        let run = match args.laps {
+            Some(n) => sonarmap::sim::repeat_laps(&run, n),
+            None => run,
+        };
         if run.snapshots.is_empty() {
             bail!("the run has no snapshot to measure");
         }
-        Ok(sonarmap::bench::bench(
+        Ok(run)
+    };
+    let measure = |run: &Run, params: &Params| {
+        sonarmap::bench::bench(
             run,
-            &params,
+            params,
             args.repeats,
             args.checkpoint_interval,
-        ))
+            args.engine_only,
+        )
     };
-    if args.logs.len() <= 1 {
-        let run = match args.logs.first() {
-            Some(path) => read_run(path)?,
-            None => sonarmap::bench::building_run(args.snapshots, 1),
-        };
+    #[derive(serde::Serialize)]
+    struct Line<'a> {
+        log: String,
+        preset: String,
+        #[serde(flatten)]
+        report: &'a sonarmap::bench::BenchReport,
+    }
+    let line = |log: &str, preset: PresetArg, report: &sonarmap::bench::BenchReport| {
+        serde_json::to_string(&Line {
+            log: log.to_string(),
+            preset: format!("{preset:?}").to_lowercase(),
+            report,
+        })
+    };
+    if args.logs.is_empty() {
+        let run = prepare(sonarmap::bench::building_run(args.snapshots, 1))?;
         if let Some(path) = &args.write_log {
             write_atomic(path, &save_run(&run))?;
         }
-        return emit(&serde_json::to_string_pretty(&measure(&run)?)?);
+        if let [(_, params)] = presets.as_slice() {
+            return emit(&serde_json::to_string_pretty(&measure(&run, params))?);
+        }
+        for (preset, params) in &presets {
+            emit(&line("generated", *preset, &measure(&run, params))?)?;
+        }
+        return Ok(());
     }
     if args.write_log.is_some() {
         bail!("--write-log writes the generated run: give no log with it");
     }
-    #[derive(serde::Serialize)]
-    struct Line<'a> {
-        log: String,
-        #[serde(flatten)]
-        report: &'a sonarmap::bench::BenchReport,
+    if let ([path], [(_, params)]) = (args.logs.as_slice(), presets.as_slice()) {
+        let run = prepare(read_run(path)?)?;
+        return emit(&serde_json::to_string_pretty(&measure(&run, params))?);
     }
     // One after another: timings must not share a core.
     emit_each(args.logs.iter().map(|path| {
-        let line = read_run(path)
-            .and_then(|run| measure(&run))
-            .and_then(|report| {
-                Ok(serde_json::to_string(&Line {
-                    log: path.display().to_string(),
-                    report: &report,
-                })?)
-            });
-        (path.as_path(), line)
+        let lines = read_run(path).and_then(prepare).and_then(|run| {
+            let mut lines = Vec::new();
+            for (preset, params) in &presets {
+                lines.push(line(
+                    &path.display().to_string(),
+                    *preset,
+                    &measure(&run, params),
+                )?);
+            }
+            Ok(lines.join("\n"))
+        });
+        (path.as_path(), lines)
     }))
 }
 

@@ -472,3 +472,38 @@ fn bench_over_several_logs_prints_one_json_line_each() {
         assert!(l["frame_vertices_max"].as_u64().unwrap() > 0);
     }
 }
+
+#[test]
+fn bench_with_laps_and_every_preset_prints_one_engine_line_per_preset() {
+    let blue = assets("blue_room.log.json");
+    let out = sonarmap(&[
+        "bench",
+        blue.to_str().unwrap(),
+        "--laps",
+        "40",
+        "--preset",
+        "all",
+        "--engine-only",
+        "--repeats",
+        "1",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let lines: Vec<serde_json::Value> = text(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("one JSON object a line"))
+        .collect();
+    let presets: Vec<&str> = lines
+        .iter()
+        .map(|l| l["preset"].as_str().unwrap())
+        .collect();
+    assert_eq!(presets, ["paper", "extended"]);
+    for l in &lines {
+        assert_eq!(l["log"], blue.to_str().unwrap());
+        assert_eq!(l["snapshots"], 40, "two snapshots repeated to 40");
+        assert!(l["engine_snapshots_per_s_trace_off"].as_f64().unwrap() > 0.0);
+        assert!(l["candidates_per_snapshot_last_tenth"].as_f64().unwrap() > 0.0);
+        assert!(l.get("frame_ms_median").is_none(), "engine figures only");
+    }
+    assert_eq!(lines[0]["params"]["merge_duplicates"], false);
+    assert_eq!(lines[1]["params"]["merge_duplicates"], true);
+}
