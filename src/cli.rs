@@ -666,6 +666,7 @@ pub fn paper_figure_svg(run: &Run, view: &StepView) -> String {
     let options = ViewOptions {
         layers: paper_figure_layers(),
         world_per_px: 0.0,
+        visible_m: None,
     };
     let scene = build_scene(&input, &options);
     let title = format!("{} — snapshot {k}", run.name);

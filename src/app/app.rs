@@ -247,6 +247,7 @@ impl SonarApp {
         let options = ViewOptions {
             layers: self.settings.layers(),
             world_per_px,
+            visible_m: None,
         };
         Some(build_scene(&input, &options))
     }

@@ -74,6 +74,10 @@ pub struct ViewOptions {
     /// level-of-detail culling. With it, balls smaller than a pixel, end-point dots of
     /// segments shorter than a few pixels and labels of very short segments are skipped.
     pub world_per_px: f64,
+    /// The world rectangle the view shows, `[min x, min y, max x, max y]` in metres: the map's
+    /// layers (map before and after, truth, map labels) keep only the segments that meet it,
+    /// so a frame zoomed in on a huge map costs what it shows. `None`: everything.
+    pub visible_m: Option<[f64; 4]>,
 }
 
 impl Default for ViewOptions {
@@ -81,6 +85,7 @@ impl Default for ViewOptions {
         ViewOptions {
             layers: LayerSet::all(),
             world_per_px: 0.0,
+            visible_m: None,
         }
     }
 }
@@ -184,6 +189,13 @@ impl Builder<'_, '_> {
         self.options.world_per_px * n
     }
 
+    /// Whether the segment from `a` to `b` meets the visible rectangle (always, without one).
+    fn shows(&self, a: &Point, b: &Point) -> bool {
+        self.options.visible_m.is_none_or(|[x0, y0, x1, y1]| {
+            a.x.max(b.x) >= x0 && a.x.min(b.x) <= x1 && a.y.max(b.y) >= y0 && a.y.min(b.y) <= y1
+        })
+    }
+
     fn floor_plan(&mut self) {
         let Some(plan) = &self.input.run.floor_plan else {
             return;
@@ -207,14 +219,24 @@ impl Builder<'_, '_> {
 
     fn map_before(&mut self) {
         // Under the map after the step, an unchanged segment is hidden by itself: with the map
-        // layer on, only what the step moved or removed is drawn.
+        // layer on, only what the step moved or removed is drawn. Both maps list their
+        // segments by id and share the unchanged ones, so one walk finds what changed.
         let only_changed = self.options.layers.contains(Layer::Map);
-        let after = &self.input.map_after;
+        let after = &self.input.map_after.segments;
+        let mut j = 0;
         for s in &self.input.map_before.segments {
+            if !self.shows(&s.a.point, &s.b.point) {
+                continue;
+            }
             if only_changed {
-                let same = after
-                    .segment(s.id)
-                    .is_some_and(|t| t.a.point == s.a.point && t.b.point == s.b.point);
+                while j < after.len() && after[j].id < s.id {
+                    j += 1;
+                }
+                let same = after.get(j).is_some_and(|t| {
+                    t.id == s.id
+                        && (std::sync::Arc::ptr_eq(t, s)
+                            || (t.a.point == s.a.point && t.b.point == s.b.point))
+                });
                 if same {
                     continue;
                 }
@@ -402,7 +424,7 @@ impl Builder<'_, '_> {
         // A segment whose ends fall within 2 px of one already drawn looks the same.
         let mut lines = Declutter::new(self.options.world_per_px, 2.0, 2.0);
         for s in &self.input.map_after.segments {
-            if !lines.claim_line(&s.a.point, &s.b.point) {
+            if !self.shows(&s.a.point, &s.b.point) || !lines.claim_line(&s.a.point, &s.b.point) {
                 continue;
             }
             let id = SceneId::MapSegment(s.id);
@@ -472,6 +494,9 @@ impl Builder<'_, '_> {
             let Some(s) = self.input.map_after.segment(*id) else {
                 continue;
             };
+            if !self.shows(&s.a.point, &s.b.point) {
+                continue;
+            }
             let role = if verdict.is_true() {
                 Role::TruthTrue
             } else {
@@ -718,7 +743,10 @@ impl Builder<'_, '_> {
         // One map label per label-sized patch of screen: overlapping labels cannot be read.
         let mut patches = Declutter::new(self.options.world_per_px, 40.0, 14.0);
         for s in &self.input.map_after.segments {
-            if s.length() < min_len_m || !patches.claim(&s.mid()) {
+            if s.length() < min_len_m
+                || !self.shows(&s.a.point, &s.b.point)
+                || !patches.claim(&s.mid())
+            {
                 continue;
             }
             let shape = Shape::Text {

@@ -419,6 +419,7 @@ fn bounds_and_hit_testing() {
         &ViewOptions {
             layers: LayerSet::empty().with(Layer::Balls, true),
             world_per_px: 0.0,
+            visible_m: None,
         },
         true,
     );
@@ -503,4 +504,34 @@ fn zoomed_out_copies_of_a_segment_its_dots_and_labels_are_drawn_once() {
             .count(),
         100
     );
+}
+
+#[test]
+fn a_view_rectangle_keeps_only_the_map_segments_that_meet_it() {
+    let mut f = fixture();
+    // A wall inside the view, one crossing its edge, one outside; the step moved the outside one.
+    let inside = seg(0, (0.0, 0.0), (1.0, 0.0));
+    let crossing = seg(1, (1.5, -1.0), (3.0, -1.0));
+    f.before = Map::from_segments(vec![
+        inside.clone(),
+        crossing.clone(),
+        seg(2, (5.0, 5.0), (6.0, 5.0)),
+    ]);
+    f.after = Map::from_segments(vec![inside, crossing, seg(2, (5.0, 5.1), (6.0, 5.1))]);
+    let view = ViewOptions {
+        visible_m: Some([-1.0, -2.0, 2.0, 2.0]),
+        ..ViewOptions::all()
+    };
+    let ids = |s: &Scene, layer| -> Vec<SceneId> { s.layer(layer).map(|p| p.id).collect() };
+    let culled = build(&f, &view, true);
+    let map: Vec<SceneId> = culled
+        .layer(Layer::Map)
+        .filter(|p| p.role == Role::MapFitted)
+        .map(|p| p.id)
+        .collect();
+    assert_eq!(map, [SceneId::MapSegment(0), SceneId::MapSegment(1)]);
+    assert!(ids(&culled, Layer::MapBefore).is_empty(), "the moved one is out of view");
+    assert!(!ids(&culled, Layer::Labels).contains(&SceneId::MapSegment(2)));
+    let whole = build(&f, &ViewOptions::all(), true);
+    assert_eq!(ids(&whole, Layer::MapBefore), [SceneId::MapSegment(2)]);
 }

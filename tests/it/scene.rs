@@ -480,10 +480,12 @@ fn ball_centre_is_coloured_and_disappears_with_its_layer() {
     let balls_only = ViewOptions {
         layers: LayerSet::empty().with(Layer::Balls, true),
         world_per_px: 0.0,
+        visible_m: None,
     };
     let nothing = ViewOptions {
         layers: LayerSet::empty().with(Layer::Robot, true),
         world_per_px: 0.0,
+        visible_m: None,
     };
     let with = blue_room_scene(&b, &balls_only);
     let without = blue_room_scene(&b, &nothing);
