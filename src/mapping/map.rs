@@ -61,7 +61,7 @@ impl Segment {
     }
 
     /// What the spatial index keeps of it.
-    fn indexed(&self) -> IndexedSegment {
+    pub fn indexed(&self) -> IndexedSegment {
         IndexedSegment {
             a: self.a,
             b: self.b,
@@ -574,13 +574,12 @@ impl Map {
 
     /// Files every segment in the spatial index afresh.
     pub fn rebuild_index(&mut self) {
-        self.index = SegmentGrid::default();
-        self.slot_of.clear();
         self.removals_since_reslot = 0;
-        for slot in 0..self.segments.len() {
-            let s = Arc::clone(&self.segments[slot]);
-            self.index.insert(s.id, s.indexed());
-            self.set_slot(s.id, slot);
+        self.index = SegmentGrid::from_segments(self.segments.iter().map(|s| (s.id, s.indexed())));
+        let max_id = self.segments.iter().map(|s| s.id as usize + 1).max();
+        self.slot_of = vec![NO_SLOT; max_id.unwrap_or(0)];
+        for (slot, s) in self.segments.iter().enumerate() {
+            self.slot_of[s.id as usize] = slot as u32;
         }
     }
 }

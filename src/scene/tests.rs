@@ -530,7 +530,10 @@ fn a_view_rectangle_keeps_only_the_map_segments_that_meet_it() {
         .map(|p| p.id)
         .collect();
     assert_eq!(map, [SceneId::MapSegment(0), SceneId::MapSegment(1)]);
-    assert!(ids(&culled, Layer::MapBefore).is_empty(), "the moved one is out of view");
+    assert!(
+        ids(&culled, Layer::MapBefore).is_empty(),
+        "the moved one is out of view"
+    );
     assert!(!ids(&culled, Layer::Labels).contains(&SceneId::MapSegment(2)));
     let whole = build(&f, &ViewOptions::all(), true);
     assert_eq!(ids(&whole, Layer::MapBefore), [SceneId::MapSegment(2)]);
