@@ -65,10 +65,17 @@ pub struct InspectorFigures {
     pub seek_ms_max: f64,
     /// Median time to make a snapshot ready to draw, milliseconds.
     pub seek_ms_median: f64,
+    /// Largest time to show the next snapshot after one is shown (playing, the arrow key):
+    /// one traced step from where the last view left the mapper, milliseconds.
+    pub step_forward_ms_max: f64,
     /// Snapshots between checkpoints.
     pub checkpoint_interval: usize,
     /// Heap held by the checkpoints, bytes (0 without the counting allocator).
     pub checkpoint_bytes: usize,
+    /// The checkpoints' own estimate of the bytes they keep alive, and their budget.
+    pub checkpoint_estimated_bytes: usize,
+    /// The budget the spacing was chosen from, bytes.
+    pub checkpoint_budget_bytes: usize,
     /// Median time to make the map view's frame of a snapshot with every layer on and the
     /// whole map in a 1600 × 1000 view: scene build (with the view's level of detail), the
     /// inspector's egui_plot drawing, and egui's tessellation into meshes; milliseconds.
@@ -281,15 +288,22 @@ fn bench_inspector(
         .map(|i| ((i * n / 20) / interval * interval + interval - 1).min(n - 1))
         .collect();
     let mut seeks = Vec::new();
+    let mut forward_ms_max: f64 = 0.0;
     let mut frames = Vec::new();
     let mut builds = Vec::new();
     let mut vertices_max = 0;
     let mut svgs = Vec::new();
     let mut svg_bytes_max = 0;
     for &k in &targets {
+        let mut cursor = crate::replay::ReplayCursor::default();
         let start = Instant::now();
-        let view = replay.view(k).expect("non-empty run");
+        let view = replay
+            .view_from(&mut cursor, None, k)
+            .expect("non-empty run");
         seeks.push(start.elapsed().as_secs_f64() * 1e3);
+        let start = Instant::now();
+        std::hint::black_box(replay.view_from(&mut cursor, Some(&view), k + 1));
+        forward_ms_max = forward_ms_max.max(start.elapsed().as_secs_f64() * 1e3);
         let input = SceneInput::from_view(run, &view);
         // Settle the view on the whole map (the plot fits itself over a couple of frames), as
         // the inspector is after a jump; then time a frame as it would draw it.
@@ -340,8 +354,11 @@ fn bench_inspector(
         file_bytes: json.len(),
         seek_ms_max: seeks.iter().cloned().fold(0.0, f64::max),
         seek_ms_median: median(seeks),
+        step_forward_ms_max: forward_ms_max,
         checkpoint_interval: interval,
         checkpoint_bytes,
+        checkpoint_estimated_bytes: replay.checkpoint_bytes().0,
+        checkpoint_budget_bytes: replay.checkpoint_bytes().1,
         frame_ms_median: median(frames),
         scene_build_ms_median: median(builds),
         frame_vertices_max: vertices_max,

@@ -12,6 +12,7 @@ pub mod alloc_count;
 pub mod app;
 pub mod assets;
 pub mod bench;
+pub mod checkpoints;
 pub mod diff;
 pub mod eval;
 pub mod export;

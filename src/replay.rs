@@ -1,19 +1,23 @@
 //! A run through the mapper, with checkpoints so that any snapshot can be shown directly.
 //!
 //! The state at snapshot `k` is the mapper's state after steps `0..=k`. Building a replay runs
-//! the whole log once, keeping a [`MapperState`] every `interval` snapshots and a small summary
-//! of every step (for timeline marks); [`Replay::view`] then replays at most `interval + 1`
-//! steps from the nearest checkpoint.
+//! the whole log once, keeping a [`crate::mapping::MapperState`] every `interval` snapshots
+//! (spaced wider when the checkpoints would pass their memory budget, see
+//! [`crate::checkpoints`]) and a small summary of every step (for timeline marks);
+//! [`Replay::view`] then replays at most `interval + 1` steps from the nearest checkpoint, and
+//! [`Replay::view_from`] steps on from the last view when that is closer.
 
+use crate::checkpoints::{Checkpoints, DEFAULT_CHECKPOINT_BUDGET_BYTES};
 use crate::eval::{map_verdicts, segment_verdict, truth_figures};
 use crate::lineage::Lineage;
 use crate::mapping::trace::{Outcome, StepTrace};
-use crate::mapping::{Map, Mapper, MapperState, Params, StepFailure};
+use crate::mapping::{Map, Mapper, Params, StepFailure};
 use crate::run::{FloorPlan, Run, Snapshot};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
-/// Snapshots between checkpoints unless told otherwise. Chosen from `sonarmap bench` on a
+/// Snapshots between checkpoints unless told otherwise (the starting spacing: it doubles when
+/// the checkpoints would pass their memory budget). Chosen from `sonarmap bench` on a
 /// generated 100,000-snapshot building run (2-core machine): every 64 snapshots the slowest
 /// seek took 12 ms (paper) / 6 ms (extended) and the checkpoints 326 / 349 MB; every 256, 21 /
 /// 43 ms and 168 / 251 MB; every 128, 24 / 18 ms and 221 / 285 MB, well inside the 50 ms a jump
@@ -146,13 +150,52 @@ impl StepView {
     }
 }
 
+impl StepView {
+    /// The view of the snapshot after `shown`'s, stepping `mapper` (standing just after
+    /// `shown`'s snapshot) once with the full trace: `shown` already holds the previous step's
+    /// trace and the map before. The mapper is left after the new snapshot.
+    fn after(mapper: &mut Mapper, shown: &StepView, snapshots: &[Snapshot]) -> Self {
+        let k = shown.index + 1;
+        assert_eq!(
+            mapper.next_snapshot(),
+            k,
+            "the mapper stands after the shown snapshot"
+        );
+        let was_tracing = mapper.records_trace();
+        mapper.set_trace(true);
+        let trace = mapper.step(&snapshots[k]);
+        mapper.set_trace(was_tracing);
+        Self {
+            index: k,
+            trace,
+            previous: Some(shown.trace.clone()),
+            map_before: shown.map_after.clone(),
+            map_after: mapper.map().without_index(),
+        }
+    }
+}
+
+/// Where the last view of a replay left its mapper, so that a view further on starts from
+/// there instead of from a checkpoint: stepping forward (playing, the arrow keys) costs one
+/// step, whatever the map's size, instead of a checkpoint's restore and catch-up.
+#[derive(Clone, Debug, Default)]
+pub struct ReplayCursor {
+    /// The replay the mapper belongs to ([`Replay`]'s identity) and the mapper, standing just
+    /// after the last snapshot viewed.
+    at: Option<(u64, Mapper)>,
+}
+
+/// Identities of replays, so that a cursor never serves another replay.
+static NEXT_REPLAY_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+
 /// A run replayed under one parameter set.
 #[derive(Clone, Debug)]
 pub struct Replay {
+    /// This replay's identity (for [`ReplayCursor`]).
+    id: u64,
     run: Arc<Run>,
     params: Params,
-    interval: usize,
-    checkpoints: Vec<MapperState>,
+    checkpoints: Checkpoints,
     summaries: Vec<StepSummary>,
     final_map: Map,
     failure: Option<StepFailure>,
@@ -188,24 +231,41 @@ impl Replay {
     }
 
     /// Replays `run`, calling `progress(done)` after every step; returning `false` cancels.
+    /// Checkpoints start `interval` snapshots apart and stay within the default budget
+    /// ([`DEFAULT_CHECKPOINT_BUDGET_BYTES`]).
     pub fn build(
         run: Arc<Run>,
         params: Params,
         interval: usize,
         progress: &mut dyn FnMut(usize) -> bool,
     ) -> Result<Self, Cancelled> {
-        let interval = interval.max(1);
+        Self::build_within(
+            run,
+            params,
+            Checkpoints::new(interval, DEFAULT_CHECKPOINT_BUDGET_BYTES),
+            progress,
+        )
+    }
+
+    /// [`Replay::build`] keeping its checkpoints in `checkpoints` (empty: its spacing and
+    /// budget).
+    pub fn build_within(
+        run: Arc<Run>,
+        params: Params,
+        mut checkpoints: Checkpoints,
+        progress: &mut dyn FnMut(usize) -> bool,
+    ) -> Result<Self, Cancelled> {
+        let interval = checkpoints.interval();
         // The summaries need only what the slim trace keeps.
         let mut mapper =
             Mapper::new(params.clone(), run.layout.clone(), run.sensor).with_trace(false);
-        let mut checkpoints = Vec::with_capacity(run.snapshots.len() / interval + 1);
         let mut summaries = Vec::with_capacity(run.snapshots.len());
         let mut failure = None;
         let mut lineage = Lineage::default();
         let mut truth_curve = Vec::new();
         let truth_every = interval.max(run.snapshots.len().div_ceil(TRUTH_SAMPLES));
         for (k, snapshot) in run.snapshots.iter().enumerate() {
-            if k % interval == 0 {
+            if checkpoints.due(k) {
                 checkpoints.push(mapper.state());
             }
             match mapper.try_step(snapshot) {
@@ -241,9 +301,9 @@ impl Replay {
             }
         }
         let mut replay = Self {
+            id: NEXT_REPLAY_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             run,
             params,
-            interval,
             checkpoints,
             summaries,
             final_map: Map::default(),
@@ -311,18 +371,22 @@ impl Replay {
 
     /// Snapshots between checkpoints.
     pub fn checkpoint_interval(&self) -> usize {
-        self.interval
+        self.checkpoints.interval()
+    }
+
+    /// The checkpoints' estimated bytes and their budget.
+    pub fn checkpoint_bytes(&self) -> (usize, usize) {
+        (self.checkpoints.bytes(), self.checkpoints.budget_bytes())
     }
 
     /// A mapper positioned just before snapshot `k` (from the nearest checkpoint).
     fn mapper_before(&self, k: usize) -> Mapper {
-        let c = (k / self.interval).min(self.checkpoints.len().saturating_sub(1));
         let mut mapper = Mapper::new(
             self.params.clone(),
             self.run.layout.clone(),
             self.run.sensor,
         );
-        if let Some(state) = self.checkpoints.get(c) {
+        if let Some(state) = self.checkpoints.before(k) {
             mapper.restore(state.clone());
         }
         // Catching up needs no trace: only the steps drawn are traced in full.
@@ -342,6 +406,55 @@ impl Replay {
         let k = k.min(self.len() - 1);
         let mut mapper = self.mapper_before(k.saturating_sub(1));
         Some(StepView::by_stepping(&mut mapper, &self.run.snapshots, k))
+    }
+
+    /// [`Replay::view`], starting from where `cursor` left the mapper when that is closer than
+    /// any checkpoint: `shown`, the view on screen, makes the next snapshot one traced step.
+    /// The result is the same as [`Replay::view`]'s.
+    pub fn view_from(
+        &self,
+        cursor: &mut ReplayCursor,
+        shown: Option<&StepView>,
+        k: usize,
+    ) -> Option<StepView> {
+        if self.is_empty() {
+            return None;
+        }
+        let k = k.min(self.len() - 1);
+        let mapper = match cursor.at.take() {
+            Some((id, m)) if id == self.id => Some(m),
+            _ => None,
+        };
+        if let (Some(m), Some(v)) = (&mapper, shown) {
+            if v.index + 1 == k && m.next_snapshot() == k {
+                let mut m = mapper.expect("matched");
+                let view = StepView::after(&mut m, v, &self.run.snapshots);
+                cursor.at = Some((self.id, m));
+                return Some(view);
+            }
+        }
+        let mut m = match mapper {
+            Some(mut m) if self.cursor_is_closer(m.next_snapshot(), k) => {
+                m.set_trace(false);
+                while m.next_snapshot() < k.saturating_sub(1) {
+                    let i = m.next_snapshot();
+                    m.step(&self.run.snapshots[i]);
+                }
+                m
+            }
+            _ => self.mapper_before(k.saturating_sub(1)),
+        };
+        let view = StepView::by_stepping(&mut m, &self.run.snapshots, k);
+        cursor.at = Some((self.id, m));
+        Some(view)
+    }
+
+    /// Whether a mapper standing before snapshot `next` reaches the place before view `k`'s
+    /// steps in fewer steps than the nearest checkpoint does.
+    fn cursor_is_closer(&self, next: usize, k: usize) -> bool {
+        let target = k.saturating_sub(1);
+        let from_checkpoint = target - self.checkpoints.snapshot_before(target).min(target);
+        next <= target && target - next <= from_checkpoint
     }
 
     /// The map after snapshot `k` (without its spatial index).
@@ -411,6 +524,34 @@ mod tests {
         }
         assert_eq!(replay.final_map(), mapper.map());
         assert_eq!(replay.map_at(39), *mapper.map());
+    }
+
+    #[test]
+    fn views_through_a_cursor_equal_views_from_checkpoints_in_any_order() {
+        let run = Arc::new(wall_run(60));
+        let replay = Replay::build(run.clone(), Params::extended(), 16, &mut |_| true).unwrap();
+        let other = Replay::build(run, Params::paper(), 16, &mut |_| true).unwrap();
+        let mut cursor = ReplayCursor::default();
+        let mut shown: Option<StepView> = None;
+        // Forward by one (one traced step), forward within and beyond a checkpoint interval,
+        // backwards, the same snapshot again, the ends.
+        let order = [
+            0, 1, 2, 3, 9, 10, 30, 29, 5, 5, 6, 59, 58, 0, 40, 41, 42, 57,
+        ];
+        for (i, &k) in order.iter().enumerate() {
+            if i == 12 {
+                // A view of another replay through the same cursor does not leak into this one.
+                other.view_from(&mut cursor, None, 20);
+            }
+            let got = replay.view_from(&mut cursor, shown.as_ref(), k).unwrap();
+            let want = replay.view(k).unwrap();
+            assert_eq!(got.index, k);
+            assert_eq!(got.trace, want.trace, "trace {k}");
+            assert_eq!(got.previous, want.previous, "previous {k}");
+            assert_eq!(got.map_before, want.map_before, "map before {k}");
+            assert_eq!(got.map_after, want.map_after, "map after {k}");
+            shown = Some(got);
+        }
     }
 
     #[test]

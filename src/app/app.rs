@@ -18,7 +18,7 @@ use super::truth::TruthView;
 use crate::diff::{DecisionDifference, RunDiff};
 use crate::mapping::matching::SegmentEnds;
 use crate::mapping::Params;
-use crate::replay::StepView;
+use crate::replay::{ReplayCursor, StepView};
 use crate::run::Run;
 use crate::scene::{build_scene, LayerSet, Scene, SceneId, SceneInput, ViewOptions};
 use std::sync::Arc;
@@ -31,6 +31,8 @@ pub struct SonarApp {
     pub(super) background: Option<ReplayJob>,
     pub(super) background_min_snapshots: usize,
     pub(super) view: Option<StepView>,
+    /// Where the last seek left the replay's mapper (stepping forward costs one step).
+    pub(super) cursor: ReplayCursor,
     /// `eval`'s verdicts on the map shown, when the run has a floor plan.
     pub(super) truth: Option<TruthView>,
     pub(super) playing: bool,
@@ -257,7 +259,10 @@ impl SonarApp {
         if self.view.as_ref().is_some_and(|v| v.index == k) {
             return;
         }
-        self.view = self.loaded.replay.view(k);
+        self.view = self
+            .loaded
+            .replay
+            .view_from(&mut self.cursor, self.view.as_ref(), k);
         self.truth = self
             .view
             .as_ref()

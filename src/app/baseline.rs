@@ -4,7 +4,7 @@
 use super::jobs::{start_diff, DiffJob, JobPoll};
 use crate::diff::{diff_step, DecisionDifference, RunDiff};
 use crate::mapping::Params;
-use crate::replay::{Replay, StepView};
+use crate::replay::{Replay, ReplayCursor, StepView};
 use crate::run::Run;
 use std::sync::Arc;
 
@@ -14,6 +14,8 @@ pub(super) struct Baseline {
     pub(super) replay: Replay,
     /// Its step at the snapshot shown.
     pub(super) view: Option<StepView>,
+    /// Where its last seek left the replay's mapper.
+    cursor: ReplayCursor,
     /// Differences from the current parameters, when computed.
     pub(super) diff: Option<RunDiff>,
     pub(super) job: Option<DiffJob>,
@@ -25,6 +27,7 @@ impl Baseline {
         Baseline {
             params: replay.params().clone(),
             view,
+            cursor: ReplayCursor::default(),
             replay,
             diff: None,
             job: None,
@@ -33,7 +36,9 @@ impl Baseline {
 
     /// Shows snapshot `k` of the baseline's replay.
     pub(super) fn seek(&mut self, k: usize) {
-        self.view = self.replay.view(k);
+        self.view = self
+            .replay
+            .view_from(&mut self.cursor, self.view.as_ref(), k);
     }
 
     /// Stops the comparison being computed, if any.

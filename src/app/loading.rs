@@ -13,7 +13,7 @@ use super::params_panel::ParamsPanelState;
 use super::settings::Settings;
 use crate::import::{import_any, ImportOptions};
 use crate::mapping::Params;
-use crate::replay::Replay;
+use crate::replay::{Replay, ReplayCursor};
 use crate::run::Run;
 use crate::scene::SceneId;
 use std::path::Path;
@@ -38,6 +38,7 @@ impl SonarApp {
             background: None,
             background_min_snapshots: BACKGROUND_MIN_SNAPSHOTS,
             view: None,
+            cursor: ReplayCursor::default(),
             truth: None,
             playing: false,
             play_clock_s: 0.0,

@@ -1,0 +1,253 @@
+//! The replay's checkpoints within a memory budget.
+//!
+//! A checkpoint is a [`MapperState`]: its map shares every segment and face that did not change
+//! since the previous checkpoint, so what it alone keeps alive is its lists of segments and
+//! faces (a pointer each) and the versions of what changed. That grows with the map: a `paper`
+//! map of a long lap run holds hundreds of thousands of segments. The store counts those bytes
+//! as checkpoints are taken, and when they pass the budget it drops every other checkpoint and
+//! doubles the spacing, so the checkpoints of any run stay within the budget (give or take one
+//! checkpoint) at the price of longer catch-ups on a seek.
+
+use crate::mapping::map::{Face, MemoryPoint, Segment, SupportPoint};
+use crate::mapping::MapperState;
+use std::mem::size_of;
+use std::sync::Arc;
+
+/// The checkpoints' memory budget unless told otherwise, bytes.
+pub const DEFAULT_CHECKPOINT_BUDGET_BYTES: usize = 512 << 20;
+
+/// Mapper states every `interval` snapshots, within a byte budget.
+#[derive(Clone, Debug)]
+pub struct Checkpoints {
+    interval: usize,
+    budget_bytes: usize,
+    states: Vec<MapperState>,
+    /// What each state keeps alive beyond the one before it, bytes.
+    bytes: Vec<usize>,
+}
+
+impl Checkpoints {
+    /// An empty store taking a state every `interval` snapshots (at least 1) within
+    /// `budget_bytes`.
+    pub fn new(interval: usize, budget_bytes: usize) -> Self {
+        Self {
+            interval: interval.max(1),
+            budget_bytes,
+            states: Vec::new(),
+            bytes: Vec::new(),
+        }
+    }
+
+    /// Snapshots between checkpoints (doubled each time the budget was reached).
+    pub fn interval(&self) -> usize {
+        self.interval
+    }
+
+    /// The estimated bytes the checkpoints keep alive.
+    pub fn bytes(&self) -> usize {
+        self.bytes.iter().sum()
+    }
+
+    /// The budget, bytes.
+    pub fn budget_bytes(&self) -> usize {
+        self.budget_bytes
+    }
+
+    /// Checkpoints held.
+    pub fn len(&self) -> usize {
+        self.states.len()
+    }
+
+    /// True before the first checkpoint.
+    pub fn is_empty(&self) -> bool {
+        self.states.is_empty()
+    }
+
+    /// Whether the state before snapshot `k` is to be kept.
+    pub fn due(&self, k: usize) -> bool {
+        k % self.interval == 0 && k / self.interval == self.states.len()
+    }
+
+    /// Keeps `state` (the state before a snapshot [`Checkpoints::due`] named), then thins the
+    /// store while it is over budget and holds more than one state.
+    pub fn push(&mut self, state: MapperState) {
+        self.bytes
+            .push(kept_alive_bytes(self.states.last(), &state));
+        self.states.push(state);
+        while self.bytes() > self.budget_bytes && self.states.len() > 1 {
+            self.thin();
+        }
+    }
+
+    /// The latest state at or before snapshot `k`.
+    pub fn before(&self, k: usize) -> Option<&MapperState> {
+        let c = (k / self.interval).min(self.states.len().checked_sub(1)?);
+        self.states.get(c)
+    }
+
+    /// Snapshot of the latest state at or before snapshot `k`.
+    pub fn snapshot_before(&self, k: usize) -> usize {
+        let c = (k / self.interval).min(self.states.len().saturating_sub(1));
+        c * self.interval
+    }
+
+    /// Drops every other state (keeping the first) and doubles the spacing.
+    fn thin(&mut self) {
+        let states = std::mem::take(&mut self.states);
+        self.states = states.into_iter().step_by(2).collect();
+        self.interval *= 2;
+        self.bytes = (0..self.states.len())
+            .map(|i| kept_alive_bytes(i.checked_sub(1).map(|p| &self.states[p]), &self.states[i]))
+            .collect();
+    }
+}
+
+/// Bytes that `state` keeps alive beyond `previous`: its lists of segments, faces and
+/// remembered points, and each segment or face (with its heap) not shared with `previous`.
+fn kept_alive_bytes(previous: Option<&MapperState>, state: &MapperState) -> usize {
+    let map = &state.map;
+    let lists = map.segments.len() * size_of::<Arc<Segment>>()
+        + map.faces.len() * size_of::<Arc<Face>>()
+        + map.memory.len() * size_of::<MemoryPoint>();
+    let empty = Vec::new();
+    let (old_segments, old_faces) = match previous {
+        Some(p) => (&p.map.segments, &p.map.faces),
+        None => (&empty, &Vec::new()),
+    };
+    let segments = unshared(
+        old_segments,
+        &map.segments,
+        |s| s.id,
+        |old, s| {
+            let points = match old {
+                Some(o) if Arc::ptr_eq(&o.points, &s.points) => 0,
+                _ => s.points.len() * size_of::<SupportPoint>(),
+            };
+            size_of::<Segment>() + s.updated.capacity() * size_of::<usize>() + points
+        },
+    );
+    let faces = unshared(
+        old_faces,
+        &map.faces,
+        |f| f.id,
+        |_, f| size_of::<Face>() + f.segments.capacity() * size_of::<u32>(),
+    );
+    lists + segments + faces
+}
+
+/// The sum of `size` over the items of `new` (both lists ordered by id) that are not the very
+/// item `old` holds under their id; `size` also gets the old item of that id, if any.
+fn unshared<T>(
+    old: &[Arc<T>],
+    new: &[Arc<T>],
+    id: impl Fn(&T) -> u32,
+    size: impl Fn(Option<&T>, &T) -> usize,
+) -> usize {
+    let mut j = 0;
+    let mut total = 0;
+    for item in new {
+        let key = id(item);
+        while j < old.len() && id(&old[j]) < key {
+            j += 1;
+        }
+        let same_id = old.get(j).filter(|o| id(o) == key);
+        match same_id {
+            Some(o) if Arc::ptr_eq(o, item) => {}
+            o => total += size(o.map(|o| &**o), item),
+        }
+    }
+    total
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Point;
+    use crate::mapping::map::{EndPoint, Map, ReadingRef};
+    use crate::mapping::SegmentKind;
+
+    fn segment(id: u32, points: usize) -> Segment {
+        let end = EndPoint {
+            point: Point::new(f64::from(id), 0.0),
+            range_m: 1.0,
+        };
+        let q = SupportPoint {
+            point: end.point,
+            range_m: 1.0,
+            reading: ReadingRef {
+                snapshot: 0,
+                sensor: 0,
+            },
+        };
+        Segment {
+            id,
+            kind: SegmentKind::Fitted,
+            a: end,
+            b: end,
+            face: id,
+            object: id,
+            created: 0,
+            updated: Vec::new(),
+            points: Arc::new(vec![q; points]),
+        }
+    }
+
+    fn state(map: Map) -> MapperState {
+        MapperState {
+            map,
+            last_pose: None,
+            next_snapshot: 0,
+        }
+    }
+
+    #[test]
+    fn a_checkpoint_counts_its_lists_and_only_what_changed_since_the_previous_one() {
+        let first = Map::from_segments((0..4).map(|id| segment(id, 10)).collect());
+        let mut second = first.clone();
+        // Segment 2 changes (a new version, new points); segment 9 is new.
+        second.segments[2] = Arc::new(segment(2, 3));
+        second.segments.push(Arc::new(segment(9, 1)));
+        let (a, b) = (state(first), state(second));
+        let one = size_of::<Segment>();
+        let point = size_of::<SupportPoint>();
+        let list = |m: &Map| m.segments.len() * 8 + m.faces.len() * 8;
+        assert_eq!(
+            kept_alive_bytes(None, &a),
+            list(&a.map) + 4 * (one + 10 * point) + kept_faces(&a.map)
+        );
+        assert_eq!(
+            kept_alive_bytes(Some(&a), &b),
+            list(&b.map) + (one + 3 * point) + (one + point)
+        );
+    }
+
+    fn kept_faces(map: &Map) -> usize {
+        map.faces
+            .iter()
+            .map(|f| size_of::<Face>() + f.segments.capacity() * 4)
+            .sum()
+    }
+
+    #[test]
+    fn over_budget_every_other_checkpoint_goes_and_the_spacing_doubles() {
+        let big = Map::from_segments((0..100).map(|id| segment(id, 50)).collect());
+        let one_state = kept_alive_bytes(None, &state(big.clone()));
+        // Room for the first state and a few lists, not for 16 states.
+        let mut store = Checkpoints::new(4, one_state + 8 * 1000);
+        for k in 0..64 {
+            if store.due(k) {
+                let mut s = state(big.clone());
+                s.next_snapshot = k;
+                store.push(s);
+            }
+        }
+        assert!(store.interval() > 4, "the spacing grew");
+        assert!(store.bytes() <= store.budget_bytes());
+        // Each kept state sits at a multiple of the spacing, in order.
+        for k in [0, 17, 40, 63] {
+            let s = store.before(k).unwrap();
+            assert_eq!(s.next_snapshot, store.snapshot_before(k));
+            assert!(s.next_snapshot <= k && k - s.next_snapshot < store.interval());
+        }
+    }
+}
