@@ -65,7 +65,7 @@ impl Checkpoints {
 
     /// Whether the state before snapshot `k` is to be kept.
     pub fn due(&self, k: usize) -> bool {
-        k % self.interval == 0 && k / self.interval == self.states.len()
+        k.is_multiple_of(self.interval) && k / self.interval == self.states.len()
     }
 
     /// Keeps `state` (the state before a snapshot [`Checkpoints::due`] named), then thins the
