@@ -112,7 +112,8 @@ pub struct BenchArgs {
     /// Snapshots of the generated run.
     #[arg(long, default_value_t = 100_000)]
     pub snapshots: usize,
-    /// Also write the generated run to this log file (to open it in the inspector).
+    /// Also write the run measured (generated, or the one log with its --laps) to this log
+    /// file (to open it in the inspector, or to give it to another tool).
     #[arg(long)]
     pub write_log: Option<PathBuf>,
     /// Runs of each measurement (the median is printed).
@@ -856,8 +857,18 @@ fn bench_command(args: &BenchArgs) -> Result<()> {
             report,
         })
     };
-    if args.logs.is_empty() {
-        let run = prepare(sonarmap::bench::building_run(args.snapshots, 1))?;
+    if args.write_log.is_some() && args.logs.len() > 1 {
+        bail!("--write-log writes the one run measured: give at most one log with it");
+    }
+    if args.logs.len() <= 1 {
+        let (name, run) = match args.logs.first() {
+            Some(path) => (path.display().to_string(), read_run(path)?),
+            None => (
+                "generated".to_string(),
+                sonarmap::bench::building_run(args.snapshots, 1),
+            ),
+        };
+        let run = prepare(run)?;
         if let Some(path) = &args.write_log {
             write_atomic(path, &save_run(&run))?;
         }
@@ -865,16 +876,9 @@ fn bench_command(args: &BenchArgs) -> Result<()> {
             return emit(&serde_json::to_string_pretty(&measure(&run, params))?);
         }
         for (preset, params) in &presets {
-            emit(&line("generated", *preset, &measure(&run, params))?)?;
+            emit(&line(&name, *preset, &measure(&run, params))?)?;
         }
         return Ok(());
-    }
-    if args.write_log.is_some() {
-        bail!("--write-log writes the generated run: give no log with it");
-    }
-    if let ([path], [(_, params)]) = (args.logs.as_slice(), presets.as_slice()) {
-        let run = prepare(read_run(path)?)?;
-        return emit(&serde_json::to_string_pretty(&measure(&run, params))?);
     }
     // One after another: timings must not share a core.
     emit_each(args.logs.iter().map(|path| {
