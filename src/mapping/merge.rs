@@ -17,7 +17,7 @@ use super::matching::{place_pair, Placement, SegmentEnds};
 use super::params::Params;
 use super::trace::AbsorbTrace;
 use super::update::{merge_support_points, update_match};
-use crate::geometry::{distance_to_segment, AngleLimit};
+use crate::geometry::{distance_to_segment, line_angle_at_most, AngleLimit};
 use std::sync::Arc;
 
 /// Fuses into segment `into` every fitted segment (other than `into` and `exclude`) that
@@ -71,6 +71,11 @@ fn absorb_one(
         };
         let within = d <= reach_m;
         if !within || !best.as_ref().is_none_or(earlier) {
+            return;
+        }
+        // The orientation test compares lines (either direction), so it can go first, and
+        // spare the placement of a crossing wall.
+        if !line_angle_at_most(&(s.b.point - s.a.point), &(b - a), limit) {
             return;
         }
         let ends = SegmentEnds { a: s.a, b: s.b };
