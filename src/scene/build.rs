@@ -6,7 +6,7 @@ use super::declutter::Declutter;
 use super::layer::{Layer, LayerSet};
 use super::primitive::{MarkerShape, Primitive, SceneId, Shape, TextAlign};
 use super::style::{decision_marker, palette, Role};
-use super::{format_length, Scene};
+use super::{format_length, Scene, ViewRect};
 use crate::eval::Verdict;
 use crate::geometry::{lerp, projection_param, unit, Point, Pose};
 use crate::mapping::trace::{CorrelationKind, ReadingTrace};
@@ -109,6 +109,7 @@ pub fn build_scene(input: &SceneInput, options: &ViewOptions) -> Scene {
         input,
         options,
         out: Vec::with_capacity(estimate(input)),
+        culled: Vec::new(),
         pose: input
             .step
             .pose
@@ -140,6 +141,7 @@ pub fn build_scene(input: &SceneInput, options: &ViewOptions) -> Scene {
     Scene {
         title: format!("{} — snapshot {}", input.run.name, input.snapshot),
         primitives: b.out,
+        culled: b.culled,
     }
 }
 
@@ -160,6 +162,8 @@ struct Builder<'a, 'b> {
     options: &'b ViewOptions,
     out: Vec<Primitive>,
     pose: Option<Pose>,
+    /// The bounding box of what the view rectangle left out, by layer.
+    culled: Vec<(Layer, ViewRect)>,
 }
 
 /// The reading of `sensor` (readings are stored in sensor order; fall back to a search).
@@ -189,11 +193,27 @@ impl Builder<'_, '_> {
         self.options.world_per_px * n
     }
 
-    /// Whether the segment from `a` to `b` meets the visible rectangle (always, without one).
-    fn shows(&self, a: &Point, b: &Point) -> bool {
-        self.options.visible_m.is_none_or(|[x0, y0, x1, y1]| {
-            a.x.max(b.x) >= x0 && a.x.min(b.x) <= x1 && a.y.max(b.y) >= y0 && a.y.min(b.y) <= y1
-        })
+    /// Whether the segment from `a` to `b` of `layer` meets the visible rectangle (always,
+    /// without one); one left out widens the layer's culled box.
+    fn shows(&mut self, layer: Layer, a: &Point, b: &Point) -> bool {
+        let Some([x0, y0, x1, y1]) = self.options.visible_m else {
+            return true;
+        };
+        if a.x.max(b.x) >= x0 && a.x.min(b.x) <= x1 && a.y.max(b.y) >= y0 && a.y.min(b.y) <= y1 {
+            return true;
+        }
+        match self.culled.iter_mut().find(|(l, _)| *l == layer) {
+            Some((_, r)) => {
+                r.include(a);
+                r.include(b);
+            }
+            None => {
+                let mut r = ViewRect { min: *a, max: *a };
+                r.include(b);
+                self.culled.push((layer, r));
+            }
+        }
+        false
     }
 
     fn floor_plan(&mut self) {
@@ -225,7 +245,7 @@ impl Builder<'_, '_> {
         let after = &self.input.map_after.segments;
         let mut j = 0;
         for s in &self.input.map_before.segments {
-            if !self.shows(&s.a.point, &s.b.point) {
+            if !self.shows(Layer::MapBefore, &s.a.point, &s.b.point) {
                 continue;
             }
             if only_changed {
@@ -424,7 +444,9 @@ impl Builder<'_, '_> {
         // A segment whose ends fall within 2 px of one already drawn looks the same.
         let mut lines = Declutter::new(self.options.world_per_px, 2.0, 2.0);
         for s in &self.input.map_after.segments {
-            if !self.shows(&s.a.point, &s.b.point) || !lines.claim_line(&s.a.point, &s.b.point) {
+            if !self.shows(Layer::Map, &s.a.point, &s.b.point)
+                || !lines.claim_line(&s.a.point, &s.b.point)
+            {
                 continue;
             }
             let id = SceneId::MapSegment(s.id);
@@ -494,7 +516,7 @@ impl Builder<'_, '_> {
             let Some(s) = self.input.map_after.segment(*id) else {
                 continue;
             };
-            if !self.shows(&s.a.point, &s.b.point) {
+            if !self.shows(Layer::Truth, &s.a.point, &s.b.point) {
                 continue;
             }
             let role = if verdict.is_true() {
@@ -744,7 +766,7 @@ impl Builder<'_, '_> {
         let mut patches = Declutter::new(self.options.world_per_px, 40.0, 14.0);
         for s in &self.input.map_after.segments {
             if s.length() < min_len_m
-                || !self.shows(&s.a.point, &s.b.point)
+                || !self.shows(Layer::Labels, &s.a.point, &s.b.point)
                 || !patches.claim(&s.mid())
             {
                 continue;

@@ -29,6 +29,10 @@ pub struct Scene {
     pub title: String,
     /// The primitives, sorted by layer (stable within a layer).
     pub primitives: Vec<Primitive>,
+    /// What the view rectangle left out ([`ViewOptions::visible_m`]): the bounding box of the
+    /// map segments not drawn, by layer, so that the scene's bounds (and Fit) are those of
+    /// the whole content.
+    pub culled: Vec<(Layer, ViewRect)>,
 }
 
 impl Scene {

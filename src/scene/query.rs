@@ -48,7 +48,7 @@ impl ViewRect {
         p.x >= self.min.x && p.x <= self.max.x && p.y >= self.min.y && p.y <= self.max.y
     }
 
-    fn include(&mut self, p: &Point) {
+    pub(super) fn include(&mut self, p: &Point) {
         self.min = Point::new(self.min.x.min(p.x), self.min.y.min(p.y));
         self.max = Point::new(self.max.x.max(p.x), self.max.y.max(p.y));
     }
@@ -110,6 +110,10 @@ impl Scene {
                 Shape::Text { anchor, .. } => add(*anchor),
                 Shape::Marker { at, .. } => add(*at),
             }
+        }
+        for (_, r) in self.culled.iter().filter(|(l, _)| layers.contains(*l)) {
+            add(r.min);
+            add(r.max);
         }
         rect
     }

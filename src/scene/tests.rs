@@ -537,4 +537,12 @@ fn a_view_rectangle_keeps_only_the_map_segments_that_meet_it() {
     assert!(!ids(&culled, Layer::Labels).contains(&SceneId::MapSegment(2)));
     let whole = build(&f, &ViewOptions::all(), true);
     assert_eq!(ids(&whole, Layer::MapBefore), [SceneId::MapSegment(2)]);
+    // The bounds (and Fit) still take in what was left out.
+    let map_only = LayerSet::empty().with(Layer::Map, true);
+    assert_eq!(culled.bounds_of(map_only), whole.bounds_of(map_only));
+    assert_eq!(
+        culled.bounds_of(map_only).unwrap().max,
+        Point::new(6.0, 5.1),
+        "segment 2 after the step"
+    );
 }

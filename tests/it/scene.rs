@@ -553,6 +553,7 @@ fn larger_world_y_is_higher_in_the_image() {
     let scene = Scene {
         title: "y".into(),
         primitives: vec![dot(0.5, Role::PreviousPoint), dot(2.5, Role::CurrentPoint)],
+        ..Scene::default()
     };
     let view = ViewRect::new(Point::new(0.0, 0.0), Point::new(2.0, 3.0));
     let pixmap = render(&to_svg(&scene, view, (600, 400), "y up", Units::Metres));
@@ -592,6 +593,7 @@ fn text_is_escaped_and_clipped_to_the_view() {
     let scene = Scene {
         title: "<&>".into(),
         primitives: vec![far, text],
+        ..Scene::default()
     };
     let view = ViewRect::new(Point::new(0.0, 0.0), Point::new(1.0, 1.0));
     let svg = to_svg(&scene, view, (500, 400), "run <&> \"x\"", Units::Metres);
