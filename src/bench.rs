@@ -82,6 +82,9 @@ pub struct InspectorFigures {
     pub frame_ms_median: f64,
     /// The scene-build part of that frame (median), milliseconds.
     pub scene_build_ms_median: f64,
+    /// A frame that reuses its scene (nothing shown changed: looking, hovering, a small pan),
+    /// median, milliseconds.
+    pub frame_reusing_scene_ms_median: f64,
     /// Largest number of mesh vertices those frames tessellated.
     pub frame_vertices_max: usize,
     /// Median time to write the SVG of a snapshot with every layer on (whole content in view), ms.
@@ -290,6 +293,7 @@ fn bench_inspector(
     let mut seeks = Vec::new();
     let mut forward_ms_max: f64 = 0.0;
     let mut frames = Vec::new();
+    let mut reused_frames = Vec::new();
     let mut builds = Vec::new();
     let mut vertices_max = 0;
     let mut svgs = Vec::new();
@@ -324,6 +328,9 @@ fn bench_inspector(
         let built = start.elapsed().as_secs_f64() * 1e3;
         let stats = map_view.frame(&scene, run.units);
         frames.push(start.elapsed().as_secs_f64() * 1e3);
+        let start = Instant::now();
+        map_view.frame(&scene, run.units);
+        reused_frames.push(start.elapsed().as_secs_f64() * 1e3);
         builds.push(built);
         vertices_max = vertices_max.max(stats.vertices);
         let scene = build_scene(&input, &ViewOptions::all());
@@ -361,6 +368,7 @@ fn bench_inspector(
         checkpoint_budget_bytes: replay.checkpoint_bytes().1,
         frame_ms_median: median(frames),
         scene_build_ms_median: median(builds),
+        frame_reusing_scene_ms_median: median(reused_frames),
         frame_vertices_max: vertices_max,
         svg_ms_median: median(svgs),
         svg_bytes_max,

@@ -369,6 +369,11 @@ impl Replay {
         &self.final_map
     }
 
+    /// This replay's identity: distinct for every replay built in the process.
+    pub fn id(&self) -> u64 {
+        self.id
+    }
+
     /// Snapshots between checkpoints.
     pub fn checkpoint_interval(&self) -> usize {
         self.checkpoints.interval()

@@ -13,6 +13,7 @@ use super::loaded::{Loaded, Source};
 use super::map_view::MapViewState;
 use super::marks::MarkKind;
 use super::params_panel::ParamsPanelState;
+use super::scene_cache::{SceneCache, SceneSubject};
 use super::settings::Settings;
 use super::truth::TruthView;
 use crate::diff::{DecisionDifference, RunDiff};
@@ -33,6 +34,8 @@ pub struct SonarApp {
     pub(super) view: Option<StepView>,
     /// Where the last seek left the replay's mapper (stepping forward costs one step).
     pub(super) cursor: ReplayCursor,
+    /// The map view's scene between frames.
+    pub(super) scene_cache: SceneCache,
     /// `eval`'s verdicts on the map shown, when the run has a floor plan.
     pub(super) truth: Option<TruthView>,
     pub(super) playing: bool,
@@ -236,6 +239,15 @@ impl SonarApp {
     }
 
     pub(super) fn scene_with(&self, world_per_px: f64) -> Option<Scene> {
+        self.scene_for(&ViewOptions {
+            layers: self.settings.layers(),
+            world_per_px,
+            visible_m: None,
+        })
+    }
+
+    /// The scene of the current step under `options`.
+    fn scene_for(&self, options: &ViewOptions) -> Option<Scene> {
         let view = self.view.as_ref()?;
         let truth = self.truth.as_ref().map(|t| t.verdicts.as_slice());
         // A selected map segment shows where its supporting readings were read.
@@ -246,12 +258,34 @@ impl SonarApp {
         let input = SceneInput::from_view(self.loaded.replay.run(), view)
             .with_truth(truth)
             .with_support_of(support_of);
-        let options = ViewOptions {
-            layers: self.settings.layers(),
-            world_per_px,
-            visible_m: None,
+        Some(build_scene(&input, options))
+    }
+
+    /// Scenes the map view has built so far (a frame that reused its scene built none).
+    pub fn scene_builds(&self) -> usize {
+        self.scene_cache.builds()
+    }
+
+    /// The scene the map view draws this frame: the last one while it still serves (same
+    /// step, selection, layers, level of detail, and the view inside the region it was built
+    /// for), else built for the view, culled to a region around it.
+    pub(super) fn frame_scene(&mut self) -> Arc<Scene> {
+        let Some(view) = self.view.as_ref() else {
+            return Arc::default();
         };
-        Some(build_scene(&input, &options))
+        let subject = SceneSubject {
+            source: (self.loaded.replay.id(), view.index),
+            selection: self.selection,
+            layers: self.settings.layers(),
+            truth: self.truth.is_some(),
+        };
+        let (visible_m, world_per_px) = (self.map_view.visible_m, self.map_view.world_per_px());
+        let mut cache = std::mem::take(&mut self.scene_cache);
+        let scene = cache.scene(subject, visible_m, world_per_px, |options| {
+            self.scene_for(options).unwrap_or_default()
+        });
+        self.scene_cache = cache;
+        scene
     }
 
     pub(super) fn seek(&mut self, k: usize) {

@@ -44,7 +44,7 @@ impl SonarApp {
         self.banner_ui(ui, &mut commands);
         egui::Panel::bottom("status_bar").show(ui, |ui| self.status_bar_ui(ui));
         self.timeline_panel_ui(ui, &mut commands);
-        let scene = self.scene().unwrap_or_default();
+        let scene = self.frame_scene();
         self.left_panel_ui(ui, &scene, &mut commands);
         self.inspector_panel_ui(ui, &mut commands);
         self.map_panel_ui(ui, &scene, &mut commands);

@@ -39,6 +39,7 @@ impl SonarApp {
             background_min_snapshots: BACKGROUND_MIN_SNAPSHOTS,
             view: None,
             cursor: ReplayCursor::default(),
+            scene_cache: Default::default(),
             truth: None,
             playing: false,
             play_clock_s: 0.0,

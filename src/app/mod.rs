@@ -36,6 +36,7 @@ mod marks;
 mod menu;
 mod params_panel;
 mod run_plots;
+mod scene_cache;
 mod scene_item;
 mod settings;
 mod timeline;

@@ -920,3 +920,25 @@ fn the_mark_filter_changes_the_marks_and_prev_next_follow_it() {
     let summary = &h.state().step_summaries()[first];
     assert!(summary.dismissals > 0);
 }
+
+#[test]
+fn frames_that_change_nothing_reuse_the_map_scene_and_a_step_builds_it_again() {
+    let mut h = building();
+    h.run();
+    let built = h.state().scene_builds();
+    // Frames with nothing new (the pointer moving over the map, say) draw the same scene.
+    for _ in 0..5 {
+        h.step();
+    }
+    assert_eq!(h.state().scene_builds(), built);
+    h.key_press(egui::Key::ArrowRight);
+    h.run();
+    assert!(h.state().scene_builds() > built, "a new step, a new scene");
+    let after_step = h.state().scene_builds();
+    h.state_mut().push(Command::ToggleLayer(Layer::Balls));
+    h.run();
+    assert!(
+        h.state().scene_builds() > after_step,
+        "a layer switched, a new scene"
+    );
+}
