@@ -41,6 +41,12 @@ pub struct SonarApp {
     pub(super) banner: Option<String>,
     pub(super) message: String,
     pub(super) map_view: MapViewState,
+    /// The baseline's map view (A) of the split view; its pan and zoom follow `map_view`'s.
+    pub(super) split_view: MapViewState,
+    /// The in-app file dialog, while open.
+    pub(super) file_dialog: Option<super::in_app_dialog::InAppDialog>,
+    /// A log that needs a sensor layout, waiting for the layout picker.
+    pub(super) layout_picker: Option<super::layout_picker::LayoutPicker>,
     pub(super) pending: Vec<Command>,
     pub(super) show_shortcuts: bool,
     pub(super) jump_text: String,
@@ -49,6 +55,8 @@ pub struct SonarApp {
     pub(super) bookmarks: Vec<Bookmark>,
     pub(super) bookmark_text: String,
     pub(super) last_rerun_s: Option<f64>,
+    /// The window title last sent to the window.
+    pub(super) shown_title: String,
 }
 
 impl SonarApp {
@@ -101,6 +109,26 @@ impl SonarApp {
             (Some(b), Some(v)) => b.differences(v),
             _ => Vec::new(),
         }
+    }
+
+    /// The parameters (asked for) that differ from the active preset's, as the panel names
+    /// them; empty when they are the preset's.
+    pub fn changed_params(&self) -> Vec<&'static str> {
+        super::params_panel::changed_fields(&self.params, self.settings.preset)
+    }
+
+    /// The window's title: the run, and a warning when the parameters are not the preset's.
+    pub fn window_title(&self) -> String {
+        let mut title = format!("sonarmap · {}", self.loaded.source.display_name());
+        let changed = self.changed_params();
+        if !changed.is_empty() {
+            title.push_str(&format!(
+                " · parameters ≠ {} ({})",
+                super::params_panel::preset_name(self.settings.preset),
+                changed.join(", ")
+            ));
+        }
+        title
     }
 
     /// The bookmarks of the open run.
@@ -208,6 +236,28 @@ impl SonarApp {
         &self.map_view
     }
 
+    /// The baseline's map view (A) while the split view shows it.
+    pub fn split_view(&self) -> Option<&MapViewState> {
+        self.is_split().then_some(&self.split_view)
+    }
+
+    /// True while the baseline and the current map are shown side by side.
+    pub fn is_split(&self) -> bool {
+        self.settings.panels.split && self.baseline.is_some()
+    }
+
+    /// What the in-app file dialog is open for, and the folder it shows.
+    pub fn file_dialog(&self) -> Option<(super::file_dialog::FilePurpose, &std::path::Path)> {
+        self.file_dialog
+            .as_ref()
+            .map(|d| (d.purpose, d.directory()))
+    }
+
+    /// The file waiting for a layout in the layout picker, when open.
+    pub fn layout_picker(&self) -> Option<&str> {
+        self.layout_picker.as_ref().map(|p| p.file_name())
+    }
+
     /// The state of "compare with…".
     pub fn compare(&self) -> &CompareState {
         &self.compare
@@ -234,14 +284,35 @@ impl SonarApp {
     }
 
     pub(super) fn scene_with(&self, world_per_px: f64) -> Option<Scene> {
-        let view = self.view.as_ref()?;
         let truth = self.truth.as_ref().map(|t| t.verdicts.as_slice());
+        self.scene_of(
+            self.loaded.replay.run(),
+            self.view.as_ref()?,
+            truth,
+            world_per_px,
+        )
+    }
+
+    /// The baseline's scene at the snapshot shown (A of the split view), drawn as the current
+    /// one is: same layers, same selection where it exists.
+    pub(super) fn baseline_scene_with(&self, world_per_px: f64) -> Option<Scene> {
+        let b = self.baseline.as_ref()?;
+        self.scene_of(b.replay.run(), b.view.as_ref()?, None, world_per_px)
+    }
+
+    fn scene_of(
+        &self,
+        run: &Run,
+        view: &StepView,
+        truth: Option<&[(crate::mapping::SegmentId, crate::eval::Verdict)]>,
+        world_per_px: f64,
+    ) -> Option<Scene> {
         // A selected map segment shows where its supporting readings were read.
         let support_of = match self.selection {
             SceneId::MapSegment(id) | SceneId::Update(id) => Some(id),
             _ => None,
         };
-        let input = SceneInput::from_view(self.loaded.replay.run(), view)
+        let input = SceneInput::from_view(run, view)
             .with_truth(truth)
             .with_support_of(support_of);
         let options = ViewOptions {

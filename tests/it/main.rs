@@ -1,6 +1,7 @@
 //! The integration tests: one binary, one module per area.
 
 mod app;
+mod app_views;
 mod cli;
 mod engine;
 mod engine_properties;
