@@ -13,10 +13,13 @@ use super::jobs::JobKind;
 use super::layout_picker::LayoutChoice;
 use super::loaded::Source;
 use super::map_view::ViewRequest;
-use crate::export::{write_svg_atomically, write_text_atomically};
+use crate::export::{
+    svg_to_png, write_bytes_atomically, write_svg_atomically, write_text_atomically,
+};
 use crate::mapping::matching::evaluate_pair;
 use crate::mapping::{Params, ParamsFile};
-use crate::scene::svg::{default_view, to_svg};
+use crate::scene::figure::{figure_svg, Figure};
+use crate::scene::SceneInput;
 use crate::scene::{Layer, SceneId, ViewRect};
 use std::path::Path;
 
@@ -90,6 +93,8 @@ impl SonarApp {
             Command::TogglePanel(panel) => self.toggle_panel(panel),
             Command::DockInspector(dock) => self.settings.panels.inspector_dock = dock,
             Command::ShowRightTab(tab) => self.settings.panels.right_tab = tab,
+            Command::ToggleFigureStyle => self.settings.figure_style = !self.settings.figure_style,
+            Command::SetPngScale(scale) => self.settings.png_scale = scale.clamp(1, 4),
             Command::OpenWithLayout(choice) => self.open_with_layout(choice),
             Command::ChooseLayoutFile => self.ask_path(FilePurpose::LayoutFile),
             Command::CancelLayoutPicker => {
@@ -267,21 +272,37 @@ impl SonarApp {
         }
     }
 
-    /// Writes what the map view shows to `path` as SVG (atomically).
+    /// Writes what the map view shows to `path` (atomically): the visible region, the layers
+    /// on, the selection highlighted; SVG, or PNG when the name ends in `.png` (the page
+    /// scaled by the PNG scale setting). The figure style when it is on.
     pub fn export_svg(&mut self, path: &Path) -> Result<(), String> {
-        let scene = self
-            .scene_with(self.map_view.world_per_px())
-            .ok_or_else(|| "nothing to export".to_owned())?;
         let view = self
-            .map_view
-            .visible_m
-            .unwrap_or_else(|| default_view(&scene));
+            .view
+            .as_ref()
+            .ok_or_else(|| "nothing to export".to_owned())?;
+        let truth = self.truth.as_ref().map(|t| t.verdicts.as_slice());
+        let input = SceneInput::from_view(self.loaded.replay.run(), view).with_truth(truth);
         let (w, h) = self.map_view.size_px;
-        let size = (w.max(400) + 180, h.max(300) + 60);
-        let title = format!("{} — snapshot {}", self.run().name, self.current());
-        let svg = to_svg(&scene, view, size, &title, self.run().units);
-        write_svg_atomically(path, &svg)
-            .map_err(|e| format!("Could not write {}: {e}", path.display()))
+        let figure = Figure {
+            view: self.map_view.visible_m,
+            layers: self.settings.layers(),
+            size_px: (w.max(400) + 180, h.max(300) + 60),
+            selection: self.selection,
+            figure_style: self.settings.figure_style,
+            title: format!("{} — snapshot {}", self.run().name, self.current()),
+        };
+        let svg = figure_svg(&input, &figure, self.run().units);
+        let png = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+        let written = if png {
+            let width = figure.size_px.0 * self.settings.png_scale.clamp(1, 4);
+            svg_to_png(&svg, width)
+                .and_then(|bytes| write_bytes_atomically(path, &bytes).map_err(|e| e.to_string()))
+        } else {
+            write_svg_atomically(path, &svg).map_err(|e| e.to_string())
+        };
+        written.map_err(|e| format!("Could not write {}: {e}", path.display()))
     }
 
     // Parameters and the A/B baseline.

@@ -63,8 +63,12 @@ pub enum Command {
     /// Ask for a path (system or in-app dialog), then export the figure to it (SVG, or PNG by
     /// the extension).
     ExportDialog,
-    /// Write what the map view shows as SVG to this path.
+    /// Write what the map view shows to this path: SVG, or PNG when it ends in `.png`.
     ExportSvg(PathBuf),
+    /// Exports in the figure style (labels for the selection and the decisions only) or not.
+    ToggleFigureStyle,
+    /// PNG exports are this many times the map view's size (1 to 4).
+    SetPngScale(u32),
     /// Hide the error banner.
     DismissError,
     /// Show or hide the keyboard shortcut help.

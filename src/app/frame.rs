@@ -49,6 +49,7 @@ impl SonarApp {
                 ui,
                 &self.settings.recent,
                 self.baseline.is_some(),
+                &self.settings,
             ));
         });
         self.banner_ui(ui, &mut commands);

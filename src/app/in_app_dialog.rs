@@ -137,7 +137,8 @@ impl InAppDialog {
     }
 
     fn go_to(&mut self, folder: PathBuf) {
-        self.folder = folder;
+        // Absolute, so that "Up" and the recent folders work from a relative path too.
+        self.folder = std::fs::canonicalize(&folder).unwrap_or(folder);
         self.refresh();
     }
 

@@ -84,20 +84,7 @@ pub use super::scene_item::colour;
 
 /// True when a primitive with id `id` belongs to the selection `selected`.
 pub fn is_selected(id: SceneId, selected: SceneId) -> bool {
-    if selected == SceneId::None || id == SceneId::None {
-        return false;
-    }
-    match (selected, id) {
-        (
-            SceneId::NewSegment(i),
-            SceneId::Decision {
-                new_segment,
-                existing: None,
-            },
-        ) => i == new_segment,
-        (SceneId::MapSegment(a), SceneId::Update(b)) => a == b,
-        _ => id == selected,
-    }
+    selected.selects(id)
 }
 
 /// The map view's tool bar: fit, zoom, ruler, and the panel switches. It wraps rather than

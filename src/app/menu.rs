@@ -84,7 +84,12 @@ pub fn handle_shortcuts(ctx: &egui::Context) -> Vec<Command> {
 }
 
 /// Draws the menu bar; `pinned` is true while a baseline is pinned.
-pub fn menu_bar_ui(ui: &mut egui::Ui, recent: &[PathBuf], pinned: bool) -> Vec<Command> {
+pub fn menu_bar_ui(
+    ui: &mut egui::Ui,
+    recent: &[PathBuf],
+    pinned: bool,
+    settings: &super::settings::Settings,
+) -> Vec<Command> {
     let mut commands = Vec::new();
     let ctx = ui.ctx().clone();
     egui::MenuBar::new().ui(ui, |ui| {
@@ -121,6 +126,29 @@ pub fn menu_bar_ui(ui: &mut egui::Ui, recent: &[PathBuf], pinned: bool) -> Vec<C
             {
                 commands.push(Command::ExportDialog);
             }
+            let mut figure = settings.figure_style;
+            if ui
+                .checkbox(&mut figure, "Figure style")
+                .on_hover_text(
+                    "Label only the selection and this snapshot's decisions; legend only for \
+                     what is in view",
+                )
+                .changed()
+            {
+                commands.push(Command::ToggleFigureStyle);
+            }
+            ui.horizontal(|ui| {
+                ui.label("PNG size:");
+                for scale in 1..=3 {
+                    if ui
+                        .selectable_label(settings.png_scale == scale, format!("{scale}x"))
+                        .on_hover_text("times the map view's size")
+                        .clicked()
+                    {
+                        commands.push(Command::SetPngScale(scale));
+                    }
+                }
+            });
         });
         ui.menu_button("View", |ui| {
             let items = [

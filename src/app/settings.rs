@@ -47,6 +47,10 @@ pub struct Settings {
     pub file_dialog: super::file_dialog::DialogBackend,
     /// The preset the parameters are compared with (status bar, title, marked fields).
     pub preset: Preset,
+    /// Exports use the figure style (labels only for the selection and the decisions).
+    pub figure_style: bool,
+    /// PNG exports are this many times the map view's size.
+    pub png_scale: u32,
 }
 
 /// Default width of the left panel, points: with the right panel's, the map keeps at least
@@ -173,6 +177,8 @@ impl Default for Settings {
             panels: PanelLayout::default(),
             file_dialog: Default::default(),
             preset: Preset::Paper,
+            figure_style: false,
+            png_scale: 2,
         }
     }
 }
@@ -248,6 +254,7 @@ impl Settings {
         }
         self.rate = self.rate.clamp(0.25, 60.0);
         self.recent.truncate(MAX_RECENT);
+        self.png_scale = self.png_scale.clamp(1, 4);
         let panels = &mut self.panels;
         let default = PanelLayout::default();
         if !panels.left_px.is_finite() || !(120.0..=2000.0).contains(&panels.left_px) {

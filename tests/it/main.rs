@@ -7,6 +7,7 @@ mod engine;
 mod engine_properties;
 mod engine_rules;
 mod eval;
+mod figure;
 mod import;
 mod import_fuzz;
 mod import_hostile;
