@@ -97,6 +97,8 @@ impl SonarApp {
             Command::SetPngScale(scale) => self.settings.png_scale = scale.clamp(1, 4),
             Command::OpenWithLayout(choice) => self.open_with_layout(choice),
             Command::ChooseLayoutFile => self.ask_path(FilePurpose::LayoutFile),
+            Command::ChoosePosesFile => self.ask_path(FilePurpose::PosesFile),
+            Command::SetPosesFile(path) => self.set_picker_poses(&path),
             Command::CancelLayoutPicker => {
                 if self.layout_picker.take().is_some() {
                     self.message = "not opened: no layout chosen".to_owned();
@@ -157,6 +159,7 @@ impl SonarApp {
             FilePurpose::LoadParams => self.load_params(&path),
             FilePurpose::SaveParams => self.save_params(&path),
             FilePurpose::LayoutFile => self.open_with_layout(LayoutChoice::File(path)),
+            FilePurpose::PosesFile => self.set_picker_poses(&path),
         }
     }
 

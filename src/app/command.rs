@@ -107,6 +107,10 @@ pub enum Command {
     OpenWithLayout(super::layout_picker::LayoutChoice),
     /// Ask for a layout file (system or in-app dialog) for the log in the layout picker.
     ChooseLayoutFile,
+    /// Ask for the poses table (system or in-app dialog) of the table in the layout picker.
+    ChoosePosesFile,
+    /// Read the poses of the table in the layout picker from this file.
+    SetPosesFile(PathBuf),
     /// Close the layout picker; the run that was open stays.
     CancelLayoutPicker,
     /// Show this page of the right panel (inspector docked in a tab).

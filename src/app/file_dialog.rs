@@ -60,6 +60,8 @@ pub enum FilePurpose {
     SaveParams,
     /// A layout file for a log that needs one.
     LayoutFile,
+    /// The poses table (`t x y heading`) of a table of ranges only.
+    PosesFile,
 }
 
 impl FilePurpose {
@@ -71,6 +73,7 @@ impl FilePurpose {
             FilePurpose::LoadParams => "Load parameters",
             FilePurpose::SaveParams => "Save parameters",
             FilePurpose::LayoutFile => "Choose a layout file",
+            FilePurpose::PosesFile => "Choose the poses table",
         }
     }
 
@@ -94,6 +97,7 @@ impl FilePurpose {
             FilePurpose::ExportFigure => ("figure", &["svg", "png"]),
             FilePurpose::LoadParams | FilePurpose::SaveParams => ("parameters", &["json"]),
             FilePurpose::LayoutFile => ("layout", &["json"]),
+            FilePurpose::PosesFile => ("poses table", &["txt", "csv", "tsv", "dat"]),
         }
     }
 }

@@ -5,6 +5,7 @@
 
 use super::command::Command;
 use super::loaded::Source;
+use crate::import::NamedBytes;
 use crate::units::Units;
 use std::path::PathBuf;
 
@@ -39,6 +40,8 @@ pub struct LayoutPicker {
     pub(super) reason: String,
     /// The table's length unit.
     pub(super) units: Units,
+    /// The poses table, for a table of ranges only.
+    pub(super) poses: Option<NamedBytes>,
 }
 
 impl LayoutPicker {
@@ -68,6 +71,17 @@ pub fn layout_picker_ui(ctx: &egui::Context, picker: &mut LayoutPicker) -> Vec<C
                 ui.label("Lengths in the table:");
                 for u in TABLE_UNITS {
                     ui.selectable_value(&mut picker.units, u, u.symbol());
+                }
+            });
+            ui.horizontal(|ui| {
+                let poses = picker.poses.as_ref().map_or("none", |p| p.name.as_str());
+                ui.label(format!("Poses table: {poses}"));
+                if ui
+                    .small_button("Poses file…")
+                    .on_hover_text("For a table of ranges only: its poses, t x y heading")
+                    .clicked()
+                {
+                    commands.push(Command::ChoosePosesFile);
                 }
             });
             ui.label("Shipped layouts:");

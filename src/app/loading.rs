@@ -12,7 +12,9 @@ use super::loaded::{Loaded, Source};
 use super::map_view::{MapViewState, ViewRequest};
 use super::params_panel::ParamsPanelState;
 use super::settings::Settings;
-use crate::import::{builtin_layout, import_any, parse_layout, ImportError, ImportOptions};
+use crate::import::{
+    builtin_layout, import_any, parse_layout, ImportError, ImportOptions, NamedBytes,
+};
 use crate::mapping::Params;
 use crate::replay::Replay;
 use crate::run::Run;
@@ -124,6 +126,7 @@ impl SonarApp {
                     bytes: bytes.to_vec(),
                     reason: format!("{what}: pick the robot's sensor layout to read it."),
                     units: Units::Metres,
+                    poses: options.poses.clone(),
                 });
             }
             Err(e) => {
@@ -155,6 +158,7 @@ impl SonarApp {
                 let options = ImportOptions {
                     layout: Some(layout),
                     units: Some(picker.units),
+                    poses: picker.poses.clone(),
                     ..ImportOptions::default()
                 };
                 self.open_bytes_with(&picker.bytes, picker.source, false, &options);
@@ -163,6 +167,23 @@ impl SonarApp {
                 self.banner = Some(e);
                 self.layout_picker = Some(picker);
             }
+        }
+    }
+
+    /// Reads the poses table for the log waiting in the layout picker.
+    pub(super) fn set_picker_poses(&mut self, path: &Path) {
+        let Some(picker) = &mut self.layout_picker else {
+            return;
+        };
+        match std::fs::read(path) {
+            Ok(bytes) => {
+                picker.poses = Some(NamedBytes {
+                    name: path.display().to_string(),
+                    bytes,
+                });
+                self.message = format!("poses from {}", path.display());
+            }
+            Err(e) => self.banner = Some(format!("Could not read {}: {e}", path.display())),
         }
     }
 

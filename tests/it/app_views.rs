@@ -230,6 +230,35 @@ fn a_table_opens_through_the_layout_picker() {
     h.run();
     assert!(h.state().layout_picker().is_none());
     assert_eq!(h.state().run().name, name);
+
+    // A table of ranges only takes its poses from a second file.
+    let dir = tempfile::tempdir().unwrap();
+    let ranges = dir.path().join("ranges.txt");
+    let poses = dir.path().join("poses.txt");
+    std::fs::write(
+        &ranges,
+        "0.0 48.2 51 - 110.4 230 97.3 77 75.1 74.9 76 80.2 99 - 60 52.3 49.9\n",
+    )
+    .unwrap();
+    std::fs::write(&poses, "-1 120 77 0\n1 130 77 90\n").unwrap();
+    h.state_mut().push(Command::Open(ranges));
+    h.run();
+    assert!(h.query_by_label("Poses table: none").is_some());
+    h.state_mut().push(Command::SetPosesFile(poses.clone()));
+    h.run();
+    assert!(h
+        .query_by_label(&format!("Poses table: {}", poses.display()))
+        .is_some());
+    h.get_by_label("in").click();
+    h.get_by_label("nomad_200").click();
+    h.run();
+    assert!(h.state().banner().is_none(), "{:?}", h.state().banner());
+    assert_eq!(h.state().len(), 1);
+    let pose = h.state().run().snapshots[0].pose;
+    assert!(
+        (pose.x - sonarmap::units::inches(125.0)).abs() < 1e-9,
+        "{pose:?}"
+    );
 }
 
 #[test]
