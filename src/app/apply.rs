@@ -234,6 +234,10 @@ impl SonarApp {
     }
 
     fn toggle_panel(&mut self, panel: PanelToggle) {
+        if panel == PanelToggle::Split && self.baseline.is_none() {
+            self.message = "A | B needs a baseline: Parameters > Pin as baseline".to_owned();
+            return;
+        }
         let panels = &mut self.settings.panels;
         match panel {
             PanelToggle::Left => {
