@@ -30,8 +30,8 @@ pub struct FigureArgs {
     /// at the page size.
     #[arg(long)]
     pub png: bool,
-    /// With --svg: the figure style (labels only for this snapshot's decisions; legend only
-    /// for what is in view).
+    /// With --svg: the figure style (map labels only where this snapshot's decisions met the
+    /// map).
     #[arg(long)]
     pub figure: bool,
 }

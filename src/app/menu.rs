@@ -130,8 +130,8 @@ pub fn menu_bar_ui(
             if ui
                 .checkbox(&mut figure, "Figure style")
                 .on_hover_text(
-                    "Label only the selection and this snapshot's decisions; legend only for \
-                     what is in view",
+                    "Label only the selection and the map segments this snapshot's decisions \
+                     met",
                 )
                 .changed()
             {

@@ -25,8 +25,9 @@ pub struct Figure {
     pub size_px: (u32, u32),
     /// Highlighted with a halo (and labelled in the figure style).
     pub selection: SceneId,
-    /// The figure style: map labels only for the selection and this step's decisions, and
-    /// the legend only for what is inside the view. Otherwise: as the screen shows it.
+    /// The figure style: map labels only for the selection and this step's decisions.
+    /// Otherwise: labelled as the screen labels (either way, only what is in the view is
+    /// written, and the legend lists only that).
     pub figure_style: bool,
     /// The title over the map (shortened to the page).
     pub title: String,
@@ -55,10 +56,8 @@ pub fn figure_svg(input: &SceneInput, figure: &Figure, units: Units) -> String {
         layers: figure.layers,
         world_per_px: page_world_per_px(view, figure.size_px),
     };
-    let mut scene = build_scene(&input, &options);
-    if figure.figure_style {
-        scene = scene.within(view);
-    }
+    // Only what the view shows: the file holds what is seen, the legend lists only that.
+    let mut scene = build_scene(&input, &options).within(view);
     highlight(&mut scene.primitives, figure.selection);
     to_svg(&scene, view, figure.size_px, &figure.title, units)
 }

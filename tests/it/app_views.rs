@@ -286,3 +286,53 @@ fn parameters_that_differ_from_the_preset_are_named_in_the_title_and_status_bar(
     assert!(h.state().changed_params().is_empty());
     assert!(h.query_by_label_contains("parameters ≠").is_none());
 }
+
+#[test]
+fn the_export_is_what_the_screen_shows_and_a_png_name_writes_a_png() {
+    let mut h = building();
+    h.state_mut().push(Command::Seek(150));
+    h.run();
+    let id = h.state().step_view().unwrap().map_after.segments[0].id;
+    h.state_mut()
+        .push(Command::Select(sonarmap::scene::SceneId::MapSegment(id)));
+    h.state_mut().push(Command::ZoomToSelection);
+    h.state_mut()
+        .push(Command::ToggleLayer(sonarmap::scene::Layer::Balls));
+    h.run();
+    let dir = tempfile::tempdir().unwrap();
+    let svg_path = dir.path().join("view.svg");
+    h.state_mut().push(Command::ExportSvg(svg_path.clone()));
+    h.run();
+    assert!(h.state().banner().is_none(), "{:?}", h.state().banner());
+    let svg = std::fs::read_to_string(&svg_path).unwrap();
+    assert!(
+        !svg.contains("<g id=\"balls\""),
+        "a layer switched off is not exported"
+    );
+    assert!(svg.contains("#ffb020"), "the selection has its halo");
+    // The visible region, not the whole map: far fewer map labels than the full figure has.
+    let labels = |svg: &str| svg.matches(">s").count();
+    let full = sonarmap::scene::figure::figure_svg(
+        &sonarmap::scene::SceneInput::from_view(h.state().run(), h.state().step_view().unwrap()),
+        &sonarmap::scene::figure::Figure {
+            view: None,
+            layers: h.state().layers(),
+            size_px: (1600, 1200),
+            selection: sonarmap::scene::SceneId::None,
+            figure_style: false,
+            title: String::new(),
+        },
+        h.state().run().units,
+    );
+    assert!(
+        labels(&svg) < labels(&full),
+        "{} vs {}",
+        labels(&svg),
+        labels(&full)
+    );
+    let png_path = dir.path().join("view.png");
+    h.state_mut().push(Command::ExportSvg(png_path.clone()));
+    h.run();
+    let png = std::fs::read(&png_path).expect("the PNG is written");
+    assert_eq!(&png[1..4], b"PNG");
+}
