@@ -8,8 +8,7 @@ use sonarmap::log::{parse_json, save_map, save_run};
 use sonarmap::mapping::{Map, Mapper, Outcome, Params, ParamsFile, Preset, StepTrace};
 use sonarmap::replay::StepView;
 use sonarmap::run::Run;
-use sonarmap::scene::svg::{default_view, to_svg};
-use sonarmap::scene::{build_scene, Layer, LayerSet, SceneInput, ViewOptions};
+use sonarmap::scene::{Layer, LayerSet};
 use sonarmap::sim::{load_plan, simulate, Model};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -234,6 +233,9 @@ pub struct RunArgs {
     /// With --out-dir: also write each log's trace.
     #[arg(long, requires = "out_dir")]
     pub trace: bool,
+    /// The figure's region, layers, size, style and PNG.
+    #[command(flatten)]
+    pub figure: crate::figure_args::FigureArgs,
 }
 
 /// `sonarmap simulate`.
@@ -457,11 +459,16 @@ struct RunOutputs {
     map: Option<PathBuf>,
     trace: Option<PathBuf>,
     svg: Option<PathBuf>,
+    figure: Option<crate::figure_args::FigureSpec>,
 }
 
 fn run_command(args: &RunArgs) -> Result<()> {
     let params = read_params(&args.params)?;
-    let outputs: Vec<RunOutputs> = match &args.out_dir {
+    if args.figure.any() && args.svg.is_none() && args.out_dir.is_none() {
+        bail!("--view, --layers, --size, --png and --figure shape the figure: give --svg V.svg (or --out-dir)");
+    }
+    let figure = Some(args.figure.spec(paper_figure_layers())?);
+    let mut outputs: Vec<RunOutputs> = match &args.out_dir {
         None if args.logs.len() > 1
             && (args.out_map.is_some() || args.out_trace.is_some() || args.svg.is_some()) =>
         {
@@ -472,6 +479,7 @@ fn run_command(args: &RunArgs) -> Result<()> {
                 map: args.out_map.clone(),
                 trace: args.out_trace.clone(),
                 svg: args.svg.clone(),
+                figure: None,
             };
             args.logs.len()
         ],
@@ -499,10 +507,14 @@ fn run_command(args: &RunArgs) -> Result<()> {
                     map: Some(dir.join(format!("{stem}.map.json"))),
                     trace: args.trace.then(|| dir.join(format!("{stem}.trace.json"))),
                     svg: Some(dir.join(format!("{stem}.svg"))),
+                    figure: None,
                 })
                 .collect()
         }
     };
+    for out in &mut outputs {
+        out.figure.clone_from(&figure);
+    }
     // A bug that panics on one log must not take the process (or a sweep's other results)
     // with it; the steps themselves are guarded and name their snapshot.
     let guarded = |i: usize| {
@@ -614,7 +626,10 @@ fn run_one(path: &Path, params: &Params, until: Option<usize>, out: &RunOutputs)
             for trace in view.previous.iter().chain([&view.trace]) {
                 mapping.record(trace.clone());
             }
-            Some(paper_figure_svg(&run, &view))
+            Some(match &out.figure {
+                Some(spec) => spec.svg(&run, &view),
+                None => paper_figure_svg(&run, &view),
+            })
         }
         None => {
             mapping
@@ -645,6 +660,14 @@ fn run_one(path: &Path, params: &Params, until: Option<usize>, out: &RunOutputs)
     }
     if let (Some(path), Some(svg)) = (&out.svg, figure) {
         write_atomic(path, &svg)?;
+        if let Some(spec) = &out.figure {
+            if let Some(png) = spec.png_path(path) {
+                let bytes = sonarmap::export::svg_to_png(&svg, spec.width_px())
+                    .map_err(|e| anyhow!("{}: {e}", png.display()))?;
+                sonarmap::export::write_bytes_atomically(&png, &bytes)
+                    .with_context(|| format!("cannot write {}", png.display()))?;
+            }
+        }
     }
     Ok(summary.to_string())
 }
@@ -660,18 +683,13 @@ pub fn paper_figure_layers() -> LayerSet {
         .with(Layer::Clusters, false)
 }
 
-/// The SVG of `view` (a snapshot of `run`) as a paper figure (the whole content in view).
+/// The SVG of `view` (a snapshot of `run`) as a paper figure (the whole content in view, the
+/// paper figure's layers, 1000×700 pixels, labels decluttered for the page).
 pub fn paper_figure_svg(run: &Run, view: &StepView) -> String {
-    let k = view.index;
-    let input = SceneInput::from_view(run, view);
-    let options = ViewOptions {
-        layers: paper_figure_layers(),
-        world_per_px: 0.0,
-        visible_m: None,
-    };
-    let scene = build_scene(&input, &options);
-    let title = format!("{} — snapshot {k}", run.name);
-    to_svg(&scene, default_view(&scene), (1000, 700), &title, run.units)
+    crate::figure_args::FigureArgs::default()
+        .spec(paper_figure_layers())
+        .expect("the default figure options are valid")
+        .svg(run, view)
 }
 
 fn simulate_command(args: &SimulateArgs) -> Result<()> {

@@ -10,10 +10,39 @@ pub fn write_text_atomically(path: &Path, contents: &str) -> io::Result<()> {
     write_svg_atomically(path, contents)
 }
 
+/// Writes `contents` to `path` atomically (see [`write_bytes_atomically`]).
+pub fn write_svg_atomically(path: &Path, contents: &str) -> io::Result<()> {
+    write_bytes_atomically(path, contents.as_bytes())
+}
+
+/// Renders an SVG document as a PNG image `width_px` wide (the height keeps the document's
+/// aspect), with the system's fonts for its texts.
+pub fn svg_to_png(svg: &str, width_px: u32) -> Result<Vec<u8>, String> {
+    let mut options = usvg::Options::default();
+    options.fontdb_mut().load_system_fonts();
+    let tree = usvg::Tree::from_str(svg, &options).map_err(|e| format!("the SVG: {e}"))?;
+    let size = tree.size();
+    let scale = f64::from(width_px.clamp(16, 16_384)) / f64::from(size.width().max(1.0));
+    let (w, h) = (
+        (f64::from(size.width()) * scale).round().max(1.0) as u32,
+        (f64::from(size.height()) * scale).round().max(1.0) as u32,
+    );
+    let mut pixmap = resvg::tiny_skia::Pixmap::new(w, h)
+        .ok_or_else(|| format!("cannot make a {w}×{h} image"))?;
+    resvg::render(
+        &tree,
+        resvg::tiny_skia::Transform::from_scale(scale as f32, scale as f32),
+        &mut pixmap.as_mut(),
+    );
+    pixmap
+        .encode_png()
+        .map_err(|e| format!("PNG encoding: {e}"))
+}
+
 /// Writes `contents` to `path` atomically: into a temporary file in the same directory, which
 /// is then renamed over `path`. A reader never sees a half-written file; on error the
 /// temporary file is removed and `path` is left as it was.
-pub fn write_svg_atomically(path: &Path, contents: &str) -> io::Result<()> {
+pub fn write_bytes_atomically(path: &Path, contents: &[u8]) -> io::Result<()> {
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -31,7 +60,7 @@ pub fn write_svg_atomically(path: &Path, contents: &str) -> io::Result<()> {
     ));
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(contents.as_bytes())?;
+        f.write_all(contents)?;
         f.sync_all()?;
         std::fs::rename(&tmp, path)
     })();

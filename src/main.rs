@@ -2,6 +2,7 @@
 
 mod cli;
 mod convert;
+mod figure_args;
 
 use clap::Parser;
 use sonarmap::app::{Command, SonarApp, Source};

@@ -36,6 +36,8 @@ pub struct SonarApp {
     pub(super) cursor: ReplayCursor,
     /// The map view's scene between frames.
     pub(super) scene_cache: SceneCache,
+    /// The baseline's (A of the split view).
+    pub(super) baseline_scene_cache: SceneCache,
     /// `eval`'s verdicts on the map shown, when the run has a floor plan.
     pub(super) truth: Option<TruthView>,
     pub(super) playing: bool,
@@ -46,6 +48,12 @@ pub struct SonarApp {
     pub(super) banner: Option<String>,
     pub(super) message: String,
     pub(super) map_view: MapViewState,
+    /// The baseline's map view (A) of the split view; its pan and zoom follow `map_view`'s.
+    pub(super) split_view: MapViewState,
+    /// The in-app file dialog, while open.
+    pub(super) file_dialog: Option<super::in_app_dialog::InAppDialog>,
+    /// A log that needs a sensor layout, waiting for the layout picker.
+    pub(super) layout_picker: Option<super::layout_picker::LayoutPicker>,
     pub(super) pending: Vec<Command>,
     pub(super) show_shortcuts: bool,
     pub(super) jump_text: String,
@@ -54,6 +62,8 @@ pub struct SonarApp {
     pub(super) bookmarks: Vec<Bookmark>,
     pub(super) bookmark_text: String,
     pub(super) last_rerun_s: Option<f64>,
+    /// The window title last sent to the window.
+    pub(super) shown_title: String,
 }
 
 impl SonarApp {
@@ -106,6 +116,26 @@ impl SonarApp {
             (Some(b), Some(v)) => b.differences(v),
             _ => Vec::new(),
         }
+    }
+
+    /// The parameters (asked for) that differ from the active preset's, as the panel names
+    /// them; empty when they are the preset's.
+    pub fn changed_params(&self) -> Vec<&'static str> {
+        super::params_panel::changed_fields(&self.params, self.settings.preset)
+    }
+
+    /// The window's title: the run, and a warning when the parameters are not the preset's.
+    pub fn window_title(&self) -> String {
+        let mut title = format!("sonarmap · {}", self.loaded.source.display_name());
+        let changed = self.changed_params();
+        if !changed.is_empty() {
+            title.push_str(&format!(
+                " · parameters ≠ {} ({})",
+                super::params_panel::preset_name(self.settings.preset),
+                changed.join(", ")
+            ));
+        }
+        title
     }
 
     /// The bookmarks of the open run.
@@ -213,6 +243,28 @@ impl SonarApp {
         &self.map_view
     }
 
+    /// The baseline's map view (A) while the split view shows it.
+    pub fn split_view(&self) -> Option<&MapViewState> {
+        self.is_split().then_some(&self.split_view)
+    }
+
+    /// True while the baseline and the current map are shown side by side.
+    pub fn is_split(&self) -> bool {
+        self.settings.panels.split && self.baseline.is_some()
+    }
+
+    /// What the in-app file dialog is open for, and the folder it shows.
+    pub fn file_dialog(&self) -> Option<(super::file_dialog::FilePurpose, &std::path::Path)> {
+        self.file_dialog
+            .as_ref()
+            .map(|d| (d.purpose, d.directory()))
+    }
+
+    /// The file waiting for a layout in the layout picker, when open.
+    pub fn layout_picker(&self) -> Option<&str> {
+        self.layout_picker.as_ref().map(|p| p.file_name())
+    }
+
     /// The state of "compare with…".
     pub fn compare(&self) -> &CompareState {
         &self.compare
@@ -239,23 +291,64 @@ impl SonarApp {
     }
 
     pub(super) fn scene_with(&self, world_per_px: f64) -> Option<Scene> {
-        self.scene_for(&ViewOptions {
+        self.current_scene_for(&self.options_at(world_per_px))
+    }
+
+    /// The view options of the layers on at `world_per_px` (no view rectangle).
+    fn options_at(&self, world_per_px: f64) -> ViewOptions {
+        ViewOptions {
             layers: self.settings.layers(),
             world_per_px,
             visible_m: None,
-        })
+        }
     }
 
     /// The scene of the current step under `options`.
-    fn scene_for(&self, options: &ViewOptions) -> Option<Scene> {
-        let view = self.view.as_ref()?;
+    fn current_scene_for(&self, options: &ViewOptions) -> Option<Scene> {
         let truth = self.truth.as_ref().map(|t| t.verdicts.as_slice());
+        self.scene_of(
+            self.loaded.replay.run(),
+            self.view.as_ref()?,
+            truth,
+            options,
+        )
+    }
+
+    /// The baseline's scene at the snapshot shown (A of the split view), drawn as the current
+    /// one is: same layers, same selection where it exists; kept between frames as the
+    /// current one is ([`SonarApp::frame_scene`]).
+    pub(super) fn frame_baseline_scene(&mut self) -> Option<Arc<Scene>> {
+        let b = self.baseline.as_ref()?;
+        let view = b.view.as_ref()?;
+        let subject = SceneSubject {
+            source: (b.replay.id(), view.index),
+            selection: self.selection,
+            layers: self.settings.layers(),
+            truth: false,
+        };
+        let (visible_m, world_per_px) = (self.split_view.visible_m, self.split_view.world_per_px());
+        let mut cache = std::mem::take(&mut self.baseline_scene_cache);
+        let scene = cache.scene(subject, visible_m, world_per_px, |options| {
+            self.scene_of(b.replay.run(), view, None, options)
+                .unwrap_or_default()
+        });
+        self.baseline_scene_cache = cache;
+        Some(scene)
+    }
+
+    fn scene_of(
+        &self,
+        run: &Run,
+        view: &StepView,
+        truth: Option<&[(crate::mapping::SegmentId, crate::eval::Verdict)]>,
+        options: &ViewOptions,
+    ) -> Option<Scene> {
         // A selected map segment shows where its supporting readings were read.
         let support_of = match self.selection {
             SceneId::MapSegment(id) | SceneId::Update(id) => Some(id),
             _ => None,
         };
-        let input = SceneInput::from_view(self.loaded.replay.run(), view)
+        let input = SceneInput::from_view(run, view)
             .with_truth(truth)
             .with_support_of(support_of);
         Some(build_scene(&input, options))
@@ -282,7 +375,7 @@ impl SonarApp {
         let (visible_m, world_per_px) = (self.map_view.visible_m, self.map_view.world_per_px());
         let mut cache = std::mem::take(&mut self.scene_cache);
         let scene = cache.scene(subject, visible_m, world_per_px, |options| {
-            self.scene_for(options).unwrap_or_default()
+            self.current_scene_for(options).unwrap_or_default()
         });
         self.scene_cache = cache;
         scene

@@ -5,15 +5,21 @@
 use super::app::SonarApp;
 use super::baseline::Baseline;
 use super::bookmarks::{write_sidecar, Bookmark};
-use super::command::Command;
+use super::command::{Command, PanelToggle};
+use super::file_dialog::{ask_system, probe_system, DialogBackend, FilePurpose, SystemAnswer};
+use super::in_app_dialog::InAppDialog;
 use super::inspector::{describe_id, CompareState};
 use super::jobs::JobKind;
+use super::layout_picker::LayoutChoice;
 use super::loaded::Source;
 use super::map_view::ViewRequest;
-use crate::export::{write_svg_atomically, write_text_atomically};
+use crate::export::{
+    svg_to_png, write_bytes_atomically, write_svg_atomically, write_text_atomically,
+};
 use crate::mapping::matching::evaluate_pair;
 use crate::mapping::{Params, ParamsFile};
-use crate::scene::svg::{default_view, to_svg};
+use crate::scene::figure::{figure_svg, Figure};
+use crate::scene::SceneInput;
 use crate::scene::{Layer, SceneId, ViewRect};
 use std::path::Path;
 
@@ -25,7 +31,7 @@ impl SonarApp {
             Command::OpenBytes { name, bytes } => {
                 self.open_bytes(&bytes, Source::Bytes(name), false)
             }
-            Command::OpenDialog => self.open_dialog(),
+            Command::OpenDialog => self.ask_path(FilePurpose::OpenLog),
             Command::Reload => self.reload(),
             Command::Seek(k) => self.seek(k),
             Command::Step(delta) => {
@@ -62,13 +68,17 @@ impl SonarApp {
             Command::FitView => self.map_view.request = Some(ViewRequest::Fit),
             Command::ZoomToSelection => self.zoom_to_selection(),
             Command::CenterOn(p) => self.map_view.request = Some(ViewRequest::Center(p)),
-            Command::ExportDialog => self.export_dialog(),
+            Command::ExportDialog => self.ask_path(FilePurpose::ExportFigure),
             Command::ExportSvg(path) => self.export_to(&path),
             Command::DismissError => self.banner = None,
             Command::ToggleShortcuts => self.show_shortcuts = !self.show_shortcuts,
             Command::SetParams(params) => self.set_params(params),
-            Command::LoadParamsDialog => self.load_params_dialog(),
-            Command::SaveParamsDialog => self.save_params_dialog(),
+            Command::SetPreset(preset) => {
+                self.settings.preset = preset;
+                self.set_params(Params::preset(preset));
+            }
+            Command::LoadParamsDialog => self.ask_path(FilePurpose::LoadParams),
+            Command::SaveParamsDialog => self.ask_path(FilePurpose::SaveParams),
             Command::LoadParams(path) => self.load_params(&path),
             Command::SaveParams(path) => self.save_params(&path),
             Command::PinBaseline => self.pin_baseline(),
@@ -79,17 +89,77 @@ impl SonarApp {
             }
             Command::AddBookmark(name) => self.add_bookmark(&name),
             Command::RemoveBookmark(i) => self.remove_bookmark(i),
+            Command::SetFileDialog(backend) => self.settings.file_dialog = backend,
+            Command::TogglePanel(panel) => self.toggle_panel(panel),
+            Command::DockInspector(dock) => self.settings.panels.inspector_dock = dock,
+            Command::ShowRightTab(tab) => self.settings.panels.right_tab = tab,
+            Command::ToggleFigureStyle => self.settings.figure_style = !self.settings.figure_style,
+            Command::SetPngScale(scale) => self.settings.png_scale = scale.clamp(1, 4),
+            Command::OpenWithLayout(choice) => self.open_with_layout(choice),
+            Command::ChooseLayoutFile => self.ask_path(FilePurpose::LayoutFile),
+            Command::ChoosePosesFile => self.ask_path(FilePurpose::PosesFile),
+            Command::SetPosesFile(path) => self.set_picker_poses(&path),
+            Command::CancelLayoutPicker => {
+                if self.layout_picker.take().is_some() {
+                    self.message = "not opened: no layout chosen".to_owned();
+                }
+            }
         }
     }
 
     // Opening and reloading.
 
-    fn open_dialog(&mut self) {
-        if let Some(path) = rfd::FileDialog::new()
-            .add_filter("run log", &["json"])
-            .pick_file()
-        {
-            self.open_path(&path, false);
+    /// Asks for a path for `purpose`: the system dialog when it can work, else (or when it
+    /// fails) the in-app dialog, which [`Self::poll_file_dialog`] follows frame by frame.
+    fn ask_path(&mut self, purpose: FilePurpose) {
+        let folder = self.settings.recent_folders().into_iter().next();
+        let file_name = match purpose {
+            FilePurpose::ExportFigure => format!("snapshot-{}.svg", self.current()),
+            FilePurpose::SaveParams => "params.json".to_owned(),
+            _ => String::new(),
+        };
+        let backend = DialogBackend::from_env().unwrap_or(self.settings.file_dialog);
+        let use_system = match backend {
+            DialogBackend::InApp => false,
+            DialogBackend::System => true,
+            DialogBackend::Auto => match probe_system() {
+                Ok(()) => true,
+                Err(why) => {
+                    self.message = format!("in-app file dialog: {why}");
+                    false
+                }
+            },
+        };
+        if use_system {
+            match ask_system(purpose, folder.as_deref(), &file_name) {
+                SystemAnswer::Chosen(path) => return self.path_chosen(purpose, path),
+                SystemAnswer::Cancelled => return,
+                SystemAnswer::Failed => {
+                    self.banner = Some(
+                        "The system file dialog did not open (no XDG desktop portal or zenity \
+                         answered); using the in-app dialog."
+                            .to_owned(),
+                    );
+                }
+            }
+        }
+        self.file_dialog = Some(InAppDialog::open(
+            purpose,
+            folder.as_deref(),
+            &file_name,
+            self.settings.recent_folders(),
+        ));
+    }
+
+    /// Carries out what a chosen path was asked for.
+    pub(super) fn path_chosen(&mut self, purpose: FilePurpose, path: std::path::PathBuf) {
+        match purpose {
+            FilePurpose::OpenLog => self.open_path(&path, false),
+            FilePurpose::ExportFigure => self.export_to(&path),
+            FilePurpose::LoadParams => self.load_params(&path),
+            FilePurpose::SaveParams => self.save_params(&path),
+            FilePurpose::LayoutFile => self.open_with_layout(LayoutChoice::File(path)),
+            FilePurpose::PosesFile => self.set_picker_poses(&path),
         }
     }
 
@@ -163,6 +233,28 @@ impl SonarApp {
         self.settings.set_layer(layer, !on);
     }
 
+    fn toggle_panel(&mut self, panel: PanelToggle) {
+        if panel == PanelToggle::Split && self.baseline.is_none() {
+            self.message = "A | B needs a baseline: Parameters > Pin as baseline".to_owned();
+            return;
+        }
+        let panels = &mut self.settings.panels;
+        match panel {
+            PanelToggle::Left => {
+                panels.left_open = !panels.shows_left();
+                panels.map_only = false;
+            }
+            PanelToggle::Right => {
+                panels.right_open = !panels.shows_right();
+                panels.map_only = false;
+            }
+            PanelToggle::MapOnly => panels.map_only = !panels.map_only,
+            PanelToggle::Split => panels.split = !panels.split,
+        }
+        // The map's size changes: frame the content again in what is left.
+        self.map_view.request = Some(ViewRequest::Fit);
+    }
+
     fn zoom_to_selection(&mut self) {
         match self.ends_of(self.selection) {
             Some(ends) => {
@@ -177,17 +269,6 @@ impl SonarApp {
 
     // Export.
 
-    fn export_dialog(&mut self) {
-        let name = format!("snapshot-{}.svg", self.current());
-        if let Some(path) = rfd::FileDialog::new()
-            .add_filter("SVG", &["svg"])
-            .set_file_name(name)
-            .save_file()
-        {
-            self.apply(Command::ExportSvg(path));
-        }
-    }
-
     fn export_to(&mut self, path: &Path) {
         match self.export_svg(path) {
             Ok(()) => self.message = format!("exported {}", path.display()),
@@ -198,21 +279,37 @@ impl SonarApp {
         }
     }
 
-    /// Writes what the map view shows to `path` as SVG (atomically).
+    /// Writes what the map view shows to `path` (atomically): the visible region, the layers
+    /// on, the selection highlighted; SVG, or PNG when the name ends in `.png` (the page
+    /// scaled by the PNG scale setting). The figure style when it is on.
     pub fn export_svg(&mut self, path: &Path) -> Result<(), String> {
-        let scene = self
-            .scene_with(self.map_view.world_per_px())
-            .ok_or_else(|| "nothing to export".to_owned())?;
         let view = self
-            .map_view
-            .visible_m
-            .unwrap_or_else(|| default_view(&scene));
+            .view
+            .as_ref()
+            .ok_or_else(|| "nothing to export".to_owned())?;
+        let truth = self.truth.as_ref().map(|t| t.verdicts.as_slice());
+        let input = SceneInput::from_view(self.loaded.replay.run(), view).with_truth(truth);
         let (w, h) = self.map_view.size_px;
-        let size = (w.max(400) + 180, h.max(300) + 60);
-        let title = format!("{} — snapshot {}", self.run().name, self.current());
-        let svg = to_svg(&scene, view, size, &title, self.run().units);
-        write_svg_atomically(path, &svg)
-            .map_err(|e| format!("Could not write {}: {e}", path.display()))
+        let figure = Figure {
+            view: self.map_view.visible_m,
+            layers: self.settings.layers(),
+            size_px: (w.max(400) + 180, h.max(300) + 60),
+            selection: self.selection,
+            figure_style: self.settings.figure_style,
+            title: format!("{} — snapshot {}", self.run().name, self.current()),
+        };
+        let svg = figure_svg(&input, &figure, self.run().units);
+        let png = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+        let written = if png {
+            let width = figure.size_px.0 * self.settings.png_scale.clamp(1, 4);
+            svg_to_png(&svg, width)
+                .and_then(|bytes| write_bytes_atomically(path, &bytes).map_err(|e| e.to_string()))
+        } else {
+            write_svg_atomically(path, &svg).map_err(|e| e.to_string())
+        };
+        written.map_err(|e| format!("Could not write {}: {e}", path.display()))
     }
 
     // Parameters and the A/B baseline.
@@ -231,25 +328,6 @@ impl SonarApp {
             b.diff = None;
         }
         self.start_background(run, JobKind::Rerun);
-    }
-
-    fn load_params_dialog(&mut self) {
-        if let Some(path) = rfd::FileDialog::new()
-            .add_filter("parameters", &["json"])
-            .pick_file()
-        {
-            self.load_params(&path);
-        }
-    }
-
-    fn save_params_dialog(&mut self) {
-        if let Some(path) = rfd::FileDialog::new()
-            .add_filter("parameters", &["json"])
-            .set_file_name("params.json")
-            .save_file()
-        {
-            self.save_params(&path);
-        }
     }
 
     fn load_params(&mut self, path: &Path) {

@@ -20,7 +20,7 @@ pub enum Command {
         /// The file's contents.
         bytes: Vec<u8>,
     },
-    /// Ask for a file with the system dialog, then [`Command::Open`] it.
+    /// Ask for a file (system or in-app dialog), then [`Command::Open`] it.
     OpenDialog,
     /// Load the current file again from disk.
     Reload,
@@ -60,19 +60,26 @@ pub enum Command {
     ZoomToSelection,
     /// Centre the map view on a world point (metres).
     CenterOn(Point),
-    /// Ask for a file with the system dialog, then [`Command::ExportSvg`] to it.
+    /// Ask for a path (system or in-app dialog), then export the figure to it (SVG, or PNG by
+    /// the extension).
     ExportDialog,
-    /// Write what the map view shows as SVG to this path.
+    /// Write what the map view shows to this path: SVG, or PNG when it ends in `.png`.
     ExportSvg(PathBuf),
+    /// Exports in the figure style (labels for the selection and the decisions only) or not.
+    ToggleFigureStyle,
+    /// PNG exports are this many times the map view's size (1 to 4).
+    SetPngScale(u32),
     /// Hide the error banner.
     DismissError,
     /// Show or hide the keyboard shortcut help.
     ToggleShortcuts,
     /// Re-run the run with these parameters (refused if they do not validate).
     SetParams(Params),
-    /// Ask for a parameter file with the system dialog, then [`Command::LoadParams`] it.
+    /// Make this preset the one compared with, and apply its values.
+    SetPreset(crate::mapping::Preset),
+    /// Ask for a parameter file (system or in-app dialog), then [`Command::LoadParams`] it.
     LoadParamsDialog,
-    /// Ask for a path with the system dialog, then [`Command::SaveParams`] to it.
+    /// Ask for a path (system or in-app dialog), then [`Command::SaveParams`] to it.
     SaveParamsDialog,
     /// Load a `--params` file (docs/formats.md §6) on top of the paper's values and re-run.
     LoadParams(PathBuf),
@@ -90,4 +97,35 @@ pub enum Command {
     AddBookmark(String),
     /// Remove the bookmark at this position of the list.
     RemoveBookmark(usize),
+    /// Use this file dialog from now on.
+    SetFileDialog(super::file_dialog::DialogBackend),
+    /// Show or hide a side panel, every side panel, or the A | B split.
+    TogglePanel(PanelToggle),
+    /// Dock the inspector below the decision list or in a tab.
+    DockInspector(super::settings::InspectorDock),
+    /// Open the log waiting in the layout picker with this layout.
+    OpenWithLayout(super::layout_picker::LayoutChoice),
+    /// Ask for a layout file (system or in-app dialog) for the log in the layout picker.
+    ChooseLayoutFile,
+    /// Ask for the poses table (system or in-app dialog) of the table in the layout picker.
+    ChoosePosesFile,
+    /// Read the poses of the table in the layout picker from this file.
+    SetPosesFile(PathBuf),
+    /// Close the layout picker; the run that was open stays.
+    CancelLayoutPicker,
+    /// Show this page of the right panel (inspector docked in a tab).
+    ShowRightTab(super::settings::RightTab),
+}
+
+/// What [`Command::TogglePanel`] switches.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PanelToggle {
+    /// The left panel (key L).
+    Left,
+    /// The right panel: decisions and inspector (key I).
+    Right,
+    /// Map only: every side panel hidden (key M).
+    MapOnly,
+    /// The baseline and the current map side by side (key S, while pinned).
+    Split,
 }

@@ -7,17 +7,22 @@ use super::app::SonarApp;
 use super::bookmarks_panel::bookmarks_ui;
 use super::command::Command;
 use super::decisions::decisions_ui;
+use super::in_app_dialog::InAppAnswer;
 use super::inspector::{hover_text, inspector_ui, InspectCtx};
 use super::jobs::JobKind;
 use super::layers::layers_ui;
-use super::map_view::map_view_ui;
+use super::layout_picker::layout_picker_ui;
+use super::map_view::ViewRequest;
+use super::map_view::{map_toolbar_ui, map_view_ui, MapPlot};
 use super::marks::MarkKind;
 use super::menu::{handle_shortcuts, menu_bar_ui, shortcuts_window_ui};
 use super::params_panel::{params_panel_ui, BaselineSummary, ParamsPanelInfo};
 use super::run_plots::run_plots_ui;
-use super::settings::{LeftTab, SETTINGS_KEY};
+use super::settings::{InspectorDock, LeftTab, RightTab, SETTINGS_KEY};
 use super::timeline::{timeline_ui, TimelineInfo};
-use crate::scene::{format_length, Scene, SceneId};
+use crate::geometry::Point;
+use crate::scene::svg::default_view;
+use crate::scene::{format_length, Scene, SceneId, ViewRect};
 
 impl SonarApp {
     /// One frame of the whole window: applies queued commands, then lays out the panels.
@@ -30,6 +35,11 @@ impl SonarApp {
         self.advance_playback(&ctx);
         let mut commands = handle_shortcuts(&ctx);
         commands.extend(Self::dropped_files(&ctx));
+        let title = self.window_title();
+        if title != self.shown_title {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
+            self.shown_title = title;
+        }
         if let Some(rect) = ctx.input(|i| i.viewport().inner_rect) {
             self.settings.window_size = Some([rect.width(), rect.height()]);
         }
@@ -39,6 +49,7 @@ impl SonarApp {
                 ui,
                 &self.settings.recent,
                 self.baseline.is_some(),
+                &self.settings,
             ));
         });
         self.banner_ui(ui, &mut commands);
@@ -48,6 +59,7 @@ impl SonarApp {
         self.left_panel_ui(ui, &scene, &mut commands);
         self.inspector_panel_ui(ui, &mut commands);
         self.map_panel_ui(ui, &scene, &mut commands);
+        self.dialogs_ui(&ctx, &mut commands);
         if self.show_shortcuts {
             let mut open = true;
             shortcuts_window_ui(&ctx, &mut open);
@@ -136,9 +148,13 @@ impl SonarApp {
 
     /// The left panel: the tabs and the page shown.
     fn left_panel_ui(&mut self, ui: &mut egui::Ui, scene: &Scene, commands: &mut Vec<Command>) {
-        egui::Panel::left("layers")
+        if !self.settings.panels.shows_left() {
+            return;
+        }
+        let shown = egui::Panel::left("layers")
             .resizable(true)
-            .default_size(290.0)
+            .min_size(160.0)
+            .default_size(self.settings.panels.left_px)
             .show(ui, |ui| {
                 ui.horizontal(|ui| {
                     for tab in LeftTab::ALL {
@@ -166,6 +182,7 @@ impl SonarApp {
                     }
                 });
             });
+        self.settings.panels.left_px = shown.response.rect.width();
     }
 
     /// The parameters page, and the baseline ghost switch while pinned.
@@ -187,6 +204,7 @@ impl SonarApp {
                 .as_ref()
                 .and_then(|b| b.diff.as_ref())
                 .map(BaselineSummary::of),
+            preset: self.settings.preset,
         };
         commands.extend(params_panel_ui(ui, &mut self.params_panel, &info));
         if self.baseline.is_some() {
@@ -197,49 +215,115 @@ impl SonarApp {
         }
     }
 
-    /// The right panel: the decision list above the inspector.
+    /// The right panel: the decision list, and the inspector below it or in a tab.
     fn inspector_panel_ui(&mut self, ui: &mut egui::Ui, commands: &mut Vec<Command>) {
+        if !self.settings.panels.shows_right() {
+            return;
+        }
         let differences = self.differences_here();
-        egui::Panel::right("inspector")
+        let panels = self.settings.panels.clone();
+        let shown = egui::Panel::right("inspector")
             .resizable(true)
-            .default_size(580.0)
+            .min_size(200.0)
+            .default_size(panels.right_px)
             .show(ui, |ui| {
-                if let Some(view) = &self.view {
-                    let ictx = InspectCtx {
-                        run: self.loaded.replay.run(),
-                        view,
-                        params: self.loaded.replay.params(),
-                        baseline: self
-                            .baseline
-                            .as_ref()
-                            .and_then(|b| b.view.as_ref().map(|v| (&b.params, v))),
-                        truth: self.truth.as_ref(),
-                        lineage: self.loaded.replay.lineage(),
-                    };
-                    egui::Panel::top("decisions")
-                        .resizable(true)
-                        .default_size(190.0)
-                        .show(ui, |ui| {
-                            commands.extend(decisions_ui(
-                                ui,
-                                &ictx,
-                                self.decision_filter,
-                                self.selection,
-                                self.baseline.as_ref().map(|_| differences.as_slice()),
-                            ));
-                        });
-                    egui::CentralPanel::default().show(ui, |ui| {
-                        egui::ScrollArea::both().show(ui, |ui| {
-                            commands.extend(inspector_ui(ui, &ictx, self.selection, &self.compare));
-                        });
+                ui.horizontal(|ui| {
+                    let tab = panels.inspector_dock == InspectorDock::Tab;
+                    if tab {
+                        for (page, label) in [
+                            (RightTab::Decisions, "Decisions"),
+                            (RightTab::Inspector, "Inspector"),
+                        ] {
+                            if ui
+                                .selectable_label(panels.right_tab == page, label)
+                                .clicked()
+                            {
+                                commands.push(Command::ShowRightTab(page));
+                            }
+                        }
+                    }
+                    ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                        let (dock, text, hover) = if tab {
+                            (
+                                InspectorDock::Below,
+                                "Dock below",
+                                "Show the inspector below the decision list",
+                            )
+                        } else {
+                            (
+                                InspectorDock::Tab,
+                                "Dock in a tab",
+                                "Show the inspector in a tab beside the decision list",
+                            )
+                        };
+                        if ui.small_button(text).on_hover_text(hover).clicked() {
+                            commands.push(Command::DockInspector(dock));
+                        }
                     });
+                });
+                let Some(view) = &self.view else {
+                    return;
+                };
+                let ictx = InspectCtx {
+                    run: self.loaded.replay.run(),
+                    view,
+                    params: self.loaded.replay.params(),
+                    baseline: self
+                        .baseline
+                        .as_ref()
+                        .and_then(|b| b.view.as_ref().map(|v| (&b.params, v))),
+                    truth: self.truth.as_ref(),
+                    lineage: self.loaded.replay.lineage(),
+                };
+                let decisions = |ui: &mut egui::Ui, commands: &mut Vec<Command>| {
+                    commands.extend(decisions_ui(
+                        ui,
+                        &ictx,
+                        self.decision_filter,
+                        self.selection,
+                        self.baseline.as_ref().map(|_| differences.as_slice()),
+                    ));
+                };
+                let inspector = |ui: &mut egui::Ui, commands: &mut Vec<Command>| {
+                    egui::ScrollArea::vertical().show(ui, |ui| {
+                        commands.extend(inspector_ui(ui, &ictx, self.selection, &self.compare));
+                    });
+                };
+                match (panels.inspector_dock, panels.right_tab) {
+                    (InspectorDock::Below, _) => {
+                        egui::Panel::top("decisions")
+                            .resizable(true)
+                            .default_size(190.0)
+                            .show(ui, |ui| decisions(ui, commands));
+                        egui::CentralPanel::default().show(ui, |ui| inspector(ui, commands));
+                    }
+                    (InspectorDock::Tab, RightTab::Decisions) => {
+                        egui::CentralPanel::default().show(ui, |ui| decisions(ui, commands));
+                    }
+                    (InspectorDock::Tab, RightTab::Inspector) => {
+                        egui::CentralPanel::default().show(ui, |ui| inspector(ui, commands));
+                    }
                 }
             });
+        self.settings.panels.right_px = shown.response.rect.width();
     }
 
-    /// The map view in the central panel.
+    /// The map view in the central panel: its tool bar, then one plot, or the baseline (A)
+    /// and the current map (B) side by side with linked pan and zoom.
     fn map_panel_ui(&mut self, ui: &mut egui::Ui, scene: &Scene, commands: &mut Vec<Command>) {
+        let split_scene = self
+            .is_split()
+            .then(|| self.frame_baseline_scene())
+            .flatten();
         egui::CentralPanel::default().show(ui, |ui| {
+            let units = self.run().units;
+            commands.extend(map_toolbar_ui(
+                ui,
+                &mut self.map_view,
+                units,
+                &self.settings.panels,
+                self.baseline.is_some(),
+            ));
             let describe = |id: SceneId| {
                 self.view.as_ref().and_then(|view| {
                     hover_text(
@@ -255,20 +339,83 @@ impl SonarApp {
                     )
                 })
             };
-            commands.extend(map_view_ui(
-                ui,
-                scene,
-                self.run().units,
-                &mut self.map_view,
-                self.selection,
-                &describe,
-                self.baseline
-                    .as_ref()
-                    .filter(|_| self.settings.baseline_ghost)
-                    .and_then(|b| b.view.as_ref())
-                    .map(|v| &v.map_after),
-            ));
+            let Some(a_scene) = split_scene else {
+                commands.extend(map_view_ui(
+                    ui,
+                    MapPlot::MAIN,
+                    scene,
+                    units,
+                    &mut self.map_view,
+                    self.selection,
+                    &describe,
+                    self.baseline
+                        .as_ref()
+                        .filter(|_| self.settings.baseline_ghost)
+                        .and_then(|b| b.view.as_ref())
+                        .map(|v| &v.map_after),
+                ));
+                return;
+            };
+            // Both plots frame the same request (Fit: both maps), then stay linked.
+            if self.map_view.request == Some(ViewRequest::Fit) {
+                let (a, b) = (default_view(&a_scene), default_view(scene));
+                let both = ViewRect::new(
+                    Point::new(a.min.x.min(b.min.x), a.min.y.min(b.min.y)),
+                    Point::new(a.max.x.max(b.max.x), a.max.y.max(b.max.y)),
+                );
+                self.map_view.request = Some(ViewRequest::Frame(both));
+            }
+            self.split_view.request = self.map_view.request;
+            let no_hover = |_: SceneId| None;
+            ui.columns(2, |columns| {
+                commands.extend(map_view_ui(
+                    &mut columns[0],
+                    MapPlot {
+                        id: "map_view_a",
+                        link_group: Some("map_views"),
+                        caption: Some("A: baseline"),
+                    },
+                    &a_scene,
+                    units,
+                    &mut self.split_view,
+                    self.selection,
+                    &no_hover,
+                    None,
+                ));
+                commands.extend(map_view_ui(
+                    &mut columns[1],
+                    MapPlot {
+                        id: "map_view",
+                        link_group: Some("map_views"),
+                        caption: Some("B: current"),
+                    },
+                    scene,
+                    units,
+                    &mut self.map_view,
+                    self.selection,
+                    &describe,
+                    None,
+                ));
+            });
         });
+    }
+
+    /// The in-app file dialog and the layout picker, when open.
+    fn dialogs_ui(&mut self, ctx: &egui::Context, commands: &mut Vec<Command>) {
+        if let Some(dialog) = &mut self.file_dialog {
+            match dialog.show(ctx) {
+                InAppAnswer::Open => {}
+                InAppAnswer::Chosen(path) => {
+                    let purpose = dialog.purpose;
+                    self.file_dialog = None;
+                    self.path_chosen(purpose, path);
+                }
+                InAppAnswer::Cancelled => self.file_dialog = None,
+            }
+        }
+        if let Some(picker) = &mut self.layout_picker {
+            commands.extend(layout_picker_ui(ctx, picker));
+        }
     }
 
     fn status_bar_ui(&self, ui: &mut egui::Ui) {
@@ -311,6 +458,18 @@ impl SonarApp {
                      the share of fitted segments on no wall, and the share of wall length \
                      covered. The Truth layer colours each segment.",
                 );
+            }
+            let changed = self.changed_params();
+            if !changed.is_empty() {
+                ui.separator();
+                ui.label(
+                    egui::RichText::new(format!(
+                        "parameters ≠ {}",
+                        super::params_panel::preset_name(self.settings.preset)
+                    ))
+                    .color(egui::Color32::from_rgb(0xe0, 0x90, 0x30)),
+                )
+                .on_hover_text(format!("changed: {}", changed.join(", ")));
             }
             ui.separator();
             ui.label(&self.message);

@@ -107,7 +107,16 @@ impl HeadlessMapView {
     pub fn frame(&mut self, scene: &Scene, units: Units) -> FrameStats {
         let state = &mut self.state;
         tessellated_frame(&self.ctx, self.size_px, |ui| {
-            map_view_ui(ui, scene, units, state, SceneId::None, &|_| None, None);
+            map_view_ui(
+                ui,
+                super::map_view::MapPlot::MAIN,
+                scene,
+                units,
+                state,
+                SceneId::None,
+                &|_| None,
+                None,
+            );
         })
     }
 }

@@ -7,15 +7,19 @@ use super::app::SonarApp;
 use super::bookmarks::read_sidecar;
 use super::inspector::CompareState;
 use super::jobs::{JobKind, JobPoll, ReplayJob, BACKGROUND_MIN_SNAPSHOTS};
+use super::layout_picker::{LayoutChoice, LayoutPicker};
 use super::loaded::{Loaded, Source};
 use super::map_view::{MapViewState, ViewRequest};
 use super::params_panel::ParamsPanelState;
 use super::settings::Settings;
-use crate::import::{import_any, ImportOptions};
+use crate::import::{
+    builtin_layout, import_any, parse_layout, ImportError, ImportOptions, NamedBytes,
+};
 use crate::mapping::Params;
 use crate::replay::{Replay, ReplayCursor};
 use crate::run::Run;
 use crate::scene::SceneId;
+use crate::units::Units;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -40,6 +44,7 @@ impl SonarApp {
             view: None,
             cursor: ReplayCursor::default(),
             scene_cache: Default::default(),
+            baseline_scene_cache: Default::default(),
             truth: None,
             playing: false,
             play_clock_s: 0.0,
@@ -49,6 +54,9 @@ impl SonarApp {
             banner: None,
             message: String::new(),
             map_view: MapViewState::default(),
+            split_view: MapViewState::default(),
+            file_dialog: None,
+            layout_picker: None,
             pending: Vec::new(),
             show_shortcuts: false,
             jump_text: String::new(),
@@ -57,6 +65,7 @@ impl SonarApp {
             bookmarks: Vec::new(),
             bookmark_text: String::new(),
             last_rerun_s: None,
+            shown_title: String::new(),
         };
         app.seek(0);
         app.load_bookmarks();
@@ -93,19 +102,91 @@ impl SonarApp {
     }
 
     pub(super) fn open_bytes(&mut self, bytes: &[u8], source: Source, keep_index: bool) {
+        self.open_bytes_with(bytes, source, keep_index, &ImportOptions::default());
+    }
+
+    /// Imports `bytes` with `options`; a log that needs a layout (and was given none) opens
+    /// the layout picker instead of failing.
+    pub(super) fn open_bytes_with(
+        &mut self,
+        bytes: &[u8],
+        source: Source,
+        keep_index: bool,
+        options: &ImportOptions,
+    ) {
         let name = source.display_name();
         // The importer is picked from the content: sonarmap-log, Player/Stage, MCAP or a table
         // (Player logs with geometry and MCAP with /tf_static need no layout).
-        match import_any(bytes, &name, &ImportOptions::default()).map(|i| i.run) {
+        match import_any(bytes, &name, options).map(|i| i.run) {
             Ok(run) if run.snapshots.len() >= self.background_min_snapshots => {
                 self.start_background(Arc::new(run), JobKind::Open { source, keep_index });
             }
             Ok(run) => self.install(Loaded::prepare(run, source, &self.params), keep_index),
+            Err(ImportError::NeedsLayout { what, .. }) if options.layout.is_none() => {
+                self.message = format!("{name} needs a sensor layout: pick one");
+                self.layout_picker = Some(LayoutPicker {
+                    source,
+                    bytes: bytes.to_vec(),
+                    reason: format!("{what}: pick the robot's sensor layout to read it."),
+                    units: Units::Metres,
+                    poses: options.poses.clone(),
+                });
+            }
             Err(e) => {
                 // The importer's error already names the file and the place.
                 self.banner = Some(format!("Could not open the log: {e}"));
                 self.message = "open failed; the previous run stays open".to_owned();
             }
+        }
+    }
+
+    /// Opens the log waiting in the layout picker with the layout chosen; a layout that cannot
+    /// be read, or a log that still does not import, goes to the banner.
+    pub(super) fn open_with_layout(&mut self, choice: LayoutChoice) {
+        let Some(picker) = self.layout_picker.take() else {
+            return;
+        };
+        let layout = match &choice {
+            LayoutChoice::Shipped(name) => {
+                builtin_layout(name).ok_or_else(|| format!("no shipped layout named {name:?}"))
+            }
+            LayoutChoice::File(path) => std::fs::read(path)
+                .map_err(|e| format!("Could not read {}: {e}", path.display()))
+                .and_then(|bytes| {
+                    parse_layout(&bytes, &path.display().to_string()).map_err(|e| e.to_string())
+                }),
+        };
+        match layout {
+            Ok(layout) => {
+                let options = ImportOptions {
+                    layout: Some(layout),
+                    units: Some(picker.units),
+                    poses: picker.poses.clone(),
+                    ..ImportOptions::default()
+                };
+                self.open_bytes_with(&picker.bytes, picker.source, false, &options);
+            }
+            Err(e) => {
+                self.banner = Some(e);
+                self.layout_picker = Some(picker);
+            }
+        }
+    }
+
+    /// Reads the poses table for the log waiting in the layout picker.
+    pub(super) fn set_picker_poses(&mut self, path: &Path) {
+        let Some(picker) = &mut self.layout_picker else {
+            return;
+        };
+        match std::fs::read(path) {
+            Ok(bytes) => {
+                picker.poses = Some(NamedBytes {
+                    name: path.display().to_string(),
+                    bytes,
+                });
+                self.message = format!("poses from {}", path.display());
+            }
+            Err(e) => self.banner = Some(format!("Could not read {}: {e}", path.display())),
         }
     }
 

@@ -6,12 +6,13 @@
 
 use super::command::Command;
 use super::scene_item::ScenePlotItem;
+use super::settings::PanelLayout;
 use crate::geometry::Point;
 use crate::mapping::Map;
 use crate::scene::{format_length, Scene, SceneId, ViewRect};
 use crate::units::Units;
 use egui::{Color32, RichText};
-use egui_plot::{Line, LineStyle, Plot, PlotBounds, PlotPoints, Points};
+use egui_plot::{Line, LineStyle, Plot, PlotBounds, PlotPoints, PlotTransform, Points};
 
 /// Colour of the baseline's map drawn ghosted.
 pub const GHOST: Color32 = Color32::from_rgba_premultiplied(0x70, 0x70, 0x70, 0xa0);
@@ -45,6 +46,13 @@ pub struct MapViewState {
     pub ruler_tool: bool,
     /// The last measurement, metres.
     pub ruler_m: Option<(Point, Point)>,
+    /// The plot's world-to-screen transform in the last frame (run units to points).
+    pub transform: Option<PlotTransform>,
+    /// The part of the plot visible on screen in the last frame (the plot's frame clipped to
+    /// its panel), points.
+    pub visible_px: Option<egui::Rect>,
+    /// Metres per plot unit in the last frame (the run's length unit).
+    pub m_per_unit: f64,
 }
 
 impl MapViewState {
@@ -54,6 +62,13 @@ impl MapViewState {
             Some(v) if self.size_px.0 > 0 => v.width_m() / f64::from(self.size_px.0),
             _ => 0.0,
         }
+    }
+
+    /// Where world point `p` (metres) was drawn on screen in the last frame, points.
+    pub fn screen_of(&self, p: Point) -> Option<egui::Pos2> {
+        let t = self.transform?;
+        let s = 1.0 / self.m_per_unit;
+        Some(t.position_from_point(&egui_plot::PlotPoint::new(p.x * s, p.y * s)))
     }
 
     /// The ruler's measurement as text: length and angle against the x axis.
@@ -69,40 +84,24 @@ pub use super::scene_item::colour;
 
 /// True when a primitive with id `id` belongs to the selection `selected`.
 pub fn is_selected(id: SceneId, selected: SceneId) -> bool {
-    if selected == SceneId::None || id == SceneId::None {
-        return false;
-    }
-    match (selected, id) {
-        (
-            SceneId::NewSegment(i),
-            SceneId::Decision {
-                new_segment,
-                existing: None,
-            },
-        ) => i == new_segment,
-        (SceneId::MapSegment(a), SceneId::Update(b)) => a == b,
-        _ => id == selected,
-    }
+    selected.selects(id)
 }
 
-/// Draws the map view and reports what the user asked for. `describe` gives a hover text for
-/// a scene id.
-pub fn map_view_ui(
+/// The map view's tool bar: fit, zoom, ruler, and the panel switches. It wraps rather than
+/// grows, so the plot below is laid out in the width the panel really has.
+pub fn map_toolbar_ui(
     ui: &mut egui::Ui,
-    scene: &Scene,
-    units: Units,
     state: &mut MapViewState,
-    selected: SceneId,
-    describe: &dyn Fn(SceneId) -> Option<String>,
-    ghost: Option<&Map>,
+    units: Units,
+    panels: &PanelLayout,
+    pinned: bool,
 ) -> Vec<Command> {
+    use super::command::PanelToggle;
     let mut commands = Vec::new();
-    let m_per_unit = units.metres_per_unit();
-    let s = 1.0 / m_per_unit;
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         if ui
             .button("Fit")
-            .on_hover_text("Fit the view to the scene (double-click also)")
+            .on_hover_text("Fit the view to the scene (F; double-click also)")
             .clicked()
         {
             commands.push(Command::FitView);
@@ -122,14 +121,92 @@ pub fn map_view_ui(
         if let Some(text) = state.ruler_text(units) {
             ui.label(format!("ruler: {text}"));
         }
-        ui.label(RichText::new("scroll: zoom · drag: pan · click: select").weak());
+        ui.separator();
+        let switches = [
+            (
+                panels.shows_left(),
+                "Left",
+                "Show or hide the left panel (L)",
+                PanelToggle::Left,
+            ),
+            (
+                panels.shows_right(),
+                "Right",
+                "Show or hide the decisions and inspector (I)",
+                PanelToggle::Right,
+            ),
+            (
+                panels.map_only,
+                "Map only",
+                "Hide every side panel (M)",
+                PanelToggle::MapOnly,
+            ),
+        ];
+        for (on, text, hover, toggle) in switches {
+            if ui.selectable_label(on, text).on_hover_text(hover).clicked() {
+                commands.push(Command::TogglePanel(toggle));
+            }
+        }
+        if pinned
+            && ui
+                .selectable_label(panels.split, "A | B")
+                .on_hover_text("The baseline (A) and the current map (B) side by side, linked (S)")
+                .clicked()
+        {
+            commands.push(Command::TogglePanel(PanelToggle::Split));
+        }
+        ui.add(
+            egui::Label::new(RichText::new("scroll: zoom · drag: pan · click: select").weak())
+                .truncate(),
+        );
     });
+    commands
+}
+
+/// Which plot [`map_view_ui`] draws: its id, and the group whose pan and zoom it shares.
+#[derive(Clone, Copy, Debug)]
+pub struct MapPlot {
+    /// The plot's id (one per plot on screen).
+    pub id: &'static str,
+    /// Plots of the same group pan and zoom together.
+    pub link_group: Option<&'static str>,
+    /// A caption drawn over the plot's upper-left corner ("A: baseline").
+    pub caption: Option<&'static str>,
+}
+
+impl MapPlot {
+    /// The single map view.
+    pub const MAIN: MapPlot = MapPlot {
+        id: "map_view",
+        link_group: None,
+        caption: None,
+    };
+}
+
+/// Draws the map view and reports what the user asked for. `describe` gives a hover text for
+/// a scene id.
+#[allow(clippy::too_many_arguments)]
+pub fn map_view_ui(
+    ui: &mut egui::Ui,
+    plot_id: MapPlot,
+    scene: &Scene,
+    units: Units,
+    state: &mut MapViewState,
+    selected: SceneId,
+    describe: &dyn Fn(SceneId) -> Option<String>,
+    ghost: Option<&Map>,
+) -> Vec<Command> {
+    let mut commands = Vec::new();
+    let m_per_unit = units.metres_per_unit();
+    let s = 1.0 / m_per_unit;
     let shift = ui.input(|i| i.modifiers.shift);
     let measuring = state.ruler_tool || shift;
     let request = state.request.take();
     let ruler = state.ruler_m;
     let x_units = units;
-    let plot = Plot::new("map_view")
+    let mut plot = Plot::new(plot_id.id)
+        .width(ui.available_width().max(1.0))
+        .height(ui.available_height().max(1.0))
         .data_aspect(1.0)
         .allow_drag(!measuring)
         .allow_boxed_zoom(false)
@@ -150,6 +227,11 @@ pub fn map_view_ui(
                 x_units.symbol()
             )
         });
+    if let Some(group) = plot_id.link_group {
+        plot = plot
+            .link_axis(egui::Id::unique(group), [true, true])
+            .link_cursor(egui::Id::unique(group), [true, true]);
+    }
     let response = plot.show(ui, |plot_ui| {
         match request {
             Some(ViewRequest::Fit) => plot_ui.set_auto_bounds(true),
@@ -223,6 +305,18 @@ pub fn map_view_ui(
         Point::new(bounds.max()[0] * m_per_unit, bounds.max()[1] * m_per_unit),
     ));
     let rect = response.response.rect;
+    state.transform = Some(transform);
+    state.m_per_unit = m_per_unit;
+    state.visible_px = Some(transform.frame().intersect(ui.clip_rect()));
+    if let Some(caption) = plot_id.caption {
+        ui.painter().text(
+            transform.frame().left_top() + egui::vec2(8.0, 6.0),
+            egui::Align2::LEFT_TOP,
+            caption,
+            egui::FontId::proportional(14.0),
+            ui.visuals().strong_text_color(),
+        );
+    }
     state.size_px = (rect.width().max(1.0) as u32, rect.height().max(1.0) as u32);
     let to_world = |pos: egui::Pos2| {
         let v = transform.value_from_position(pos);

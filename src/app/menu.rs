@@ -1,6 +1,6 @@
 //! The menu bar, the keyboard shortcuts and their help window.
 
-use super::command::Command;
+use super::command::{Command, PanelToggle};
 use egui::{Key, KeyboardShortcut, Modifiers};
 use std::path::PathBuf;
 
@@ -15,7 +15,7 @@ pub const EXPORT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, K
 pub const BOOKMARK: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::B);
 
 /// Every shortcut with what it does, for the help window.
-pub const SHORTCUTS: [(&str, &str); 16] = [
+pub const SHORTCUTS: [(&str, &str); 20] = [
     ("Ctrl+O", "open a run log"),
     ("Ctrl+R", "reload the run log"),
     ("Ctrl+E", "export the map view as SVG"),
@@ -28,6 +28,10 @@ pub const SHORTCUTS: [(&str, &str); 16] = [
     ("F", "fit the view"),
     ("Z", "zoom to the selected segment"),
     ("Esc", "clear selection and ruler"),
+    ("L", "show / hide the left panel"),
+    ("I", "show / hide the decisions and inspector"),
+    ("M", "map only: hide every side panel"),
+    ("S", "A | B: baseline and current side by side (pinned)"),
     ("Shift+drag", "measure (ruler)"),
     ("Scroll / drag", "zoom / pan the map"),
     ("Double-click", "fit the view"),
@@ -65,6 +69,10 @@ pub fn handle_shortcuts(ctx: &egui::Context) -> Vec<Command> {
             (Key::F, Command::FitView),
             (Key::Z, Command::ZoomToSelection),
             (Key::Escape, Command::Select(crate::scene::SceneId::None)),
+            (Key::L, Command::TogglePanel(PanelToggle::Left)),
+            (Key::I, Command::TogglePanel(PanelToggle::Right)),
+            (Key::M, Command::TogglePanel(PanelToggle::MapOnly)),
+            (Key::S, Command::TogglePanel(PanelToggle::Split)),
         ];
         for (key, command) in keys {
             if i.consume_key(Modifiers::NONE, key) {
@@ -76,7 +84,12 @@ pub fn handle_shortcuts(ctx: &egui::Context) -> Vec<Command> {
 }
 
 /// Draws the menu bar; `pinned` is true while a baseline is pinned.
-pub fn menu_bar_ui(ui: &mut egui::Ui, recent: &[PathBuf], pinned: bool) -> Vec<Command> {
+pub fn menu_bar_ui(
+    ui: &mut egui::Ui,
+    recent: &[PathBuf],
+    pinned: bool,
+    settings: &super::settings::Settings,
+) -> Vec<Command> {
     let mut commands = Vec::new();
     let ctx = ui.ctx().clone();
     egui::MenuBar::new().ui(ui, |ui| {
@@ -105,11 +118,37 @@ pub fn menu_bar_ui(ui: &mut egui::Ui, recent: &[PathBuf], pinned: bool) -> Vec<C
             }
             ui.separator();
             if ui
-                .add(egui::Button::new("Export SVG…").shortcut_text(ctx.format_shortcut(&EXPORT)))
+                .add(
+                    egui::Button::new("Export figure (SVG/PNG)…")
+                        .shortcut_text(ctx.format_shortcut(&EXPORT)),
+                )
                 .clicked()
             {
                 commands.push(Command::ExportDialog);
             }
+            let mut figure = settings.figure_style;
+            if ui
+                .checkbox(&mut figure, "Figure style")
+                .on_hover_text(
+                    "Label only the selection and the map segments this snapshot's decisions \
+                     met",
+                )
+                .changed()
+            {
+                commands.push(Command::ToggleFigureStyle);
+            }
+            ui.horizontal(|ui| {
+                ui.label("PNG size:");
+                for scale in 1..=3 {
+                    if ui
+                        .selectable_label(settings.png_scale == scale, format!("{scale}x"))
+                        .on_hover_text("times the map view's size")
+                        .clicked()
+                    {
+                        commands.push(Command::SetPngScale(scale));
+                    }
+                }
+            });
         });
         ui.menu_button("View", |ui| {
             let items = [
@@ -127,6 +166,18 @@ pub fn menu_bar_ui(ui: &mut egui::Ui, recent: &[PathBuf], pinned: bool) -> Vec<C
                 ("Play / pause", "Space", Command::TogglePlay),
                 ("Previous mark", "[", Command::PrevMark),
                 ("Next mark", "]", Command::NextMark),
+                ("Left panel", "L", Command::TogglePanel(PanelToggle::Left)),
+                (
+                    "Decisions and inspector",
+                    "I",
+                    Command::TogglePanel(PanelToggle::Right),
+                ),
+                ("Map only", "M", Command::TogglePanel(PanelToggle::MapOnly)),
+                (
+                    "A | B split (pinned)",
+                    "S",
+                    Command::TogglePanel(PanelToggle::Split),
+                ),
             ];
             for (name, keys, command) in items {
                 if ui

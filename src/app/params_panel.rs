@@ -3,7 +3,7 @@
 //! set with it passes [`Params::validate`]; otherwise the field keeps the text and shows why.
 
 use super::command::Command;
-use crate::mapping::{FitMode, Params, SplitMode};
+use crate::mapping::{FitMode, Params, Preset, SplitMode};
 use crate::units::Units;
 use egui::{Color32, RichText};
 use std::collections::BTreeMap;
@@ -36,7 +36,7 @@ const FIELDS: [(&str, &str, Kind); 11] = [
     ("memory_snapshots", "memory_snapshots", Kind::Count),
     ("memory_gap", "memory_gap", Kind::Length),
     ("memory_min_points", "memory_min_points", Kind::Count),
-    ("support_cap", "support_cap (0: all)", Kind::Count),
+    ("support_cap", "support_cap", Kind::Count),
 ];
 
 /// The value of field `name` of `p` in the units the panel shows (run units, degrees).
@@ -79,6 +79,71 @@ fn with_value(p: &Params, name: &str, v: f64, units: Units) -> Params {
         _ => {}
     }
     p
+}
+
+/// The name of a preset, as the panel and the status bar show it.
+pub fn preset_name(preset: Preset) -> &'static str {
+    match preset {
+        Preset::Paper => "paper",
+        Preset::Extended => "extended",
+    }
+}
+
+/// The fields (as the panel names them) where `params` differs from `preset`'s values.
+pub fn changed_fields(params: &Params, preset: Preset) -> Vec<&'static str> {
+    let base = Params::preset(preset);
+    let mut changed: Vec<&'static str> = FIELDS
+        .iter()
+        .filter(|(name, _, _)| *name != "split_fixed")
+        .filter(|(name, _, _)| {
+            let (a, b) = (
+                value_of(params, name, Units::Metres),
+                value_of(&base, name, Units::Metres),
+            );
+            (a - b).abs() > 1e-12 * a.abs().max(b.abs()).max(1.0)
+        })
+        .map(|(name, _, _)| *name)
+        .collect();
+    let flags = [
+        ("split", params.split != base.split),
+        ("fit", params.fit != base.fit),
+        ("correlation", params.correlate != base.correlate),
+        (
+            "constant_depth",
+            params.constant_depth != base.constant_depth,
+        ),
+        (
+            "merge_duplicates",
+            params.merge_duplicates != base.merge_duplicates,
+        ),
+        ("corner_guard", params.corner_guard != base.corner_guard),
+    ];
+    changed.extend(flags.into_iter().filter(|(_, c)| *c).map(|(n, _)| n));
+    changed
+}
+
+/// Colour of a field's name when its value differs from the preset's.
+const CHANGED: Color32 = Color32::from_rgb(0xe0, 0x90, 0x30);
+
+/// A field's name, in [`CHANGED`] when its value differs from the preset's.
+fn field_label(ui: &mut egui::Ui, label: &str, changed: bool) -> egui::Response {
+    if changed {
+        ui.label(RichText::new(label).color(CHANGED))
+            .on_hover_text("differs from the preset")
+    } else {
+        ui.label(label)
+    }
+}
+
+/// The preset's value of a field, shown "≠ value" in [`CHANGED`] only when the field differs
+/// from it (the column stays narrow, so the panel does too).
+fn preset_value_label(ui: &mut egui::Ui, text: &str, changed: bool) {
+    if changed {
+        ui.label(RichText::new(format!("≠ {text}")).color(CHANGED))
+            .on_hover_text("the preset's value");
+    } else {
+        ui.label("");
+    }
 }
 
 /// A number without trailing zeros (at most 4 decimals).
@@ -179,6 +244,8 @@ pub struct ParamsPanelInfo<'a> {
     pub diff_progress: Option<f32>,
     /// How the current parameters' decisions differ from the baseline's (when known).
     pub differing: Option<BaselineSummary>,
+    /// The preset the values are compared with.
+    pub preset: Preset,
 }
 
 /// Draws the panel.
@@ -191,7 +258,9 @@ pub fn params_panel_ui(
     let params = info.params;
     let units = info.units;
     state.sync(params, units);
-    let paper = Params::paper();
+    let paper = Params::preset(info.preset);
+    let changed = changed_fields(params, info.preset);
+    let is_changed = |name: &str| changed.contains(&name);
     if let Some(f) = info.rerun_progress {
         ui.add(
             egui::ProgressBar::new(f)
@@ -205,14 +274,14 @@ pub fn params_panel_ui(
             .on_hover_text("The paper's values (docs/algorithm.md §7)")
             .clicked()
         {
-            commands.push(Command::SetParams(Params::paper()));
+            commands.push(Command::SetPreset(Preset::Paper));
         }
         if ui
             .button("Extended")
             .on_hover_text("The paper plus the extensions of docs/algorithm.md §8")
             .clicked()
         {
-            commands.push(Command::SetParams(Params::extended()));
+            commands.push(Command::SetPreset(Preset::Extended));
         }
         if ui.button("Load…").clicked() {
             commands.push(Command::LoadParamsDialog);
@@ -224,11 +293,24 @@ pub fn params_panel_ui(
     if ui
         .add_enabled(
             *params != paper,
-            egui::Button::new("Reset to the paper's defaults"),
+            egui::Button::new(match info.preset {
+                Preset::Paper => "Reset to the paper's defaults".to_owned(),
+                other => format!("Reset to the {} values", preset_name(other)),
+            }),
         )
         .clicked()
     {
-        commands.push(Command::SetParams(Params::paper()));
+        commands.push(Command::SetPreset(info.preset));
+    }
+    if !changed.is_empty() {
+        ui.label(
+            RichText::new(format!(
+                "{} ≠ {}: the marked fields",
+                changed.len(),
+                preset_name(info.preset)
+            ))
+            .color(CHANGED),
+        );
     }
     let submit = |candidate: Params, commands: &mut Vec<Command>| -> Result<(), String> {
         candidate.validate().map_err(|e| e.to_string())?;
@@ -243,36 +325,47 @@ pub fn params_panel_ui(
         .show(ui, |ui| {
             ui.label(RichText::new("parameter").weak());
             ui.label(RichText::new(format!("value ({})", units.symbol())).weak());
-            ui.label(RichText::new("paper").weak());
+            ui.label(RichText::new(format!("≠ {}", preset_name(info.preset))).weak())
+                .on_hover_text("the preset's value, where a field differs from it");
             ui.end_row();
             for (name, label, kind) in FIELDS {
                 if name == "split_fixed" {
                     // The split mode, then its length when fixed.
-                    ui.label("split");
-                    ui.horizontal(|ui| {
-                        let fixed = matches!(params.split, SplitMode::Fixed(_));
-                        if ui.selectable_label(!fixed, "resolution").clicked() && fixed {
-                            let mut p = params.clone();
-                            p.split = SplitMode::Resolution;
-                            let _ = submit(p, &mut commands);
-                        }
-                        if ui.selectable_label(fixed, "fixed").clicked() && !fixed {
-                            let mut p = params.clone();
-                            p.split = SplitMode::Fixed(crate::units::inches(2.0));
-                            let _ = submit(p, &mut commands);
-                        }
-                    });
-                    ui.label(RichText::new("resolution").weak());
+                    field_label(ui, "split", is_changed("split"));
+                    let fixed = matches!(params.split, SplitMode::Fixed(_));
+                    egui::ComboBox::from_id_salt("split_mode")
+                        .width(86.0)
+                        .selected_text(if fixed { "fixed" } else { "resolution" })
+                        .show_ui(ui, |ui| {
+                            if ui.selectable_label(!fixed, "resolution").clicked() && fixed {
+                                let mut p = params.clone();
+                                p.split = SplitMode::Resolution;
+                                let _ = submit(p, &mut commands);
+                            }
+                            if ui.selectable_label(fixed, "fixed").clicked() && !fixed {
+                                let mut p = params.clone();
+                                p.split = SplitMode::Fixed(crate::units::inches(2.0));
+                                let _ = submit(p, &mut commands);
+                            }
+                        });
+                    preset_value_label(
+                        ui,
+                        match paper.split {
+                            SplitMode::Fixed(_) => "fixed",
+                            SplitMode::Resolution => "resolution",
+                        },
+                        is_changed("split"),
+                    );
                     ui.end_row();
                     if !matches!(params.split, SplitMode::Fixed(_)) {
                         continue;
                     }
                 }
-                let label_response = ui.label(label);
+                let label_response = field_label(ui, label, is_changed(name));
                 let text = state.texts.entry(name).or_default();
                 let edit = ui.add(
                     egui::TextEdit::singleline(text)
-                        .desired_width(70.0)
+                        .desired_width(60.0)
                         .id_salt(("param", name)),
                 );
                 let edit = edit.labelled_by(label_response.id);
@@ -284,7 +377,7 @@ pub fn params_panel_ui(
                     ),
                     _ => format_number(value_of(&paper, name, units)),
                 };
-                ui.label(RichText::new(paper_text).weak());
+                preset_value_label(ui, &paper_text, is_changed(name));
                 ui.end_row();
                 if edit.lost_focus() {
                     let text = text.clone();
@@ -314,21 +407,28 @@ pub fn params_panel_ui(
                     ui.end_row();
                 }
             }
-            ui.label("fit");
-            ui.horizontal(|ui| {
-                for (mode, name) in [
-                    (FitMode::EndPoints, "end points"),
-                    (FitMode::TotalLeastSquares, "least squares"),
-                ] {
-                    if ui.selectable_label(params.fit == mode, name).clicked() && params.fit != mode
-                    {
-                        let mut p = params.clone();
-                        p.fit = mode;
-                        let _ = submit(p, &mut commands);
+            field_label(ui, "fit", is_changed("fit"));
+            let fit_name = |mode: FitMode| match mode {
+                FitMode::EndPoints => "end points",
+                FitMode::TotalLeastSquares => "least squares",
+            };
+            egui::ComboBox::from_id_salt("fit_mode")
+                .width(86.0)
+                .selected_text(fit_name(params.fit))
+                .show_ui(ui, |ui| {
+                    for mode in [FitMode::EndPoints, FitMode::TotalLeastSquares] {
+                        if ui
+                            .selectable_label(params.fit == mode, fit_name(mode))
+                            .clicked()
+                            && params.fit != mode
+                        {
+                            let mut p = params.clone();
+                            p.fit = mode;
+                            let _ = submit(p, &mut commands);
+                        }
                     }
-                }
-            });
-            ui.label(RichText::new("end points").weak());
+                });
+            preset_value_label(ui, fit_name(paper.fit), is_changed("fit"));
             ui.end_row();
             for (name, get, set, paper_value) in [
                 (
@@ -356,14 +456,14 @@ pub fn params_panel_ui(
                     paper.corner_guard,
                 ),
             ] {
-                ui.label(name);
+                field_label(ui, name, is_changed(name));
                 let mut on = get;
                 if ui.checkbox(&mut on, "").changed() {
                     let mut p = params.clone();
                     set(&mut p, on);
                     let _ = submit(p, &mut commands);
                 }
-                ui.label(RichText::new(if paper_value { "on" } else { "off" }).weak());
+                preset_value_label(ui, if paper_value { "on" } else { "off" }, is_changed(name));
                 ui.end_row();
             }
         });

@@ -3,7 +3,7 @@
 //! parse is replaced by its default, never a crash. Runtime state lives in [`super::SonarApp`].
 
 use super::bookmarks::Bookmark;
-use crate::mapping::Params;
+use crate::mapping::{Params, Preset};
 use crate::scene::{Layer, LayerSet};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -41,6 +41,93 @@ pub struct Settings {
     pub hidden_marks: Vec<super::marks::MarkKind>,
     /// What the run plots show.
     pub run_plot: super::run_plots::RunPlot,
+    /// Where the side panels are and how wide (the map takes the rest).
+    pub panels: PanelLayout,
+    /// Which file dialog to use (the system's through the XDG portal, or the in-app one).
+    pub file_dialog: super::file_dialog::DialogBackend,
+    /// The preset the parameters are compared with (status bar, title, marked fields).
+    pub preset: Preset,
+    /// Exports use the figure style (labels only for the selection and the decisions).
+    pub figure_style: bool,
+    /// PNG exports are this many times the map view's size.
+    pub png_scale: u32,
+}
+
+/// Default width of the left panel, points: with the right panel's, the map keeps at least
+/// 55 % of a 1400-point window.
+pub const LEFT_PANEL_PX: f32 = 280.0;
+/// Default width of the right panel (decisions and inspector), points.
+pub const RIGHT_PANEL_PX: f32 = 260.0;
+
+/// The side panels: shown or collapsed, their widths (points), and where the inspector docks.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct PanelLayout {
+    /// The left panel (parameters, layers, bookmarks) is shown (key L).
+    pub left_open: bool,
+    /// The right panel (decisions and inspector) is shown (key I).
+    pub right_open: bool,
+    /// Every side panel hidden, whatever the two switches above say (key M).
+    pub map_only: bool,
+    /// Width of the left panel, points.
+    pub left_px: f32,
+    /// Width of the right panel, points.
+    pub right_px: f32,
+    /// Where the inspector goes in the right panel.
+    pub inspector_dock: InspectorDock,
+    /// The right panel's page when the inspector is docked in a tab.
+    pub right_tab: RightTab,
+    /// Show the baseline and the current map side by side while a baseline is pinned.
+    pub split: bool,
+}
+
+impl Default for PanelLayout {
+    fn default() -> Self {
+        PanelLayout {
+            left_open: true,
+            right_open: true,
+            map_only: false,
+            left_px: LEFT_PANEL_PX,
+            right_px: RIGHT_PANEL_PX,
+            inspector_dock: InspectorDock::Below,
+            right_tab: RightTab::Decisions,
+            split: false,
+        }
+    }
+}
+
+impl PanelLayout {
+    /// True when the left panel is drawn.
+    pub fn shows_left(&self) -> bool {
+        self.left_open && !self.map_only
+    }
+
+    /// True when the right panel is drawn.
+    pub fn shows_right(&self) -> bool {
+        self.right_open && !self.map_only
+    }
+}
+
+/// Where the inspector is docked in the right panel.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum InspectorDock {
+    /// Under the decision list.
+    #[default]
+    Below,
+    /// In a tab of its own beside the decision list.
+    Tab,
+}
+
+/// The right panel's pages when the inspector is docked in a tab.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RightTab {
+    /// This snapshot's decisions.
+    #[default]
+    Decisions,
+    /// The selection's inspector.
+    Inspector,
 }
 
 /// The pages of the left panel.
@@ -87,6 +174,11 @@ impl Default for Settings {
             hidden_marks: Vec::new(),
             run_plot: Default::default(),
             left_tab: LeftTab::Parameters,
+            panels: PanelLayout::default(),
+            file_dialog: Default::default(),
+            preset: Preset::Paper,
+            figure_style: false,
+            png_scale: 2,
         }
     }
 }
@@ -162,7 +254,27 @@ impl Settings {
         }
         self.rate = self.rate.clamp(0.25, 60.0);
         self.recent.truncate(MAX_RECENT);
+        self.png_scale = self.png_scale.clamp(1, 4);
+        let panels = &mut self.panels;
+        let default = PanelLayout::default();
+        if !panels.left_px.is_finite() || !(120.0..=2000.0).contains(&panels.left_px) {
+            panels.left_px = default.left_px;
+        }
+        if !panels.right_px.is_finite() || !(160.0..=2000.0).contains(&panels.right_px) {
+            panels.right_px = default.right_px;
+        }
         self
+    }
+
+    /// The folders of the recent files, most recent first, each once (for the file dialog).
+    pub fn recent_folders(&self) -> Vec<PathBuf> {
+        let mut folders: Vec<PathBuf> = Vec::new();
+        for dir in self.recent.iter().filter_map(|p| p.parent()) {
+            if !dir.as_os_str().is_empty() && !folders.iter().any(|d| d == dir) {
+                folders.push(dir.to_path_buf());
+            }
+        }
+        folders
     }
 
     /// The layers switched on.

@@ -2,7 +2,7 @@
 //! every frame in the app. Each layer is built only when it is switched on, and in drawing
 //! order, so the output needs no sorting.
 
-use super::declutter::Declutter;
+use super::declutter::{Declutter, TextBoxes};
 use super::layer::{Layer, LayerSet};
 use super::primitive::{MarkerShape, Primitive, SceneId, Shape, TextAlign};
 use super::style::{decision_marker, palette, Role};
@@ -35,6 +35,9 @@ pub struct SceneInput<'a> {
     pub truth: Option<&'a [(SegmentId, Verdict)]>,
     /// A map segment whose supporting readings are drawn, from every snapshot they came from.
     pub support_of: Option<SegmentId>,
+    /// Figure style: map segments are labelled only when selected (`support_of`) or met by
+    /// this step's decisions.
+    pub figure_labels: bool,
 }
 
 impl<'a> SceneInput<'a> {
@@ -49,7 +52,14 @@ impl<'a> SceneInput<'a> {
             map_after: &view.map_after,
             truth: None,
             support_of: None,
+            figure_labels: false,
         }
+    }
+
+    /// The input with map labels only for the selection and this step's decisions (figures).
+    pub fn with_figure_labels(mut self, on: bool) -> Self {
+        self.figure_labels = on;
+        self
     }
 
     /// The input with the supporting readings of map segment `id` drawn.
@@ -110,6 +120,7 @@ pub fn build_scene(input: &SceneInput, options: &ViewOptions) -> Scene {
         options,
         out: Vec::with_capacity(estimate(input)),
         culled: Vec::new(),
+        texts: TextBoxes::new(options.world_per_px),
         pose: input
             .step
             .pose
@@ -161,6 +172,8 @@ struct Builder<'a, 'b> {
     input: &'b SceneInput<'a>,
     options: &'b ViewOptions,
     out: Vec<Primitive>,
+    /// The texts placed so far: a label that would cover one is left out.
+    texts: TextBoxes,
     pose: Option<Pose>,
     /// The bounding box of what the view rectangle left out, by layer.
     culled: Vec<(Layer, ViewRect)>,
@@ -393,13 +406,14 @@ impl Builder<'_, '_> {
                 },
             );
             let text = format!("gap {}", format_length(g.distance_m, units));
-            let shape = Shape::Text {
-                anchor: at,
+            self.push_text(
+                Layer::Clusters,
+                SceneId::None,
+                at,
                 text,
-                offset_px: [0.0, 8.0],
-                align: TextAlign::Middle,
-            };
-            self.push(Layer::Clusters, Role::Label, SceneId::None, shape);
+                [0.0, 8.0],
+                TextAlign::Middle,
+            );
         }
     }
 
@@ -760,33 +774,81 @@ impl Builder<'_, '_> {
         );
     }
 
+    /// A text of role [`Role::Label`], unless it would cover a text placed before.
+    fn push_text(
+        &mut self,
+        layer: Layer,
+        id: SceneId,
+        anchor: Point,
+        text: String,
+        offset_px: [f32; 2],
+        align: TextAlign,
+    ) {
+        let size_px = Role::Label.style().marker_size_px;
+        if self.texts.claim(&anchor, &text, size_px, offset_px, align) {
+            let shape = Shape::Text {
+                anchor,
+                text,
+                offset_px,
+                align,
+            };
+            self.push(layer, Role::Label, id, shape);
+        }
+    }
+
     fn labels(&mut self) {
+        // This step's new segments first: they are what the step is about.
+        for (i, n) in self.input.step.new_segments.iter().enumerate() {
+            let anchor = mid(&n.a.point, &n.b.point);
+            let text = format!("n{i}");
+            self.push_text(
+                Layer::Labels,
+                SceneId::NewSegment(i),
+                anchor,
+                text,
+                [-4.0, -14.0],
+                TextAlign::End,
+            );
+        }
         let min_len_m = self.px(12.0);
-        // One map label per label-sized patch of screen: overlapping labels cannot be read.
-        let mut patches = Declutter::new(self.options.world_per_px, 40.0, 14.0);
-        for s in &self.input.map_after.segments {
+        let input = self.input;
+        let met = |id: SegmentId| {
+            input.support_of == Some(id)
+                || input
+                    .step
+                    .decisions
+                    .iter()
+                    .any(|d| d.existing == Some(id) || d.result == Some(id))
+        };
+        // The selection first, then the map in order; a label that would cover another is
+        // left out (overlapping labels cannot be read).
+        let order = input
+            .support_of
+            .and_then(|id| input.map_after.segment(id))
+            .into_iter()
+            .chain(
+                input
+                    .map_after
+                    .segments
+                    .iter()
+                    .map(|s| &**s)
+                    .filter(|s| Some(s.id) != input.support_of),
+            );
+        for s in order {
             if s.length() < min_len_m
+                || (input.figure_labels && !met(s.id))
                 || !self.shows(Layer::Labels, &s.a.point, &s.b.point)
-                || !patches.claim(&s.mid())
             {
                 continue;
             }
-            let shape = Shape::Text {
-                anchor: s.mid(),
-                text: format!("s{}", s.id),
-                offset_px: [4.0, 4.0],
-                align: TextAlign::Start,
-            };
-            self.push(Layer::Labels, Role::Label, SceneId::MapSegment(s.id), shape);
-        }
-        for (i, n) in self.input.step.new_segments.iter().enumerate() {
-            let shape = Shape::Text {
-                anchor: mid(&n.a.point, &n.b.point),
-                text: format!("n{i}"),
-                offset_px: [-4.0, -14.0],
-                align: TextAlign::End,
-            };
-            self.push(Layer::Labels, Role::Label, SceneId::NewSegment(i), shape);
+            self.push_text(
+                Layer::Labels,
+                SceneId::MapSegment(s.id),
+                s.mid(),
+                format!("s{}", s.id),
+                [4.0, 4.0],
+                TextAlign::Start,
+            );
         }
     }
 }

@@ -3,8 +3,9 @@
 //! drawn once (as a viewer sees them), and a map of tens of thousands of segments stays cheap
 //! to draw when zoomed out.
 
+use super::primitive::TextAlign;
 use crate::geometry::Point;
-use rustc_hash::FxHashSet;
+use rustc_hash::{FxHashMap, FxHashSet};
 
 /// Cells of `width_px × height_px` screen pixels over the world.
 pub struct Declutter {
@@ -49,9 +50,138 @@ impl Declutter {
     }
 }
 
+/// Average advance of a label character, in ems: an upper bound for the digits and lower-case
+/// letters of labels in DejaVu Sans (the widest of the fonts the SVG names; digits advance
+/// 0.636 em) and in egui's font, so a box never understates the text drawn.
+const CHAR_ADVANCE_EM: f64 = 0.66;
+/// Above and below the baseline, in ems (DejaVu Sans: ascender 0.93, descender 0.24).
+const ASCENT_EM: f64 = 0.95;
+const DESCENT_EM: f64 = 0.25;
+/// The halo drawn around texts (half its 3-pixel stroke), pixels.
+const HALO_PX: f64 = 1.5;
+
+/// The box a text covers on screen, pixels relative to its anchor (x right, y down), as the
+/// renderers place it: `offset_px` moves the baseline's reference point right and up, `align`
+/// says which end of the text sits there. `[x0, y0, x1, y1]`.
+pub fn text_box_px(text: &str, size_px: f32, offset_px: [f32; 2], align: TextAlign) -> [f64; 4] {
+    let size = f64::from(size_px);
+    let width = CHAR_ADVANCE_EM * size * text.chars().count() as f64;
+    let x = f64::from(offset_px[0]);
+    let baseline = -f64::from(offset_px[1]);
+    let x0 = match align {
+        TextAlign::Start => x,
+        TextAlign::Middle => x - 0.5 * width,
+        TextAlign::End => x - width,
+    };
+    [
+        x0 - HALO_PX,
+        baseline - ASCENT_EM * size - HALO_PX,
+        x0 + width + HALO_PX,
+        baseline + DESCENT_EM * size + HALO_PX,
+    ]
+}
+
+/// The texts placed so far, as world boxes at one zoom: a text is placed only where its box
+/// overlaps none of theirs, so labels never pile up (on screen and in an export alike).
+pub struct TextBoxes {
+    world_per_px: f64,
+    /// Side of the buckets the boxes are filed under, metres.
+    cell_m: f64,
+    boxes: FxHashMap<(i64, i64), Vec<[f64; 4]>>,
+}
+
+impl TextBoxes {
+    /// Boxes for a view of `world_per_px` metres per pixel (0: off, every text is placed).
+    pub fn new(world_per_px: f64) -> Self {
+        let on = world_per_px > 0.0 && world_per_px.is_finite();
+        TextBoxes {
+            world_per_px: if on { world_per_px } else { 0.0 },
+            cell_m: world_per_px * 64.0,
+            boxes: FxHashMap::default(),
+        }
+    }
+
+    /// True, and the text's box taken, when it overlaps no box placed before.
+    pub fn claim(
+        &mut self,
+        anchor: &Point,
+        text: &str,
+        size_px: f32,
+        offset_px: [f32; 2],
+        align: TextAlign,
+    ) -> bool {
+        if self.world_per_px == 0.0 {
+            return true;
+        }
+        let [x0, y0, x1, y1] = text_box_px(text, size_px, offset_px, align);
+        let w = self.world_per_px;
+        // Screen y runs down, world y up.
+        let b = [
+            anchor.x + x0 * w,
+            anchor.y - y1 * w,
+            anchor.x + x1 * w,
+            anchor.y - y0 * w,
+        ];
+        let cell = |v: f64| (v / self.cell_m).floor() as i64;
+        let (cx0, cy0, cx1, cy1) = (cell(b[0]), cell(b[1]), cell(b[2]), cell(b[3]));
+        for cx in cx0..=cx1 {
+            for cy in cy0..=cy1 {
+                let overlaps = self.boxes.get(&(cx, cy)).is_some_and(|list| {
+                    list.iter()
+                        .any(|o| b[0] < o[2] && o[0] < b[2] && b[1] < o[3] && o[1] < b[3])
+                });
+                if overlaps {
+                    return false;
+                }
+            }
+        }
+        for cx in cx0..=cx1 {
+            for cy in cy0..=cy1 {
+                self.boxes.entry((cx, cy)).or_default().push(b);
+            }
+        }
+        true
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_text_whose_box_overlaps_a_placed_one_is_refused_and_one_beside_it_is_placed() {
+        // 1 cm per pixel; "s12" at 11 px is about 22 px wide and 13 px high.
+        let mut t = TextBoxes::new(0.01);
+        let a = Point::new(0.0, 0.0);
+        assert!(t.claim(&a, "s12", 11.0, [4.0, 4.0], TextAlign::Start));
+        // 10 px to the right: overlaps.
+        assert!(!t.claim(
+            &Point::new(0.10, 0.0),
+            "s13",
+            11.0,
+            [4.0, 4.0],
+            TextAlign::Start
+        ));
+        // 40 px to the right, or 20 px up: clear.
+        assert!(t.claim(
+            &Point::new(0.40, 0.0),
+            "s14",
+            11.0,
+            [4.0, 4.0],
+            TextAlign::Start
+        ));
+        assert!(t.claim(
+            &Point::new(0.0, 0.20),
+            "s15",
+            11.0,
+            [4.0, 4.0],
+            TextAlign::Start
+        ));
+        // Without a view every text is placed.
+        let mut off = TextBoxes::new(0.0);
+        assert!(off.claim(&a, "s1", 11.0, [0.0, 0.0], TextAlign::Start));
+        assert!(off.claim(&a, "s1", 11.0, [0.0, 0.0], TextAlign::Start));
+    }
 
     #[test]
     fn one_mark_per_cell_when_zoomed_out_and_every_mark_without_a_view() {

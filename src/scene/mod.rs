@@ -10,6 +10,7 @@
 
 mod build;
 mod declutter;
+pub mod figure;
 mod layer;
 mod primitive;
 mod query;

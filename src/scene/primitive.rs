@@ -152,3 +152,24 @@ pub struct Primitive {
     /// The geometry.
     pub shape: Shape,
 }
+
+impl SceneId {
+    /// True when a primitive with id `id` belongs to this selection (a new segment owns its
+    /// "new face" decision; a map segment its update).
+    pub fn selects(self, id: SceneId) -> bool {
+        if self == SceneId::None || id == SceneId::None {
+            return false;
+        }
+        match (self, id) {
+            (
+                SceneId::NewSegment(i),
+                SceneId::Decision {
+                    new_segment,
+                    existing: None,
+                },
+            ) => i == new_segment,
+            (SceneId::MapSegment(a), SceneId::Update(b)) => a == b,
+            _ => id == self,
+        }
+    }
+}

@@ -85,37 +85,34 @@ impl Scene {
             None => rect = Some(ViewRect { min: p, max: p }),
         };
         for prim in self.primitives.iter().filter(|p| layers.contains(p.layer)) {
-            match &prim.shape {
-                Shape::Circle { centre, radius_m } => {
-                    add(Point::new(centre.x - radius_m, centre.y - radius_m));
-                    add(Point::new(centre.x + radius_m, centre.y + radius_m));
-                }
-                Shape::Segment { a, b } => {
-                    add(*a);
-                    add(*b);
-                }
-                Shape::Polyline { points, .. } => points.iter().for_each(|p| add(*p)),
-                Shape::Wedge {
-                    apex,
-                    heading_rad,
-                    half_angle_rad,
-                    radius_m,
-                } => {
-                    add(*apex);
-                    for i in 0..=4 {
-                        let angle = heading_rad - half_angle_rad + half_angle_rad * 0.5 * i as f64;
-                        add(apex + unit(angle) * *radius_m);
-                    }
-                }
-                Shape::Text { anchor, .. } => add(*anchor),
-                Shape::Marker { at, .. } => add(*at),
-            }
+            let b = primitive_bounds(prim);
+            add(b.min);
+            add(b.max);
         }
         for (_, r) in self.culled.iter().filter(|(l, _)| layers.contains(*l)) {
             add(r.min);
             add(r.max);
         }
         rect
+    }
+
+    /// The scene less the primitives entirely outside `view`: what a figure of `view` draws
+    /// (so its legend lists only that).
+    pub fn within(&self, view: ViewRect) -> Scene {
+        let meets = |b: ViewRect| {
+            b.min.x <= view.max.x
+                && view.min.x <= b.max.x
+                && b.min.y <= view.max.y
+                && view.min.y <= b.max.y
+        };
+        Scene {
+            title: self.title.clone(),
+            primitives: (self.primitives.iter())
+                .filter(|p| meets(primitive_bounds(p)))
+                .cloned()
+                .collect(),
+            culled: Vec::new(),
+        }
     }
 
     /// The legend: one entry per role present (roles without a legend text left out), in
@@ -213,4 +210,42 @@ fn distance(prim: &Primitive, p: &Point, tolerance_m: f64) -> f64 {
         Shape::Text { anchor, .. } => (p - anchor).norm(),
         Shape::Marker { at, .. } => (p - at).norm(),
     }
+}
+
+/// The world rectangle a primitive covers (a text or marker: its anchor).
+fn primitive_bounds(prim: &Primitive) -> ViewRect {
+    let mut r: Option<ViewRect> = None;
+    let mut add = |p: Point| match r.as_mut() {
+        Some(r) => r.include(&p),
+        None => r = Some(ViewRect { min: p, max: p }),
+    };
+    match &prim.shape {
+        Shape::Circle { centre, radius_m } => {
+            add(Point::new(centre.x - radius_m, centre.y - radius_m));
+            add(Point::new(centre.x + radius_m, centre.y + radius_m));
+        }
+        Shape::Segment { a, b } => {
+            add(*a);
+            add(*b);
+        }
+        Shape::Polyline { points, .. } => points.iter().for_each(|p| add(*p)),
+        Shape::Wedge {
+            apex,
+            heading_rad,
+            half_angle_rad,
+            radius_m,
+        } => {
+            add(*apex);
+            for i in 0..=4 {
+                let angle = heading_rad - half_angle_rad + half_angle_rad * 0.5 * i as f64;
+                add(apex + unit(angle) * *radius_m);
+            }
+        }
+        Shape::Text { anchor, .. } => add(*anchor),
+        Shape::Marker { at, .. } => add(*at),
+    }
+    r.unwrap_or(ViewRect {
+        min: Point::origin(),
+        max: Point::origin(),
+    })
 }

@@ -52,18 +52,19 @@ pub struct PageTransform {
     pub view: ViewRect,
 }
 
-/// The transform [`to_svg`] uses for `scene` shown in `view` on a `size_px` page
-/// (the legend's room depends on the scene, hence the argument).
-pub fn page_transform(scene: &Scene, view: ViewRect, size_px: (u32, u32)) -> PageTransform {
-    page(scene, view, size_px).0
+/// World metres per page pixel of `view` on a `size_px` page, with room kept for a legend:
+/// the scale a figure's scene is built at, so its labels are decluttered for the page (the
+/// legend's room makes it an upper bound: without a legend the map is drawn larger).
+pub fn page_world_per_px(view: ViewRect, size_px: (u32, u32)) -> f64 {
+    let (area, _) = map_area(size_px, true);
+    1.0 / PageTransform::fit(view, area).scale_px_per_m
 }
 
-fn page(scene: &Scene, view: ViewRect, size_px: (u32, u32)) -> (PageTransform, f64, (f64, f64)) {
+/// The page's map area `(x, y, width, height)` in pixels and the legend's width: the page
+/// less the title band, the scale bar's band, the margins and the legend when there is one
+/// (and room for it).
+fn map_area(size_px: (u32, u32), has_legend: bool) -> ((f64, f64, f64, f64), f64) {
     let (w, h) = (f64::from(size_px.0.max(1)), f64::from(size_px.1.max(1)));
-    let has_legend = scene
-        .primitives
-        .iter()
-        .any(|p| p.role.legend_label().is_some());
     let legend_w = if !has_legend || w < 2.5 * LEGEND_WIDTH_PX {
         0.0
     } else {
@@ -75,6 +76,39 @@ fn page(scene: &Scene, view: ViewRect, size_px: (u32, u32)) -> (PageTransform, f
         (w - 2.0 * MARGIN_PX - legend_w).max(1.0),
         (h - TITLE_BAND_PX - BOTTOM_BAND_PX).max(1.0),
     );
+    (area, legend_w)
+}
+
+/// `title` shortened to fit `width_px` at `size_px` (bold): the middle is cut, so the run's
+/// name starts it and the snapshot ends it.
+pub fn fit_title(title: &str, width_px: f64, size_px: f64) -> String {
+    // DejaVu Sans Bold advances at most about 0.7 em for the characters of titles.
+    let fits = ((width_px / (0.7 * size_px)).floor() as usize).max(8);
+    let chars: Vec<char> = title.chars().collect();
+    if chars.len() <= fits {
+        return title.to_owned();
+    }
+    let tail = (fits - 1) / 2;
+    let head = fits - 1 - tail;
+    let mut out: String = chars[..head].iter().collect();
+    out.push('…');
+    out.extend(&chars[chars.len() - tail..]);
+    out
+}
+
+/// The transform [`to_svg`] uses for `scene` shown in `view` on a `size_px` page
+/// (the legend's room depends on the scene, hence the argument).
+pub fn page_transform(scene: &Scene, view: ViewRect, size_px: (u32, u32)) -> PageTransform {
+    page(scene, view, size_px).0
+}
+
+fn page(scene: &Scene, view: ViewRect, size_px: (u32, u32)) -> (PageTransform, f64, (f64, f64)) {
+    let has_legend = scene
+        .primitives
+        .iter()
+        .any(|p| p.role.legend_label().is_some());
+    let (area, legend_w) = map_area(size_px, has_legend);
+    let (w, h) = (f64::from(size_px.0.max(1)), f64::from(size_px.1.max(1)));
     (PageTransform::fit(view, area), legend_w, (w, h))
 }
 
@@ -163,7 +197,7 @@ pub fn to_svg(
         s,
         r#"<text id="title" x="{MARGIN_PX}" y="20" font-size="14" font-weight="bold" fill="{}">{}</text>"#,
         INK.hex(),
-        escape(title)
+        escape(&fit_title(title, w - 2.0 * MARGIN_PX, 14.0))
     );
     scale_bar(&mut s, &tf, units, (cx, cy + ch));
     if legend_w > 0.0 {

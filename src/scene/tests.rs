@@ -232,6 +232,7 @@ fn build(f: &Fixture, options: &ViewOptions, with_previous: bool) -> Scene {
         map_after: &f.after,
         truth: None,
         support_of: None,
+        figure_labels: false,
     };
     build_scene(&input, options)
 }

@@ -10,13 +10,13 @@ use sonarmap::scene::{Layer, SceneId};
 use std::collections::HashMap;
 use std::path::PathBuf;
 
-fn asset(name: &str) -> PathBuf {
+pub(crate) fn asset(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("assets")
         .join(name)
 }
 
-fn harness(app: SonarApp) -> Harness<'static, SonarApp> {
+pub(crate) fn harness(app: SonarApp) -> Harness<'static, SonarApp> {
     Harness::builder()
         .with_size(egui::vec2(1400.0, 900.0))
         .with_accessibility_check(false)
@@ -24,7 +24,7 @@ fn harness(app: SonarApp) -> Harness<'static, SonarApp> {
 }
 
 /// The app on the built-in run, then `building.log.json` opened through the command path.
-fn building() -> Harness<'static, SonarApp> {
+pub(crate) fn building() -> Harness<'static, SonarApp> {
     let run = sonarmap::assets::default_run().expect("built-in run loads");
     let mut h = harness(SonarApp::new(run, None));
     h.run();
@@ -200,6 +200,9 @@ fn compare_with_runs_the_three_tests() {
     h.state_mut()
         .push(Command::Select(SceneId::MapSegment(ids[0])));
     h.run();
+    // The inspector is narrow by default: the button may be below its fold.
+    h.get_by_label("Compare with…").scroll_to_me();
+    h.run();
     h.get_by_label("Compare with…").click();
     h.run();
     assert_eq!(*h.state_compare(), CompareState::Armed(ids[0]));
@@ -309,7 +312,7 @@ fn a_broken_log_shows_a_banner_and_keeps_the_run() {
 }
 
 #[derive(Default)]
-struct MemoryStorage(HashMap<String, String>);
+pub(crate) struct MemoryStorage(HashMap<String, String>);
 
 impl eframe::Storage for MemoryStorage {
     fn get_string(&self, key: &str) -> Option<String> {
@@ -388,7 +391,7 @@ fn a_large_run_replays_in_the_background_and_the_old_run_stays_usable() {
 // ---- Live parameters, A/B comparison, bookmarks (issue 6) ----
 
 /// Steps the harness until no background work is left (re-runs, comparisons), then settles.
-fn settle(h: &mut Harness<'static, SonarApp>) {
+pub(crate) fn settle(h: &mut Harness<'static, SonarApp>) {
     let deadline = std::time::Instant::now() + std::time::Duration::from_secs(300);
     loop {
         h.step();

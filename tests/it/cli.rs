@@ -507,3 +507,49 @@ fn bench_with_laps_and_every_preset_prints_one_engine_line_per_preset() {
     assert_eq!(lines[0]["params"]["merge_duplicates"], false);
     assert_eq!(lines[1]["params"]["merge_duplicates"], true);
 }
+
+#[test]
+fn run_svg_takes_the_view_layers_size_and_writes_a_png_beside_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("building.svg");
+    let log = assets("building.log.json");
+    let o = sonarmap(&[
+        "run",
+        log.to_str().unwrap(),
+        "--until",
+        "150",
+        "--svg",
+        out.to_str().unwrap(),
+        "--view",
+        "0,0,250,200",
+        "--layers",
+        "floor-plan,map,labels",
+        "--size",
+        "800x600",
+        "--png",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let svg = std::fs::read_to_string(&out).unwrap();
+    assert!(svg.contains(r#"width="800" height="600""#));
+    assert!(svg.contains("<g id=\"map\"") && svg.contains("<g id=\"labels\""));
+    assert!(
+        !svg.contains("<g id=\"balls\""),
+        "only the layers asked for"
+    );
+    let png = std::fs::read(dir.path().join("building.png")).expect("the PNG is written");
+    assert_eq!(&png[1..4], b"PNG");
+    let width = u32::from_be_bytes([png[16], png[17], png[18], png[19]]);
+    assert_eq!(width, 800);
+    // A bad option names itself, and nothing is written.
+    let o = sonarmap(&[
+        "run",
+        log.to_str().unwrap(),
+        "--svg",
+        dir.path().join("x.svg").to_str().unwrap(),
+        "--layers",
+        "map,walls",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o.stderr).contains("walls"), "{}", text(&o.stderr));
+    assert!(!dir.path().join("x.svg").exists());
+}

@@ -771,6 +771,7 @@ fn write_png(run: &Run, mapper: &Mapper, traces: &[StepTrace]) {
         map_after: mapper.map(),
         truth: None,
         support_of: None,
+        figure_labels: false,
     };
     let scene = build_scene(&input, &ViewOptions::default());
     let svg = to_svg(

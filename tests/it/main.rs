@@ -1,11 +1,13 @@
 //! The integration tests: one binary, one module per area.
 
 mod app;
+mod app_views;
 mod cli;
 mod engine;
 mod engine_properties;
 mod engine_rules;
 mod eval;
+mod figure;
 mod import;
 mod import_fuzz;
 mod import_hostile;

@@ -431,6 +431,7 @@ fn blue_room_scene(b: &BlueRoom, options: &ViewOptions) -> Scene {
         map_after: &b.maps[2],
         truth: None,
         support_of: None,
+        figure_labels: false,
     };
     build_scene(&input, options)
 }
