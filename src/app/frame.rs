@@ -424,11 +424,17 @@ impl SonarApp {
             ui.separator();
             if let Some(job) = &self.background {
                 ui.spinner();
-                let done = job.task.done();
+                let (done, total) = (job.task.done(), job.task.total().max(1));
+                let fraction = done as f32 / total as f32;
+                // The share first: a long label is cut at the bar's end.
                 ui.add(
-                    egui::ProgressBar::new(done as f32 / job.task.total().max(1) as f32)
-                        .desired_width(160.0)
-                        .text(format!("{}: {done} / {}", job.label, job.task.total())),
+                    egui::ProgressBar::new(fraction)
+                        .desired_width(300.0)
+                        .text(format!(
+                            "{:.0} % · {done} / {total} · {}",
+                            100.0 * fraction,
+                            job.label
+                        )),
                 );
                 ui.separator();
             }
