@@ -26,4 +26,5 @@ pub mod scene;
 pub mod sim;
 pub mod soak;
 pub mod sonar;
+pub mod suite;
 pub mod units;

@@ -1,7 +1,8 @@
 //! The map: line segments with their end-point ranges, faces and objects (paper §3.3).
 //! A `Map` is a plain value; cloning it is how the replay checkpoints.
 
-pub use super::ids::{FaceId, ObjectId, SegmentId};
+pub use super::features::{FeatureKind, PointFeature};
+pub use super::ids::{FaceId, FeatureId, ObjectId, SegmentId};
 use super::index::{IndexedSegment, SegmentGrid};
 pub use super::support::{EndPoint, ReadingRef, SupportPoint};
 use crate::geometry::{distance_to_segment, Point};
@@ -111,6 +112,12 @@ pub struct Map {
     pub faces: Vec<Arc<Face>>,
     /// Readings held by point memory.
     pub memory: Vec<MemoryPoint>,
+    /// Point features (corners and edges, docs/algorithm.md §8.5), ordered by id.
+    #[serde(default)]
+    pub features: Vec<PointFeature>,
+    /// Next unused feature id.
+    #[serde(default)]
+    pub next_feature_id: FeatureId,
     /// Next unused segment id.
     pub next_segment_id: SegmentId,
     /// Next unused face id.
@@ -143,6 +150,8 @@ impl PartialEq for Map {
         self.segments == other.segments
             && self.faces == other.faces
             && self.memory == other.memory
+            && self.features == other.features
+            && self.next_feature_id == other.next_feature_id
             && self.next_segment_id == other.next_segment_id
             && self.next_face_id == other.next_face_id
             && self.next_object_id == other.next_object_id
@@ -561,6 +570,8 @@ impl Map {
             segments: self.segments.clone(),
             faces: self.faces.clone(),
             memory: self.memory.clone(),
+            features: self.features.clone(),
+            next_feature_id: self.next_feature_id,
             next_segment_id: self.next_segment_id,
             next_face_id: self.next_face_id,
             next_object_id: self.next_object_id,

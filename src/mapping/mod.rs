@@ -4,6 +4,7 @@ pub mod cluster;
 pub mod correlate;
 pub mod extensions;
 pub mod fast_path;
+pub mod features;
 pub mod fit;
 pub mod flip;
 mod guard;
