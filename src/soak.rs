@@ -48,6 +48,28 @@ pub fn soak_variants() -> Vec<(&'static str, Params)> {
             "paper+corner_guard",
             Params {
                 corner_guard: true,
+                ..paper.clone()
+            },
+        ),
+        (
+            "paper+arc_features",
+            Params {
+                arc_features: true,
+                ..paper.clone()
+            },
+        ),
+        (
+            "paper+explain_readings",
+            Params {
+                arc_features: true,
+                explain_readings: true,
+                ..paper.clone()
+            },
+        ),
+        (
+            "paper+free_space",
+            Params {
+                free_space: true,
                 ..paper
             },
         ),

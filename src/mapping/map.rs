@@ -129,6 +129,10 @@ pub struct Map {
     /// Spatial index of the segments (rebuilt by [`Map::rebuild_index`] after deserialising).
     #[serde(skip)]
     index: SegmentGrid,
+    /// Spatial index of the point features, each filed as a segment of no length (rebuilt
+    /// with the segments' index).
+    #[serde(skip)]
+    feature_index: SegmentGrid,
     /// Position in `segments` of each id ([`NO_SLOT`] when absent) as of when it was last set,
     /// kept with the index; empty without it (lookups then search `segments`). A removal moves
     /// the later segments one place down without touching their entries, so an entry may be
@@ -156,6 +160,20 @@ impl PartialEq for Map {
             && self.next_face_id == other.next_face_id
             && self.next_object_id == other.next_object_id
             && self.max_end_range_m == other.max_end_range_m
+    }
+}
+
+/// A point feature as the grid files it: a segment of no length at its place.
+fn feature_filing(f: &PointFeature) -> IndexedSegment {
+    let e = EndPoint {
+        point: f.at,
+        range_m: f.range_m,
+    };
+    IndexedSegment {
+        a: e,
+        b: e,
+        face: 0,
+        fitted: true,
     }
 }
 
@@ -555,11 +573,44 @@ impl Map {
         {
             return Err("point memory holds a non-finite point".to_owned());
         }
+        for pair in self.features.windows(2) {
+            if pair[0].id >= pair[1].id {
+                return Err(format!(
+                    "feature ids out of order: {} then {}",
+                    pair[0].id, pair[1].id
+                ));
+            }
+        }
+        for f in &self.features {
+            if f.id >= self.next_feature_id {
+                return Err(format!("feature {} is not below the next id", f.id));
+            }
+            if !finite(&f.at) || !f.range_m.is_finite() || f.range_m < 0.0 {
+                return Err(format!("feature {} has a non-finite place or range", f.id));
+            }
+            if f.observations == 0 {
+                return Err(format!("feature {} has no observation", f.id));
+            }
+            if f.updated.len() > MAX_UPDATES_KEPT
+                || f.updated.windows(2).any(|w| w[0] >= w[1])
+                || f.updated.first().is_some_and(|&u| u <= f.created)
+            {
+                return Err(format!(
+                    "feature {} has an update history out of bounds or order",
+                    f.id
+                ));
+            }
+        }
         // A map without its index (a checkpoint) has no slots either.
         if !self.slot_of.is_empty() {
             self.index
                 .check_files_exactly(self.segments.iter().map(|s| (s.id, s.indexed())))
                 .map_err(|e| format!("spatial index: {e}"))?;
+            if !self.features.is_empty() {
+                self.feature_index
+                    .check_files_exactly(self.features.iter().map(|f| (f.id, feature_filing(f))))
+                    .map_err(|e| format!("feature index: {e}"))?;
+            }
         }
         Ok(())
     }
@@ -577,6 +628,7 @@ impl Map {
             next_object_id: self.next_object_id,
             max_end_range_m: self.max_end_range_m,
             index: SegmentGrid::default(),
+            feature_index: SegmentGrid::default(),
             slot_of: Vec::new(),
             removals_since_reslot: 0,
             face_journal: None,
@@ -593,6 +645,77 @@ impl Map {
             self.index.insert(s.id, s.indexed());
             self.set_slot(s.id, slot);
         }
+        self.feature_index = SegmentGrid::default();
+        for f in &self.features {
+            self.feature_index.insert(f.id, feature_filing(f));
+        }
+    }
+
+    /// Point feature `id`.
+    pub fn feature(&self, id: FeatureId) -> Option<&PointFeature> {
+        self.features
+            .binary_search_by_key(&id, |f| f.id)
+            .ok()
+            .map(|i| &self.features[i])
+    }
+
+    /// Ids of the point features that may lie within `radius_m` of `p` (a superset), sorted.
+    pub fn features_near(&self, p: &Point, radius_m: f64) -> Vec<FeatureId> {
+        let mut out = Vec::new();
+        self.features_near_into(p, radius_m, &mut out);
+        out.sort_unstable();
+        out
+    }
+
+    /// [`Map::features_near`] into `out` (cleared first), in no particular order. Without the
+    /// index (a checkpoint), every feature.
+    pub fn features_near_into(&self, p: &Point, radius_m: f64, out: &mut Vec<FeatureId>) {
+        out.clear();
+        if self.feature_index.len() != self.features.len() || !radius_m.is_finite() {
+            out.extend(self.features.iter().map(|f| f.id));
+            return;
+        }
+        let r = nalgebra::Vector2::new(radius_m, radius_m);
+        self.feature_index.query_into(&(p - r), &(p + r), out);
+    }
+
+    /// Adds a point feature with the next free id, seen once by `snapshot`; returns its id.
+    pub(crate) fn push_feature(
+        &mut self,
+        kind: FeatureKind,
+        at: Point,
+        range_m: f64,
+        snapshot: usize,
+    ) -> FeatureId {
+        let id = self.next_feature_id;
+        self.next_feature_id += 1;
+        let f = PointFeature {
+            id,
+            kind,
+            at,
+            range_m,
+            observations: 1,
+            created: snapshot,
+            updated: Vec::new(),
+        };
+        self.feature_index.insert(id, feature_filing(&f));
+        self.features.push(f);
+        id
+    }
+
+    /// Replaces the feature with `f`'s id by `f`, noting an update by `snapshot`.
+    pub(crate) fn replace_feature(&mut self, mut f: PointFeature, snapshot: usize) {
+        let Ok(i) = self.features.binary_search_by_key(&f.id, |g| g.id) else {
+            return;
+        };
+        if f.updated.last() != Some(&snapshot) && f.created != snapshot {
+            if f.updated.len() >= MAX_UPDATES_KEPT {
+                f.updated.remove(0);
+            }
+            f.updated.push(snapshot);
+        }
+        self.feature_index.insert(f.id, feature_filing(&f));
+        self.features[i] = f;
     }
 }
 

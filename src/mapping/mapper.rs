@@ -5,16 +5,18 @@ use super::correlate::correlate_face;
 use super::extensions::{memory_step, reduce_constant_depth};
 use super::fast_path::decide;
 use super::fit::{piece_end_points, split_recursive};
+use super::free_space::refuted_segments;
 use super::map::{FaceId, Map, Segment, SegmentId, SegmentKind, SupportPoint};
 use super::matching::{Candidate, SegmentEnds};
 use super::params::Params;
+use super::point_features::{arc_point, explaining_feature, file_arc, ArcTrace, Beam};
 use super::readings::convert_readings;
 use super::trace::{
-    CandidateTrace, ClusterTrace, DecisionTrace, NewSegmentTrace, Outcome, SegmentSource,
-    SplitTrace, StepTrace, UpdateTrace, Warning,
+    CandidateTrace, ClusterTrace, DecisionTrace, ExplainedTrace, NewSegmentTrace, Outcome,
+    RefutedTrace, SegmentSource, SplitTrace, StepTrace, UpdateTrace, Warning,
 };
 use super::update::{apply_update, cap_support_points, UpdateRequest};
-use crate::geometry::Pose;
+use crate::geometry::{Point, Pose};
 use crate::run::Snapshot;
 use crate::sonar::{BeamAxis, SensorLayout, SensorSpec};
 use std::ops::Range;
@@ -218,7 +220,34 @@ impl Mapper {
         if self.params.correlate {
             self.correlate_new_faces(new_faces, &mut trace);
         }
+        if self.params.free_space {
+            self.remove_refuted(snapshot, &mut trace);
+        }
         trace
+    }
+
+    /// §8.6 free space: the segments a kept reading of this snapshot saw past leave the map.
+    fn remove_refuted(&mut self, snapshot: &Snapshot, trace: &mut StepTrace) {
+        let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
+        let (mut scratch, mut found) = (Vec::new(), Vec::new());
+        let kept = std::mem::take(&mut self.buffers.kept);
+        for q in &kept {
+            let beam = self.beam_of(&snapshot.pose, q);
+            refuted_segments(&self.map, &beam, xi, half, &mut scratch, &mut found);
+            for &(segment, distance_m, off_axis_rad) in &found {
+                self.map.remove_segment(segment);
+                if self.record_trace {
+                    trace.refuted.push(RefutedTrace {
+                        segment,
+                        sensor: q.reading.sensor,
+                        range_m: q.range_m,
+                        distance_m,
+                        off_axis_rad,
+                    });
+                }
+            }
+        }
+        self.buffers.kept = kept;
     }
 
     /// A step's trace with its snapshot, and the warnings of §4: the robot moved more than
@@ -270,6 +299,9 @@ impl Mapper {
             &mut buffers.kept,
         );
         let (ranks, wraps) = (&self.bearing_ranks.0, self.bearing_ranks.1);
+        if self.params.explain_readings {
+            self.drop_explained_readings(snapshot, trace, &mut buffers.kept);
+        }
         cluster_points(
             &buffers.kept,
             ranks,
@@ -282,11 +314,98 @@ impl Mapper {
         }
     }
 
+    /// The world beam of kept point `q` of a snapshot at `pose`.
+    fn beam_of(&self, pose: &Pose, q: &SupportPoint) -> Beam {
+        let origin = pose
+            .robot_frame()
+            .to_world(&self.beam_axes[q.reading.sensor].origin_in_robot);
+        Beam::of(q, origin)
+    }
+
+    /// §8.5 explained readings: the kept points a confirmed point feature explains leave
+    /// `kept` (each looks only at the features filed near its own point).
+    fn drop_explained_readings(
+        &self,
+        snapshot: &Snapshot,
+        trace: &mut StepTrace,
+        kept: &mut Vec<SupportPoint>,
+    ) {
+        if self.map.features.is_empty() {
+            return;
+        }
+        let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
+        let mut scratch = Vec::new();
+        kept.retain(|q| {
+            let beam = self.beam_of(&snapshot.pose, q);
+            let Some(id) = explaining_feature(&self.map, &beam, xi, half, &mut scratch) else {
+                return true;
+            };
+            if self.record_trace {
+                let at = self.map.feature(id).map_or(beam.origin, |f| f.at);
+                let v = at - beam.origin;
+                trace.explained.push(ExplainedTrace {
+                    sensor: q.reading.sensor,
+                    range_m: q.range_m,
+                    feature: id,
+                    feature_distance_m: v.norm(),
+                    off_axis_rad: (v.dot(&beam.direction) / v.norm().max(1e-12))
+                        .clamp(-1.0, 1.0)
+                        .acos(),
+                });
+            }
+            false
+        });
+    }
+
+    /// §8.5 arc rule on cluster `ci` (`chain` in order): when it is an arc, its point is filed
+    /// as a point feature and true is returned (the cluster is then not fitted).
+    fn file_if_arc(&mut self, ci: usize, chain: &[SupportPoint], trace: &mut StepTrace) -> bool {
+        let Some(pose) = trace.pose else {
+            return false;
+        };
+        let beams: Vec<Beam> = chain.iter().map(|q| self.beam_of(&pose, q)).collect();
+        let sensors: Vec<usize> = chain.iter().map(|q| q.reading.sensor).collect();
+        let Some((at, range_m)) = arc_point(&beams, &sensors, self.params.accuracy_pct) else {
+            return false;
+        };
+        let origin = Point::from(
+            beams
+                .iter()
+                .map(|b| b.origin.coords)
+                .sum::<crate::geometry::Vec2>()
+                / beams.len() as f64,
+        );
+        let (feature, new_feature) = file_arc(
+            &mut self.map,
+            at,
+            range_m,
+            &origin,
+            trace.snapshot,
+            self.params.accuracy_pct,
+        );
+        if self.record_trace {
+            trace.arcs.push(ArcTrace {
+                cluster: ci,
+                sensors,
+                range_min_m: beams
+                    .iter()
+                    .map(|b| b.range_m)
+                    .fold(f64::INFINITY, f64::min),
+                range_max_m: beams.iter().map(|b| b.range_m).fold(0.0, f64::max),
+                at,
+                feature,
+                new_feature,
+            });
+        }
+        true
+    }
+
     /// §3: each cluster fitted by the recursive end-point fit (after constant-depth groups,
     /// §8.2, when on; a closed loop, §2, repeats its first point at the end). Returns the new
     /// segments in cluster order and the points of one-point clusters.
-    fn fit_clusters(&self, trace: &mut StepTrace, buffers: &mut StepBuffers) -> FittedStep {
-        let params = &self.params;
+    fn fit_clusters(&mut self, trace: &mut StepTrace, buffers: &mut StepBuffers) -> FittedStep {
+        let params = self.params.clone();
+        let params = &params;
         let StepBuffers {
             kept,
             clusters,
@@ -308,6 +427,20 @@ impl Mapper {
                 trace.readings[q.reading.sensor].cluster = Some(ci);
             }
             let chain_len = chain.len();
+            if params.arc_features && self.file_if_arc(ci, &chain, trace) {
+                if self.record_trace {
+                    trace.clusters.push(ClusterTrace {
+                        sensors: chain.iter().map(|q| q.reading.sensor).collect(),
+                        constant_depth: Vec::new(),
+                        fitted: chain,
+                        splits: Vec::new(),
+                        new_segments: Vec::new(),
+                    });
+                } else {
+                    *fitted_buffer = chain;
+                }
+                continue;
+            }
             let sensors: Vec<usize> = if self.record_trace {
                 chain.iter().map(|q| q.reading.sensor).collect()
             } else {

@@ -90,6 +90,16 @@ pub struct Params {
     /// Refuse a correlation corner that would collapse a line, joining the two end-points by a
     /// connecting segment instead (beyond the paper, docs/algorithm.md §6 and §8).
     pub corner_guard: bool,
+    /// Arc rule: a cluster whose readings, from two or more sensors, pass the ball test
+    /// pairwise is one reflector point, filed as a point feature instead of fitted
+    /// (docs/algorithm.md §8.5).
+    pub arc_features: bool,
+    /// Readings a confirmed point feature explains (its range from the sensor, inside the
+    /// beam) join no cluster (docs/algorithm.md §8.5).
+    pub explain_readings: bool,
+    /// A segment whose perpendicular foot lies inside a beam that read farther is removed
+    /// (docs/algorithm.md §8.6).
+    pub free_space: bool,
 }
 
 impl Default for Params {
@@ -118,6 +128,9 @@ impl Params {
             merge_duplicates: false,
             support_cap: 0,
             corner_guard: false,
+            arc_features: false,
+            explain_readings: false,
+            free_space: false,
         }
     }
 
@@ -130,6 +143,9 @@ impl Params {
             merge_duplicates: true,
             support_cap: EXTENDED_SUPPORT_CAP,
             corner_guard: true,
+            arc_features: true,
+            explain_readings: true,
+            free_space: true,
             ..Self::paper()
         }
     }
@@ -258,6 +274,15 @@ impl Params {
         if let Some(v) = file.corner_guard {
             p.corner_guard = v;
         }
+        if let Some(v) = file.arc_features {
+            p.arc_features = v;
+        }
+        if let Some(v) = file.explain_readings {
+            p.explain_readings = v;
+        }
+        if let Some(v) = file.free_space {
+            p.free_space = v;
+        }
         p.validate()?;
         Ok(p)
     }
@@ -287,6 +312,9 @@ impl Params {
             merge_duplicates: Some(self.merge_duplicates),
             support_cap: Some(self.support_cap),
             corner_guard: Some(self.corner_guard),
+            arc_features: Some(self.arc_features),
+            explain_readings: Some(self.explain_readings),
+            free_space: Some(self.free_space),
         }
     }
 }
@@ -376,6 +404,12 @@ pub struct ParamsFile {
     pub support_cap: Option<usize>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub corner_guard: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub arc_features: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub explain_readings: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub free_space: Option<bool>,
 }
 
 #[cfg(test)]
@@ -393,12 +427,14 @@ mod tests {
         assert!(!p.merge_duplicates);
         assert_eq!(p.support_cap, 0, "the paper keeps every supporting point");
         assert!(!p.corner_guard);
+        assert!(!p.arc_features && !p.explain_readings && !p.free_space);
         let e = Params::extended();
         assert_eq!(e.support_cap, 64);
         assert!(e.corner_guard);
         assert_eq!(e.memory_snapshots, 10);
         assert!(e.constant_depth);
         assert!(e.merge_duplicates);
+        assert!(e.arc_features && e.explain_readings && e.free_space);
         assert!(p.validate().is_ok() && e.validate().is_ok());
     }
 
