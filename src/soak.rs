@@ -70,6 +70,13 @@ pub fn soak_variants() -> Vec<(&'static str, Params)> {
             "paper+free_space",
             Params {
                 free_space: true,
+                ..paper.clone()
+            },
+        ),
+        (
+            "paper+confirm_segments",
+            Params {
+                confirm_segments: true,
                 ..paper
             },
         ),

@@ -3,7 +3,7 @@
 //! project's sensor models ([`Model::Specular`], [`Model::Axis`]), mapped and scored by
 //! [`crate::eval`]. The same `N`, `S` and parameters always give the same figures.
 
-use crate::eval::{evaluate, map_verdicts, Verdict};
+use crate::eval::{confirmed_map, evaluate, map_verdicts, true_point_features, Verdict};
 use crate::mapping::{Map, Mapper, Params};
 use crate::run::Run;
 use crate::sim::{family_plan, simulate, Model, Plan, SceneKind};
@@ -45,6 +45,12 @@ pub struct SceneFigures {
     pub coverage: f64,
     /// Point features (corners and edges) in the map.
     pub point_features: usize,
+    /// Point features on a wall junction or end ([`crate::eval::true_point_features`]).
+    pub true_point_features: usize,
+    /// The same figures for the confirmed segments alone (docs/algorithm.md §8.7), when
+    /// segments must be confirmed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub confirmed: Option<Box<SceneFigures>>,
 }
 
 /// One scene of a suite, one sensor model.
@@ -86,6 +92,11 @@ pub struct SuiteSummary {
     pub worst_coverage: f64,
     /// Point features in all maps.
     pub point_features: usize,
+    /// Point features on a wall junction or end.
+    pub true_point_features: usize,
+    /// The summary of the confirmed segments alone, when segments must be confirmed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub confirmed: Option<Box<SuiteSummary>>,
 }
 
 fn median(mut v: Vec<f64>) -> Option<f64> {
@@ -113,6 +124,14 @@ pub fn map_of(run: &Run, params: &Params) -> Map {
 /// The suite figures of `map` against `run`'s floor plan (none without one).
 pub fn scene_figures(map: &Map, run: &Run, params: &Params) -> Option<SceneFigures> {
     let plan = run.floor_plan.as_ref()?;
+    let confirmed = confirmed_map(map)
+        .and_then(|m| scene_figures(&m, run, params))
+        .map(|mut f| {
+            // The confirmed map holds the segments alone; the features are the map's.
+            f.point_features = map.features.len();
+            f.true_point_features = true_point_features(map, plan, params);
+            Box::new(f)
+        });
     let report = evaluate(map, run, plan, params);
     let errors: Vec<f64> = map_verdicts(map, plan, params)
         .into_iter()
@@ -133,6 +152,8 @@ pub fn scene_figures(map: &Map, run: &Run, params: &Params) -> Option<SceneFigur
         median_endpoint_error_in: median(errors),
         coverage: report.coverage,
         point_features: map.features.len(),
+        true_point_features: true_point_features(map, plan, params),
+        confirmed,
     })
 }
 
@@ -158,6 +179,16 @@ pub fn run_suite(scenes: usize, seed: u64, params: &Params) -> Vec<SuiteLine> {
 
 /// The summary of `lines`.
 pub fn summarise(lines: &[SuiteLine]) -> SuiteSummary {
+    let confirmed: Vec<SuiteLine> = lines
+        .iter()
+        .filter_map(|l| {
+            l.figures.confirmed.as_ref().map(|c| SuiteLine {
+                figures: (**c).clone(),
+                model: l.model.clone(),
+                ..*l
+            })
+        })
+        .collect();
     let segments: usize = lines.iter().map(|l| l.figures.segments).sum();
     let true_segments: usize = lines.iter().map(|l| l.figures.true_segments).sum();
     let n = lines.len().max(1) as f64;
@@ -188,6 +219,8 @@ pub fn summarise(lines: &[SuiteLine]) -> SuiteSummary {
             .fold(f64::INFINITY, f64::min)
             .min(1.0),
         point_features: lines.iter().map(|l| l.figures.point_features).sum(),
+        true_point_features: lines.iter().map(|l| l.figures.true_point_features).sum(),
+        confirmed: (!confirmed.is_empty()).then(|| Box::new(summarise(&confirmed))),
     }
 }
 

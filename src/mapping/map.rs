@@ -1,12 +1,14 @@
 //! The map: line segments with their end-point ranges, faces and objects (paper §3.3).
 //! A `Map` is a plain value; cloning it is how the replay checkpoints.
 
+use super::confirm::PlaneSupport;
 pub use super::features::{FeatureKind, PointFeature};
 pub use super::ids::{FaceId, FeatureId, ObjectId, SegmentId};
 use super::index::{IndexedSegment, SegmentGrid};
 pub use super::support::{EndPoint, ReadingRef, SupportPoint};
 use crate::geometry::{distance_to_segment, Point};
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::sync::Arc;
 
 /// Fitted from readings, or a link made by correlation.
@@ -118,6 +120,13 @@ pub struct Map {
     /// Next unused feature id.
     #[serde(default)]
     pub next_feature_id: FeatureId,
+    /// Whether segments must be confirmed (docs/algorithm.md §8.7); without it every segment
+    /// counts as confirmed.
+    #[serde(default)]
+    pub confirms_segments: bool,
+    /// Plane support of the segments that have any (docs/algorithm.md §8.7).
+    #[serde(default)]
+    pub plane_support: BTreeMap<SegmentId, PlaneSupport>,
     /// Next unused segment id.
     pub next_segment_id: SegmentId,
     /// Next unused face id.
@@ -156,6 +165,8 @@ impl PartialEq for Map {
             && self.memory == other.memory
             && self.features == other.features
             && self.next_feature_id == other.next_feature_id
+            && self.confirms_segments == other.confirms_segments
+            && self.plane_support == other.plane_support
             && self.next_segment_id == other.next_segment_id
             && self.next_face_id == other.next_face_id
             && self.next_object_id == other.next_object_id
@@ -362,6 +373,7 @@ impl Map {
         };
         let face = self.segments.remove(i).face;
         self.index.remove(id);
+        self.plane_support.remove(&id);
         if !self.slot_of.is_empty() {
             self.slot_of[id as usize] = NO_SLOT;
             // Re-slot the later segments only now and then: a lookup searches the few places
@@ -573,6 +585,13 @@ impl Map {
         {
             return Err("point memory holds a non-finite point".to_owned());
         }
+        if let Some(id) = self
+            .plane_support
+            .keys()
+            .find(|&&id| self.segment(id).is_none())
+        {
+            return Err(format!("plane support of missing segment {id}"));
+        }
         for pair in self.features.windows(2) {
             if pair[0].id >= pair[1].id {
                 return Err(format!(
@@ -623,6 +642,8 @@ impl Map {
             memory: self.memory.clone(),
             features: self.features.clone(),
             next_feature_id: self.next_feature_id,
+            confirms_segments: self.confirms_segments,
+            plane_support: self.plane_support.clone(),
             next_segment_id: self.next_segment_id,
             next_face_id: self.next_face_id,
             next_object_id: self.next_object_id,
@@ -649,6 +670,20 @@ impl Map {
         for f in &self.features {
             self.feature_index.insert(f.id, feature_filing(f));
         }
+    }
+
+    /// An empty map whose segments must be confirmed (docs/algorithm.md §8.7) or not.
+    pub fn confirming(confirms_segments: bool) -> Self {
+        Map {
+            confirms_segments,
+            ..Map::default()
+        }
+    }
+
+    /// Whether segment `id` is tentative: segments must be confirmed and it is not
+    /// (docs/algorithm.md §8.7).
+    pub fn is_tentative(&self, id: SegmentId) -> bool {
+        self.confirms_segments && !self.plane_support.get(&id).is_some_and(|p| p.confirmed())
     }
 
     /// Point feature `id`.

@@ -1,6 +1,7 @@
 //! The mapper: one snapshot in, the map updated and the step's trace out (paper §3).
 
 use super::cluster::{cluster_points, sensor_ranks, Clusters};
+use super::confirm::note_plane_support;
 use super::correlate::correlate_face;
 use super::extensions::{memory_step, reduce_constant_depth};
 use super::fast_path::decide;
@@ -79,13 +80,14 @@ impl Mapper {
         let (order, wraps) = layout.bearing_order();
         let bearing_ranks = (sensor_ranks(&order), wraps);
         let beam_axes = layout.beam_axes();
+        let confirms_segments = params.confirm_segments;
         Self {
             params,
             layout,
             sensor,
             bearing_ranks,
             beam_axes,
-            map: Map::default(),
+            map: Map::confirming(confirms_segments),
             last_pose: None,
             next_snapshot: 0,
             brute_force: false,
@@ -214,6 +216,9 @@ impl Mapper {
         }
         let new_faces = self.match_and_update(&mut fitted.segments, &mut trace, &mut buffers);
         self.buffers = buffers;
+        if self.params.confirm_segments {
+            self.note_plane_support(snapshot, &fitted.segments, &mut trace);
+        }
         if self.record_trace {
             trace.new_segments = fitted.segments;
         }
@@ -224,6 +229,46 @@ impl Mapper {
             self.remove_refuted(snapshot, &mut trace);
         }
         trace
+    }
+
+    /// §8.7 confirmation: each segment this step's new segments matched, extended or made
+    /// hears of the plane support of their readings.
+    fn note_plane_support(
+        &mut self,
+        snapshot: &Snapshot,
+        new_segments: &[NewSegmentTrace],
+        trace: &mut StepTrace,
+    ) {
+        let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
+        let targets: Vec<(usize, SegmentId)> = trace
+            .decisions
+            .iter()
+            .filter_map(|d| d.result.map(|r| (d.new_segment, r)))
+            .collect();
+        for (ni, target) in targets {
+            let beams_of = |points: &[SupportPoint]| -> Vec<(usize, Beam)> {
+                points
+                    .iter()
+                    .filter(|q| q.reading.snapshot == trace.snapshot)
+                    .map(|q| (q.reading.sensor, self.beam_of(&snapshot.pose, q)))
+                    .collect()
+            };
+            let beams = match new_segments.get(ni) {
+                Some(n) if !n.points.is_empty() => beams_of(&n.points),
+                // Untraced, a new face's points moved into the map segment.
+                _ => match self.map.segment(target) {
+                    Some(s) => beams_of(&s.points),
+                    None => continue,
+                },
+            };
+            if let Some(t) =
+                note_plane_support(&mut self.map, target, &beams, trace.snapshot, xi, half)
+            {
+                if self.record_trace {
+                    trace.plane_support.push(t);
+                }
+            }
+        }
     }
 
     /// §8.6 free space: the segments a kept reading of this snapshot saw past leave the map.

@@ -1,6 +1,7 @@
 //! The paper's mapping algorithm (docs/algorithm.md §1–§8), one rule a file.
 
 pub mod cluster;
+pub mod confirm;
 pub mod correlate;
 pub mod extensions;
 pub mod fast_path;

@@ -100,6 +100,9 @@ pub struct Params {
     /// A segment whose perpendicular foot lies inside a beam that read farther is removed
     /// (docs/algorithm.md §8.6).
     pub free_space: bool,
+    /// Segments are tentative until readings of two snapshots support them as a plane
+    /// (docs/algorithm.md §8.7).
+    pub confirm_segments: bool,
 }
 
 impl Default for Params {
@@ -131,6 +134,7 @@ impl Params {
             arc_features: false,
             explain_readings: false,
             free_space: false,
+            confirm_segments: false,
         }
     }
 
@@ -146,6 +150,7 @@ impl Params {
             arc_features: true,
             explain_readings: true,
             free_space: true,
+            confirm_segments: true,
             ..Self::paper()
         }
     }
@@ -283,6 +288,9 @@ impl Params {
         if let Some(v) = file.free_space {
             p.free_space = v;
         }
+        if let Some(v) = file.confirm_segments {
+            p.confirm_segments = v;
+        }
         p.validate()?;
         Ok(p)
     }
@@ -315,6 +323,7 @@ impl Params {
             arc_features: Some(self.arc_features),
             explain_readings: Some(self.explain_readings),
             free_space: Some(self.free_space),
+            confirm_segments: Some(self.confirm_segments),
         }
     }
 }
@@ -410,6 +419,8 @@ pub struct ParamsFile {
     pub explain_readings: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub free_space: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub confirm_segments: Option<bool>,
 }
 
 #[cfg(test)]
@@ -427,14 +438,14 @@ mod tests {
         assert!(!p.merge_duplicates);
         assert_eq!(p.support_cap, 0, "the paper keeps every supporting point");
         assert!(!p.corner_guard);
-        assert!(!p.arc_features && !p.explain_readings && !p.free_space);
+        assert!(!p.arc_features && !p.explain_readings && !p.free_space && !p.confirm_segments);
         let e = Params::extended();
         assert_eq!(e.support_cap, 64);
         assert!(e.corner_guard);
         assert_eq!(e.memory_snapshots, 10);
         assert!(e.constant_depth);
         assert!(e.merge_duplicates);
-        assert!(e.arc_features && e.explain_readings && e.free_space);
+        assert!(e.arc_features && e.explain_readings && e.free_space && e.confirm_segments);
         assert!(p.validate().is_ok() && e.validate().is_ok());
     }
 

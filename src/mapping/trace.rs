@@ -565,8 +565,12 @@ pub struct StepTrace {
     /// Segments removed because a reading saw past them (docs/algorithm.md §8.6).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub refuted: Vec<RefutedTrace>,
+    /// Segments this step's readings supported as a plane (docs/algorithm.md §8.7).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub plane_support: Vec<PlaneSupportTrace>,
 }
 
+pub use super::confirm::PlaneSupportTrace;
 pub use super::free_space::RefutedTrace;
 pub use super::point_features::ArcTrace;
 
