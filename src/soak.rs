@@ -77,6 +77,20 @@ pub fn soak_variants() -> Vec<(&'static str, Params)> {
             "paper+confirm_segments",
             Params {
                 confirm_segments: true,
+                ..paper.clone()
+            },
+        ),
+        (
+            "paper+plane_gate",
+            Params {
+                plane_gate: true,
+                ..paper.clone()
+            },
+        ),
+        (
+            "paper+min_piece_points",
+            Params {
+                min_piece_points: extended.min_piece_points,
                 ..paper
             },
         ),

@@ -6,7 +6,7 @@ pub use super::features::{FeatureKind, PointFeature};
 pub use super::ids::{FaceId, FeatureId, ObjectId, SegmentId};
 use super::index::{IndexedSegment, SegmentGrid};
 pub use super::support::{EndPoint, ReadingRef, SupportPoint};
-use crate::geometry::{distance_to_segment, Point};
+use crate::geometry::{distance_to_segment, Point, Pose};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -114,6 +114,10 @@ pub struct Map {
     pub faces: Vec<Arc<Face>>,
     /// Readings held by point memory.
     pub memory: Vec<MemoryPoint>,
+    /// The poses of the last snapshots, oldest first, as many as point memory spans (the plane
+    /// test of a remembered reading needs its sensor's place; docs/algorithm.md §8.7).
+    #[serde(default)]
+    pub recent_poses: Vec<(usize, Pose)>,
     /// Point features (corners and edges, docs/algorithm.md §8.5), ordered by id.
     #[serde(default)]
     pub features: Vec<PointFeature>,
@@ -163,6 +167,7 @@ impl PartialEq for Map {
         self.segments == other.segments
             && self.faces == other.faces
             && self.memory == other.memory
+            && self.recent_poses == other.recent_poses
             && self.features == other.features
             && self.next_feature_id == other.next_feature_id
             && self.confirms_segments == other.confirms_segments
@@ -640,6 +645,7 @@ impl Map {
             segments: self.segments.clone(),
             faces: self.faces.clone(),
             memory: self.memory.clone(),
+            recent_poses: self.recent_poses.clone(),
             features: self.features.clone(),
             next_feature_id: self.next_feature_id,
             confirms_segments: self.confirms_segments,
@@ -678,6 +684,22 @@ impl Map {
             confirms_segments,
             ..Map::default()
         }
+    }
+
+    /// Notes the pose of `snapshot`, keeping the last `keep` poses.
+    pub(crate) fn note_pose(&mut self, snapshot: usize, pose: Pose, keep: usize) {
+        self.recent_poses.push((snapshot, pose));
+        let excess = self.recent_poses.len().saturating_sub(keep);
+        self.recent_poses.drain(..excess);
+    }
+
+    /// The pose of `snapshot`, when it is among the recent ones.
+    pub fn recent_pose(&self, snapshot: usize) -> Option<Pose> {
+        self.recent_poses
+            .iter()
+            .rev()
+            .find(|(k, _)| *k == snapshot)
+            .map(|(_, p)| *p)
     }
 
     /// Whether segment `id` is tentative: segments must be confirmed and it is not

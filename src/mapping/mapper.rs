@@ -1,7 +1,7 @@
 //! The mapper: one snapshot in, the map updated and the step's trace out (paper §3).
 
 use super::cluster::{cluster_points, sensor_ranks, Clusters};
-use super::confirm::note_plane_support;
+use super::confirm::{note_plane_support, supports_as_plane};
 use super::correlate::correlate_face;
 use super::extensions::{memory_step, reduce_constant_depth};
 use super::fast_path::decide;
@@ -271,6 +271,35 @@ impl Mapper {
         }
     }
 
+    /// §8.7 plane gate: whether a reading of `new` supports it as a plane
+    /// ([`crate::mapping::confirm::supports_as_plane`]), each from its own snapshot's pose
+    /// (point memory's readings are at most `memory_snapshots` old).
+    fn plane_gate(&self, new: &NewSegmentTrace) -> bool {
+        let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
+        new.points.iter().any(|q| {
+            let Some(pose) = self.map.recent_pose(q.reading.snapshot) else {
+                return false;
+            };
+            let beam = self.beam_of(&pose, q);
+            supports_as_plane(&beam, &new.a.point, &new.b.point, xi, half).is_some()
+        })
+    }
+
+    /// Whether a reading among `points` (of the snapshot at `pose`) supports the segment
+    /// `a`–`b` as a plane (docs/algorithm.md §8.7).
+    fn supports_as_plane_now(
+        &self,
+        pose: &Pose,
+        points: &[SupportPoint],
+        a: &Point,
+        b: &Point,
+    ) -> bool {
+        let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
+        points
+            .iter()
+            .any(|q| supports_as_plane(&self.beam_of(pose, q), a, b, xi, half).is_some())
+    }
+
     /// §8.6 free space: the segments a kept reading of this snapshot saw past leave the map.
     fn remove_refuted(&mut self, snapshot: &Snapshot, trace: &mut StepTrace) {
         let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
@@ -317,6 +346,10 @@ impl Mapper {
             }
         }
         self.last_pose = Some(snapshot.pose);
+        if self.params.plane_gate {
+            let keep = self.params.memory_snapshots + 1;
+            self.map.note_pose(index, snapshot.pose, keep);
+        }
         if snapshot.ranges_m.len() != self.layout.len() {
             trace.warnings.push(Warning::RangeCount {
                 given: snapshot.ranges_m.len(),
@@ -413,6 +446,12 @@ impl Mapper {
         let Some((at, range_m)) = arc_point(&beams, &sensors, self.params.accuracy_pct) else {
             return false;
         };
+        // A plane facing the sensors' bisector reads the same range to each of them too: an
+        // arc whose chord a reading supports as a plane stays a line.
+        let (first, last) = (chain[0].point, chain[chain.len() - 1].point);
+        if self.supports_as_plane_now(&pose, chain, &first, &last) {
+            return false;
+        }
         let origin = Point::from(
             beams
                 .iter()
@@ -509,7 +548,30 @@ impl Mapper {
             split_recursive(&fitted, params, &mut splits, pieces);
             let first_new = out.segments.len();
             for &[first, last] in pieces.iter() {
+                // §8.8: a piece too short to be trusted as a line; its readings go to point
+                // memory (when on) as one-point clusters do.
                 let (a, b) = piece_end_points(&fitted, first, last, params.fit);
+                if last + 1 - first < params.min_piece_points
+                    && !(pieces.len() == 1
+                        && trace.pose.is_some_and(|pose| {
+                            self.supports_as_plane_now(
+                                &pose,
+                                &fitted[first..=last],
+                                &a.point,
+                                &b.point,
+                            )
+                        }))
+                {
+                    // A closed loop's last point repeats its first.
+                    let end = if closed_loop {
+                        last.min(chain_len - 1)
+                    } else {
+                        last
+                    };
+                    out.singles
+                        .extend(fitted.iter().take(end + 1).skip(first).copied());
+                    continue;
+                }
                 out.segments.push(NewSegmentTrace {
                     source: SegmentSource::Cluster(ci),
                     a,
@@ -622,6 +684,12 @@ impl Mapper {
                     })
                 }
                 Outcome::Dismissed => None,
+                Outcome::NewFace
+                    if self.params.plane_gate && !self.plane_gate(&new_segments[ni]) =>
+                {
+                    trace.gated.push(ni);
+                    None
+                }
                 Outcome::NewFace => Some(self.add_new_face_segment(
                     &mut new_segments[ni],
                     &mut faces,

@@ -103,6 +103,11 @@ pub struct Params {
     /// Segments are tentative until readings of two snapshots support them as a plane
     /// (docs/algorithm.md §8.7).
     pub confirm_segments: bool,
+    /// A NEW FACE needs a reading that supports it as a plane (docs/algorithm.md §8.7).
+    pub plane_gate: bool,
+    /// Fewest readings of a fitted piece that becomes a new segment; shorter pieces' readings
+    /// go to point memory. 0 is off (the paper fits any piece; docs/algorithm.md §8.8).
+    pub min_piece_points: usize,
 }
 
 impl Default for Params {
@@ -135,6 +140,8 @@ impl Params {
             explain_readings: false,
             free_space: false,
             confirm_segments: false,
+            plane_gate: false,
+            min_piece_points: 0,
         }
     }
 
@@ -151,6 +158,8 @@ impl Params {
             explain_readings: true,
             free_space: true,
             confirm_segments: true,
+            plane_gate: true,
+            min_piece_points: 3,
             ..Self::paper()
         }
     }
@@ -291,6 +300,12 @@ impl Params {
         if let Some(v) = file.confirm_segments {
             p.confirm_segments = v;
         }
+        if let Some(v) = file.plane_gate {
+            p.plane_gate = v;
+        }
+        if let Some(v) = file.min_piece_points {
+            p.min_piece_points = v;
+        }
         p.validate()?;
         Ok(p)
     }
@@ -324,6 +339,8 @@ impl Params {
             explain_readings: Some(self.explain_readings),
             free_space: Some(self.free_space),
             confirm_segments: Some(self.confirm_segments),
+            plane_gate: Some(self.plane_gate),
+            min_piece_points: Some(self.min_piece_points),
         }
     }
 }
@@ -421,6 +438,10 @@ pub struct ParamsFile {
     pub free_space: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub confirm_segments: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plane_gate: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_piece_points: Option<usize>,
 }
 
 #[cfg(test)]
@@ -439,6 +460,7 @@ mod tests {
         assert_eq!(p.support_cap, 0, "the paper keeps every supporting point");
         assert!(!p.corner_guard);
         assert!(!p.arc_features && !p.explain_readings && !p.free_space && !p.confirm_segments);
+        assert!(!p.plane_gate && p.min_piece_points == 0);
         let e = Params::extended();
         assert_eq!(e.support_cap, 64);
         assert!(e.corner_guard);
@@ -446,6 +468,7 @@ mod tests {
         assert!(e.constant_depth);
         assert!(e.merge_duplicates);
         assert!(e.arc_features && e.explain_readings && e.free_space && e.confirm_segments);
+        assert!(e.plane_gate && e.min_piece_points == 3);
         assert!(p.validate().is_ok() && e.validate().is_ok());
     }
 

@@ -568,6 +568,11 @@ pub struct StepTrace {
     /// Segments this step's readings supported as a plane (docs/algorithm.md §8.7).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub plane_support: Vec<PlaneSupportTrace>,
+    /// New segments (indices into `new_segments`) the plane gate kept out of the map although
+    /// their decision was NEW FACE: no reading of theirs supports them as a plane
+    /// (docs/algorithm.md §8.7).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub gated: Vec<usize>,
 }
 
 pub use super::confirm::PlaneSupportTrace;
