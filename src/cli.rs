@@ -675,6 +675,16 @@ struct EvalOutput {
     snapshots: usize,
     #[serde(flatten)]
     report: EvalReport,
+    /// Point features (docs/algorithm.md §8.5), when the map has any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    point_features: Option<usize>,
+    /// Those on a wall junction or end.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    true_point_features: Option<usize>,
+    /// The figures of the confirmed segments alone, when segments must be confirmed
+    /// (docs/algorithm.md §8.7).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    confirmed: Option<EvalReport>,
 }
 
 fn eval_command(args: &EvalArgs) -> Result<()> {
@@ -694,7 +704,9 @@ fn eval_command(args: &EvalArgs) -> Result<()> {
     };
     let (mapper, _, summary) =
         map_run(&run, params.clone(), None, false).with_context(|| log.display().to_string())?;
-    let report = evaluate(mapper.map(), &run, &floor_plan, &params);
+    let map = mapper.map();
+    let report = evaluate(map, &run, &floor_plan, &params);
+    let has_features = !map.features.is_empty();
     let out = EvalOutput {
         log: log.display().to_string(),
         preset: match args.params.preset {
@@ -703,6 +715,11 @@ fn eval_command(args: &EvalArgs) -> Result<()> {
         },
         snapshots: summary.snapshots,
         report,
+        point_features: has_features.then_some(map.features.len()),
+        true_point_features: has_features
+            .then(|| sonarmap::eval::true_point_features(map, &floor_plan, &params)),
+        confirmed: sonarmap::eval::confirmed_map(map)
+            .map(|m| evaluate(&m, &run, &floor_plan, &params)),
     };
     emit(&serde_json::to_string_pretty(&out)?)?;
     Ok(())
