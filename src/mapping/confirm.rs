@@ -118,3 +118,57 @@ pub fn note_plane_support(
         confirmed: support.confirmed(),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Vec2;
+    use crate::mapping::map::{EndPoint, Segment, SegmentKind};
+    use std::sync::Arc;
+
+    #[test]
+    fn two_snapshots_of_plane_support_confirm_a_segment_once_each() {
+        let e = |x: f64| EndPoint {
+            point: Point::new(x, 2.0),
+            range_m: 2.0,
+        };
+        let mut map = Map::confirming(true);
+        map.push_segment(Segment {
+            id: 0,
+            kind: SegmentKind::Fitted,
+            a: e(-1.0),
+            b: e(1.0),
+            face: 0,
+            object: 0,
+            created: 0,
+            updated: Vec::new(),
+            points: Arc::new(Vec::new()),
+        });
+        let half = 12.5f64.to_radians();
+        // Straight at the wall, 2.02 m: |2 − 2.02| = 0.02 ≤ 0.0606.
+        let straight = Beam {
+            origin: Point::origin(),
+            direction: Vec2::new(0.0, 1.0),
+            range_m: 2.02,
+        };
+        // 20° off the perpendicular: outside the 12.5° half beam, no support.
+        let (s, c) = (20f64.to_radians().sin(), 20f64.to_radians().cos());
+        let oblique = Beam {
+            direction: Vec2::new(s, c),
+            ..straight
+        };
+        assert!(map.is_tentative(0));
+        assert!(note_plane_support(&mut map, 0, &[(3, oblique)], 0, 3.0, half).is_none());
+        let first = note_plane_support(&mut map, 0, &[(1, straight)], 0, 3.0, half).unwrap();
+        assert_eq!((first.snapshots, first.confirmed), (1, false));
+        assert!((first.distance_m - 2.0).abs() < 1e-12);
+        // The same snapshot again counts once.
+        assert!(note_plane_support(&mut map, 0, &[(2, straight)], 0, 3.0, half).is_none());
+        let second = note_plane_support(&mut map, 0, &[(1, straight)], 1, 3.0, half).unwrap();
+        assert_eq!((second.snapshots, second.confirmed), (2, true));
+        assert!(!map.is_tentative(0));
+        assert!(map.check_invariants(0).is_ok());
+        // A map that does not confirm calls nothing tentative.
+        assert!(!Map::default().is_tentative(7));
+    }
+}

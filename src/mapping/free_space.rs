@@ -93,3 +93,59 @@ pub fn refuted_segments(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Vec2;
+    use crate::mapping::map::{EndPoint, Segment, SegmentKind};
+    use std::sync::Arc;
+
+    fn segment(id: u32, a: (f64, f64), b: (f64, f64)) -> Segment {
+        let e = |(x, y): (f64, f64)| EndPoint {
+            point: Point::new(x, y),
+            range_m: 1.0,
+        };
+        Segment {
+            id,
+            kind: SegmentKind::Fitted,
+            a: e(a),
+            b: e(b),
+            face: id,
+            object: id,
+            created: 0,
+            updated: Vec::new(),
+            points: Arc::new(Vec::new()),
+        }
+    }
+
+    #[test]
+    fn a_beam_reading_past_a_segment_refutes_it_and_only_it() {
+        // The sensor at the origin looks along +x and reads 3 m (tolerance 0.09 m):
+        // s0 across the beam at 2 m is seen through (2 + 0.18 < 3); s1 at 2.9 m is within
+        // 2·tol of the range (2.9 + 0.18 > 3); s2 at 2 m lies 1 m to the side, its foot
+        // (2, 0) lies outside it.
+        let map = Map::from_segments(vec![
+            segment(0, (2.0, -0.5), (2.0, 0.5)),
+            segment(1, (2.9, -0.5), (2.9, 0.5)),
+            segment(2, (2.0, 1.0), (2.0, 2.0)),
+        ]);
+        let beam = Beam {
+            origin: Point::origin(),
+            direction: Vec2::new(1.0, 0.0),
+            range_m: 3.0,
+        };
+        let (mut scratch, mut out) = (Vec::new(), Vec::new());
+        refuted_segments(
+            &map,
+            &beam,
+            3.0,
+            12.5f64.to_radians(),
+            &mut scratch,
+            &mut out,
+        );
+        assert_eq!(out.len(), 1);
+        assert_eq!(out[0].0, 0);
+        assert!((out[0].1 - 2.0).abs() < 1e-12 && out[0].2.abs() < 1e-12);
+    }
+}

@@ -270,3 +270,99 @@ pub fn explaining_feature(
         })
         .map(|f| f.id)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mapping::map::{EndPoint, Segment, SegmentKind};
+    use std::sync::Arc;
+
+    fn wall(id: u32, a: (f64, f64), b: (f64, f64)) -> Segment {
+        let e = |(x, y): (f64, f64)| EndPoint {
+            point: Point::new(x, y),
+            range_m: 2.0,
+        };
+        Segment {
+            id,
+            kind: SegmentKind::Fitted,
+            a: e(a),
+            b: e(b),
+            face: id,
+            object: id,
+            created: 0,
+            updated: Vec::new(),
+            points: Arc::new(Vec::new()),
+        }
+    }
+
+    #[test]
+    fn a_junction_seen_from_inside_its_angle_is_a_corner_from_outside_an_edge() {
+        // Walls from (0, 0) to (3, 0) and to (0, 3): the sensor at (1, 1) looks into the 90°
+        // angle (45° to each arm: 45 + 45 = 90), the one at (-1, -1) from outside (135 + 135).
+        let map = Map::from_segments(vec![
+            wall(0, (0.0, 0.0), (3.0, 0.0)),
+            wall(1, (0.0, 3.0), (0.0, 0.0)),
+        ]);
+        let at = Point::new(0.02, 0.02);
+        assert_eq!(
+            classify(&map, &at, &Point::new(1.0, 1.0), 0.2),
+            FeatureKind::Corner
+        );
+        assert_eq!(
+            classify(&map, &at, &Point::new(-1.0, -1.0), 0.2),
+            FeatureKind::Edge
+        );
+        // One wall ending there (a door jamb): an edge from anywhere.
+        let jamb = Map::from_segments(vec![wall(0, (0.0, 0.0), (3.0, 0.0))]);
+        assert_eq!(
+            classify(&jamb, &at, &Point::new(1.0, 1.0), 0.2),
+            FeatureKind::Edge
+        );
+    }
+
+    #[test]
+    fn arcs_within_the_merge_radius_move_one_feature_to_their_mean() {
+        // At 2 m: tolerance 0.06 m, merge radius 0.06 + 2·tan 5° = 0.235 m.
+        assert!((merge_radius_m(3.0, 2.0) - (0.06 + 2.0 * 5f64.to_radians().tan())).abs() < 1e-12);
+        let mut map = Map::default();
+        let sensor = Point::new(0.0, -2.0);
+        let (f0, new0) = file_arc(&mut map, Point::new(0.0, 0.0), 2.0, &sensor, 3, 3.0);
+        let (f1, new1) = file_arc(&mut map, Point::new(0.1, 0.0), 1.9, &sensor, 4, 3.0);
+        assert!(new0 && !new1 && f0 == f1);
+        let f = map.feature(f0).unwrap();
+        assert!((f.at.x - 0.05).abs() < 1e-12 && f.at.y.abs() < 1e-12);
+        assert_eq!(
+            (f.observations, f.created, f.updated.clone()),
+            (2, 3, vec![4])
+        );
+        assert!((f.range_m - 1.9).abs() < 1e-12);
+        // 0.3 m away: a second feature.
+        let (f2, new2) = file_arc(&mut map, Point::new(0.35, 0.0), 2.0, &sensor, 5, 3.0);
+        assert!(new2 && f2 != f0);
+        map.rebuild_index();
+        assert!(map.check_invariants(0).is_ok());
+    }
+
+    #[test]
+    fn only_a_confirmed_feature_explains_a_reading() {
+        let mut map = Map::default();
+        let sensor = Point::new(0.0, 0.0);
+        let beam = Beam {
+            origin: sensor,
+            direction: Vec2::new(1.0, 0.0),
+            range_m: 2.0,
+        };
+        let half = 12.5f64.to_radians();
+        let mut scratch = Vec::new();
+        let (id, _) = file_arc(&mut map, Point::new(2.0, 0.1), 2.0, &sensor, 0, 3.0);
+        assert_eq!(
+            explaining_feature(&map, &beam, 3.0, half, &mut scratch),
+            None
+        );
+        file_arc(&mut map, Point::new(2.0, 0.1), 2.0, &sensor, 1, 3.0);
+        assert_eq!(
+            explaining_feature(&map, &beam, 3.0, half, &mut scratch),
+            Some(id)
+        );
+    }
+}

@@ -14,3 +14,4 @@ mod log;
 mod peak;
 mod scene;
 mod sim;
+mod suite;
