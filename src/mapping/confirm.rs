@@ -132,8 +132,7 @@ mod tests {
             point: Point::new(x, 2.0),
             range_m: 2.0,
         };
-        let mut map = Map::confirming(true);
-        map.push_segment(Segment {
+        let mut map = Map::from_segments(vec![Segment {
             id: 0,
             kind: SegmentKind::Fitted,
             a: e(-1.0),
@@ -143,7 +142,8 @@ mod tests {
             created: 0,
             updated: Vec::new(),
             points: Arc::new(Vec::new()),
-        });
+        }]);
+        map.confirms_segments = true;
         let half = 12.5f64.to_radians();
         // Straight at the wall, 2.02 m: |2 − 2.02| = 0.02 ≤ 0.0606.
         let straight = Beam {

@@ -97,7 +97,7 @@ impl Mapper {
     }
 
     /// With `false`, steps return a slim trace: readings, decisions (without their candidate
-    /// lists), updates, correlations and warnings; no gaps, clusters, splits, new-segment
+    /// lists), updates, correlations, free-space removals and warnings; no gaps, clusters, splits, new-segment
     /// geometry or point-memory record. The map is the same either way.
     pub fn with_trace(mut self, on: bool) -> Self {
         self.set_trace(on);
@@ -308,17 +308,16 @@ impl Mapper {
         for q in &kept {
             let beam = self.beam_of(&snapshot.pose, q);
             refuted_segments(&self.map, &beam, xi, half, &mut scratch, &mut found);
+            // Kept in the slim trace too: the lineage of a segment reads its removal there.
             for &(segment, distance_m, off_axis_rad) in &found {
                 self.map.remove_segment(segment);
-                if self.record_trace {
-                    trace.refuted.push(RefutedTrace {
-                        segment,
-                        sensor: q.reading.sensor,
-                        range_m: q.range_m,
-                        distance_m,
-                        off_axis_rad,
-                    });
-                }
+                trace.refuted.push(RefutedTrace {
+                    segment,
+                    sensor: q.reading.sensor,
+                    range_m: q.range_m,
+                    distance_m,
+                    off_axis_rad,
+                });
             }
         }
         self.buffers.kept = kept;
