@@ -706,7 +706,8 @@ fn eval_command(args: &EvalArgs) -> Result<()> {
         map_run(&run, params.clone(), None, false).with_context(|| log.display().to_string())?;
     let map = mapper.map();
     let report = evaluate(map, &run, &floor_plan, &params);
-    let has_features = !map.features.is_empty();
+    let features = map.confirmed_features().count();
+    let has_features = features > 0;
     let out = EvalOutput {
         log: log.display().to_string(),
         preset: match args.params.preset {
@@ -715,7 +716,7 @@ fn eval_command(args: &EvalArgs) -> Result<()> {
         },
         snapshots: summary.snapshots,
         report,
-        point_features: has_features.then_some(map.features.len()),
+        point_features: has_features.then_some(features),
         true_point_features: has_features
             .then(|| sonarmap::eval::true_point_features(map, &floor_plan, &params)),
         confirmed: sonarmap::eval::confirmed_map(map)

@@ -386,11 +386,10 @@ pub fn confirmed_map(map: &Map) -> Option<Map> {
     })
 }
 
-/// Point features of `map` that lie on a wall junction or end: within the tolerance of their
-/// range (`ξ·D/100`, at least 1 in), doubled, of a wall's end-point.
+/// Confirmed point features of `map` that lie on a wall junction or end: within the tolerance
+/// of their range (`ξ·D/100`, at least 1 in), doubled, of a wall's end-point.
 pub fn true_point_features(map: &Map, floor_plan: &FloorPlan, params: &Params) -> usize {
-    map.features
-        .iter()
+    map.confirmed_features()
         .filter(|f| {
             let tol = 2.0 * (params.accuracy_pct * f.range_m / 100.0).max(inches(1.0));
             floor_plan

@@ -43,7 +43,7 @@ pub struct SceneFigures {
     pub median_endpoint_error_in: Option<f64>,
     /// Covered wall length over total wall length.
     pub coverage: f64,
-    /// Point features (corners and edges) in the map.
+    /// Confirmed point features (corners and edges) in the map.
     pub point_features: usize,
     /// Point features on a wall junction or end ([`crate::eval::true_point_features`]).
     pub true_point_features: usize,
@@ -128,7 +128,7 @@ pub fn scene_figures(map: &Map, run: &Run, params: &Params) -> Option<SceneFigur
         .and_then(|m| scene_figures(&m, run, params))
         .map(|mut f| {
             // The confirmed map holds the segments alone; the features are the map's.
-            f.point_features = map.features.len();
+            f.point_features = map.confirmed_features().count();
             f.true_point_features = true_point_features(map, plan, params);
             Box::new(f)
         });
@@ -151,7 +151,7 @@ pub fn scene_figures(map: &Map, run: &Run, params: &Params) -> Option<SceneFigur
         spurious_fraction: report.spurious_fraction,
         median_endpoint_error_in: median(errors),
         coverage: report.coverage,
-        point_features: map.features.len(),
+        point_features: map.confirmed_features().count(),
         true_point_features: true_point_features(map, plan, params),
         confirmed,
     })

@@ -23,7 +23,8 @@ pub struct MapFile {
     pub snapshot: usize,
     /// The segments, by id.
     pub segments: Vec<MapSegmentFile>,
-    /// Point features (corners and edges, docs/algorithm.md §8.5), by id; absent when none.
+    /// Confirmed point features (corners and edges, docs/algorithm.md §8.5), by id; absent
+    /// when none.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub features: Vec<MapFeatureFile>,
 }
@@ -106,8 +107,7 @@ pub fn map_to_file(map: &Map, units: Units, snapshot: usize) -> MapFile {
             })
             .collect(),
         features: map
-            .features
-            .iter()
+            .confirmed_features()
             .map(|f| MapFeatureFile {
                 id: f.id,
                 kind: f.kind,

@@ -609,7 +609,13 @@ impl Map {
             if f.id >= self.next_feature_id {
                 return Err(format!("feature {} is not below the next id", f.id));
             }
-            if !finite(&f.at) || !f.range_m.is_finite() || f.range_m < 0.0 {
+            if !finite(&f.at)
+                || !finite(&f.first_seen_from)
+                || !f.range_m.is_finite()
+                || f.range_m < 0.0
+                || f.baseline_m.is_nan()
+                || f.baseline_m < 0.0
+            {
                 return Err(format!("feature {} has a non-finite place or range", f.id));
             }
             if f.observations == 0 {
@@ -708,6 +714,11 @@ impl Map {
         self.confirms_segments && !self.plane_support.get(&id).is_some_and(|p| p.confirmed())
     }
 
+    /// The confirmed point features ([`PointFeature::is_confirmed`]), by id.
+    pub fn confirmed_features(&self) -> impl Iterator<Item = &PointFeature> {
+        self.features.iter().filter(|f| f.is_confirmed())
+    }
+
     /// Point feature `id`.
     pub fn feature(&self, id: FeatureId) -> Option<&PointFeature> {
         self.features
@@ -742,6 +753,7 @@ impl Map {
         kind: FeatureKind,
         at: Point,
         range_m: f64,
+        seen_from: Point,
         snapshot: usize,
     ) -> FeatureId {
         let id = self.next_feature_id;
@@ -752,6 +764,8 @@ impl Map {
             at,
             range_m,
             observations: 1,
+            first_seen_from: seen_from,
+            baseline_m: 0.0,
             created: snapshot,
             updated: Vec::new(),
         };

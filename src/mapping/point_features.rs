@@ -227,6 +227,7 @@ pub fn file_arc(
                 at: Point::from((f.at.coords * n + at.coords) / (n + 1.0)),
                 range_m: f.range_m.min(range_m),
                 observations: f.observations + 1,
+                baseline_m: f.baseline_m.max((sensor - f.first_seen_from).norm()),
                 kind: if kind == FeatureKind::Corner {
                     kind
                 } else {
@@ -238,7 +239,7 @@ pub fn file_arc(
             (id, false)
         }
         None => {
-            let id = map.push_feature(kind, at, range_m, snapshot);
+            let id = map.push_feature(kind, at, range_m, *sensor, snapshot);
             (id, true)
         }
     }
@@ -262,7 +263,7 @@ pub fn explaining_feature(
     scratch
         .iter()
         .filter_map(|&id| map.feature(id))
-        .filter(|f| f.observations >= 2 && explains(&f.at, beam, accuracy_pct, half_beam_rad))
+        .filter(|f| f.is_confirmed() && explains(&f.at, beam, accuracy_pct, half_beam_rad))
         .min_by(|a, b| {
             let da = ((a.at - beam.origin).norm() - beam.range_m).abs();
             let db = ((b.at - beam.origin).norm() - beam.range_m).abs();
@@ -354,15 +355,17 @@ mod tests {
         };
         let half = 12.5f64.to_radians();
         let mut scratch = Vec::new();
+        let explaining =
+            |map: &Map, scratch: &mut Vec<u32>| explaining_feature(map, &beam, 3.0, half, scratch);
         let (id, _) = file_arc(&mut map, Point::new(2.0, 0.1), 2.0, &sensor, 0, 3.0);
-        assert_eq!(
-            explaining_feature(&map, &beam, 3.0, half, &mut scratch),
-            None
-        );
+        assert_eq!(explaining(&map, &mut scratch), None);
+        // Seen again from the same place (a lap driven back): still not confirmed.
         file_arc(&mut map, Point::new(2.0, 0.1), 2.0, &sensor, 1, 3.0);
-        assert_eq!(
-            explaining_feature(&map, &beam, 3.0, half, &mut scratch),
-            Some(id)
-        );
+        assert_eq!(explaining(&map, &mut scratch), None);
+        // From 0.25 m aside (at least 0.2032 m): confirmed, it explains the reading.
+        let aside = Point::new(0.0, 0.25);
+        file_arc(&mut map, Point::new(2.0, 0.1), 2.0, &aside, 2, 3.0);
+        assert_eq!(explaining(&map, &mut scratch), Some(id));
+        assert!((map.feature(id).unwrap().baseline_m - 0.25).abs() < 1e-12);
     }
 }

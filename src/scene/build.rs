@@ -400,7 +400,7 @@ impl Builder<'_, '_> {
     /// The map's point features (docs/algorithm.md §8.5): a triangle a corner, a diamond an
     /// edge.
     fn features(&mut self) {
-        for f in &self.input.map_after.features {
+        for f in self.input.map_after.confirmed_features() {
             let (role, shape) = match f.kind {
                 FeatureKind::Corner => (Role::FeatureCorner, MarkerShape::Triangle),
                 FeatureKind::Edge => (Role::FeatureEdge, MarkerShape::Diamond),
