@@ -266,8 +266,24 @@ pub enum ModelArg {
 /// `sonarmap eval`.
 #[derive(Debug, Args)]
 pub struct EvalArgs {
-    /// The run log.
-    pub log: PathBuf,
+    /// The run log (none with --suite).
+    #[arg(required_unless_present = "suite", conflicts_with = "suite")]
+    pub log: Option<PathBuf>,
+    /// Score N generated family scenes instead, each simulated with both sensor models; one
+    /// JSON line per scene and model, then a summary line.
+    #[arg(long, value_name = "N")]
+    pub suite: Option<usize>,
+    /// Seed of the suite's first scene.
+    #[arg(long, default_value_t = 1, requires = "suite")]
+    pub seed: u64,
+    /// With --suite: also write each scene's plan (`sonarmap-plan` v1) into DIR as
+    /// FAMILY-SEED.plan.json, for another simulator.
+    #[arg(long, value_name = "DIR", requires = "suite")]
+    pub write_plans: Option<PathBuf>,
+    /// With --suite: also score each scene's log simulated elsewhere, DIR/FAMILY-SEED.log.json
+    /// when it exists (model "log").
+    #[arg(long, value_name = "DIR", requires = "suite")]
+    pub logs_from: Option<PathBuf>,
     /// Mapping parameters.
     #[command(flatten)]
     pub params: ParamArgs,
@@ -710,33 +726,93 @@ struct EvalOutput {
     snapshots: usize,
     #[serde(flatten)]
     report: EvalReport,
+    /// Point features (docs/algorithm.md §8.5), when the map has any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    point_features: Option<usize>,
+    /// Those on a wall junction or end.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    true_point_features: Option<usize>,
+    /// The figures of the confirmed segments alone, when segments must be confirmed
+    /// (docs/algorithm.md §8.7).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    confirmed: Option<EvalReport>,
 }
 
 fn eval_command(args: &EvalArgs) -> Result<()> {
-    let run = read_run(&args.log)?;
     let params = read_params(&args.params)?;
+    let Some(log) = &args.log else {
+        return suite_command(args, &params);
+    };
+    let run = read_run(log)?;
     let floor_plan = match &args.plan {
         Some(path) => load_plan(&read(path)?, &path.display().to_string())?.floor_plan,
         None => run.floor_plan.clone().ok_or_else(|| {
             anyhow!(
                 "{}: the log has no floor_plan; give one with --plan PLAN.json",
-                args.log.display()
+                log.display()
             )
         })?,
     };
-    let (mapper, _, summary) = map_run(&run, params.clone(), None, false)
-        .with_context(|| args.log.display().to_string())?;
-    let report = evaluate(mapper.map(), &run, &floor_plan, &params);
+    let (mapper, _, summary) =
+        map_run(&run, params.clone(), None, false).with_context(|| log.display().to_string())?;
+    let map = mapper.map();
+    let report = evaluate(map, &run, &floor_plan, &params);
+    let features = map.confirmed_features().count();
+    let has_features = features > 0;
     let out = EvalOutput {
-        log: args.log.display().to_string(),
+        log: log.display().to_string(),
         preset: match args.params.preset {
             PresetArg::Paper => "paper",
             PresetArg::Extended => "extended",
         },
         snapshots: summary.snapshots,
         report,
+        point_features: has_features.then_some(features),
+        true_point_features: has_features
+            .then(|| sonarmap::eval::true_point_features(map, &floor_plan, &params)),
+        confirmed: sonarmap::eval::confirmed_map(map)
+            .map(|m| evaluate(&m, &run, &floor_plan, &params)),
     };
     emit(&serde_json::to_string_pretty(&out)?)?;
+    Ok(())
+}
+
+/// `eval --suite N`: one JSON line per scene and sensor model, then the summary
+/// ([`crate::suite`]); with `--write-plans DIR`, the scenes' plans too.
+fn suite_command(args: &EvalArgs, params: &Params) -> Result<()> {
+    let scenes = args.suite.unwrap_or(0);
+    if let Some(dir) = &args.write_plans {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+        for (kind, seed, plan) in sonarmap::suite::suite_plans(scenes, args.seed) {
+            let path = dir.join(format!("{}-{seed}.plan.json", kind.name()));
+            let text = serde_json::to_string(&sonarmap::sim::plan_to_file(&plan))?;
+            write_atomic(&path, &text)?;
+        }
+    }
+    let mut lines = sonarmap::suite::run_suite(scenes, args.seed, params);
+    if let Some(dir) = &args.logs_from {
+        for (kind, seed, _) in sonarmap::suite::suite_plans(scenes, args.seed) {
+            let path = dir.join(format!("{}-{seed}.log.json", kind.name()));
+            if !path.exists() {
+                continue;
+            }
+            let run = read_run(&path)?;
+            let map = sonarmap::suite::map_of(&run, params);
+            let figures = sonarmap::suite::scene_figures(&map, &run, params)
+                .ok_or_else(|| anyhow!("{}: the log has no floor_plan", path.display()))?;
+            lines.push(sonarmap::suite::SuiteLine {
+                family: kind.name(),
+                seed,
+                model: "log".to_string(),
+                snapshots: run.snapshots.len(),
+                figures,
+            });
+        }
+    }
+    for line in &lines {
+        emit(&serde_json::to_string(line)?)?;
+    }
+    emit(&serde_json::to_string(&sonarmap::suite::summarise(&lines))?)?;
     Ok(())
 }
 

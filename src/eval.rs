@@ -371,3 +371,31 @@ pub fn evaluate(map: &Map, run: &Run, floor_plan: &FloorPlan, params: &Params) -
         covered_length: u.from_m(covered_length),
     }
 }
+
+/// The confirmed part of `map` (its tentative segments left out, docs/algorithm.md §8.7), when
+/// its segments must be confirmed; `None` otherwise (every segment then counts as confirmed).
+pub fn confirmed_map(map: &Map) -> Option<Map> {
+    map.confirms_segments.then(|| {
+        Map::from_segments(
+            map.segments
+                .iter()
+                .filter(|s| !map.is_tentative(s.id))
+                .map(|s| (**s).clone())
+                .collect(),
+        )
+    })
+}
+
+/// Confirmed point features of `map` that lie on a wall junction or end: within the tolerance
+/// of their range (`ξ·D/100`, at least 1 in), doubled, of a wall's end-point.
+pub fn true_point_features(map: &Map, floor_plan: &FloorPlan, params: &Params) -> usize {
+    map.confirmed_features()
+        .filter(|f| {
+            let tol = 2.0 * (params.accuracy_pct * f.range_m / 100.0).max(inches(1.0));
+            floor_plan
+                .walls
+                .iter()
+                .any(|w| (w.a - f.at).norm() <= tol || (w.b - f.at).norm() <= tol)
+        })
+        .count()
+}

@@ -27,4 +27,5 @@ pub mod scene;
 pub mod sim;
 pub mod soak;
 pub mod sonar;
+pub mod suite;
 pub mod units;

@@ -57,6 +57,14 @@ pub enum LineageEvent {
         /// The segment it was fused into.
         into: SegmentId,
     },
+    /// Removed because sensor `sensor`'s reading saw through it (free space,
+    /// docs/algorithm.md §8.6).
+    Refuted {
+        /// Snapshot.
+        snapshot: usize,
+        /// The sensor.
+        sensor: usize,
+    },
     /// Correlated with `other` (§6): a corner, a connecting segment, or a shared end-point.
     Correlated {
         /// Snapshot.
@@ -92,6 +100,7 @@ impl LineageEvent {
             | LineageEvent::SplitFrom { snapshot, .. }
             | LineageEvent::Absorbed { snapshot, .. }
             | LineageEvent::AbsorbedInto { snapshot, .. }
+            | LineageEvent::Refuted { snapshot, .. }
             | LineageEvent::Correlated { snapshot, .. } => snapshot,
         }
     }
@@ -174,6 +183,15 @@ impl Lineage {
                 }
                 _ => {}
             }
+        }
+        for r in &trace.refuted {
+            self.push(
+                r.segment,
+                LineageEvent::Refuted {
+                    snapshot,
+                    sensor: r.sensor,
+                },
+            );
         }
         for (correlation, c) in trace.correlations.iter().enumerate() {
             let result = match c.result {

@@ -48,6 +48,49 @@ pub fn soak_variants() -> Vec<(&'static str, Params)> {
             "paper+corner_guard",
             Params {
                 corner_guard: true,
+                ..paper.clone()
+            },
+        ),
+        (
+            "paper+arc_features",
+            Params {
+                arc_features: true,
+                ..paper.clone()
+            },
+        ),
+        (
+            "paper+explain_readings",
+            Params {
+                arc_features: true,
+                explain_readings: true,
+                ..paper.clone()
+            },
+        ),
+        (
+            "paper+free_space",
+            Params {
+                free_space: true,
+                ..paper.clone()
+            },
+        ),
+        (
+            "paper+confirm_segments",
+            Params {
+                confirm_segments: true,
+                ..paper.clone()
+            },
+        ),
+        (
+            "paper+plane_gate",
+            Params {
+                plane_gate: true,
+                ..paper.clone()
+            },
+        ),
+        (
+            "paper+min_piece_points",
+            Params {
+                min_piece_points: extended.min_piece_points,
                 ..paper
             },
         ),

@@ -455,6 +455,36 @@ pub fn params_panel_ui(
                     |p: &mut Params, v| p.corner_guard = v,
                     paper.corner_guard,
                 ),
+                (
+                    "arc_features",
+                    params.arc_features,
+                    |p: &mut Params, v| p.arc_features = v,
+                    paper.arc_features,
+                ),
+                (
+                    "explain_readings",
+                    params.explain_readings,
+                    |p: &mut Params, v| p.explain_readings = v,
+                    paper.explain_readings,
+                ),
+                (
+                    "free_space",
+                    params.free_space,
+                    |p: &mut Params, v| p.free_space = v,
+                    paper.free_space,
+                ),
+                (
+                    "confirm_segments",
+                    params.confirm_segments,
+                    |p: &mut Params, v| p.confirm_segments = v,
+                    paper.confirm_segments,
+                ),
+                (
+                    "plane_gate",
+                    params.plane_gate,
+                    |p: &mut Params, v| p.plane_gate = v,
+                    paper.plane_gate,
+                ),
             ] {
                 field_label(ui, name, is_changed(name));
                 let mut on = get;

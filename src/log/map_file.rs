@@ -2,6 +2,7 @@
 //! length in the log's units.
 
 use super::save::tidy;
+use crate::mapping::map::FeatureKind;
 use crate::mapping::{Map, SegmentKind};
 use crate::units::Units;
 use serde::{Deserialize, Serialize};
@@ -22,6 +23,27 @@ pub struct MapFile {
     pub snapshot: usize,
     /// The segments, by id.
     pub segments: Vec<MapSegmentFile>,
+    /// Confirmed point features (corners and edges, docs/algorithm.md §8.5), by id; absent
+    /// when none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub features: Vec<MapFeatureFile>,
+}
+
+/// One point feature of a map file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MapFeatureFile {
+    /// Feature id.
+    pub id: u32,
+    /// `"corner"` or `"edge"`.
+    pub kind: FeatureKind,
+    /// Where it is, `[x, y]`.
+    pub at: [f64; 2],
+    /// The smallest range it was seen from.
+    pub range: f64,
+    /// Snapshot that created it.
+    pub created: usize,
+    /// Snapshots that moved it.
+    pub updated: Vec<usize>,
 }
 
 /// One segment of a map file.
@@ -49,6 +71,9 @@ pub struct MapSegmentFile {
     pub updated: Vec<usize>,
     /// Supporting points `[x, y, D]`.
     pub points: Vec<[f64; 3]>,
+    /// `false` for a tentative segment (docs/algorithm.md §8.7); absent means confirmed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub confirmed: Option<bool>,
 }
 
 /// The file form of `map` after snapshot `snapshot`, lengths in `units`.
@@ -78,6 +103,18 @@ pub fn map_to_file(map: &Map, units: Units, snapshot: usize) -> MapFile {
                     .iter()
                     .map(|p| [l(p.point.x), l(p.point.y), l(p.range_m)])
                     .collect(),
+                confirmed: map.is_tentative(s.id).then_some(false),
+            })
+            .collect(),
+        features: map
+            .confirmed_features()
+            .map(|f| MapFeatureFile {
+                id: f.id,
+                kind: f.kind,
+                at: [l(f.at.x), l(f.at.y)],
+                range: l(f.range_m),
+                created: f.created,
+                updated: f.updated.clone(),
             })
             .collect(),
     }

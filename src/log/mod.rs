@@ -20,7 +20,8 @@ pub use file::{
     SonarsFile, LOG_FORMAT,
 };
 pub use load::{load_run, parse_json, run_from_file, MAX_SENSORS};
-pub use map_file::{map_to_file, save_map, MapFile, MapSegmentFile, MAP_FORMAT};
+pub use map_file::{map_to_file, save_map, MapFeatureFile, MapFile, MapSegmentFile, MAP_FORMAT};
+pub(crate) use save::{floor_plan_to_file, robot_to_file, tidy};
 pub use save::{ring_parameters, run_to_file, save_run, write_run};
 
 pub(crate) use load::{

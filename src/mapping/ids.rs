@@ -7,3 +7,5 @@ pub type SegmentId = u32;
 pub type FaceId = u32;
 /// Identifies an object (faces joined by correlation).
 pub type ObjectId = u32;
+/// Identifies a point feature (a corner or an edge, docs/algorithm.md §8.5).
+pub type FeatureId = u32;

@@ -1,11 +1,14 @@
 //! The map: line segments with their end-point ranges, faces and objects (paper §3.3).
 //! A `Map` is a plain value; cloning it is how the replay checkpoints.
 
-pub use super::ids::{FaceId, ObjectId, SegmentId};
+use super::confirm::PlaneSupport;
+pub use super::features::{FeatureKind, PointFeature};
+pub use super::ids::{FaceId, FeatureId, ObjectId, SegmentId};
 use super::index::{IndexedSegment, SegmentGrid};
 pub use super::support::{EndPoint, ReadingRef, SupportPoint};
-use crate::geometry::{distance_to_segment, Point};
+use crate::geometry::{distance_to_segment, Point, Pose};
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::sync::Arc;
 
 /// Fitted from readings, or a link made by correlation.
@@ -111,6 +114,23 @@ pub struct Map {
     pub faces: Vec<Arc<Face>>,
     /// Readings held by point memory.
     pub memory: Vec<MemoryPoint>,
+    /// The poses of the last snapshots, oldest first, as many as point memory spans (the plane
+    /// test of a remembered reading needs its sensor's place; docs/algorithm.md §8.7).
+    #[serde(default)]
+    pub recent_poses: Vec<(usize, Pose)>,
+    /// Point features (corners and edges, docs/algorithm.md §8.5), ordered by id.
+    #[serde(default)]
+    pub features: Vec<PointFeature>,
+    /// Next unused feature id.
+    #[serde(default)]
+    pub next_feature_id: FeatureId,
+    /// Whether segments must be confirmed (docs/algorithm.md §8.7); without it every segment
+    /// counts as confirmed.
+    #[serde(default)]
+    pub confirms_segments: bool,
+    /// Plane support of the segments that have any (docs/algorithm.md §8.7).
+    #[serde(default)]
+    pub plane_support: BTreeMap<SegmentId, PlaneSupport>,
     /// Next unused segment id.
     pub next_segment_id: SegmentId,
     /// Next unused face id.
@@ -122,6 +142,10 @@ pub struct Map {
     /// Spatial index of the segments (rebuilt by [`Map::rebuild_index`] after deserialising).
     #[serde(skip)]
     index: SegmentGrid,
+    /// Spatial index of the point features, each filed as a segment of no length (rebuilt
+    /// with the segments' index).
+    #[serde(skip)]
+    feature_index: SegmentGrid,
     /// Position in `segments` of each id ([`NO_SLOT`] when absent) as of when it was last set,
     /// kept with the index; empty without it (lookups then search `segments`). A removal moves
     /// the later segments one place down without touching their entries, so an entry may be
@@ -143,10 +167,29 @@ impl PartialEq for Map {
         self.segments == other.segments
             && self.faces == other.faces
             && self.memory == other.memory
+            && self.recent_poses == other.recent_poses
+            && self.features == other.features
+            && self.next_feature_id == other.next_feature_id
+            && self.confirms_segments == other.confirms_segments
+            && self.plane_support == other.plane_support
             && self.next_segment_id == other.next_segment_id
             && self.next_face_id == other.next_face_id
             && self.next_object_id == other.next_object_id
             && self.max_end_range_m == other.max_end_range_m
+    }
+}
+
+/// A point feature as the grid files it: a segment of no length at its place.
+fn feature_filing(f: &PointFeature) -> IndexedSegment {
+    let e = EndPoint {
+        point: f.at,
+        range_m: f.range_m,
+    };
+    IndexedSegment {
+        a: e,
+        b: e,
+        face: 0,
+        fitted: true,
     }
 }
 
@@ -335,6 +378,7 @@ impl Map {
         };
         let face = self.segments.remove(i).face;
         self.index.remove(id);
+        self.plane_support.remove(&id);
         if !self.slot_of.is_empty() {
             self.slot_of[id as usize] = NO_SLOT;
             // Re-slot the later segments only now and then: a lookup searches the few places
@@ -546,11 +590,57 @@ impl Map {
         {
             return Err("point memory holds a non-finite point".to_owned());
         }
+        if let Some(id) = self
+            .plane_support
+            .keys()
+            .find(|&&id| self.segment(id).is_none())
+        {
+            return Err(format!("plane support of missing segment {id}"));
+        }
+        for pair in self.features.windows(2) {
+            if pair[0].id >= pair[1].id {
+                return Err(format!(
+                    "feature ids out of order: {} then {}",
+                    pair[0].id, pair[1].id
+                ));
+            }
+        }
+        for f in &self.features {
+            if f.id >= self.next_feature_id {
+                return Err(format!("feature {} is not below the next id", f.id));
+            }
+            if !finite(&f.at)
+                || !finite(&f.first_seen_from)
+                || !f.range_m.is_finite()
+                || f.range_m < 0.0
+                || f.baseline_m.is_nan()
+                || f.baseline_m < 0.0
+            {
+                return Err(format!("feature {} has a non-finite place or range", f.id));
+            }
+            if f.observations == 0 {
+                return Err(format!("feature {} has no observation", f.id));
+            }
+            if f.updated.len() > MAX_UPDATES_KEPT
+                || f.updated.windows(2).any(|w| w[0] >= w[1])
+                || f.updated.first().is_some_and(|&u| u <= f.created)
+            {
+                return Err(format!(
+                    "feature {} has an update history out of bounds or order",
+                    f.id
+                ));
+            }
+        }
         // A map without its index (a checkpoint) has no slots either.
         if !self.slot_of.is_empty() {
             self.index
                 .check_files_exactly(self.segments.iter().map(|s| (s.id, s.indexed())))
                 .map_err(|e| format!("spatial index: {e}"))?;
+            if !self.features.is_empty() {
+                self.feature_index
+                    .check_files_exactly(self.features.iter().map(|f| (f.id, feature_filing(f))))
+                    .map_err(|e| format!("feature index: {e}"))?;
+            }
         }
         Ok(())
     }
@@ -561,11 +651,17 @@ impl Map {
             segments: self.segments.clone(),
             faces: self.faces.clone(),
             memory: self.memory.clone(),
+            recent_poses: self.recent_poses.clone(),
+            features: self.features.clone(),
+            next_feature_id: self.next_feature_id,
+            confirms_segments: self.confirms_segments,
+            plane_support: self.plane_support.clone(),
             next_segment_id: self.next_segment_id,
             next_face_id: self.next_face_id,
             next_object_id: self.next_object_id,
             max_end_range_m: self.max_end_range_m,
             index: SegmentGrid::default(),
+            feature_index: SegmentGrid::default(),
             slot_of: Vec::new(),
             removals_since_reslot: 0,
             face_journal: None,
@@ -581,6 +677,115 @@ impl Map {
         for (slot, s) in self.segments.iter().enumerate() {
             self.slot_of[s.id as usize] = slot as u32;
         }
+        self.feature_index = SegmentGrid::default();
+        for f in &self.features {
+            self.feature_index.insert(f.id, feature_filing(f));
+        }
+    }
+
+    /// An empty map whose segments must be confirmed (docs/algorithm.md §8.7) or not.
+    pub fn confirming(confirms_segments: bool) -> Self {
+        Map {
+            confirms_segments,
+            ..Map::default()
+        }
+    }
+
+    /// Notes the pose of `snapshot`, keeping the last `keep` poses.
+    pub(crate) fn note_pose(&mut self, snapshot: usize, pose: Pose, keep: usize) {
+        self.recent_poses.push((snapshot, pose));
+        let excess = self.recent_poses.len().saturating_sub(keep);
+        self.recent_poses.drain(..excess);
+    }
+
+    /// The pose of `snapshot`, when it is among the recent ones.
+    pub fn recent_pose(&self, snapshot: usize) -> Option<Pose> {
+        self.recent_poses
+            .iter()
+            .rev()
+            .find(|(k, _)| *k == snapshot)
+            .map(|(_, p)| *p)
+    }
+
+    /// Whether segment `id` is tentative: segments must be confirmed and it is not
+    /// (docs/algorithm.md §8.7).
+    pub fn is_tentative(&self, id: SegmentId) -> bool {
+        self.confirms_segments && !self.plane_support.get(&id).is_some_and(|p| p.confirmed())
+    }
+
+    /// The confirmed point features ([`PointFeature::is_confirmed`]), by id.
+    pub fn confirmed_features(&self) -> impl Iterator<Item = &PointFeature> {
+        self.features.iter().filter(|f| f.is_confirmed())
+    }
+
+    /// Point feature `id`.
+    pub fn feature(&self, id: FeatureId) -> Option<&PointFeature> {
+        self.features
+            .binary_search_by_key(&id, |f| f.id)
+            .ok()
+            .map(|i| &self.features[i])
+    }
+
+    /// Ids of the point features that may lie within `radius_m` of `p` (a superset), sorted.
+    pub fn features_near(&self, p: &Point, radius_m: f64) -> Vec<FeatureId> {
+        let mut out = Vec::new();
+        self.features_near_into(p, radius_m, &mut out);
+        out.sort_unstable();
+        out
+    }
+
+    /// [`Map::features_near`] into `out` (cleared first), in no particular order. Without the
+    /// index (a checkpoint), every feature.
+    pub fn features_near_into(&self, p: &Point, radius_m: f64, out: &mut Vec<FeatureId>) {
+        out.clear();
+        if self.feature_index.len() != self.features.len() || !radius_m.is_finite() {
+            out.extend(self.features.iter().map(|f| f.id));
+            return;
+        }
+        let r = nalgebra::Vector2::new(radius_m, radius_m);
+        self.feature_index.query_into(&(p - r), &(p + r), out);
+    }
+
+    /// Adds a point feature with the next free id, seen once by `snapshot`; returns its id.
+    pub(crate) fn push_feature(
+        &mut self,
+        kind: FeatureKind,
+        at: Point,
+        range_m: f64,
+        seen_from: Point,
+        snapshot: usize,
+    ) -> FeatureId {
+        let id = self.next_feature_id;
+        self.next_feature_id += 1;
+        let f = PointFeature {
+            id,
+            kind,
+            at,
+            range_m,
+            observations: 1,
+            first_seen_from: seen_from,
+            baseline_m: 0.0,
+            created: snapshot,
+            updated: Vec::new(),
+        };
+        self.feature_index.insert(id, feature_filing(&f));
+        self.features.push(f);
+        id
+    }
+
+    /// Replaces the feature with `f`'s id by `f`, noting an update by `snapshot`.
+    pub(crate) fn replace_feature(&mut self, mut f: PointFeature, snapshot: usize) {
+        let Ok(i) = self.features.binary_search_by_key(&f.id, |g| g.id) else {
+            return;
+        };
+        if f.updated.last() != Some(&snapshot) && f.created != snapshot {
+            if f.updated.len() >= MAX_UPDATES_KEPT {
+                f.updated.remove(0);
+            }
+            f.updated.push(snapshot);
+        }
+        self.feature_index.insert(f.id, feature_filing(&f));
+        self.features[i] = f;
     }
 }
 

@@ -1,20 +1,23 @@
 //! The mapper: one snapshot in, the map updated and the step's trace out (paper §3).
 
 use super::cluster::{cluster_points, sensor_ranks, Clusters};
+use super::confirm::{note_plane_support, supports_as_plane};
 use super::correlate::correlate_face;
 use super::extensions::{memory_step, reduce_constant_depth};
 use super::fast_path::decide;
 use super::fit::{piece_end_points, split_recursive};
+use super::free_space::refuted_segments;
 use super::map::{FaceId, Map, Segment, SegmentId, SegmentKind, SupportPoint};
 use super::matching::{Candidate, SegmentEnds};
 use super::params::Params;
+use super::point_features::{arc_point, explaining_feature, file_arc, ArcTrace, Beam};
 use super::readings::convert_readings;
 use super::trace::{
-    CandidateTrace, ClusterTrace, DecisionTrace, NewSegmentTrace, Outcome, SegmentSource,
-    SplitTrace, StepTrace, UpdateTrace, Warning,
+    CandidateTrace, ClusterTrace, DecisionTrace, ExplainedTrace, NewSegmentTrace, Outcome,
+    RefutedTrace, SegmentSource, SplitTrace, StepTrace, UpdateTrace, Warning,
 };
 use super::update::{apply_update, cap_support_points, UpdateRequest};
-use crate::geometry::Pose;
+use crate::geometry::{Point, Pose};
 use crate::run::Snapshot;
 use crate::sonar::{BeamAxis, SensorLayout, SensorSpec};
 use std::ops::Range;
@@ -77,13 +80,14 @@ impl Mapper {
         let (order, wraps) = layout.bearing_order();
         let bearing_ranks = (sensor_ranks(&order), wraps);
         let beam_axes = layout.beam_axes();
+        let confirms_segments = params.confirm_segments;
         Self {
             params,
             layout,
             sensor,
             bearing_ranks,
             beam_axes,
-            map: Map::default(),
+            map: Map::confirming(confirms_segments),
             last_pose: None,
             next_snapshot: 0,
             brute_force: false,
@@ -93,7 +97,7 @@ impl Mapper {
     }
 
     /// With `false`, steps return a slim trace: readings, decisions (without their candidate
-    /// lists), updates, correlations and warnings; no gaps, clusters, splits, new-segment
+    /// lists), updates, correlations, free-space removals and warnings; no gaps, clusters, splits, new-segment
     /// geometry or point-memory record. The map is the same either way.
     pub fn with_trace(mut self, on: bool) -> Self {
         self.set_trace(on);
@@ -212,13 +216,111 @@ impl Mapper {
         }
         let new_faces = self.match_and_update(&mut fitted.segments, &mut trace, &mut buffers);
         self.buffers = buffers;
+        if self.params.confirm_segments {
+            self.note_plane_support(snapshot, &fitted.segments, &mut trace);
+        }
         if self.record_trace {
             trace.new_segments = fitted.segments;
         }
         if self.params.correlate {
             self.correlate_new_faces(new_faces, &mut trace);
         }
+        if self.params.free_space {
+            self.remove_refuted(snapshot, &mut trace);
+        }
         trace
+    }
+
+    /// §8.7 confirmation: each segment this step's new segments matched, extended or made
+    /// hears of the plane support of their readings.
+    fn note_plane_support(
+        &mut self,
+        snapshot: &Snapshot,
+        new_segments: &[NewSegmentTrace],
+        trace: &mut StepTrace,
+    ) {
+        let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
+        let targets: Vec<(usize, SegmentId)> = trace
+            .decisions
+            .iter()
+            .filter_map(|d| d.result.map(|r| (d.new_segment, r)))
+            .collect();
+        for (ni, target) in targets {
+            let beams_of = |points: &[SupportPoint]| -> Vec<(usize, Beam)> {
+                points
+                    .iter()
+                    .filter(|q| q.reading.snapshot == trace.snapshot)
+                    .map(|q| (q.reading.sensor, self.beam_of(&snapshot.pose, q)))
+                    .collect()
+            };
+            let beams = match new_segments.get(ni) {
+                Some(n) if !n.points.is_empty() => beams_of(&n.points),
+                // Untraced, a new face's points moved into the map segment.
+                _ => match self.map.segment(target) {
+                    Some(s) => beams_of(&s.points),
+                    None => continue,
+                },
+            };
+            if let Some(t) =
+                note_plane_support(&mut self.map, target, &beams, trace.snapshot, xi, half)
+            {
+                if self.record_trace {
+                    trace.plane_support.push(t);
+                }
+            }
+        }
+    }
+
+    /// §8.7 plane gate: whether a reading of `new` supports it as a plane
+    /// ([`crate::mapping::confirm::supports_as_plane`]), each from its own snapshot's pose
+    /// (point memory's readings are at most `memory_snapshots` old).
+    fn plane_gate(&self, new: &NewSegmentTrace) -> bool {
+        let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
+        new.points.iter().any(|q| {
+            let Some(pose) = self.map.recent_pose(q.reading.snapshot) else {
+                return false;
+            };
+            let beam = self.beam_of(&pose, q);
+            supports_as_plane(&beam, &new.a.point, &new.b.point, xi, half).is_some()
+        })
+    }
+
+    /// Whether a reading among `points` (of the snapshot at `pose`) supports the segment
+    /// `a`–`b` as a plane (docs/algorithm.md §8.7).
+    fn supports_as_plane_now(
+        &self,
+        pose: &Pose,
+        points: &[SupportPoint],
+        a: &Point,
+        b: &Point,
+    ) -> bool {
+        let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
+        points
+            .iter()
+            .any(|q| supports_as_plane(&self.beam_of(pose, q), a, b, xi, half).is_some())
+    }
+
+    /// §8.6 free space: the segments a kept reading of this snapshot saw past leave the map.
+    fn remove_refuted(&mut self, snapshot: &Snapshot, trace: &mut StepTrace) {
+        let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
+        let (mut scratch, mut found) = (Vec::new(), Vec::new());
+        let kept = std::mem::take(&mut self.buffers.kept);
+        for q in &kept {
+            let beam = self.beam_of(&snapshot.pose, q);
+            refuted_segments(&self.map, &beam, xi, half, &mut scratch, &mut found);
+            // Kept in the slim trace too: the lineage of a segment reads its removal there.
+            for &(segment, distance_m, off_axis_rad) in &found {
+                self.map.remove_segment(segment);
+                trace.refuted.push(RefutedTrace {
+                    segment,
+                    sensor: q.reading.sensor,
+                    range_m: q.range_m,
+                    distance_m,
+                    off_axis_rad,
+                });
+            }
+        }
+        self.buffers.kept = kept;
     }
 
     /// A step's trace with its snapshot, and the warnings of §4: the robot moved more than
@@ -243,6 +345,10 @@ impl Mapper {
             }
         }
         self.last_pose = Some(snapshot.pose);
+        if self.params.plane_gate {
+            let keep = self.params.memory_snapshots + 1;
+            self.map.note_pose(index, snapshot.pose, keep);
+        }
         if snapshot.ranges_m.len() != self.layout.len() {
             trace.warnings.push(Warning::RangeCount {
                 given: snapshot.ranges_m.len(),
@@ -270,6 +376,9 @@ impl Mapper {
             &mut buffers.kept,
         );
         let (ranks, wraps) = (&self.bearing_ranks.0, self.bearing_ranks.1);
+        if self.params.explain_readings {
+            self.drop_explained_readings(snapshot, trace, &mut buffers.kept);
+        }
         cluster_points(
             &buffers.kept,
             ranks,
@@ -282,11 +391,104 @@ impl Mapper {
         }
     }
 
+    /// The world beam of kept point `q` of a snapshot at `pose`.
+    fn beam_of(&self, pose: &Pose, q: &SupportPoint) -> Beam {
+        let origin = pose
+            .robot_frame()
+            .to_world(&self.beam_axes[q.reading.sensor].origin_in_robot);
+        Beam::of(q, origin)
+    }
+
+    /// §8.5 explained readings: the kept points a confirmed point feature explains leave
+    /// `kept` (each looks only at the features filed near its own point).
+    fn drop_explained_readings(
+        &self,
+        snapshot: &Snapshot,
+        trace: &mut StepTrace,
+        kept: &mut Vec<SupportPoint>,
+    ) {
+        if self.map.features.is_empty() {
+            return;
+        }
+        let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
+        let mut scratch = Vec::new();
+        kept.retain(|q| {
+            let beam = self.beam_of(&snapshot.pose, q);
+            let Some(id) = explaining_feature(&self.map, &beam, xi, half, &mut scratch) else {
+                return true;
+            };
+            if self.record_trace {
+                let at = self.map.feature(id).map_or(beam.origin, |f| f.at);
+                let v = at - beam.origin;
+                trace.explained.push(ExplainedTrace {
+                    sensor: q.reading.sensor,
+                    range_m: q.range_m,
+                    feature: id,
+                    feature_distance_m: v.norm(),
+                    off_axis_rad: (v.dot(&beam.direction) / v.norm().max(1e-12))
+                        .clamp(-1.0, 1.0)
+                        .acos(),
+                });
+            }
+            false
+        });
+    }
+
+    /// §8.5 arc rule on cluster `ci` (`chain` in order): when it is an arc, its point is filed
+    /// as a point feature and true is returned (the cluster is then not fitted).
+    fn file_if_arc(&mut self, ci: usize, chain: &[SupportPoint], trace: &mut StepTrace) -> bool {
+        let Some(pose) = trace.pose else {
+            return false;
+        };
+        let beams: Vec<Beam> = chain.iter().map(|q| self.beam_of(&pose, q)).collect();
+        let sensors: Vec<usize> = chain.iter().map(|q| q.reading.sensor).collect();
+        let Some((at, range_m)) = arc_point(&beams, &sensors, self.params.accuracy_pct) else {
+            return false;
+        };
+        // A plane facing the sensors' bisector reads the same range to each of them too: an
+        // arc whose chord a reading supports as a plane stays a line.
+        let (first, last) = (chain[0].point, chain[chain.len() - 1].point);
+        if self.supports_as_plane_now(&pose, chain, &first, &last) {
+            return false;
+        }
+        let origin = Point::from(
+            beams
+                .iter()
+                .map(|b| b.origin.coords)
+                .sum::<crate::geometry::Vec2>()
+                / beams.len() as f64,
+        );
+        let (feature, new_feature) = file_arc(
+            &mut self.map,
+            at,
+            range_m,
+            &origin,
+            trace.snapshot,
+            self.params.accuracy_pct,
+        );
+        if self.record_trace {
+            trace.arcs.push(ArcTrace {
+                cluster: ci,
+                sensors,
+                range_min_m: beams
+                    .iter()
+                    .map(|b| b.range_m)
+                    .fold(f64::INFINITY, f64::min),
+                range_max_m: beams.iter().map(|b| b.range_m).fold(0.0, f64::max),
+                at,
+                feature,
+                new_feature,
+            });
+        }
+        true
+    }
+
     /// §3: each cluster fitted by the recursive end-point fit (after constant-depth groups,
     /// §8.2, when on; a closed loop, §2, repeats its first point at the end). Returns the new
     /// segments in cluster order and the points of one-point clusters.
-    fn fit_clusters(&self, trace: &mut StepTrace, buffers: &mut StepBuffers) -> FittedStep {
-        let params = &self.params;
+    fn fit_clusters(&mut self, trace: &mut StepTrace, buffers: &mut StepBuffers) -> FittedStep {
+        let params = self.params.clone();
+        let params = &params;
         let StepBuffers {
             kept,
             clusters,
@@ -308,6 +510,20 @@ impl Mapper {
                 trace.readings[q.reading.sensor].cluster = Some(ci);
             }
             let chain_len = chain.len();
+            if params.arc_features && self.file_if_arc(ci, &chain, trace) {
+                if self.record_trace {
+                    trace.clusters.push(ClusterTrace {
+                        sensors: chain.iter().map(|q| q.reading.sensor).collect(),
+                        constant_depth: Vec::new(),
+                        fitted: chain,
+                        splits: Vec::new(),
+                        new_segments: Vec::new(),
+                    });
+                } else {
+                    *fitted_buffer = chain;
+                }
+                continue;
+            }
             let sensors: Vec<usize> = if self.record_trace {
                 chain.iter().map(|q| q.reading.sensor).collect()
             } else {
@@ -331,7 +547,30 @@ impl Mapper {
             split_recursive(&fitted, params, &mut splits, pieces);
             let first_new = out.segments.len();
             for &[first, last] in pieces.iter() {
+                // §8.8: a piece too short to be trusted as a line; its readings go to point
+                // memory (when on) as one-point clusters do.
                 let (a, b) = piece_end_points(&fitted, first, last, params.fit);
+                if last + 1 - first < params.min_piece_points
+                    && !(pieces.len() == 1
+                        && trace.pose.is_some_and(|pose| {
+                            self.supports_as_plane_now(
+                                &pose,
+                                &fitted[first..=last],
+                                &a.point,
+                                &b.point,
+                            )
+                        }))
+                {
+                    // A closed loop's last point repeats its first.
+                    let end = if closed_loop {
+                        last.min(chain_len - 1)
+                    } else {
+                        last
+                    };
+                    out.singles
+                        .extend(fitted.iter().take(end + 1).skip(first).copied());
+                    continue;
+                }
                 out.segments.push(NewSegmentTrace {
                     source: SegmentSource::Cluster(ci),
                     a,
@@ -444,6 +683,12 @@ impl Mapper {
                     })
                 }
                 Outcome::Dismissed => None,
+                Outcome::NewFace
+                    if self.params.plane_gate && !self.plane_gate(&new_segments[ni]) =>
+                {
+                    trace.gated.push(ni);
+                    None
+                }
                 Outcome::NewFace => Some(self.add_new_face_segment(
                     &mut new_segments[ni],
                     &mut faces,

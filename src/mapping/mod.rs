@@ -1,11 +1,14 @@
 //! The paper's mapping algorithm (docs/algorithm.md §1–§8), one rule a file.
 
 pub mod cluster;
+pub mod confirm;
 pub mod correlate;
 pub mod extensions;
 pub mod fast_path;
+pub mod features;
 pub mod fit;
 pub mod flip;
+pub mod free_space;
 mod guard;
 pub mod ids;
 pub mod index;
@@ -14,6 +17,7 @@ mod mapper;
 pub mod matching;
 pub mod merge;
 pub mod params;
+pub mod point_features;
 pub mod readings;
 pub mod support;
 pub mod trace;

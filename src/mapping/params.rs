@@ -90,6 +90,24 @@ pub struct Params {
     /// Refuse a correlation corner that would collapse a line, joining the two end-points by a
     /// connecting segment instead (beyond the paper, docs/algorithm.md §6 and §8).
     pub corner_guard: bool,
+    /// Arc rule: a cluster whose readings, from two or more sensors, pass the ball test
+    /// pairwise is one reflector point, filed as a point feature instead of fitted
+    /// (docs/algorithm.md §8.5).
+    pub arc_features: bool,
+    /// Readings a confirmed point feature explains (its range from the sensor, inside the
+    /// beam) join no cluster (docs/algorithm.md §8.5).
+    pub explain_readings: bool,
+    /// A segment whose perpendicular foot lies inside a beam that read farther is removed
+    /// (docs/algorithm.md §8.6).
+    pub free_space: bool,
+    /// Segments are tentative until readings of two snapshots support them as a plane
+    /// (docs/algorithm.md §8.7).
+    pub confirm_segments: bool,
+    /// A NEW FACE needs a reading that supports it as a plane (docs/algorithm.md §8.7).
+    pub plane_gate: bool,
+    /// Fewest readings of a fitted piece that becomes a new segment; shorter pieces' readings
+    /// go to point memory. 0 is off (the paper fits any piece; docs/algorithm.md §8.8).
+    pub min_piece_points: usize,
 }
 
 impl Default for Params {
@@ -118,6 +136,12 @@ impl Params {
             merge_duplicates: false,
             support_cap: 0,
             corner_guard: false,
+            arc_features: false,
+            explain_readings: false,
+            free_space: false,
+            confirm_segments: false,
+            plane_gate: false,
+            min_piece_points: 0,
         }
     }
 
@@ -130,6 +154,12 @@ impl Params {
             merge_duplicates: true,
             support_cap: EXTENDED_SUPPORT_CAP,
             corner_guard: true,
+            arc_features: true,
+            explain_readings: true,
+            free_space: true,
+            confirm_segments: true,
+            plane_gate: true,
+            min_piece_points: 3,
             ..Self::paper()
         }
     }
@@ -258,6 +288,24 @@ impl Params {
         if let Some(v) = file.corner_guard {
             p.corner_guard = v;
         }
+        if let Some(v) = file.arc_features {
+            p.arc_features = v;
+        }
+        if let Some(v) = file.explain_readings {
+            p.explain_readings = v;
+        }
+        if let Some(v) = file.free_space {
+            p.free_space = v;
+        }
+        if let Some(v) = file.confirm_segments {
+            p.confirm_segments = v;
+        }
+        if let Some(v) = file.plane_gate {
+            p.plane_gate = v;
+        }
+        if let Some(v) = file.min_piece_points {
+            p.min_piece_points = v;
+        }
         p.validate()?;
         Ok(p)
     }
@@ -287,6 +335,12 @@ impl Params {
             merge_duplicates: Some(self.merge_duplicates),
             support_cap: Some(self.support_cap),
             corner_guard: Some(self.corner_guard),
+            arc_features: Some(self.arc_features),
+            explain_readings: Some(self.explain_readings),
+            free_space: Some(self.free_space),
+            confirm_segments: Some(self.confirm_segments),
+            plane_gate: Some(self.plane_gate),
+            min_piece_points: Some(self.min_piece_points),
         }
     }
 }
@@ -376,6 +430,18 @@ pub struct ParamsFile {
     pub support_cap: Option<usize>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub corner_guard: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub arc_features: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub explain_readings: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub free_space: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub confirm_segments: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plane_gate: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_piece_points: Option<usize>,
 }
 
 #[cfg(test)]
@@ -393,12 +459,16 @@ mod tests {
         assert!(!p.merge_duplicates);
         assert_eq!(p.support_cap, 0, "the paper keeps every supporting point");
         assert!(!p.corner_guard);
+        assert!(!p.arc_features && !p.explain_readings && !p.free_space && !p.confirm_segments);
+        assert!(!p.plane_gate && p.min_piece_points == 0);
         let e = Params::extended();
         assert_eq!(e.support_cap, 64);
         assert!(e.corner_guard);
         assert_eq!(e.memory_snapshots, 10);
         assert!(e.constant_depth);
         assert!(e.merge_duplicates);
+        assert!(e.arc_features && e.explain_readings && e.free_space && e.confirm_segments);
+        assert!(e.plane_gate && e.min_piece_points == 3);
         assert!(p.validate().is_ok() && e.validate().is_ok());
     }
 

@@ -554,4 +554,42 @@ pub struct StepTrace {
     pub correlations: Vec<CorrelationTrace>,
     /// Warnings.
     pub warnings: Vec<Warning>,
+    /// Readings a confirmed point feature explained, kept out of the clusters (docs/algorithm.md
+    /// §8.5).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub explained: Vec<ExplainedTrace>,
+    /// Clusters the arc rule filed as point features instead of fitting them
+    /// (docs/algorithm.md §8.5).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub arcs: Vec<ArcTrace>,
+    /// Segments removed because a reading saw past them (docs/algorithm.md §8.6).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub refuted: Vec<RefutedTrace>,
+    /// Segments this step's readings supported as a plane (docs/algorithm.md §8.7).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub plane_support: Vec<PlaneSupportTrace>,
+    /// New segments (indices into `new_segments`) the plane gate kept out of the map although
+    /// their decision was NEW FACE: no reading of theirs supports them as a plane
+    /// (docs/algorithm.md §8.7).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub gated: Vec<usize>,
+}
+
+pub use super::confirm::PlaneSupportTrace;
+pub use super::free_space::RefutedTrace;
+pub use super::point_features::ArcTrace;
+
+/// A reading explained by a confirmed point feature (docs/algorithm.md §8.5).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ExplainedTrace {
+    /// The sensor.
+    pub sensor: usize,
+    /// Its range, metres.
+    pub range_m: f64,
+    /// The feature.
+    pub feature: u32,
+    /// The feature's distance from the sensor, metres.
+    pub feature_distance_m: f64,
+    /// The feature's angle off the beam axis, radians.
+    pub off_axis_rad: f64,
 }

@@ -9,6 +9,7 @@ use super::style::{decision_marker, palette, Role};
 use super::{format_length, Scene, ViewRect};
 use crate::eval::Verdict;
 use crate::geometry::{lerp, projection_param, unit, Point, Pose};
+use crate::mapping::map::FeatureKind;
 use crate::mapping::trace::{CorrelationKind, ReadingTrace};
 use crate::mapping::{Map, Outcome, SegmentId, SegmentKind, StepTrace};
 use crate::run::Run;
@@ -138,6 +139,7 @@ pub fn build_scene(input: &SceneInput, options: &ViewOptions) -> Scene {
                 b.map_after();
                 b.support_points();
             }
+            Layer::Features => b.features(),
             Layer::Truth => b.truth(),
             Layer::NewSegments => b.new_segments(),
             Layer::PreviousSnapshot => b.previous_snapshot(),
@@ -451,6 +453,23 @@ impl Builder<'_, '_> {
         }
     }
 
+    /// The map's point features (docs/algorithm.md §8.5): a triangle a corner, a diamond an
+    /// edge.
+    fn features(&mut self) {
+        for f in self.input.map_after.confirmed_features() {
+            let (role, shape) = match f.kind {
+                FeatureKind::Corner => (Role::FeatureCorner, MarkerShape::Triangle),
+                FeatureKind::Edge => (Role::FeatureEdge, MarkerShape::Diamond),
+            };
+            self.push(
+                Layer::Features,
+                role,
+                SceneId::None,
+                Shape::Marker { at: f.at, shape },
+            );
+        }
+    }
+
     fn map_after(&mut self) {
         let min_len_m = self.px(6.0);
         // End-point dots in a 3 px cell that already has one add nothing at this zoom.
@@ -465,6 +484,9 @@ impl Builder<'_, '_> {
             }
             let id = SceneId::MapSegment(s.id);
             let role = match s.kind {
+                SegmentKind::Fitted if self.input.map_after.is_tentative(s.id) => {
+                    Role::MapTentative
+                }
                 SegmentKind::Fitted => Role::MapFitted,
                 SegmentKind::Interpolated => Role::MapInterpolated,
             };

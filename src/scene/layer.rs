@@ -16,8 +16,10 @@ pub enum Layer {
     Clusters,
     /// Segments updated in this step: before-geometry ghosted, after-geometry highlighted.
     Updates,
-    /// The map after this step (the current map).
+    /// The map after this step (the current map); tentative segments dimmed.
     Map,
+    /// Point features of the map: corners (triangles) and edges (diamonds).
+    Features,
     /// The map's fitted segments coloured by `eval`'s verdict against the floor plan (on a
     /// wall or pillar, or spurious), when the run has one.
     Truth,
@@ -41,7 +43,7 @@ pub enum Layer {
 
 impl Layer {
     /// Every layer, in drawing order.
-    pub const ALL: [Layer; 16] = [
+    pub const ALL: [Layer; 17] = [
         Layer::FloorPlan,
         Layer::MapBefore,
         Layer::Beams,
@@ -49,6 +51,7 @@ impl Layer {
         Layer::Clusters,
         Layer::Updates,
         Layer::Map,
+        Layer::Features,
         Layer::Truth,
         Layer::NewSegments,
         Layer::PreviousSnapshot,
@@ -70,6 +73,7 @@ impl Layer {
             Layer::Clusters => "clusters",
             Layer::Updates => "updates",
             Layer::Map => "map",
+            Layer::Features => "features",
             Layer::Truth => "truth",
             Layer::NewSegments => "new-segments",
             Layer::PreviousSnapshot => "previous-snapshot",
@@ -92,6 +96,7 @@ impl Layer {
             Layer::Clusters => "Clusters",
             Layer::Updates => "Updates",
             Layer::Map => "Map",
+            Layer::Features => "Corners and edges",
             Layer::Truth => "Truth (eval verdicts)",
             Layer::NewSegments => "New segments",
             Layer::PreviousSnapshot => "Previous snapshot",

@@ -156,6 +156,12 @@ pub enum Role {
     UpdateProjection,
     /// A fitted map segment after the step.
     MapFitted,
+    /// A fitted map segment not yet confirmed (docs/algorithm.md §8.7), dimmed.
+    MapTentative,
+    /// A point feature judged a corner (docs/algorithm.md §8.5).
+    FeatureCorner,
+    /// A point feature judged an edge (docs/algorithm.md §8.5).
+    FeatureEdge,
     /// An interpolated (connecting) map segment after the step.
     MapInterpolated,
     /// A map segment's end-point.
@@ -214,9 +220,12 @@ impl Role {
             Role::Ball => Layer::Balls,
             Role::Cluster | Role::ClusterBreak => Layer::Clusters,
             Role::UpdateBefore | Role::UpdateAfter | Role::UpdateProjection => Layer::Updates,
-            Role::MapFitted | Role::MapInterpolated | Role::MapEndPoint | Role::SupportPoint => {
-                Layer::Map
-            }
+            Role::MapFitted
+            | Role::MapTentative
+            | Role::MapInterpolated
+            | Role::MapEndPoint
+            | Role::SupportPoint => Layer::Map,
+            Role::FeatureCorner | Role::FeatureEdge => Layer::Features,
             Role::TruthTrue | Role::TruthSpurious => Layer::Truth,
             Role::NewSegment => Layer::NewSegments,
             Role::PreviousPoint | Role::PreviousSegment => Layer::PreviousSnapshot,
@@ -250,6 +259,11 @@ impl Role {
             Role::UpdateAfter => Style::line(YELLOW, 10.0).faded(0.55),
             Role::UpdateProjection => Style::line(ORANGE, 1.0).dashed(DOT),
             Role::MapFitted => Style::line(BLUISH_GREEN, 3.0),
+            Role::MapTentative => Style::line(BLUISH_GREEN, 2.0).faded(0.35),
+            Role::FeatureCorner => Style::line(REDDISH_PURPLE, 1.5)
+                .filled(REDDISH_PURPLE)
+                .sized(9.0),
+            Role::FeatureEdge => Style::line(ORANGE, 1.5).filled(ORANGE).sized(9.0),
             Role::MapInterpolated => Style::line(BLUISH_GREEN, 2.0).dashed(DASH),
             Role::MapEndPoint => Style::line(BLUISH_GREEN, 1.0)
                 .filled(BLUISH_GREEN)
@@ -302,6 +316,9 @@ impl Role {
             Role::UpdateAfter => "updated: after",
             Role::UpdateProjection => "end-point projection",
             Role::MapFitted => "map segment",
+            Role::MapTentative => "tentative segment (unconfirmed)",
+            Role::FeatureCorner => "corner (point feature)",
+            Role::FeatureEdge => "edge (point feature)",
             Role::MapInterpolated => "interpolated link",
             Role::MapEndPoint => return None,
             Role::SupportPoint => "supporting reading (selected segment)",
@@ -335,6 +352,8 @@ impl Role {
             Role::Discarded => Glyph::Marker(MarkerShape::Cross),
             Role::ClusterBreak => Glyph::Marker(MarkerShape::Plus),
             Role::Corner => Glyph::Marker(MarkerShape::Square),
+            Role::FeatureCorner => Glyph::Marker(MarkerShape::Triangle),
+            Role::FeatureEdge => Glyph::Marker(MarkerShape::Diamond),
             Role::RobotPath => Glyph::LineWithMarker(MarkerShape::Dot),
             Role::DecisionMatch
             | Role::DecisionExtension

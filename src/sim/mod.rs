@@ -11,7 +11,7 @@ pub use beam::{Hit, Model, World};
 pub use building::{building_plan, BuildingSpec};
 pub use families::{family_plan, repeat_laps, SceneKind};
 pub use plan::{
-    interpolate_path, load_plan, plan_from_file, Plan, PlanFile, SimFile, SimSettings,
-    DEFAULT_ROUGHNESS_DEG, PLAN_FORMAT,
+    interpolate_path, load_plan, plan_from_file, plan_to_file, Plan, PlanFile, SimFile,
+    SimSettings, DEFAULT_ROUGHNESS_DEG, PLAN_FORMAT,
 };
 pub use simulate::simulate;

@@ -2,8 +2,9 @@
 
 use crate::geometry::Pose;
 use crate::log::{
-    check_header, floor_plan_from_file, layout_from_robot, parse_json, parse_units,
-    sensor_from_file, FloorPlanFile, LogError, RingFile, RobotFile, SensorFile, SonarsFile,
+    check_header, floor_plan_from_file, floor_plan_to_file, layout_from_robot, parse_json,
+    parse_units, robot_to_file, sensor_from_file, tidy, FloorPlanFile, LogError, RingFile,
+    RobotFile, SensorFile, SonarsFile,
 };
 use crate::run::FloorPlan;
 use crate::sonar::{SensorLayout, SensorSpec};
@@ -129,6 +130,47 @@ pub struct Plan {
     pub poses: Vec<Pose>,
     /// Simulator settings.
     pub sim: SimSettings,
+}
+
+/// `plan` as a `sonarmap-plan` v1 file in its units: every pose of its path (already
+/// interpolated, so no `step`), its robot, sensor and simulator settings. Loading it gives the
+/// plan back to within 1e-9 of a unit (an independent simulator can read the same scene).
+pub fn plan_to_file(plan: &Plan) -> PlanFile {
+    let u = plan.units;
+    let len = |v_m: f64| tidy(u.from_m(v_m));
+    let deg = |v_rad: f64| tidy(v_rad.to_degrees());
+    let floor = floor_plan_to_file(&plan.floor_plan, u);
+    PlanFile {
+        format: PLAN_FORMAT.to_string(),
+        version: 1.into(),
+        name: Some(plan.name.clone()),
+        note: plan.note.clone(),
+        units: u.symbol().to_string(),
+        walls: floor.walls,
+        circles: floor.circles,
+        path: plan
+            .poses
+            .iter()
+            .map(|p| vec![len(p.x), len(p.y), deg(p.heading_rad)])
+            .collect(),
+        step: None,
+        turn_step_deg: None,
+        roughness_deg: Some(deg(plan.roughness_rad)),
+        robot: Some(robot_to_file(&plan.layout, plan.robot_radius_m, u)),
+        sensor: Some(SensorFile {
+            accuracy_pct: Some(tidy(plan.sensor.accuracy_pct)),
+            beam_width_deg: Some(deg(plan.sensor.beam_width_rad)),
+            max_range: Some(len(plan.sensor.max_range_m)),
+            min_range: Some(len(plan.sensor.min_range_m)),
+        }),
+        sim: Some(SimFile {
+            resolution: Some(len(plan.sim.resolution_m)),
+            dropout: Some(plan.sim.dropout),
+            ghost: Some(plan.sim.ghost),
+            ray_step_deg: Some(deg(plan.sim.ray_step_rad)),
+            corner_tolerance: Some(len(plan.sim.corner_tolerance_m)),
+        }),
+    }
 }
 
 /// Parses a `sonarmap-plan` v1 file. `source_name` names it in errors. Pure.

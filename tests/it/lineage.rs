@@ -59,14 +59,18 @@ fn every_segment_of_the_map_was_made_or_split_off_and_every_merged_one_says_wher
                 .next_back();
             assert_eq!(updated, s.updated.last().copied(), "#{}", s.id);
         }
-        // A segment that left the map was merged away (only merging removes segments).
+        // A segment that left the map was merged away or seen through (only merging and free
+        // space remove segments).
         let gone: Vec<u32> = (0..map.next_segment_id)
             .filter(|&id| map.segment(id).is_none())
             .collect();
         for id in gone {
             let events = lineage.of(id, last);
             assert!(
-                matches!(events.last(), Some(LineageEvent::AbsorbedInto { .. })),
+                matches!(
+                    events.last(),
+                    Some(LineageEvent::AbsorbedInto { .. } | LineageEvent::Refuted { .. })
+                ),
                 "#{id} left the map: {events:?}"
             );
         }

@@ -16,3 +16,4 @@ mod log;
 mod peak;
 mod scene;
 mod sim;
+mod suite;

@@ -166,6 +166,10 @@ fn lineage_ui(ui: &mut egui::Ui, ctx: &InspectCtx, id: SegmentId, commands: &mut
                             LineageEvent::AbsorbedInto { into, .. } => {
                                 (format!("merged into #{into}"), SceneId::MapSegment(into))
                             }
+                            LineageEvent::Refuted { sensor, .. } => (
+                                format!("removed: sensor {sensor} saw through it (free space)"),
+                                SceneId::None,
+                            ),
                             LineageEvent::Correlated {
                                 other,
                                 correlation,

@@ -13,6 +13,7 @@
 mod context;
 mod correlation;
 mod decision;
+mod extensions;
 mod map_segment;
 mod names;
 mod overview;

@@ -21,6 +21,7 @@ pub(super) fn nothing_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
         .weak(),
     );
     warnings_ui(ui, ctx);
+    super::extensions::extensions_ui(ui, ctx);
 }
 
 /// The floor plan's page.

@@ -1,0 +1,82 @@
+//! What the flagged extensions of docs/algorithm.md §8.5–§8.8 did in this step, with their
+//! numbers: arcs filed as corners or edges, readings explained by a feature, segments a reading
+//! saw past, plane support and the plane gate.
+
+use super::context::InspectCtx;
+use super::widgets::heading;
+use egui::RichText;
+
+/// The step's extension records; nothing when none acted.
+pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
+    let t = &ctx.view.trace;
+    if t.arcs.is_empty()
+        && t.explained.is_empty()
+        && t.refuted.is_empty()
+        && t.plane_support.is_empty()
+        && t.gated.is_empty()
+    {
+        return;
+    }
+    heading(ui, "Extensions this step");
+    let xi = ctx.params.accuracy_pct;
+    for a in &t.arcs {
+        ui.label(format!(
+            "arc: cluster {} (sensors {:?}) ranges {} to {}, pairwise within ξ·(D1+D2)/100 = {} %: \
+             one reflector at {} -> feature f{}{}",
+            a.cluster,
+            a.sensors,
+            ctx.len(a.range_min_m),
+            ctx.len(a.range_max_m),
+            2.0 * xi,
+            ctx.point(&a.at),
+            a.feature,
+            if a.new_feature { " (new)" } else { "" }
+        ));
+    }
+    for e in &t.explained {
+        ui.label(format!(
+            "explained: sensor {} read {}; confirmed feature f{} lies {} away, {:.1}° off the \
+             axis: its echo, kept out of the clusters",
+            e.sensor,
+            ctx.len(e.range_m),
+            e.feature,
+            ctx.len(e.feature_distance_m),
+            e.off_axis_rad.to_degrees()
+        ));
+    }
+    for r in &t.refuted {
+        ui.label(format!(
+            "free space: sensor {} read {} but s{} lies {} away, {:.1}° off the axis (a plane \
+             there echoes from that foot): removed",
+            r.sensor,
+            ctx.len(r.range_m),
+            r.segment,
+            ctx.len(r.distance_m),
+            r.off_axis_rad.to_degrees()
+        ));
+    }
+    for p in &t.plane_support {
+        ui.label(format!(
+            "plane support: sensor {} read {}, s{} lies {} away: {} snapshot(s){}",
+            p.sensor,
+            ctx.len(p.range_m),
+            p.segment,
+            ctx.len(p.distance_m),
+            p.snapshots,
+            if p.confirmed {
+                ", confirmed"
+            } else {
+                ", tentative"
+            }
+        ));
+    }
+    for n in &t.gated {
+        ui.label(
+            RichText::new(format!(
+                "plane gate: n{n} would be a new face, but no reading of it lies at its range \
+                 from the line inside its beam: not added"
+            ))
+            .weak(),
+        );
+    }
+}

@@ -1,0 +1,60 @@
+//! Point features: corners and edges found by the arc rule (docs/algorithm.md §8.5), kept in
+//! the map beside its segments (docs/formats.md, the map's `features`).
+
+use super::ids::FeatureId;
+use crate::geometry::Point;
+use serde::{Deserialize, Serialize};
+
+/// What reflects a sonar from one point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FeatureKind {
+    /// A concave junction of two walls (a corner reflector, seen from inside the angle).
+    Corner,
+    /// A convex junction or a wall's free end (a door jamb, a desk's corner).
+    Edge,
+}
+
+/// A point reflector of the map.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PointFeature {
+    /// Stable id (never reused in a run).
+    pub id: FeatureId,
+    /// Corner or edge.
+    pub kind: FeatureKind,
+    /// Where it is, world frame, metres.
+    pub at: Point,
+    /// The smallest range it was seen from, metres (its confidence, as an end-point's).
+    pub range_m: f64,
+    /// Arcs that placed it (each a cluster of one snapshot).
+    pub observations: usize,
+    /// Where the sensors of its first arc stood (their mean), world frame, metres.
+    #[serde(default = "origin")]
+    pub first_seen_from: Point,
+    /// The farthest any later arc's sensors stood from `first_seen_from`, metres.
+    #[serde(default)]
+    pub baseline_m: f64,
+    /// Snapshot that created it.
+    pub created: usize,
+    /// Snapshots that moved it, in order (the most recent [`super::map::MAX_UPDATES_KEPT`]).
+    pub updated: Vec<usize>,
+}
+
+/// How far apart, metres, the sensors of two arcs that placed a point feature must stand to
+/// confirm it (8 in, one step of the paper's robot): a wall's nearest point seen at a cone's
+/// edge by two sensors reads as an arc too, but it moves along the wall with the robot, while a
+/// corner or an edge stays where it is, seen from anywhere. Seeing it again from the same place
+/// (a lap driven back) confirms nothing.
+pub const CONFIRMING_BASELINE_M: f64 = 0.2032;
+
+fn origin() -> Point {
+    Point::origin()
+}
+
+impl PointFeature {
+    /// Placed by arcs seen from [`CONFIRMING_BASELINE_M`] apart: drawn, written, counted and
+    /// explaining readings. Before, it is the engine's own state.
+    pub fn is_confirmed(&self) -> bool {
+        self.baseline_m >= CONFIRMING_BASELINE_M
+    }
+}

@@ -1,0 +1,151 @@
+//! Free-space refutation (docs/algorithm.md §8.6; beyond the paper).
+//!
+//! The paper places each echo on its beam axis (§2). A specular wall seen obliquely echoes
+//! from the nearest point of the cone that still reflects, so its readings land inside the
+//! room and fit lines parallel to the wall but short of it, and a corner's arc fits slanted
+//! lines. Each is refuted by a sonar that looked straight at it: when the foot of the
+//! perpendicular from a sensor to a map segment lies inside the segment and inside the beam
+//! (within half the beam width of the axis), a real wall there would have echoed from the foot,
+//! at the perpendicular distance `p`. A reading `D` with `p + 2·tol(D) < D` (`tol` the
+//! resolution `ξ·D/100`, at least 1 in) says nothing is there: the segment leaves the map.
+//! Only the segments the grid files in the beam's box are tested.
+
+use super::map::{Map, SegmentId};
+use super::point_features::{feature_tolerance_m, Beam};
+use crate::geometry::{projection_param, Point};
+use serde::{Deserialize, Serialize};
+
+/// A segment a reading refuted, for the trace.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RefutedTrace {
+    /// The segment removed.
+    pub segment: SegmentId,
+    /// The sensor whose reading refuted it.
+    pub sensor: usize,
+    /// The reading, metres.
+    pub range_m: f64,
+    /// The perpendicular distance from the sensor to the segment, metres.
+    pub distance_m: f64,
+    /// The perpendicular's angle off the beam axis, radians.
+    pub off_axis_rad: f64,
+}
+
+/// Whether `beam` refutes the segment `a`–`b`: returns the perpendicular distance and its
+/// angle off the axis when the foot lies in the segment and the beam and `p + 2·tol(D) < D`.
+///
+/// ```
+/// use sonarmap::geometry::{Point, Vec2};
+/// use sonarmap::mapping::free_space::refutes;
+/// use sonarmap::mapping::point_features::Beam;
+/// // A sensor at the origin looks along +y and reads 3.00 m (tol 0.09 m). A segment from
+/// // (-1, 2) to (1, 2.2): the foot of the perpendicular, at param 1.6/4.04 = 0.396, is
+/// // (-0.2079, 2.0792), 5.71° off +y (inside 12.5°); p = 2.0896, p + 0.18 = 2.27 < 3: refuted.
+/// let beam = Beam { origin: Point::origin(), direction: Vec2::new(0.0, 1.0), range_m: 3.0 };
+/// let half = 12.5f64.to_radians();
+/// let (p, off) = refutes(&beam, &Point::new(-1.0, 2.0), &Point::new(1.0, 2.2), 3.0, half).unwrap();
+/// assert!((p - 2.0896).abs() < 1e-4 && (off.to_degrees() - 5.71).abs() < 0.01);
+/// // The same segment read at 2.20 m: p + 2·0.066 = 2.22 > 2.20, kept.
+/// let near = Beam { range_m: 2.2, ..beam };
+/// assert!(refutes(&near, &Point::new(-1.0, 2.0), &Point::new(1.0, 2.2), 3.0, half).is_none());
+/// // A segment along the axis: the foot (0.1, 0) lies outside it, kept.
+/// assert!(refutes(&beam, &Point::new(0.1, 1.0), &Point::new(0.1, 2.0), 3.0, half).is_none());
+/// ```
+pub fn refutes(
+    beam: &Beam,
+    a: &Point,
+    b: &Point,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+) -> Option<(f64, f64)> {
+    let t = projection_param(&beam.origin, a, b);
+    if !(0.0..=1.0).contains(&t) {
+        return None;
+    }
+    let foot = a + (b - a) * t;
+    let v = foot - beam.origin;
+    let p = v.norm();
+    if p <= 0.0 || p + 2.0 * feature_tolerance_m(accuracy_pct, beam.range_m) >= beam.range_m {
+        return None;
+    }
+    let off = (v.dot(&beam.direction) / p).clamp(-1.0, 1.0).acos();
+    (off <= half_beam_rad).then_some((p, off))
+}
+
+/// The fitted segments of `map` that `beam` refutes (see [`refutes`]), from the segments the
+/// grid files in the box of the beam's cone; `scratch` is reused.
+pub fn refuted_segments(
+    map: &Map,
+    beam: &Beam,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+    scratch: &mut Vec<SegmentId>,
+    out: &mut Vec<(SegmentId, f64, f64)>,
+) {
+    out.clear();
+    let tip = beam.origin + beam.direction * beam.range_m;
+    let reach = beam.range_m * half_beam_rad.tan();
+    map.segments_along_into(&beam.origin, &tip, reach, scratch);
+    scratch.sort_unstable();
+    for &id in scratch.iter() {
+        let Some(s) = map.segment(id) else { continue };
+        if let Some((p, off)) = refutes(beam, &s.a.point, &s.b.point, accuracy_pct, half_beam_rad) {
+            out.push((id, p, off));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Vec2;
+    use crate::mapping::map::{EndPoint, Segment, SegmentKind};
+    use std::sync::Arc;
+
+    fn segment(id: u32, a: (f64, f64), b: (f64, f64)) -> Segment {
+        let e = |(x, y): (f64, f64)| EndPoint {
+            point: Point::new(x, y),
+            range_m: 1.0,
+        };
+        Segment {
+            id,
+            kind: SegmentKind::Fitted,
+            a: e(a),
+            b: e(b),
+            face: id,
+            object: id,
+            created: 0,
+            updated: Vec::new(),
+            points: Arc::new(Vec::new()),
+        }
+    }
+
+    #[test]
+    fn a_beam_reading_past_a_segment_refutes_it_and_only_it() {
+        // The sensor at the origin looks along +x and reads 3 m (tolerance 0.09 m):
+        // s0 across the beam at 2 m is seen through (2 + 0.18 < 3); s1 at 2.9 m is within
+        // 2·tol of the range (2.9 + 0.18 > 3); s2 at 2 m lies 1 m to the side, its foot
+        // (2, 0) lies outside it.
+        let map = Map::from_segments(vec![
+            segment(0, (2.0, -0.5), (2.0, 0.5)),
+            segment(1, (2.9, -0.5), (2.9, 0.5)),
+            segment(2, (2.0, 1.0), (2.0, 2.0)),
+        ]);
+        let beam = Beam {
+            origin: Point::origin(),
+            direction: Vec2::new(1.0, 0.0),
+            range_m: 3.0,
+        };
+        let (mut scratch, mut out) = (Vec::new(), Vec::new());
+        refuted_segments(
+            &map,
+            &beam,
+            3.0,
+            12.5f64.to_radians(),
+            &mut scratch,
+            &mut out,
+        );
+        assert_eq!(out.len(), 1);
+        assert_eq!(out[0].0, 0);
+        assert!((out[0].1 - 2.0).abs() < 1e-12 && out[0].2.abs() < 1e-12);
+    }
+}

@@ -1,0 +1,371 @@
+//! Point features from sonar arcs (docs/algorithm.md §8.5; beyond the paper, whose §3.2 fits
+//! every cluster with lines).
+//!
+//! A corner or an edge returns an echo to every sonar whose beam contains it, at the same range
+//! from each: placed on the beam axes (paper §2), the readings draw an arc, and the recursive
+//! fit turns it into short slanted segments. Two rules, both flagged:
+//! - **arc rule** (`arc_features`): a cluster of two or more readings from distinct sensors
+//!   whose ranges pass the ball test pairwise (Leonard and Durrant-Whyte's region of constant
+//!   depth, seen by several sensors at once) is one reflector point, not a line. It becomes an
+//!   observation of a point feature at range `r̄` (the mean range) along the mean beam axis,
+//!   from the mean sensor position, and yields no segment.
+//! - **explained readings** (`explain_readings`): a reading whose range, from its sensor, is
+//!   that of a confirmed feature (seen by two snapshots at least) within the ball radius, and
+//!   whose beam contains the feature, is its echo: it joins no cluster.
+//!
+//! Both look only at the cluster's readings and at the features the grid index files near them.
+
+use super::map::{FeatureKind, Map, PointFeature, SupportPoint};
+use crate::geometry::{Point, Vec2};
+use crate::units::inches;
+use serde::{Deserialize, Serialize};
+
+/// A kept reading with its sensor in the world frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Beam {
+    /// The sensor's position, world frame.
+    pub origin: Point,
+    /// Unit vector along the beam axis, world frame.
+    pub direction: Vec2,
+    /// The range, metres.
+    pub range_m: f64,
+}
+
+impl Beam {
+    /// The beam of `q`, whose sensor sits at `origin` (the point lies on the axis at its range).
+    pub fn of(q: &SupportPoint, origin: Point) -> Beam {
+        let v = q.point - origin;
+        let n = v.norm();
+        let direction = if n > 0.0 { v / n } else { Vec2::new(1.0, 0.0) };
+        Beam {
+            origin,
+            direction,
+            range_m: q.range_m,
+        }
+    }
+}
+
+/// The ball test of §1 on two ranges: `|d1 − d2| ≤ ξ·(d1 + d2)/100`.
+fn same_depth(accuracy_pct: f64, d1: f64, d2: f64) -> bool {
+    (d1 - d2).abs() <= accuracy_pct * (d1 + d2) / 100.0
+}
+
+/// Tolerance of a range `range_m` in feature tests: the sonar resolution `ξ·D/100`, at least
+/// 1 in (as `eval` judges end-points).
+pub fn feature_tolerance_m(accuracy_pct: f64, range_m: f64) -> f64 {
+    (accuracy_pct * range_m / 100.0).max(inches(1.0))
+}
+
+/// What the arc rule found in one cluster, for the trace.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ArcTrace {
+    /// The cluster (index into the step's clusters).
+    pub cluster: usize,
+    /// The sensors of the cluster's readings, in chain order.
+    pub sensors: Vec<usize>,
+    /// Smallest and largest range, metres.
+    pub range_min_m: f64,
+    /// Largest range, metres.
+    pub range_max_m: f64,
+    /// The reflector point placed, world frame.
+    pub at: Point,
+    /// The feature it was filed under (made or moved).
+    pub feature: u32,
+    /// True when the feature is new.
+    pub new_feature: bool,
+}
+
+/// The arc rule on one cluster (`beams` in chain order): the reflector point and mean range
+/// when it is an arc (two or more distinct sensors, ranges pairwise within the ball test),
+/// else `None`.
+///
+/// ```
+/// use sonarmap::geometry::{Point, Vec2};
+/// use sonarmap::mapping::point_features::{arc_point, Beam};
+/// // Two sensors at (±0.1, 0) looking 10° either side of +y, both reading 2.00 and 2.04 m:
+/// // |2.00 − 2.04| = 0.04 ≤ 0.03·4.04 = 0.121. The point is 2.02 m from (0, 0) along +y.
+/// let b = |x: f64, deg: f64, r: f64| Beam {
+///     origin: Point::new(x, 0.0),
+///     direction: Vec2::new(deg.to_radians().cos(), deg.to_radians().sin()),
+///     range_m: r,
+/// };
+/// let (at, r) = arc_point(&[b(0.1, 80.0, 2.0), b(-0.1, 100.0, 2.04)], &[0, 1], 3.0).unwrap();
+/// assert!((r - 2.02).abs() < 1e-12);
+/// assert!(at.x.abs() < 1e-12 && (at.y - 2.02).abs() < 1e-12);
+/// // 2.00 and 2.20: 0.20 > 0.03·4.2 = 0.126, no arc.
+/// assert!(arc_point(&[b(0.1, 80.0, 2.0), b(-0.1, 100.0, 2.2)], &[0, 1], 3.0).is_none());
+/// ```
+pub fn arc_point(beams: &[Beam], sensors: &[usize], accuracy_pct: f64) -> Option<(Point, f64)> {
+    if beams.len() < 2 {
+        return None;
+    }
+    let mut distinct = sensors.to_vec();
+    distinct.sort_unstable();
+    distinct.dedup();
+    if distinct.len() != sensors.len() {
+        return None;
+    }
+    for (i, a) in beams.iter().enumerate() {
+        for b in &beams[i + 1..] {
+            if !same_depth(accuracy_pct, a.range_m, b.range_m) {
+                return None;
+            }
+        }
+    }
+    let n = beams.len() as f64;
+    let origin = Point::from(beams.iter().map(|b| b.origin.coords).sum::<Vec2>() / n);
+    let dir: Vec2 = beams.iter().map(|b| b.direction).sum();
+    let norm = dir.norm();
+    if norm < 1e-9 {
+        return None;
+    }
+    let range_m = beams.iter().map(|b| b.range_m).sum::<f64>() / n;
+    Some((origin + dir / norm * range_m, range_m))
+}
+
+/// Whether confirmed feature `f` explains `beam`: its distance from the sensor is the range
+/// within the tolerance, and it lies within `half_beam_rad` of the axis.
+///
+/// ```
+/// use sonarmap::geometry::{Point, Vec2};
+/// use sonarmap::mapping::point_features::{explains, Beam};
+/// // A sensor at the origin looking along +x reads 2.00 m. A feature at (1.97, 0.30): distance
+/// // 1.9927 (|1.9927 − 2| = 0.0073 ≤ 0.06), 8.66° off the axis (≤ 12.5°): explained.
+/// let beam = Beam { origin: Point::origin(), direction: Vec2::new(1.0, 0.0), range_m: 2.0 };
+/// let half = 12.5f64.to_radians();
+/// assert!(explains(&Point::new(1.97, 0.30), &beam, 3.0, half));
+/// // At (1.90, 0.60): 15.8° off the axis.
+/// assert!(!explains(&Point::new(1.90, 0.60), &beam, 3.0, half));
+/// // At (1.80, 0.0): 0.20 short of the range.
+/// assert!(!explains(&Point::new(1.80, 0.0), &beam, 3.0, half));
+/// ```
+pub fn explains(at: &Point, beam: &Beam, accuracy_pct: f64, half_beam_rad: f64) -> bool {
+    let v = at - beam.origin;
+    let d = v.norm();
+    if (d - beam.range_m).abs() > feature_tolerance_m(accuracy_pct, beam.range_m) || d <= 0.0 {
+        return false;
+    }
+    v.dot(&beam.direction) / d >= half_beam_rad.cos()
+}
+
+/// Radius within which an arc's point joins an existing feature rather than making a new one:
+/// the tolerance plus 5° of arc at range `range_m` (the beams' overlap places the point no
+/// better than that across the axis).
+pub fn merge_radius_m(accuracy_pct: f64, range_m: f64) -> f64 {
+    feature_tolerance_m(accuracy_pct, range_m) + range_m * 5f64.to_radians().tan()
+}
+
+/// The kind of a reflector at `at` seen from `sensor`: a corner when two map segments end near
+/// it at more than 30° to each other and the sensor looks into the angle they make (concave),
+/// an edge otherwise (a convex junction or a free wall end). Only the segments the grid files
+/// near `at` are read.
+pub fn classify(map: &Map, at: &Point, sensor: &Point, radius_m: f64) -> FeatureKind {
+    let mut near = Vec::new();
+    map.segments_near_into(at, radius_m, &mut near);
+    near.sort_unstable();
+    let arms: Vec<Vec2> = near
+        .iter()
+        .filter_map(|&id| map.segment(id))
+        .filter_map(|s| {
+            let (da, db) = ((s.a.point - at).norm(), (s.b.point - at).norm());
+            let (close, far) = if da <= db {
+                (da, s.b.point)
+            } else {
+                (db, s.a.point)
+            };
+            let arm = far - at;
+            (close <= radius_m && arm.norm() > radius_m).then(|| arm.normalize())
+        })
+        .collect();
+    let view = sensor - at;
+    if view.norm() <= 0.0 {
+        return FeatureKind::Edge;
+    }
+    let view = view.normalize();
+    for (i, a) in arms.iter().enumerate() {
+        for b in &arms[i + 1..] {
+            let between = a.dot(b).clamp(-1.0, 1.0).acos();
+            if between < 30f64.to_radians() || between > 150f64.to_radians() {
+                continue;
+            }
+            let (va, vb) = (
+                a.dot(&view).clamp(-1.0, 1.0).acos(),
+                b.dot(&view).clamp(-1.0, 1.0).acos(),
+            );
+            if (va + vb - between).abs() < 1e-6 {
+                return FeatureKind::Corner;
+            }
+        }
+    }
+    FeatureKind::Edge
+}
+
+/// Files an arc's point `at` (range `range_m`, seen by `snapshot` from `sensor`): it moves the
+/// nearest feature within [`merge_radius_m`] to the observations' mean, or makes a new one.
+/// Returns the feature's id and whether it is new.
+pub fn file_arc(
+    map: &mut Map,
+    at: Point,
+    range_m: f64,
+    sensor: &Point,
+    snapshot: usize,
+    accuracy_pct: f64,
+) -> (u32, bool) {
+    let radius = merge_radius_m(accuracy_pct, range_m);
+    let nearest = map
+        .features_near(&at, radius)
+        .into_iter()
+        .filter_map(|id| map.feature(id).map(|f| (id, (f.at - at).norm())))
+        .filter(|(_, d)| *d <= radius)
+        .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+    let kind = classify(map, &at, sensor, radius);
+    match nearest {
+        Some((id, _)) => {
+            let f = map.feature(id).expect("filed features exist").clone();
+            let n = f.observations as f64;
+            let moved = PointFeature {
+                at: Point::from((f.at.coords * n + at.coords) / (n + 1.0)),
+                range_m: f.range_m.min(range_m),
+                observations: f.observations + 1,
+                baseline_m: f.baseline_m.max((sensor - f.first_seen_from).norm()),
+                kind: if kind == FeatureKind::Corner {
+                    kind
+                } else {
+                    f.kind
+                },
+                ..f
+            };
+            map.replace_feature(moved, snapshot);
+            (id, false)
+        }
+        None => {
+            let id = map.push_feature(kind, at, range_m, *sensor, snapshot);
+            (id, true)
+        }
+    }
+}
+
+/// The confirmed feature (seen by two snapshots or more) that explains `beam`, if any: the
+/// nearest to the range among those the grid files within reach of the beam's point.
+pub fn explaining_feature(
+    map: &Map,
+    beam: &Beam,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+    scratch: &mut Vec<u32>,
+) -> Option<u32> {
+    if map.features.is_empty() {
+        return None;
+    }
+    let tip = beam.origin + beam.direction * beam.range_m;
+    let reach = beam.range_m * half_beam_rad + feature_tolerance_m(accuracy_pct, beam.range_m);
+    map.features_near_into(&tip, reach, scratch);
+    scratch
+        .iter()
+        .filter_map(|&id| map.feature(id))
+        .filter(|f| f.is_confirmed() && explains(&f.at, beam, accuracy_pct, half_beam_rad))
+        .min_by(|a, b| {
+            let da = ((a.at - beam.origin).norm() - beam.range_m).abs();
+            let db = ((b.at - beam.origin).norm() - beam.range_m).abs();
+            da.total_cmp(&db).then(a.id.cmp(&b.id))
+        })
+        .map(|f| f.id)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mapping::map::{EndPoint, Segment, SegmentKind};
+    use std::sync::Arc;
+
+    fn wall(id: u32, a: (f64, f64), b: (f64, f64)) -> Segment {
+        let e = |(x, y): (f64, f64)| EndPoint {
+            point: Point::new(x, y),
+            range_m: 2.0,
+        };
+        Segment {
+            id,
+            kind: SegmentKind::Fitted,
+            a: e(a),
+            b: e(b),
+            face: id,
+            object: id,
+            created: 0,
+            updated: Vec::new(),
+            points: Arc::new(Vec::new()),
+        }
+    }
+
+    #[test]
+    fn a_junction_seen_from_inside_its_angle_is_a_corner_from_outside_an_edge() {
+        // Walls from (0, 0) to (3, 0) and to (0, 3): the sensor at (1, 1) looks into the 90°
+        // angle (45° to each arm: 45 + 45 = 90), the one at (-1, -1) from outside (135 + 135).
+        let map = Map::from_segments(vec![
+            wall(0, (0.0, 0.0), (3.0, 0.0)),
+            wall(1, (0.0, 3.0), (0.0, 0.0)),
+        ]);
+        let at = Point::new(0.02, 0.02);
+        assert_eq!(
+            classify(&map, &at, &Point::new(1.0, 1.0), 0.2),
+            FeatureKind::Corner
+        );
+        assert_eq!(
+            classify(&map, &at, &Point::new(-1.0, -1.0), 0.2),
+            FeatureKind::Edge
+        );
+        // One wall ending there (a door jamb): an edge from anywhere.
+        let jamb = Map::from_segments(vec![wall(0, (0.0, 0.0), (3.0, 0.0))]);
+        assert_eq!(
+            classify(&jamb, &at, &Point::new(1.0, 1.0), 0.2),
+            FeatureKind::Edge
+        );
+    }
+
+    #[test]
+    fn arcs_within_the_merge_radius_move_one_feature_to_their_mean() {
+        // At 2 m: tolerance 0.06 m, merge radius 0.06 + 2·tan 5° = 0.235 m.
+        assert!((merge_radius_m(3.0, 2.0) - (0.06 + 2.0 * 5f64.to_radians().tan())).abs() < 1e-12);
+        let mut map = Map::default();
+        let sensor = Point::new(0.0, -2.0);
+        let (f0, new0) = file_arc(&mut map, Point::new(0.0, 0.0), 2.0, &sensor, 3, 3.0);
+        let (f1, new1) = file_arc(&mut map, Point::new(0.1, 0.0), 1.9, &sensor, 4, 3.0);
+        assert!(new0 && !new1 && f0 == f1);
+        let f = map.feature(f0).unwrap();
+        assert!((f.at.x - 0.05).abs() < 1e-12 && f.at.y.abs() < 1e-12);
+        assert_eq!(
+            (f.observations, f.created, f.updated.clone()),
+            (2, 3, vec![4])
+        );
+        assert!((f.range_m - 1.9).abs() < 1e-12);
+        // 0.3 m away: a second feature.
+        let (f2, new2) = file_arc(&mut map, Point::new(0.35, 0.0), 2.0, &sensor, 5, 3.0);
+        assert!(new2 && f2 != f0);
+        map.rebuild_index();
+        assert!(map.check_invariants(0).is_ok());
+    }
+
+    #[test]
+    fn only_a_confirmed_feature_explains_a_reading() {
+        let mut map = Map::default();
+        let sensor = Point::new(0.0, 0.0);
+        let beam = Beam {
+            origin: sensor,
+            direction: Vec2::new(1.0, 0.0),
+            range_m: 2.0,
+        };
+        let half = 12.5f64.to_radians();
+        let mut scratch = Vec::new();
+        let explaining =
+            |map: &Map, scratch: &mut Vec<u32>| explaining_feature(map, &beam, 3.0, half, scratch);
+        let (id, _) = file_arc(&mut map, Point::new(2.0, 0.1), 2.0, &sensor, 0, 3.0);
+        assert_eq!(explaining(&map, &mut scratch), None);
+        // Seen again from the same place (a lap driven back): still not confirmed.
+        file_arc(&mut map, Point::new(2.0, 0.1), 2.0, &sensor, 1, 3.0);
+        assert_eq!(explaining(&map, &mut scratch), None);
+        // From 0.25 m aside (at least 0.2032 m): confirmed, it explains the reading.
+        let aside = Point::new(0.0, 0.25);
+        file_arc(&mut map, Point::new(2.0, 0.1), 2.0, &aside, 2, 3.0);
+        assert_eq!(explaining(&map, &mut scratch), Some(id));
+        assert!((map.feature(id).unwrap().baseline_m - 0.25).abs() < 1e-12);
+    }
+}
