@@ -8,8 +8,12 @@
 //! doubles the spacing, so the checkpoints of any run stay within the budget (give or take one
 //! checkpoint) at the price of longer catch-ups on a seek.
 
+use crate::geometry::Pose;
+use crate::mapping::confirm::PlaneSupport;
+use crate::mapping::features::PointFeature;
 use crate::mapping::map::{Face, MemoryPoint, Segment, SupportPoint};
 use crate::mapping::MapperState;
+use crate::mapping::SegmentId;
 use std::mem::size_of;
 use std::sync::Arc;
 
@@ -106,9 +110,15 @@ impl Checkpoints {
 /// remembered points, and each segment or face (with its heap) not shared with `previous`.
 fn kept_alive_bytes(previous: Option<&MapperState>, state: &MapperState) -> usize {
     let map = &state.map;
+    // The lists, and what the extensions keep whole in every copy (point features, plane
+    // support of tentative segments, recent poses; a B-tree entry counted with two words of
+    // overhead).
     let lists = map.segments.len() * size_of::<Arc<Segment>>()
         + map.faces.len() * size_of::<Arc<Face>>()
-        + map.memory.len() * size_of::<MemoryPoint>();
+        + map.memory.len() * size_of::<MemoryPoint>()
+        + map.features.len() * size_of::<PointFeature>()
+        + map.plane_support.len() * (size_of::<(SegmentId, PlaneSupport)>() + 16)
+        + map.recent_poses.len() * size_of::<(usize, Pose)>();
     let empty = Vec::new();
     let (old_segments, old_faces) = match previous {
         Some(p) => (&p.map.segments, &p.map.faces),
