@@ -19,10 +19,16 @@ static ALLOCATOR: sonarmap::alloc_count::CountingAllocator =
 ///
 /// For screenshots only: `SONARMAP_SNAPSHOT=k` starts at snapshot `k`, `SONARMAP_SELECT=n3`
 /// selects new segment 3 (`s5`: map segment 5), `SONARMAP_BASELINE_THETA=5` pins the
-/// parameters the app starts with as the baseline and re-runs with θ_o = 5°.
+/// parameters the app starts with as the baseline and re-runs with θ_o = 5°,
+/// `SONARMAP_PRESET=paper|extended` starts with that preset.
 fn open_app(log: Option<PathBuf>) -> anyhow::Result<()> {
     let builtin = sonarmap::assets::default_run()?;
     let mut startup = Vec::new();
+    match std::env::var("SONARMAP_PRESET").as_deref() {
+        Ok("paper") => startup.push(Command::SetPreset(sonarmap::mapping::Preset::Paper)),
+        Ok("extended") => startup.push(Command::SetPreset(sonarmap::mapping::Preset::Extended)),
+        _ => {}
+    }
     if let Some(path) = log {
         startup.push(Command::Open(path));
     }

@@ -8,7 +8,11 @@
 //! (within half the beam width of the axis), a real wall there would have echoed from the foot,
 //! at the perpendicular distance `p`. A reading `D` with `p + 2·tol(D) < D` (`tol` the
 //! resolution `ξ·D/100`, at least 1 in) says nothing is there: the segment leaves the map.
-//! Only the segments the grid files in the beam's box are tested.
+//! Only the segments the grid files in the beam's box are tested, and only tentative ones
+//! leave (`Map::is_tentative`): a segment that readings from two snapshots supported as a
+//! plane (§8.7) stays. Refuting confirmed walls too made a lap run churn: a wall refuted by one
+//! oblique reading came back as a new face on the next lap, and the map of a small room grew
+//! from 273 to 1,176 segments over 20,000 snapshots, each snapshot costing 3× more by the end.
 
 use super::map::{Map, SegmentId};
 use super::point_features::{feature_tolerance_m, Beam};
