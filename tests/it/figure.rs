@@ -20,8 +20,7 @@ fn building_at(k: usize) -> (Arc<Run>, StepView) {
 /// The boxes (x0, y0, x1, y1, text) of the texts inside `<g id="labels">` and
 /// `<g id="clusters">`, as usvg lays them out with the system fonts.
 fn label_boxes(svg: &str) -> Vec<(f32, f32, f32, f32, String)> {
-    let mut opt = usvg::Options::default();
-    opt.fontdb_mut().load_system_fonts();
+    let opt = sonarmap::export::svg_options();
     let tree = usvg::Tree::from_str(svg, &opt).expect("the export parses");
     let mut out = Vec::new();
     for id in ["labels", "clusters"] {
@@ -120,8 +119,7 @@ fn a_long_title_is_shortened_to_the_page() {
         },
         run.units,
     );
-    let mut opt = usvg::Options::default();
-    opt.fontdb_mut().load_system_fonts();
+    let opt = sonarmap::export::svg_options();
     let tree = usvg::Tree::from_str(&svg, &opt).unwrap();
     let Some(usvg::Node::Text(title)) = tree.node_by_id("title") else {
         panic!("no title");

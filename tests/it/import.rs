@@ -781,8 +781,7 @@ fn write_png(run: &Run, mapper: &Mapper, traces: &[StepTrace]) {
         "Stage-style Pioneer (imported)",
         run.units,
     );
-    let mut opt = usvg::Options::default();
-    opt.fontdb_mut().load_system_fonts();
+    let opt = sonarmap::export::svg_options();
     let tree = usvg::Tree::from_str(&svg, &opt).expect("the SVG parses");
     let size = tree.size().to_int_size();
     let mut pixmap = resvg::tiny_skia::Pixmap::new(size.width(), size.height()).unwrap();

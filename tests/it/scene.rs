@@ -22,8 +22,7 @@ const T_GAP_IN: f64 = 42.0;
 
 /// Parses and renders an SVG export; panics with the parser's message when it is invalid.
 fn render(svg: &str) -> Pixmap {
-    let mut opt = usvg::Options::default();
-    opt.fontdb_mut().load_system_fonts();
+    let opt = sonarmap::export::svg_options();
     let tree =
         usvg::Tree::from_str(svg, &opt).unwrap_or_else(|e| panic!("invalid SVG: {e}\n{svg}"));
     let size = tree.size().to_int_size();
