@@ -121,7 +121,12 @@ impl SonarApp {
             Ok(run) if run.snapshots.len() >= self.background_min_snapshots => {
                 self.start_background(Arc::new(run), JobKind::Open { source, keep_index });
             }
-            Ok(run) => self.install(Loaded::prepare(run, source, &self.params), keep_index),
+            Ok(run) => {
+                // A replay still running (of the run open before, under new parameters) must not
+                // land on top of this one.
+                self.cancel_background();
+                self.install(Loaded::prepare(run, source, &self.params), keep_index)
+            }
             Err(ImportError::NeedsLayout { what, .. }) if options.layout.is_none() => {
                 self.message = format!("{name} needs a sensor layout: pick one");
                 self.layout_picker = Some(LayoutPicker {
@@ -192,12 +197,17 @@ impl SonarApp {
 
     /// Replays a large run on a thread; the current run stays usable meanwhile.
     pub(super) fn start_background(&mut self, run: Arc<Run>, kind: JobKind) {
-        if let Some(old) = self.background.take() {
-            old.task.cancel();
-        }
+        self.cancel_background();
         let job = ReplayJob::start(run, self.params.clone(), kind);
         self.message = format!("{}…", job.label);
         self.background = Some(job);
+    }
+
+    /// Stops the background replay, if any: its result will never be installed.
+    fn cancel_background(&mut self) {
+        if let Some(old) = self.background.take() {
+            old.task.cancel();
+        }
     }
 
     /// Installs a finished background replay or comparison.

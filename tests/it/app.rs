@@ -945,3 +945,30 @@ fn frames_that_change_nothing_reuse_the_map_scene_and_a_step_builds_it_again() {
         "a layer switched, a new scene"
     );
 }
+
+#[test]
+fn a_log_opened_while_new_parameters_replay_the_old_run_stays_open() {
+    // New parameters start a replay of the open run (the built-in Blue Room) on a thread; a
+    // small log opened meanwhile is installed at once, and the replay of the old run must not
+    // land on top of it when it ends.
+    let run = sonarmap::assets::default_run().expect("built-in run loads");
+    let mut h = harness(SonarApp::new(run, None));
+    h.run();
+    h.state_mut()
+        .push(Command::SetPreset(sonarmap::mapping::Preset::Extended));
+    h.state_mut()
+        .push(Command::Open(asset("tight_room.log.json")));
+    settle(&mut h);
+    h.run();
+    let tight = sonarmap::log::load_run(
+        &std::fs::read(asset("tight_room.log.json")).unwrap(),
+        "tight",
+    )
+    .unwrap();
+    assert_eq!(h.state().run().name, tight.name);
+    assert_eq!(h.state().len(), tight.snapshots.len());
+    assert!(
+        h.state().params().merge_duplicates,
+        "under the extended preset"
+    );
+}
