@@ -102,25 +102,10 @@ pub fn refuted_segments(
 mod tests {
     use super::*;
     use crate::geometry::Vec2;
-    use crate::mapping::map::{EndPoint, Segment, SegmentKind};
-    use std::sync::Arc;
+    use crate::mapping::map::{test_wall, Segment};
 
     fn segment(id: u32, a: (f64, f64), b: (f64, f64)) -> Segment {
-        let e = |(x, y): (f64, f64)| EndPoint {
-            point: Point::new(x, y),
-            range_m: 1.0,
-        };
-        Segment {
-            id,
-            kind: SegmentKind::Fitted,
-            a: e(a),
-            b: e(b),
-            face: id,
-            object: id,
-            created: 0,
-            updated: Vec::new(),
-            points: Arc::new(Vec::new()),
-        }
+        test_wall(id, a, b, 1.0)
     }
 
     #[test]

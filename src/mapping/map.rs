@@ -789,26 +789,33 @@ impl Map {
     }
 }
 
+/// A fitted segment from `a` to `b` (metres), both ends at `range_m`, alone in face and
+/// object `id`, without supporting readings: the unit tests' wall.
+#[cfg(test)]
+pub(crate) fn test_wall(id: SegmentId, a: (f64, f64), b: (f64, f64), range_m: f64) -> Segment {
+    let end = |(x, y): (f64, f64)| EndPoint {
+        point: Point::new(x, y),
+        range_m,
+    };
+    Segment {
+        id,
+        kind: SegmentKind::Fitted,
+        a: end(a),
+        b: end(b),
+        face: id,
+        object: id,
+        created: 0,
+        updated: Vec::new(),
+        points: Arc::new(Vec::new()),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     fn segment(id: SegmentId) -> Segment {
-        let end = |x: f64| EndPoint {
-            point: Point::new(x, id as f64),
-            range_m: 1.0,
-        };
-        Segment {
-            id,
-            kind: SegmentKind::Fitted,
-            a: end(0.0),
-            b: end(1.0),
-            face: id,
-            object: id,
-            created: 0,
-            updated: Vec::new(),
-            points: Arc::new(Vec::new()),
-        }
+        test_wall(id, (0.0, f64::from(id)), (1.0, f64::from(id)), 1.0)
     }
 
     #[test]
