@@ -269,12 +269,17 @@ impl SegmentGrid {
                     }
                 }
             }
-            // A query box larger than the filled grid: every filed segment.
+            // A query box larger than the filled grid: every filed segment, each from the one
+            // entry in its first cell (the filings by id also hold every id removed since,
+            // which a long run piles up).
             _ => {
-                for (id, f) in self.filings.iter().enumerate() {
-                    if let Some(f) = f {
-                        if matches!(f.place, Place::Cells(_)) && meets(&f.world) {
-                            visit(id as SegmentId, &f.segment);
+                for e in self.cells.values().flatten() {
+                    if !(e.first_column && e.first_row) || !meets(&e.world.map(f64::from)) {
+                        continue;
+                    }
+                    if let Some(Some(f)) = self.filings.get(e.id as usize) {
+                        if meets(&f.world) {
+                            visit(e.id, &f.segment);
                         }
                     }
                 }
@@ -412,6 +417,30 @@ mod tests {
         assert!(at_once
             .check_files_exactly(segments.iter().copied())
             .is_ok());
+    }
+
+    #[test]
+    fn a_query_over_the_whole_grid_visits_the_live_segments_once_whatever_was_removed() {
+        // A long run allocates ids and removes most: a box wider than the grid (the whole-grid
+        // pass) finds exactly the segments left, each once, however many ids came before.
+        let mut g = SegmentGrid::default();
+        for id in 0..2000 {
+            let x = f64::from(id % 7);
+            g.insert(id, filed(Point::new(x, 0.5), Point::new(x + 2.5, 1.5)));
+        }
+        for id in 0..2000 {
+            if id % 100 != 0 {
+                g.remove(id);
+            }
+        }
+        let live: Vec<SegmentId> = (0..2000).filter(|id| id % 100 == 0).collect();
+        let everything = g.query(&Point::new(-1e3, -1e3), &Point::new(1e3, 1e3));
+        assert_eq!(everything, live);
+        let mut visits = 0;
+        g.visit_box(&Point::new(-1e3, -1e3), &Point::new(1e3, 1e3), |_, _| {
+            visits += 1;
+        });
+        assert_eq!(visits, live.len(), "each once");
     }
 
     #[test]
