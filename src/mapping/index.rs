@@ -274,7 +274,7 @@ impl SegmentGrid {
             // which a long run piles up).
             _ => {
                 for e in self.cells.values().flatten() {
-                    if !(e.first_column && e.first_row) || !meets(&e.world.map(f64::from)) {
+                    if !(e.first_column && e.first_row && meets(&e.world.map(f64::from))) {
                         continue;
                     }
                     if let Some(Some(f)) = self.filings.get(e.id as usize) {
