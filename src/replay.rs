@@ -11,7 +11,7 @@ use crate::checkpoints::{Checkpoints, DEFAULT_CHECKPOINT_BUDGET_BYTES};
 use crate::eval::{map_verdicts, segment_verdict, truth_figures};
 use crate::lineage::Lineage;
 use crate::mapping::trace::{Outcome, StepTrace};
-use crate::mapping::{Map, Mapper, Params, StepFailure};
+use crate::mapping::{Map, Mapper, Params, RecordedDecision, StepFailure};
 use crate::run::{FloorPlan, Run, Snapshot};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -197,6 +197,11 @@ pub struct Replay {
     params: Params,
     checkpoints: Checkpoints,
     summaries: Vec<StepSummary>,
+    /// Every step's decisions, one step after another (step `k`'s from `decisions_from[k]` up
+    /// to the next step's start), so that catching up from a checkpoint takes them again
+    /// instead of testing candidates.
+    decisions: Vec<RecordedDecision>,
+    decisions_from: Vec<u32>,
     final_map: Map,
     failure: Option<StepFailure>,
     lineage: Arc<Lineage>,
@@ -260,6 +265,7 @@ impl Replay {
         let mut mapper =
             Mapper::new(params.clone(), run.layout.clone(), run.sensor).with_trace(false);
         let mut summaries = Vec::with_capacity(run.snapshots.len());
+        let (mut decisions, mut decisions_from) = (Vec::new(), vec![0u32]);
         let mut failure = None;
         let mut lineage = Lineage::default();
         let mut truth_curve = Vec::new();
@@ -289,6 +295,8 @@ impl Replay {
                         }
                     }
                     summaries.push(summary);
+                    decisions.extend(trace.decisions.iter().map(RecordedDecision::of));
+                    decisions_from.push(u32::try_from(decisions.len()).unwrap_or(u32::MAX));
                     lineage.record(&trace);
                 }
                 Err(f) => {
@@ -306,6 +314,8 @@ impl Replay {
             params,
             checkpoints,
             summaries,
+            decisions,
+            decisions_from,
             final_map: Map::default(),
             failure,
             lineage: Arc::new(lineage),
@@ -384,6 +394,19 @@ impl Replay {
         (self.checkpoints.bytes(), self.checkpoints.budget_bytes())
     }
 
+    /// Steps `mapper` (untraced, standing before snapshot `i`) over snapshot `i`, taking the
+    /// decisions the build recorded for it.
+    fn catch_up(&self, mapper: &mut Mapper, i: usize) {
+        let recorded = match (self.decisions_from.get(i), self.decisions_from.get(i + 1)) {
+            (Some(&a), Some(&b)) => self.decisions.get(a as usize..b as usize),
+            _ => None,
+        };
+        match recorded {
+            Some(decisions) => mapper.step_as_recorded(&self.run.snapshots[i], decisions),
+            None => mapper.step(&self.run.snapshots[i]),
+        };
+    }
+
     /// A mapper positioned just before snapshot `k` (from the nearest checkpoint).
     fn mapper_before(&self, k: usize) -> Mapper {
         let mut mapper = Mapper::new(
@@ -398,7 +421,7 @@ impl Replay {
         mapper.set_trace(false);
         while mapper.next_snapshot() < k {
             let i = mapper.next_snapshot();
-            mapper.step(&self.run.snapshots[i]);
+            self.catch_up(&mut mapper, i);
         }
         mapper
     }
@@ -443,7 +466,7 @@ impl Replay {
                 m.set_trace(false);
                 while m.next_snapshot() < k.saturating_sub(1) {
                     let i = m.next_snapshot();
-                    m.step(&self.run.snapshots[i]);
+                    self.catch_up(&mut m, i);
                 }
                 m
             }

@@ -8,13 +8,13 @@ use super::fast_path::decide;
 use super::fit::{piece_end_points, split_recursive};
 use super::free_space::refuted_segments;
 use super::map::{FaceId, Map, Segment, SegmentId, SegmentKind, SupportPoint};
-use super::matching::{Candidate, SegmentEnds};
+use super::matching::{evaluate_pair, Candidate, SegmentEnds};
 use super::params::Params;
 use super::point_features::{arc_point, explaining_feature, file_arc, ArcTrace, Beam};
 use super::readings::convert_readings;
 use super::trace::{
     CandidateTrace, ClusterTrace, DecisionTrace, ExplainedTrace, NewSegmentTrace, Outcome,
-    RefutedTrace, SegmentSource, SplitTrace, StepTrace, UpdateTrace, Warning,
+    RefutedTrace, Rule, SegmentSource, SplitTrace, StepTrace, UpdateTrace, Warning,
 };
 use super::update::{apply_update, cap_support_points, UpdateRequest};
 use crate::geometry::{Point, Pose};
@@ -40,6 +40,32 @@ pub struct Mapper {
     record_trace: bool,
     /// Buffers each step fills and the next reuses.
     buffers: StepBuffers,
+    /// The decisions the next step takes as recorded instead of deciding them
+    /// ([`Mapper::step_as_recorded`]).
+    script: Option<Vec<RecordedDecision>>,
+}
+
+/// What one decision of a step was, enough to take it again without testing candidates
+/// ([`Mapper::step_as_recorded`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RecordedDecision {
+    /// The outcome.
+    pub outcome: Outcome,
+    /// The rule that decided it.
+    pub rule: Rule,
+    /// The existing segment it named.
+    pub existing: Option<SegmentId>,
+}
+
+impl RecordedDecision {
+    /// What `decision` was.
+    pub fn of(decision: &DecisionTrace) -> Self {
+        Self {
+            outcome: decision.outcome,
+            rule: decision.rule,
+            existing: decision.existing,
+        }
+    }
 }
 
 /// Buffers one step fills and the next reuses, so that an untraced step allocates little. What
@@ -93,6 +119,7 @@ impl Mapper {
             brute_force: false,
             record_trace: true,
             buffers: StepBuffers::default(),
+            script: None,
         }
     }
 
@@ -203,6 +230,23 @@ impl Mapper {
             reused.clear();
             reused
         }
+    }
+
+    /// [`Mapper::step`] taking the decisions (docs/algorithm.md §4) as `decisions` recorded
+    /// them when this step first ran from the same state, instead of testing candidates: the
+    /// same map, for a fraction of the cost on a large map (the replay catches up this way
+    /// between a checkpoint and the snapshot shown). Everything else (fitting, the updates, the
+    /// extensions, correlation) runs as in `step`. With another number of decisions than new
+    /// segments, it decides afresh.
+    pub fn step_as_recorded(
+        &mut self,
+        snapshot: &Snapshot,
+        decisions: &[RecordedDecision],
+    ) -> StepTrace {
+        self.script = Some(decisions.to_vec());
+        let trace = self.step(snapshot);
+        self.script = None;
+        trace
     }
 
     /// Applies one snapshot and returns what happened: the paper's §3 as a pipeline.
@@ -644,10 +688,22 @@ impl Mapper {
         candidate_sets.clear();
         trace.decisions.reserve_exact(new_segments.len());
         trace.updates.reserve_exact(new_segments.len());
-        for seg in new_segments.iter() {
-            let start = candidates.len();
-            self.candidates_for(&SegmentEnds { a: seg.a, b: seg.b }, candidates);
-            candidate_sets.push(start..candidates.len());
+        // Recorded decisions name their segments with the ends they had before this step.
+        let script = self.script.take().filter(|s| s.len() == new_segments.len());
+        let recorded: Option<Vec<(RecordedDecision, Option<SegmentEnds>)>> = script.map(|s| {
+            s.into_iter()
+                .map(|r| {
+                    let ends = r.existing.and_then(|id| self.map.segment(id));
+                    (r, ends.map(|e| SegmentEnds { a: e.a, b: e.b }))
+                })
+                .collect()
+        });
+        if recorded.is_none() {
+            for seg in new_segments.iter() {
+                let start = candidates.len();
+                self.candidates_for(&SegmentEnds { a: seg.a, b: seg.b }, candidates);
+                candidate_sets.push(start..candidates.len());
+            }
         }
         // Whether a candidate is outermost is asked as the map stood before this snapshot: the
         // map keeps each face as it was before the step first changes it.
@@ -659,20 +715,30 @@ impl Mapper {
                 a: new_segments[ni].a,
                 b: new_segments[ni].b,
             };
-            let cands = &mut candidates[candidate_sets[ni].clone()];
-            let map = &self.map;
-            let was_outermost = |id, face| map.was_outermost(id, face);
-            // Room for the usual few tested candidates (a candidate's trace is large to move).
-            let stage = self.fresh_or_reused(mpc_stage, cands.len().min(8));
-            let mut decision = decide(
-                &self.params,
-                ni,
-                &ends,
-                cands,
-                &was_outermost,
-                stage,
-                self.record_trace,
-            );
+            let mut decision = match &recorded {
+                Some(recorded) => {
+                    let (r, existing_ends) = recorded[ni];
+                    let stage = self.fresh_or_reused(mpc_stage, 1);
+                    recorded_decision(&self.params, ni, &ends, r, existing_ends, stage)
+                }
+                None => {
+                    let cands = &mut candidates[candidate_sets[ni].clone()];
+                    let map = &self.map;
+                    let was_outermost = |id, face| map.was_outermost(id, face);
+                    // Room for the usual few tested candidates (a candidate's trace is large
+                    // to move).
+                    let stage = self.fresh_or_reused(mpc_stage, cands.len().min(8));
+                    decide(
+                        &self.params,
+                        ni,
+                        &ends,
+                        cands,
+                        &was_outermost,
+                        stage,
+                        self.record_trace,
+                    )
+                }
+            };
             decision.result = match decision.outcome {
                 Outcome::Match | Outcome::Extension => {
                     let update = self.update_for(&decision, &new_segments[ni], &absorbed_into);
@@ -805,6 +871,38 @@ impl Mapper {
                 trace.correlations.push(correlation);
             }
         }
+    }
+}
+
+/// The decision `r` recorded for new segment `new_index` (`new`), taken again: the named
+/// segment (with `existing_ends`, its ends before the step) evaluated as the decision's one
+/// tested candidate when it is a MATCH or an EXTENSION, which is all the update reads.
+fn recorded_decision(
+    params: &Params,
+    new_index: usize,
+    new: &SegmentEnds,
+    r: RecordedDecision,
+    existing_ends: Option<SegmentEnds>,
+    mut stage: Vec<CandidateTrace>,
+) -> DecisionTrace {
+    stage.clear();
+    if let (Outcome::Match | Outcome::Extension, Some(id), Some(ends)) =
+        (r.outcome, r.existing, existing_ends)
+    {
+        stage.push(CandidateTrace {
+            distance_m: 0.0,
+            outermost: r.outcome == Outcome::Extension,
+            evaluation: evaluate_pair(params, new, id, &ends),
+        });
+    }
+    DecisionTrace {
+        new_segment: new_index,
+        mpc_stage: stage,
+        epc_stage: Vec::new(),
+        outcome: r.outcome,
+        rule: r.rule,
+        existing: r.existing,
+        result: None,
     }
 }
 

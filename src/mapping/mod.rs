@@ -25,7 +25,7 @@ pub mod update;
 
 pub use guard::{install_quiet_step_hook, note_guarded_panic, StepFailure};
 pub use map::{EndPoint, Map, Segment, SegmentId, SegmentKind, SupportPoint};
-pub use mapper::{candidate_reach_m, Mapper, MapperState};
+pub use mapper::{candidate_reach_m, Mapper, MapperState, RecordedDecision};
 pub use params::EXTENDED_SUPPORT_CAP;
 pub use params::{FitMode, Params, ParamsError, ParamsFile, Preset, SplitMode};
 pub use trace::{Outcome, Rule, StepTrace};

@@ -93,3 +93,35 @@ fn extended_maps_stop_growing_on_laps_of_the_suite_scenes() {
         "segments after 2,000 and 6,000 snapshots: {grown:?}"
     );
 }
+
+#[test]
+fn a_replay_catching_up_with_recorded_decisions_gives_the_maps_of_a_plain_run() {
+    // The replay catches up from a checkpoint by taking each step's recorded decisions again
+    // instead of testing candidates: the maps must be those of stepping from the start, in
+    // both presets, on laps of generated scenes with both sensor models.
+    for (kind, seed, plan) in suite_plans(4, 3) {
+        for model in [Model::Specular, Model::Axis] {
+            let run = std::sync::Arc::new(sonarmap::sim::repeat_laps(
+                &simulate(&plan, model, seed),
+                400,
+            ));
+            for params in [Params::paper(), Params::extended()] {
+                let replay =
+                    sonarmap::replay::Replay::build(run.clone(), params.clone(), 64, &mut |_| true)
+                        .unwrap();
+                let mut mapper =
+                    sonarmap::mapping::Mapper::new(params.clone(), run.layout.clone(), run.sensor);
+                for (k, s) in run.snapshots.iter().enumerate() {
+                    mapper.step(s);
+                    if k % 57 == 56 {
+                        assert_eq!(
+                            &replay.map_at(k),
+                            &mapper.map().without_index(),
+                            "{kind:?} seed {seed} {model:?} snapshot {k}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
