@@ -153,6 +153,7 @@ impl SonarApp {
 
     /// Carries out what a chosen path was asked for.
     pub(super) fn path_chosen(&mut self, purpose: FilePurpose, path: std::path::PathBuf) {
+        self.settings.remember_folder(&path);
         match purpose {
             FilePurpose::OpenLog => self.open_path(&path, false),
             FilePurpose::ExportFigure => self.export_to(&path),

@@ -23,6 +23,9 @@ pub struct Settings {
     pub hidden_layers: Vec<String>,
     /// Recently opened files, most recent first.
     pub recent: Vec<PathBuf>,
+    /// Folders where files were last chosen in a file dialog (to open, export, load or save),
+    /// most recent first.
+    pub recent_dirs: Vec<PathBuf>,
     /// Playback rate, snapshots per second.
     pub rate: f32,
     /// Last window size in points (eframe also restores it by itself).
@@ -165,6 +168,7 @@ impl Default for Settings {
                 Layer::Truth.name().to_owned(),
             ],
             recent: Vec::new(),
+            recent_dirs: Vec::new(),
             rate: 4.0,
             window_size: None,
             params: None,
@@ -254,6 +258,7 @@ impl Settings {
         }
         self.rate = self.rate.clamp(0.25, 60.0);
         self.recent.truncate(MAX_RECENT);
+        self.recent_dirs.truncate(MAX_RECENT);
         self.png_scale = self.png_scale.clamp(1, 4);
         let panels = &mut self.panels;
         let default = PanelLayout::default();
@@ -266,15 +271,32 @@ impl Settings {
         self
     }
 
-    /// The folders of the recent files, most recent first, each once (for the file dialog).
+    /// The folders for the file dialog, most recent first, each once: where files were last
+    /// chosen in a dialog, then the folders of the recent files.
     pub fn recent_folders(&self) -> Vec<PathBuf> {
         let mut folders: Vec<PathBuf> = Vec::new();
-        for dir in self.recent.iter().filter_map(|p| p.parent()) {
+        let recent_files = self.recent.iter().filter_map(|p| p.parent());
+        for dir in self
+            .recent_dirs
+            .iter()
+            .map(PathBuf::as_path)
+            .chain(recent_files)
+        {
             if !dir.as_os_str().is_empty() && !folders.iter().any(|d| d == dir) {
                 folders.push(dir.to_path_buf());
             }
         }
         folders
+    }
+
+    /// Puts the folder of `path`, a file chosen in a dialog, first among the recent folders.
+    pub(super) fn remember_folder(&mut self, path: &Path) {
+        let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) else {
+            return;
+        };
+        self.recent_dirs.retain(|d| d != dir);
+        self.recent_dirs.insert(0, dir.to_path_buf());
+        self.recent_dirs.truncate(MAX_RECENT);
     }
 
     /// The layers switched on.
@@ -300,5 +322,24 @@ impl Settings {
         self.recent.retain(|p| p != path);
         self.recent.insert(0, path.to_path_buf());
         self.recent.truncate(MAX_RECENT);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn folders_chosen_in_a_dialog_come_first_among_the_recent_folders_each_once() {
+        let mut s = Settings::default();
+        s.remember(Path::new("/runs/a/hall.json"));
+        s.remember_folder(Path::new("/figures/fig.svg"));
+        s.remember_folder(Path::new("/params/p.json"));
+        s.remember_folder(Path::new("/figures/other.png"));
+        s.remember_folder(Path::new("bare-name.json"));
+        assert_eq!(
+            s.recent_folders(),
+            ["/figures", "/params", "/runs/a"].map(PathBuf::from)
+        );
     }
 }
