@@ -40,9 +40,6 @@ pub struct Mapper {
     record_trace: bool,
     /// Buffers each step fills and the next reuses.
     buffers: StepBuffers,
-    /// The decisions the next step takes as recorded instead of deciding them
-    /// ([`Mapper::step_as_recorded`]).
-    script: Option<Vec<RecordedDecision>>,
 }
 
 /// What one decision of a step was, enough to take it again without testing candidates
@@ -119,7 +116,6 @@ impl Mapper {
             brute_force: false,
             record_trace: true,
             buffers: StepBuffers::default(),
-            script: None,
         }
     }
 
@@ -243,14 +239,20 @@ impl Mapper {
         snapshot: &Snapshot,
         decisions: &[RecordedDecision],
     ) -> StepTrace {
-        self.script = Some(decisions.to_vec());
-        let trace = self.step(snapshot);
-        self.script = None;
-        trace
+        self.step_with(snapshot, Some(decisions))
     }
 
     /// Applies one snapshot and returns what happened: the paper's §3 as a pipeline.
     pub fn step(&mut self, snapshot: &Snapshot) -> StepTrace {
+        self.step_with(snapshot, None)
+    }
+
+    /// [`Mapper::step`], taking the decisions from `recorded` when given.
+    fn step_with(
+        &mut self,
+        snapshot: &Snapshot,
+        recorded: Option<&[RecordedDecision]>,
+    ) -> StepTrace {
         let mut trace = self.begin_step(snapshot);
         let mut buffers = std::mem::take(&mut self.buffers);
         self.readings_and_clusters(snapshot, &mut trace, &mut buffers);
@@ -258,7 +260,8 @@ impl Mapper {
         if self.params.memory_snapshots > 0 {
             self.fit_remembered_points(&mut fitted, &mut trace);
         }
-        let new_faces = self.match_and_update(&mut fitted.segments, &mut trace, &mut buffers);
+        let new_faces =
+            self.match_and_update(&mut fitted.segments, recorded, &mut trace, &mut buffers);
         self.buffers = buffers;
         if self.params.confirm_segments {
             self.note_plane_support(snapshot, &fitted.segments, &mut trace);
@@ -670,11 +673,13 @@ impl Mapper {
     }
 
     /// §4 each new segment matched against the map as it stood before this snapshot, in order;
-    /// §5 the updates; a NEW FACE added to the map (its id allocated as it is decided). Returns
-    /// the faces made, in order.
+    /// §5 the updates; a NEW FACE added to the map (its id allocated as it is decided). With
+    /// `script` (one recorded decision a new segment), the decisions are taken as recorded.
+    /// Returns the faces made, in order.
     fn match_and_update(
         &mut self,
         new_segments: &mut [NewSegmentTrace],
+        script: Option<&[RecordedDecision]>,
         trace: &mut StepTrace,
         buffers: &mut StepBuffers,
     ) -> Vec<FaceId> {
@@ -689,10 +694,10 @@ impl Mapper {
         trace.decisions.reserve_exact(new_segments.len());
         trace.updates.reserve_exact(new_segments.len());
         // Recorded decisions name their segments with the ends they had before this step.
-        let script = self.script.take().filter(|s| s.len() == new_segments.len());
+        let script = script.filter(|s| s.len() == new_segments.len());
         let recorded: Option<Vec<(RecordedDecision, Option<SegmentEnds>)>> = script.map(|s| {
-            s.into_iter()
-                .map(|r| {
+            s.iter()
+                .map(|&r| {
                     let ends = r.existing.and_then(|id| self.map.segment(id));
                     (r, ends.map(|e| SegmentEnds { a: e.a, b: e.b }))
                 })
