@@ -8,9 +8,8 @@
 //! (within half the beam width of the axis), a real wall there would have echoed from the foot,
 //! at the perpendicular distance `p`. A reading `D` with `p + 2·tol(D) < D` (`tol` the
 //! resolution `ξ·D/100`, at least 1 in) says nothing is there: the segment leaves the map.
-//! Only the segments the grid files in the beam's box are tested, and only tentative ones
-//! leave (`Map::is_tentative`): a segment that readings from two snapshots supported as a
-//! plane (§8.7) stays. Refuting confirmed walls too made a lap run churn: a wall refuted by one
+//! Only the segments the grid files in the beam's box are tested, and a confirmed one stays
+//! (`Map::is_confirmed`: readings from two snapshots supported it as a plane, §8.7). Refuting confirmed walls too made a lap run churn: a wall refuted by one
 //! oblique reading came back as a new face on the next lap, and the map of a small room grew
 //! from 273 to 1,176 segments over 20,000 snapshots, each snapshot costing 3× more by the end.
 
@@ -75,8 +74,9 @@ pub fn refutes(
     (off <= half_beam_rad).then_some((p, off))
 }
 
-/// The fitted segments of `map` that `beam` refutes (see [`refutes`]), from the segments the
-/// grid files in the box of the beam's cone; `scratch` is reused.
+/// The segments of `map` that `beam` refutes (see [`refutes`]), from the segments the grid
+/// files in the box of the beam's cone, less the confirmed ones (`Map::is_confirmed`: a
+/// plane supported from two snapshots stays); `scratch` is reused.
 pub fn refuted_segments(
     map: &Map,
     beam: &Beam,
@@ -91,7 +91,9 @@ pub fn refuted_segments(
     map.segments_along_into(&beam.origin, &tip, reach, scratch);
     scratch.sort_unstable();
     for &id in scratch.iter() {
-        let Some(s) = map.segment(id) else { continue };
+        let Some(s) = map.segment(id).filter(|_| !map.is_confirmed(id)) else {
+            continue;
+        };
         if let Some((p, off)) = refutes(beam, &s.a.point, &s.b.point, accuracy_pct, half_beam_rad) {
             out.push((id, p, off));
         }
@@ -136,5 +138,23 @@ mod tests {
         assert_eq!(out.len(), 1);
         assert_eq!(out[0].0, 0);
         assert!((out[0].1 - 2.0).abs() < 1e-12 && out[0].2.abs() < 1e-12);
+        // Once readings from two snapshots supported s0 as a plane, the reading leaves it.
+        let mut confirmed = map;
+        confirmed.plane_support.insert(
+            0,
+            crate::mapping::confirm::PlaneSupport {
+                snapshots: crate::mapping::confirm::CONFIRMING_SNAPSHOTS,
+                last_snapshot: 0,
+            },
+        );
+        refuted_segments(
+            &confirmed,
+            &beam,
+            3.0,
+            12.5f64.to_radians(),
+            &mut scratch,
+            &mut out,
+        );
+        assert!(out.is_empty(), "a confirmed segment stays: {out:?}");
     }
 }

@@ -710,7 +710,13 @@ impl Map {
     /// Whether segment `id` is tentative: segments must be confirmed and it is not
     /// (docs/algorithm.md §8.7).
     pub fn is_tentative(&self, id: SegmentId) -> bool {
-        self.confirms_segments && !self.plane_support.get(&id).is_some_and(|p| p.confirmed())
+        self.confirms_segments && !self.is_confirmed(id)
+    }
+
+    /// Whether readings from two snapshots supported segment `id` as a plane (docs/algorithm.md
+    /// §8.7; never while confirmation is off, which records no support).
+    pub fn is_confirmed(&self, id: SegmentId) -> bool {
+        self.plane_support.get(&id).is_some_and(|p| p.confirmed())
     }
 
     /// The confirmed point features ([`PointFeature::is_confirmed`]), by id.

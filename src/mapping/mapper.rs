@@ -357,9 +357,6 @@ impl Mapper {
             refuted_segments(&self.map, &beam, xi, half, &mut scratch, &mut found);
             // Kept in the slim trace too: the lineage of a segment reads its removal there.
             for &(segment, distance_m, off_axis_rad) in &found {
-                if !self.map.is_tentative(segment) {
-                    continue;
-                }
                 self.map.remove_segment(segment);
                 trace.refuted.push(RefutedTrace {
                     segment,
