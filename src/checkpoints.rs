@@ -85,14 +85,17 @@ impl Checkpoints {
 
     /// The latest state at or before snapshot `k`.
     pub fn before(&self, k: usize) -> Option<&MapperState> {
-        let c = (k / self.interval).min(self.states.len().checked_sub(1)?);
-        self.states.get(c)
+        self.states.get(self.index_before(k))
     }
 
     /// Snapshot of the latest state at or before snapshot `k`.
     pub fn snapshot_before(&self, k: usize) -> usize {
-        let c = (k / self.interval).min(self.states.len().saturating_sub(1));
-        c * self.interval
+        self.index_before(k) * self.interval
+    }
+
+    /// Index of the latest state at or before snapshot `k` (0 while there is none).
+    fn index_before(&self, k: usize) -> usize {
+        (k / self.interval).min(self.states.len().saturating_sub(1))
     }
 
     /// Drops every other state (keeping the first) and doubles the spacing.

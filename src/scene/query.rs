@@ -48,6 +48,14 @@ impl ViewRect {
         p.x >= self.min.x && p.x <= self.max.x && p.y >= self.min.y && p.y <= self.max.y
     }
 
+    /// `rect` widened to take in `p` (the box of `p` alone when there is none yet).
+    pub(super) fn grow(rect: &mut Option<ViewRect>, p: &Point) {
+        match rect {
+            Some(r) => r.include(p),
+            None => *rect = Some(ViewRect { min: *p, max: *p }),
+        }
+    }
+
     pub(super) fn include(&mut self, p: &Point) {
         self.min = Point::new(self.min.x.min(p.x), self.min.y.min(p.y));
         self.max = Point::new(self.max.x.max(p.x), self.max.y.max(p.y));
@@ -80,18 +88,15 @@ impl Scene {
     /// readings, which may reach far beyond the map); `None` when they hold nothing.
     pub fn bounds_of(&self, layers: LayerSet) -> Option<ViewRect> {
         let mut rect: Option<ViewRect> = None;
-        let mut add = |p: Point| match rect.as_mut() {
-            Some(r) => r.include(&p),
-            None => rect = Some(ViewRect { min: p, max: p }),
-        };
-        for prim in self.primitives.iter().filter(|p| layers.contains(p.layer)) {
-            let b = primitive_bounds(prim);
-            add(b.min);
-            add(b.max);
-        }
-        for (_, r) in self.culled.iter().filter(|(l, _)| layers.contains(*l)) {
-            add(r.min);
-            add(r.max);
+        let drawn = (self.primitives.iter())
+            .filter(|p| layers.contains(p.layer))
+            .map(primitive_bounds);
+        let culled = (self.culled.iter())
+            .filter(|(l, _)| layers.contains(*l))
+            .map(|(_, r)| *r);
+        for b in drawn.chain(culled) {
+            ViewRect::grow(&mut rect, &b.min);
+            ViewRect::grow(&mut rect, &b.max);
         }
         rect
     }
@@ -215,10 +220,7 @@ fn distance(prim: &Primitive, p: &Point, tolerance_m: f64) -> f64 {
 /// The world rectangle a primitive covers (a text or marker: its anchor).
 fn primitive_bounds(prim: &Primitive) -> ViewRect {
     let mut r: Option<ViewRect> = None;
-    let mut add = |p: Point| match r.as_mut() {
-        Some(r) => r.include(&p),
-        None => r = Some(ViewRect { min: p, max: p }),
-    };
+    let mut add = |p: Point| ViewRect::grow(&mut r, &p);
     match &prim.shape {
         Shape::Circle { centre, radius_m } => {
             add(Point::new(centre.x - radius_m, centre.y - radius_m));
