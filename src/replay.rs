@@ -394,17 +394,22 @@ impl Replay {
         (self.checkpoints.bytes(), self.checkpoints.budget_bytes())
     }
 
-    /// Steps `mapper` (untraced, standing before snapshot `i`) over snapshot `i`, taking the
+    /// Steps `mapper` untraced until it stands before snapshot `k`, each step taking the
     /// decisions the build recorded for it.
-    fn catch_up(&self, mapper: &mut Mapper, i: usize) {
-        let recorded = match (self.decisions_from.get(i), self.decisions_from.get(i + 1)) {
-            (Some(&a), Some(&b)) => self.decisions.get(a as usize..b as usize),
-            _ => None,
-        };
-        match recorded {
-            Some(decisions) => mapper.step_as_recorded(&self.run.snapshots[i], decisions),
-            None => mapper.step(&self.run.snapshots[i]),
-        };
+    fn catch_up(&self, mapper: &mut Mapper, k: usize) {
+        // Catching up needs no trace: only the steps drawn are traced in full.
+        mapper.set_trace(false);
+        while mapper.next_snapshot() < k {
+            let i = mapper.next_snapshot();
+            let recorded = match (self.decisions_from.get(i), self.decisions_from.get(i + 1)) {
+                (Some(&a), Some(&b)) => self.decisions.get(a as usize..b as usize),
+                _ => None,
+            };
+            match recorded {
+                Some(decisions) => mapper.step_as_recorded(&self.run.snapshots[i], decisions),
+                None => mapper.step(&self.run.snapshots[i]),
+            };
+        }
     }
 
     /// A mapper positioned just before snapshot `k` (from the nearest checkpoint).
@@ -417,12 +422,7 @@ impl Replay {
         if let Some(state) = self.checkpoints.before(k) {
             mapper.restore(state.clone());
         }
-        // Catching up needs no trace: only the steps drawn are traced in full.
-        mapper.set_trace(false);
-        while mapper.next_snapshot() < k {
-            let i = mapper.next_snapshot();
-            self.catch_up(&mut mapper, i);
-        }
+        self.catch_up(&mut mapper, k);
         mapper
     }
 
@@ -463,11 +463,7 @@ impl Replay {
         }
         let mut m = match mapper {
             Some(mut m) if self.cursor_is_closer(m.next_snapshot(), k) => {
-                m.set_trace(false);
-                while m.next_snapshot() < k.saturating_sub(1) {
-                    let i = m.next_snapshot();
-                    self.catch_up(&mut m, i);
-                }
+                self.catch_up(&mut m, k.saturating_sub(1));
                 m
             }
             _ => self.mapper_before(k.saturating_sub(1)),
