@@ -63,6 +63,11 @@ impl RobotFrame {
     pub fn to_world(&self, point_in_robot: &Point) -> Point {
         self.origin_in_world + self.rotation * point_in_robot.coords
     }
+
+    /// Turns a direction given in the robot frame into the world frame.
+    pub fn direction_to_world(&self, direction_in_robot: &Vec2) -> Vec2 {
+        self.rotation * direction_in_robot
+    }
 }
 
 /// Unit vector at `angle_rad` from the x axis.

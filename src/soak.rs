@@ -88,6 +88,13 @@ pub fn soak_variants() -> Vec<(&'static str, Params)> {
             },
         ),
         (
+            "paper+echo_fit",
+            Params {
+                echo_fit: true,
+                ..paper.clone()
+            },
+        ),
+        (
             "paper+min_piece_points",
             Params {
                 min_piece_points: extended.min_piece_points,

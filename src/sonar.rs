@@ -142,6 +142,40 @@ pub struct SensorSpec {
     pub max_range_m: f64,
     /// Blind zone. Metres.
     pub min_range_m: f64,
+    /// Where an echo comes from (docs/formats.md §2 `sensor.echo`).
+    pub echo: EchoModel,
+}
+
+/// Where a ranger's echo comes from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EchoModel {
+    /// Anywhere in the beam cone: the nearest surface point that sends the sound back (an
+    /// ultrasonic sonar; the default).
+    #[default]
+    Cone,
+    /// On the beam axis only (a single-ray ranger such as an infrared or laser range finder,
+    /// or a simulator's ideal ray).
+    Axis,
+}
+
+impl EchoModel {
+    /// Its name in a log file.
+    pub fn name(self) -> &'static str {
+        match self {
+            EchoModel::Cone => "cone",
+            EchoModel::Axis => "axis",
+        }
+    }
+
+    /// The model a log file names, if any.
+    pub fn parse(name: &str) -> Option<EchoModel> {
+        match name {
+            "cone" => Some(EchoModel::Cone),
+            "axis" => Some(EchoModel::Axis),
+            _ => None,
+        }
+    }
 }
 
 impl Default for SensorSpec {
@@ -151,6 +185,7 @@ impl Default for SensorSpec {
             beam_width_rad: 25f64.to_radians(),
             max_range_m: crate::units::inches(255.0),
             min_range_m: crate::units::inches(6.0),
+            echo: EchoModel::Cone,
         }
     }
 }

@@ -485,6 +485,12 @@ pub fn params_panel_ui(
                     |p: &mut Params, v| p.plane_gate = v,
                     paper.plane_gate,
                 ),
+                (
+                    "echo_fit",
+                    params.echo_fit,
+                    |p: &mut Params, v| p.echo_fit = v,
+                    paper.echo_fit,
+                ),
             ] {
                 field_label(ui, name, is_changed(name));
                 let mut on = get;

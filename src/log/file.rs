@@ -98,6 +98,9 @@ pub struct SensorFile {
     /// Blind zone.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub min_range: Option<f64>,
+    /// Where an echo comes from: "cone" (the default) or "axis".
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub echo: Option<crate::sonar::EchoModel>,
 }
 
 /// `floor_plan`: walls `[x1, y1, x2, y2]` (optionally a fifth number, roughness in degrees)

@@ -321,6 +321,7 @@ pub(crate) fn sensor_from_file(
             }
             None => default.min_range_m,
         },
+        echo: s.echo.unwrap_or(default.echo),
     };
     Ok(spec)
 }

@@ -5,7 +5,7 @@ use super::file::{
     SonarsFile, LOG_FORMAT,
 };
 use crate::run::{FloorPlan, Run, Snapshot};
-use crate::sonar::SensorLayout;
+use crate::sonar::{EchoModel, SensorLayout};
 use crate::units::Units;
 use std::io::Write;
 
@@ -144,6 +144,7 @@ fn head_to_file(run: &Run) -> LogFile {
             beam_width_deg: Some(deg(run.sensor.beam_width_rad)),
             max_range: Some(len(u, run.sensor.max_range_m)),
             min_range: Some(len(u, run.sensor.min_range_m)),
+            echo: (run.sensor.echo != EchoModel::Cone).then_some(run.sensor.echo),
         }),
         floor_plan: run.floor_plan.as_ref().map(|p| floor_plan_to_file(p, u)),
         snapshots: Vec::new(),

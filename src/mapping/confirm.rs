@@ -9,9 +9,10 @@
 //! two poses. A segment is **confirmed** once readings of two distinct snapshots support it as
 //! a plane; until then it is tentative (drawn dimmed; `eval` reports both sets).
 
+use super::echo_fit::MAX_INCIDENCE_RAD;
 use super::map::{Map, SegmentId};
 use super::point_features::{feature_tolerance_m, Beam};
-use crate::geometry::{projection_param, Point};
+use crate::geometry::{projection_param, Point, Vec2};
 use serde::{Deserialize, Serialize};
 
 /// Snapshots whose readings support a segment as a plane before it is confirmed.
@@ -87,6 +88,80 @@ pub fn supports_as_plane(
     (v.dot(&beam.direction) / d >= half_beam_rad.cos()).then_some(d)
 }
 
+/// Whether `beam` supports the segment `a`–`b` as a plane, its echo taken from the nearest
+/// point of the plane inside the cone (docs/algorithm.md §8.10): the foot of the perpendicular
+/// when the normal lies inside the cone ([`supports_as_plane`]), else where the cone's nearer
+/// edge meets the line, at most [`MAX_INCIDENCE_RAD`] off the normal. That point must lie on
+/// the segment (10 % slack) at the range within the tolerance. Returns the predicted range.
+///
+/// ```
+/// use sonarmap::geometry::{Point, Vec2};
+/// use sonarmap::mapping::confirm::supports_as_echo;
+/// use sonarmap::mapping::point_features::Beam;
+/// // The wall y = 2 seen 30° off its normal: the cone edge (12.5°) meets it 17.5° off the
+/// // normal, at 2 / cos 17.5° = 2.0971 m, at x = 0.6306.
+/// let dir = Vec2::new(60f64.to_radians().cos(), 60f64.to_radians().sin());
+/// let beam = Beam { origin: Point::origin(), direction: dir, range_m: 2.10 };
+/// let (a, b) = (Point::new(0.0, 2.0), Point::new(2.0, 2.0));
+/// let d = supports_as_echo(&beam, &a, &b, 3.0, 12.5f64.to_radians()).unwrap();
+/// assert!((d - 2.0971).abs() < 1e-4);
+/// // The foot model alone refuses it: the foot (0, 2) lies 30° off the axis.
+/// assert!(sonarmap::mapping::confirm::supports_as_plane(&beam, &a, &b, 3.0, 12.5f64.to_radians()).is_none());
+/// ```
+pub fn supports_as_echo(
+    beam: &Beam,
+    a: &Point,
+    b: &Point,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+) -> Option<f64> {
+    let along = b - a;
+    let length = along.norm();
+    if length <= 0.0 {
+        return None;
+    }
+    let mut normal = Vec2::new(-along.y, along.x) / length;
+    let mut perpendicular_m = normal.dot(&(a - beam.origin));
+    if perpendicular_m < 0.0 {
+        normal = -normal;
+        perpendicular_m = -perpendicular_m;
+    }
+    let off = (beam.direction.x * normal.y - beam.direction.y * normal.x)
+        .atan2(beam.direction.dot(&normal));
+    let incidence = (off.abs() - half_beam_rad).max(0.0);
+    if perpendicular_m <= 0.0 || incidence > MAX_INCIDENCE_RAD {
+        return None;
+    }
+    let predicted_m = perpendicular_m / incidence.cos();
+    if (predicted_m - beam.range_m).abs() > feature_tolerance_m(accuracy_pct, beam.range_m) {
+        return None;
+    }
+    let turn = off.clamp(-half_beam_rad, half_beam_rad);
+    let (s, c) = turn.sin_cos();
+    let d = beam.direction;
+    let echo = beam.origin + Vec2::new(c * d.x - s * d.y, s * d.x + c * d.y) * predicted_m;
+    (-0.1..=1.1)
+        .contains(&projection_param(&echo, a, b))
+        .then_some(predicted_m)
+}
+
+/// The plane test a segment's readings take: [`supports_as_echo`] with `cone_edges`, else
+/// [`supports_as_plane`].
+pub fn supports(
+    beam: &Beam,
+    a: &Point,
+    b: &Point,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+    cone_edges: bool,
+) -> Option<f64> {
+    if cone_edges {
+        supports_as_echo(beam, a, b, accuracy_pct, half_beam_rad)
+    } else {
+        supports_as_plane(beam, a, b, accuracy_pct, half_beam_rad)
+    }
+}
+
 /// Notes the plane support `beams` (readings of `snapshot` that went into segment `id`) give
 /// it: at most once a snapshot. Returns the trace record of the first supporting reading,
 /// if any.
@@ -97,11 +172,12 @@ pub fn note_plane_support(
     snapshot: usize,
     accuracy_pct: f64,
     half_beam_rad: f64,
+    cone_edges: bool,
 ) -> Option<PlaneSupportTrace> {
     let s = map.segment(id)?;
     let (a, b) = (s.a.point, s.b.point);
     let (sensor, beam, distance_m) = beams.iter().find_map(|(sensor, beam)| {
-        supports_as_plane(beam, &a, &b, accuracy_pct, half_beam_rad).map(|d| (*sensor, *beam, d))
+        supports(beam, &a, &b, accuracy_pct, half_beam_rad, cone_edges).map(|d| (*sensor, *beam, d))
     })?;
     let support = map.plane_support.entry(id).or_default();
     if support.snapshots > 0 && support.last_snapshot == snapshot {
@@ -158,13 +234,14 @@ mod tests {
             ..straight
         };
         assert!(map.is_tentative(0));
-        assert!(note_plane_support(&mut map, 0, &[(3, oblique)], 0, 3.0, half).is_none());
-        let first = note_plane_support(&mut map, 0, &[(1, straight)], 0, 3.0, half).unwrap();
+        assert!(note_plane_support(&mut map, 0, &[(3, oblique)], 0, 3.0, half, false).is_none());
+        let first = note_plane_support(&mut map, 0, &[(1, straight)], 0, 3.0, half, false).unwrap();
         assert_eq!((first.snapshots, first.confirmed), (1, false));
         assert!((first.distance_m - 2.0).abs() < 1e-12);
         // The same snapshot again counts once.
-        assert!(note_plane_support(&mut map, 0, &[(2, straight)], 0, 3.0, half).is_none());
-        let second = note_plane_support(&mut map, 0, &[(1, straight)], 1, 3.0, half).unwrap();
+        assert!(note_plane_support(&mut map, 0, &[(2, straight)], 0, 3.0, half, false).is_none());
+        let second =
+            note_plane_support(&mut map, 0, &[(1, straight)], 1, 3.0, half, false).unwrap();
         assert_eq!((second.snapshots, second.confirmed), (2, true));
         assert!(!map.is_tentative(0));
         assert!(map.check_invariants(0).is_ok());

@@ -1,8 +1,9 @@
 //! The mapper: one snapshot in, the map updated and the step's trace out (paper §3).
 
 use super::cluster::{cluster_points, sensor_ranks, Clusters};
-use super::confirm::{note_plane_support, supports_as_plane};
+use super::confirm::{note_plane_support, supports};
 use super::correlate::correlate_face;
+use super::echo_fit::{fit_echo_line, place_echoes, EchoFitTrace, MIN_ECHO_FIT_READINGS};
 use super::extensions::{memory_step, reduce_constant_depth};
 use super::fast_path::decide;
 use super::fit::{piece_end_points, split_recursive};
@@ -19,7 +20,7 @@ use super::trace::{
 use super::update::{apply_update, cap_support_points, UpdateRequest};
 use crate::geometry::{Point, Pose};
 use crate::run::Snapshot;
-use crate::sonar::{BeamAxis, SensorLayout, SensorSpec};
+use crate::sonar::{BeamAxis, EchoModel, SensorLayout, SensorSpec};
 use std::ops::Range;
 use std::sync::Arc;
 
@@ -287,6 +288,7 @@ impl Mapper {
         trace: &mut StepTrace,
     ) {
         let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
+        let cone_edges = self.cone_edges();
         let targets: Vec<(usize, SegmentId)> = trace
             .decisions
             .iter()
@@ -308,14 +310,26 @@ impl Mapper {
                     None => continue,
                 },
             };
-            if let Some(t) =
-                note_plane_support(&mut self.map, target, &beams, trace.snapshot, xi, half)
-            {
+            if let Some(t) = note_plane_support(
+                &mut self.map,
+                target,
+                &beams,
+                trace.snapshot,
+                xi,
+                half,
+                cone_edges,
+            ) {
                 if self.record_trace {
                     trace.plane_support.push(t);
                 }
             }
         }
+    }
+
+    /// Whether the plane tests of §8.7 take echoes from the cone's edges too (§8.10: echo
+    /// placement on, for a sensor whose echoes come from its whole cone).
+    fn cone_edges(&self) -> bool {
+        self.params.echo_fit && self.sensor.echo == EchoModel::Cone
     }
 
     /// §8.7 plane gate: whether a reading of `new` supports it as a plane
@@ -328,7 +342,15 @@ impl Mapper {
                 return false;
             };
             let beam = self.beam_of(&pose, q);
-            supports_as_plane(&beam, &new.a.point, &new.b.point, xi, half).is_some()
+            supports(
+                &beam,
+                &new.a.point,
+                &new.b.point,
+                xi,
+                half,
+                self.cone_edges(),
+            )
+            .is_some()
         })
     }
 
@@ -344,7 +366,7 @@ impl Mapper {
         let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
         points
             .iter()
-            .any(|q| supports_as_plane(&self.beam_of(pose, q), a, b, xi, half).is_some())
+            .any(|q| supports(&self.beam_of(pose, q), a, b, xi, half, self.cone_edges()).is_some())
     }
 
     /// §8.6 free space: the segments a kept reading of this snapshot saw past leave the map.
@@ -392,7 +414,7 @@ impl Mapper {
             }
         }
         self.last_pose = Some(snapshot.pose);
-        if self.params.plane_gate {
+        if self.params.plane_gate || self.params.echo_fit {
             let keep = self.params.memory_snapshots + 1;
             self.map.note_pose(index, snapshot.pose, keep);
         }
@@ -439,11 +461,16 @@ impl Mapper {
     }
 
     /// The world beam of kept point `q` of a snapshot at `pose`.
+    /// Its direction is the sensor's axis, wherever the point was placed (§8.10 moves points
+    /// off their axes).
     fn beam_of(&self, pose: &Pose, q: &SupportPoint) -> Beam {
-        let origin = pose
-            .robot_frame()
-            .to_world(&self.beam_axes[q.reading.sensor].origin_in_robot);
-        Beam::of(q, origin)
+        let frame = pose.robot_frame();
+        let axis = &self.beam_axes[q.reading.sensor];
+        Beam {
+            origin: frame.to_world(&axis.origin_in_robot),
+            direction: frame.direction_to_world(&axis.direction_in_robot),
+            range_m: q.range_m,
+        }
     }
 
     /// §8.5 explained readings: the kept points a confirmed point feature explains leave
@@ -618,12 +645,16 @@ impl Mapper {
                         .extend(fitted.iter().take(end + 1).skip(first).copied());
                     continue;
                 }
-                out.segments.push(NewSegmentTrace {
+                let mut new = NewSegmentTrace {
                     source: SegmentSource::Cluster(ci),
                     a,
                     b,
                     points: fitted[first..=last].to_vec(),
-                });
+                };
+                if params.echo_fit {
+                    self.place_echoes(&mut new, out.segments.len(), trace);
+                }
+                out.segments.push(new);
             }
             if chain_len == 1 {
                 out.singles.push(fitted[0]);
@@ -644,6 +675,52 @@ impl Mapper {
         out
     }
 
+    /// §8.10 echo placement: when one plane's echoes explain the readings of `new` (the
+    /// `index`-th new segment of the step), they move to where those echoes came from and its
+    /// end-points are taken again from them (§3's fit of the moved piece).
+    /// A sensor whose echoes come from its axis ([`EchoModel::Axis`]) keeps the paper's
+    /// placement.
+    fn place_echoes(&self, new: &mut NewSegmentTrace, index: usize, trace: &mut StepTrace) {
+        if new.points.len() < MIN_ECHO_FIT_READINGS || self.sensor.echo == EchoModel::Axis {
+            return;
+        }
+        let beams: Option<Vec<Beam>> = new
+            .points
+            .iter()
+            .map(|q| {
+                let pose = if q.reading.snapshot == trace.snapshot {
+                    trace.pose
+                } else {
+                    self.map.recent_pose(q.reading.snapshot)
+                };
+                pose.map(|pose| self.beam_of(&pose, q))
+            })
+            .collect();
+        let Some(beams) = beams else {
+            return;
+        };
+        let axis_points: Vec<Point> = new.points.iter().map(|q| q.point).collect();
+        let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
+        let Some(line) = fit_echo_line(&beams, &axis_points, xi, half) else {
+            return;
+        };
+        let (placed, at_foot, at_cone_edge, moved_max_m) =
+            place_echoes(&new.points, &beams, &line, half);
+        let (a, b) = piece_end_points(&placed, 0, placed.len() - 1, self.params.fit);
+        new.a = a;
+        new.b = b;
+        new.points = placed;
+        if self.record_trace {
+            trace.echo_fits.push(EchoFitTrace {
+                new_segment: index,
+                line,
+                at_foot,
+                at_cone_edge,
+                moved_max_m,
+            });
+        }
+    }
+
     /// §8.1 point memory: this step's one-point clusters join the memory, and the pieces its
     /// groups yield become new segments after the clusters'.
     fn fit_remembered_points(&mut self, fitted: &mut FittedStep, trace: &mut StepTrace) {
@@ -657,12 +734,16 @@ impl Mapper {
         for piece in pieces {
             let last = piece.points.len() - 1;
             let (a, b) = piece_end_points(&piece.points, 0, last, self.params.fit);
-            fitted.segments.push(NewSegmentTrace {
+            let mut new = NewSegmentTrace {
                 source: SegmentSource::Memory(piece.group),
                 a,
                 b,
                 points: piece.points,
-            });
+            };
+            if self.params.echo_fit {
+                self.place_echoes(&mut new, fitted.segments.len(), trace);
+            }
+            fitted.segments.push(new);
         }
         if self.record_trace {
             trace.memory = Some(memory_trace);

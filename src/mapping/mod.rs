@@ -3,6 +3,7 @@
 pub mod cluster;
 pub mod confirm;
 pub mod correlate;
+pub mod echo_fit;
 pub mod extensions;
 pub mod fast_path;
 pub mod features;

@@ -105,6 +105,9 @@ pub struct Params {
     pub confirm_segments: bool,
     /// A NEW FACE needs a reading that supports it as a plane (docs/algorithm.md §8.7).
     pub plane_gate: bool,
+    /// A fitted piece's readings move to where one plane's echoes came from, when a line fitted
+    /// from their ranges explains them all (docs/algorithm.md §8.10).
+    pub echo_fit: bool,
     /// Fewest readings of a fitted piece that becomes a new segment; shorter pieces' readings
     /// go to point memory. 0 is off (the paper fits any piece; docs/algorithm.md §8.8).
     pub min_piece_points: usize,
@@ -141,6 +144,7 @@ impl Params {
             free_space: false,
             confirm_segments: false,
             plane_gate: false,
+            echo_fit: false,
             min_piece_points: 0,
         }
     }
@@ -159,6 +163,7 @@ impl Params {
             free_space: true,
             confirm_segments: true,
             plane_gate: true,
+            echo_fit: true,
             min_piece_points: 3,
             ..Self::paper()
         }
@@ -303,6 +308,9 @@ impl Params {
         if let Some(v) = file.plane_gate {
             p.plane_gate = v;
         }
+        if let Some(v) = file.echo_fit {
+            p.echo_fit = v;
+        }
         if let Some(v) = file.min_piece_points {
             p.min_piece_points = v;
         }
@@ -340,6 +348,7 @@ impl Params {
             free_space: Some(self.free_space),
             confirm_segments: Some(self.confirm_segments),
             plane_gate: Some(self.plane_gate),
+            echo_fit: Some(self.echo_fit),
             min_piece_points: Some(self.min_piece_points),
         }
     }
@@ -441,6 +450,8 @@ pub struct ParamsFile {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub plane_gate: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub echo_fit: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub min_piece_points: Option<usize>,
 }
 
@@ -460,7 +471,7 @@ mod tests {
         assert_eq!(p.support_cap, 0, "the paper keeps every supporting point");
         assert!(!p.corner_guard);
         assert!(!p.arc_features && !p.explain_readings && !p.free_space && !p.confirm_segments);
-        assert!(!p.plane_gate && p.min_piece_points == 0);
+        assert!(!p.plane_gate && !p.echo_fit && p.min_piece_points == 0);
         let e = Params::extended();
         assert_eq!(e.support_cap, 64);
         assert!(e.corner_guard);
@@ -468,7 +479,7 @@ mod tests {
         assert!(e.constant_depth);
         assert!(e.merge_duplicates);
         assert!(e.arc_features && e.explain_readings && e.free_space && e.confirm_segments);
-        assert!(e.plane_gate && e.min_piece_points == 3);
+        assert!(e.plane_gate && e.echo_fit && e.min_piece_points == 3);
         assert!(p.validate().is_ok() && e.validate().is_ok());
     }
 

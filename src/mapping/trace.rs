@@ -573,9 +573,14 @@ pub struct StepTrace {
     /// (docs/algorithm.md §8.7).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub gated: Vec<usize>,
+    /// New segments whose readings were moved to where one plane's echoes came from
+    /// (docs/algorithm.md §8.10).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub echo_fits: Vec<EchoFitTrace>,
 }
 
 pub use super::confirm::PlaneSupportTrace;
+pub use super::echo_fit::EchoFitTrace;
 pub use super::free_space::RefutedTrace;
 pub use super::point_features::ArcTrace;
 

@@ -162,6 +162,7 @@ pub fn plan_to_file(plan: &Plan) -> PlanFile {
             beam_width_deg: Some(deg(plan.sensor.beam_width_rad)),
             max_range: Some(len(plan.sensor.max_range_m)),
             min_range: Some(len(plan.sensor.min_range_m)),
+            echo: None,
         }),
         sim: Some(SimFile {
             resolution: Some(len(plan.sim.resolution_m)),

@@ -3,6 +3,7 @@
 use super::beam::{Model, World};
 use super::plan::Plan;
 use crate::run::{Run, Snapshot};
+use crate::sonar::{EchoModel, SensorSpec};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -24,7 +25,14 @@ pub fn simulate(plan: &Plan, model: Model, seed: u64) -> Run {
         plan.sim.corner_tolerance_m,
     );
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let sensor = plan.sensor;
+    // The run says where its echoes came from: the axis model's single ray reads along the axis.
+    let sensor = SensorSpec {
+        echo: match model {
+            Model::Specular => EchoModel::Cone,
+            Model::Axis => EchoModel::Axis,
+        },
+        ..plan.sensor
+    };
     let sim = plan.sim;
     let snapshots = plan
         .poses

@@ -224,6 +224,7 @@ fn a_new_face_whose_first_segment_was_merged_away_in_the_same_snapshot_keeps_its
         free_space: false,
         confirm_segments: false,
         plane_gate: false,
+        echo_fit: false,
         min_piece_points: 0,
         ..Params::extended()
     };
