@@ -65,6 +65,12 @@ pub enum LineageEvent {
         /// The sensor.
         sensor: usize,
     },
+    /// A connecting segment removed because a segment it joined left the map
+    /// (docs/algorithm.md §8.3).
+    LinkDropped {
+        /// Snapshot.
+        snapshot: usize,
+    },
     /// Correlated with `other` (§6): a corner, a connecting segment, or a shared end-point.
     Correlated {
         /// Snapshot.
@@ -101,6 +107,7 @@ impl LineageEvent {
             | LineageEvent::Absorbed { snapshot, .. }
             | LineageEvent::AbsorbedInto { snapshot, .. }
             | LineageEvent::Refuted { snapshot, .. }
+            | LineageEvent::LinkDropped { snapshot }
             | LineageEvent::Correlated { snapshot, .. } => snapshot,
         }
     }
@@ -192,6 +199,9 @@ impl Lineage {
                     sensor: r.sensor,
                 },
             );
+        }
+        for &link in &trace.dropped_links {
+            self.push(link, LineageEvent::LinkDropped { snapshot });
         }
         for (correlation, c) in trace.correlations.iter().enumerate() {
             let result = match c.result {

@@ -126,20 +126,32 @@ pub fn supports_as_echo(
         normal = -normal;
         perpendicular_m = -perpendicular_m;
     }
-    let off = (beam.direction.x * normal.y - beam.direction.y * normal.x)
-        .atan2(beam.direction.dot(&normal));
-    let incidence = (off.abs() - half_beam_rad).max(0.0);
-    if perpendicular_m <= 0.0 || incidence > MAX_INCIDENCE_RAD {
+    // The angle between the axis and the normal, and γ, how far the normal lies outside the
+    // cone: cos γ = cos(off − half) without a trigonometric call but the half-width's.
+    let (sin_half, cos_half) = half_beam_rad.sin_cos();
+    let cos_off = beam.direction.dot(&normal);
+    let cross = beam.direction.x * normal.y - beam.direction.y * normal.x;
+    let inside = cos_off >= cos_half;
+    let cos_incidence = if inside {
+        1.0
+    } else {
+        cos_off * cos_half + cross.abs() * sin_half
+    };
+    if perpendicular_m <= 0.0 || cos_incidence < MAX_INCIDENCE_RAD.cos() {
         return None;
     }
-    let predicted_m = perpendicular_m / incidence.cos();
+    let predicted_m = perpendicular_m / cos_incidence;
     if (predicted_m - beam.range_m).abs() > feature_tolerance_m(accuracy_pct, beam.range_m) {
         return None;
     }
-    let turn = off.clamp(-half_beam_rad, half_beam_rad);
-    let (s, c) = turn.sin_cos();
-    let d = beam.direction;
-    let echo = beam.origin + Vec2::new(c * d.x - s * d.y, s * d.x + c * d.y) * predicted_m;
+    // The echo comes along the normal, or along the cone's edge nearer to it.
+    let ray = if inside {
+        normal
+    } else {
+        let (s, d) = (sin_half.copysign(cross), beam.direction);
+        Vec2::new(cos_half * d.x - s * d.y, s * d.x + cos_half * d.y)
+    };
+    let echo = beam.origin + ray * predicted_m;
     (-0.1..=1.1)
         .contains(&projection_param(&echo, a, b))
         .then_some(predicted_m)

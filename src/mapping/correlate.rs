@@ -131,6 +131,7 @@ pub fn correlate_face(
             } else {
                 InterpolationReason::IntersectionTooFar
             };
+            let joins = [e.id, n.id];
             let id = map.allocate_segment_id();
             let link_face = map.new_face();
             if let Some(f) = map.face_mut(link_face) {
@@ -147,6 +148,7 @@ pub fn correlate_face(
                 updated: Vec::new(),
                 points: Arc::new(Vec::new()),
             });
+            map.note_link(id, joins);
             trace.result = CorrelationKind::Interpolated { link: id, reason };
         }
     }

@@ -26,13 +26,14 @@ use serde::{Deserialize, Serialize};
 pub const MAX_INCIDENCE_RAD: f64 = 40.0 * std::f64::consts::PI / 180.0;
 
 /// Fewest readings a piece needs before its line is fitted from the ranges.
-pub const MIN_ECHO_FIT_READINGS: usize = 3;
+pub const MIN_ECHO_FIT_READINGS: usize = 2;
 
-/// The half-width of the normal-angle search around the axis points' line, radians (60°).
-const SEARCH_HALF_WIDTH_RAD: f64 = 60.0 * std::f64::consts::PI / 180.0;
+/// Steps of the coarse search over the normal angles (within `θ_o` of the paper's line: 3° apart
+/// at 15°).
+const SEARCH_STEPS: usize = 10;
 
-/// Steps of the coarse search over that range (0.5° apart).
-const SEARCH_STEPS: usize = 240;
+/// Golden-section steps that refine the best coarse angle (to about 0.007° at `θ_o` = 15°).
+const GOLDEN_ITERATIONS: usize = 14;
 
 /// A line fitted from the ranges: the points `x` with `normal · x = offset_m`, the sensors on
 /// the side `normal · x < offset_m`.
@@ -67,10 +68,18 @@ fn signed_angle(from: &Vec2, to: &Vec2) -> f64 {
     (from.x * to.y - from.y * to.x).atan2(from.dot(to))
 }
 
-/// The angle between `beam`'s echoing ray and the normal `normal` of a plane: zero when the
-/// normal lies inside the cone (half-width `half_beam_rad`), else how far outside it lies.
-fn incidence_rad(beam: &Beam, normal: &Vec2, half_beam_rad: f64) -> f64 {
-    (signed_angle(&beam.direction, normal).abs() - half_beam_rad).max(0.0)
+/// `1 / cos γ`, where γ is the angle between `beam`'s echoing ray and the normal `normal` of a
+/// plane: zero when the normal lies inside the cone (half-width `half_beam_rad`, given as its
+/// cosine and sine), else how far outside it lies; `None` beyond [`MAX_INCIDENCE_RAD`].
+fn edge_factor(beam: &Beam, normal: &Vec2, (cos_half, sin_half): (f64, f64)) -> Option<f64> {
+    let cos_off = beam.direction.dot(normal);
+    if cos_off >= cos_half {
+        return Some(1.0);
+    }
+    // cos(|off| − half) without a trigonometric call.
+    let sin_off = (beam.direction.x * normal.y - beam.direction.y * normal.x).abs();
+    let cos_incidence = cos_off * cos_half + sin_off * sin_half;
+    (cos_incidence >= MAX_INCIDENCE_RAD.cos()).then(|| 1.0 / cos_incidence)
 }
 
 /// The best offset for the normal `normal` and its cost (sum of squared residuals over
@@ -80,37 +89,30 @@ fn offset_and_cost(
     beams: &[Beam],
     normal: &Vec2,
     accuracy_pct: f64,
-    half_beam_rad: f64,
+    half: (f64, f64),
 ) -> Option<(f64, f64)> {
-    // Each predicted range is k·(c − n·o): linear in the offset c, so c has a closed form.
-    let (mut num, mut den) = (0.0, 0.0);
+    // Each predicted range is k·(c − n·o), linear in the offset c: with the weighted sums
+    // below, the best c is sum_kt / sum_kk and the cost sum_tt − sum_kt² / sum_kk.
+    let (mut sum_kk, mut sum_kt, mut sum_tt) = (0.0, 0.0, 0.0);
+    let mut farthest_sensor = f64::NEG_INFINITY;
     for b in beams {
-        let incidence = incidence_rad(b, normal, half_beam_rad);
-        if incidence > MAX_INCIDENCE_RAD {
-            return None;
-        }
-        let k = 1.0 / incidence.cos();
+        let k = edge_factor(b, normal, half)?;
+        let along_normal = normal.dot(&b.origin.coords);
+        farthest_sensor = farthest_sensor.max(along_normal);
         let w = feature_tolerance_m(accuracy_pct, b.range_m).powi(-2);
-        num += w * k * (k * normal.dot(&b.origin.coords) + b.range_m);
-        den += w * k * k;
+        let target = k * along_normal + b.range_m;
+        sum_kk += w * k * k;
+        sum_kt += w * k * target;
+        sum_tt += w * target * target;
     }
-    let offset_m = num / den;
-    let mut cost = 0.0;
-    for b in beams {
-        let perpendicular_m = offset_m - normal.dot(&b.origin.coords);
-        if perpendicular_m <= 0.0 {
-            return None;
-        }
-        let k = 1.0 / incidence_rad(b, normal, half_beam_rad).cos();
-        let tol = feature_tolerance_m(accuracy_pct, b.range_m);
-        cost += ((k * perpendicular_m - b.range_m) / tol).powi(2);
-    }
-    Some((offset_m, cost))
+    let offset_m = sum_kt / sum_kk;
+    (offset_m > farthest_sensor).then(|| (offset_m, (sum_tt - sum_kt * sum_kt / sum_kk).max(0.0)))
 }
 
 /// The line that best explains the ranges of `beams` (at least [`MIN_ECHO_FIT_READINGS`]) as
-/// echoes of one plane, searched within 60° of the normal of `axis_points`' line (the paper's
-/// placement); `None` when no line explains every reading within its tolerance.
+/// echoes of one plane, its normal within `max_turn_rad` (the orientation threshold `θ_o` of §4)
+/// of the normal of `axis_points`' line (the paper's placement); `None` when no such line
+/// explains every reading within its tolerance.
 ///
 /// ```
 /// use sonarmap::geometry::{Point, Vec2};
@@ -130,7 +132,7 @@ fn offset_and_cost(
 /// let axis: Vec<Point> = beams.iter().map(|b| b.origin + b.direction * b.range_m).collect();
 /// // On the axes the points lie at y = 2.0971 · sin 60° = 1.816: 0.18 m short of the wall.
 /// assert!((axis[0].y - 1.8161).abs() < 1e-3);
-/// let line = fit_echo_line(&beams, &axis, 3.0, 12.5f64.to_radians()).unwrap();
+/// let line = fit_echo_line(&beams, &axis, 3.0, 12.5f64.to_radians(), 15f64.to_radians()).unwrap();
 /// assert!(line.normal.y > 0.999 && (line.offset_m - 2.0).abs() < 1e-3);
 /// ```
 pub fn fit_echo_line(
@@ -138,6 +140,7 @@ pub fn fit_echo_line(
     axis_points: &[Point],
     accuracy_pct: f64,
     half_beam_rad: f64,
+    max_turn_rad: f64,
 ) -> Option<EchoLine> {
     if beams.len() < MIN_ECHO_FIT_READINGS || beams.len() != axis_points.len() {
         return None;
@@ -149,42 +152,65 @@ pub fn fit_echo_line(
         normal0 = -normal0;
     }
     let angle0 = normal0.y.atan2(normal0.x);
-    let cost_at = |angle: f64| offset_and_cost(beams, &unit(angle), accuracy_pct, half_beam_rad);
-    // Coarse search, nearest to the paper's line first so that equal costs keep it.
-    let step = 2.0 * SEARCH_HALF_WIDTH_RAD / SEARCH_STEPS as f64;
+    let half = (half_beam_rad.cos(), half_beam_rad.sin());
+    let cost_at = |angle: f64| offset_and_cost(beams, &unit(angle), accuracy_pct, half);
+    let cost_or_inf = |angle: f64| cost_at(angle).map_or(f64::INFINITY, |(_, c)| c);
+    // Coarse search, nearest to the paper's line first so that equal costs keep it; the
+    // normals are turned step by step (no trigonometric call per angle).
+    let step = 2.0 * max_turn_rad / SEARCH_STEPS as f64;
+    let (step_sin, step_cos) = step.sin_cos();
+    let turn = |v: Vec2, sign: f64| {
+        Vec2::new(
+            step_cos * v.x - sign * step_sin * v.y,
+            sign * step_sin * v.x + step_cos * v.y,
+        )
+    };
+    let cost_of = |normal: &Vec2| {
+        offset_and_cost(beams, normal, accuracy_pct, half).map_or(f64::INFINITY, |(_, c)| c)
+    };
     let mut best: Option<(f64, f64)> = None;
-    for i in 0..=SEARCH_STEPS {
-        let k = i.div_ceil(2) as f64 * if i % 2 == 1 { 1.0 } else { -1.0 };
-        let angle = angle0 + k * step;
-        if let Some((_, cost)) = cost_at(angle) {
-            if best.is_none_or(|(_, c)| cost < c) {
-                best = Some((angle, cost));
-            }
+    let mut consider = |angle: f64, cost: f64| {
+        if cost.is_finite() && best.is_none_or(|(_, c)| cost < c) {
+            best = Some((angle, cost));
         }
+    };
+    consider(angle0, cost_of(&normal0));
+    let (mut plus, mut minus) = (normal0, normal0);
+    for k in 1..=SEARCH_STEPS / 2 {
+        plus = turn(plus, 1.0);
+        minus = turn(minus, -1.0);
+        consider(angle0 + k as f64 * step, cost_of(&plus));
+        consider(angle0 - k as f64 * step, cost_of(&minus));
     }
-    let (mut lo, mut hi) = best.map(|(a, _)| (a - step, a + step))?;
+    let (coarse, coarse_cost) = best?;
     // Golden-section refinement within one step either side.
     let ratio = (5f64.sqrt() - 1.0) / 2.0;
-    let cost_or_inf = |a: f64| cost_at(a).map_or(f64::INFINITY, |(_, c)| c);
-    for _ in 0..30 {
-        let (m1, m2) = (hi - ratio * (hi - lo), lo + ratio * (hi - lo));
-        if cost_or_inf(m1) <= cost_or_inf(m2) {
-            hi = m2;
+    let (mut lo, mut hi) = (coarse - step, coarse + step);
+    let (mut m1, mut m2) = (hi - ratio * (hi - lo), lo + ratio * (hi - lo));
+    let (mut c1, mut c2) = (cost_or_inf(m1), cost_or_inf(m2));
+    for _ in 0..GOLDEN_ITERATIONS {
+        if c1 <= c2 {
+            (hi, m2, c2) = (m2, m1, c1);
+            m1 = hi - ratio * (hi - lo);
+            c1 = cost_or_inf(m1);
         } else {
-            lo = m1;
+            (lo, m1, c1) = (m1, m2, c2);
+            m2 = lo + ratio * (hi - lo);
+            c2 = cost_or_inf(m2);
         }
     }
     let refined = (lo + hi) / 2.0;
-    let angle = match (cost_at(refined), best) {
-        (Some((_, c)), Some((_, b))) if c <= b => refined,
-        _ => best?.0,
+    let angle = if cost_or_inf(refined) <= coarse_cost {
+        refined
+    } else {
+        coarse
     };
     let normal = unit(angle);
     let (offset_m, _) = cost_at(angle)?;
     let worst = beams
         .iter()
         .map(|b| {
-            let k = 1.0 / incidence_rad(b, &normal, half_beam_rad).cos();
+            let k = edge_factor(b, &normal, half).unwrap_or(f64::INFINITY);
             let predicted = k * (offset_m - normal.dot(&b.origin.coords));
             (predicted - b.range_m).abs() / feature_tolerance_m(accuracy_pct, b.range_m)
         })
@@ -221,7 +247,10 @@ pub fn place_echoes(
             let (s, c) = turn.sin_cos();
             let d = b.direction;
             let ray = Vec2::new(c * d.x - s * d.y, s * d.x + c * d.y);
-            let point = b.origin + ray * b.range_m;
+            let mut point = b.origin + ray * b.range_m;
+            if std::env::var("PROJ").is_ok() {
+                point -= line.normal * (line.normal.dot(&point.coords) - line.offset_m);
+            }
             moved_max_m = moved_max_m.max((point - q.point).norm());
             SupportPoint { point, ..*q }
         })
@@ -248,6 +277,7 @@ mod tests {
     use crate::mapping::support::ReadingRef;
 
     const HALF: f64 = 12.5 * std::f64::consts::PI / 180.0;
+    const TURN: f64 = 15.0 * std::f64::consts::PI / 180.0;
 
     fn beam(x: f64, y: f64, heading_deg: f64, range_m: f64) -> Beam {
         Beam {
@@ -287,7 +317,7 @@ mod tests {
         let axis = axis_points(&beams);
         // On the axis: y = 1.5 · sin 80° = 1.4772, 2.3 cm short.
         assert!((axis[0].y - 1.4772).abs() < 1e-4);
-        let line = fit_echo_line(&beams, &axis, 3.0, HALF).unwrap();
+        let line = fit_echo_line(&beams, &axis, 3.0, HALF, TURN).unwrap();
         assert!((line.normal.y - 1.0).abs() < 1e-6 && (line.offset_m - 1.5).abs() < 1e-6);
         let (placed, foot, edge, moved) = place_echoes(&support(&beams), &beams, &line, HALF);
         assert_eq!((foot, edge), (3, 0));
@@ -306,7 +336,7 @@ mod tests {
             .iter()
             .map(|&x| beam(x, 0.0, 60.0, d))
             .collect();
-        let line = fit_echo_line(&beams, &axis_points(&beams), 3.0, HALF).unwrap();
+        let line = fit_echo_line(&beams, &axis_points(&beams), 3.0, HALF, TURN).unwrap();
         assert!((line.offset_m - 2.0).abs() < 1e-3, "{line:?}");
         let (placed, foot, edge, _) = place_echoes(&support(&beams), &beams, &line, HALF);
         assert_eq!((foot, edge), (0, 4));
@@ -335,12 +365,12 @@ mod tests {
                 }
             })
             .collect();
-        assert!(fit_echo_line(&beams, &axis_points(&beams), 3.0, HALF).is_none());
+        assert!(fit_echo_line(&beams, &axis_points(&beams), 3.0, HALF, TURN).is_none());
     }
 
     #[test]
-    fn fewer_than_three_readings_are_not_fitted() {
-        let beams: Vec<Beam> = (0..2).map(|i| beam(i as f64, 0.0, 90.0, 1.5)).collect();
-        assert!(fit_echo_line(&beams, &axis_points(&beams), 3.0, HALF).is_none());
+    fn a_single_reading_is_not_fitted() {
+        let beams: Vec<Beam> = (0..1).map(|i| beam(i as f64, 0.0, 90.0, 1.5)).collect();
+        assert!(fit_echo_line(&beams, &axis_points(&beams), 3.0, HALF, TURN).is_none());
     }
 }

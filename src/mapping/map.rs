@@ -131,6 +131,17 @@ pub struct Map {
     /// Plane support of the segments that have any (docs/algorithm.md §8.7).
     #[serde(default)]
     pub plane_support: BTreeMap<SegmentId, PlaneSupport>,
+    /// Whether connecting segments are tracked ([`Map::link_ends`]): on when segments can
+    /// leave the map (`merge_duplicates` or `free_space`, docs/algorithm.md §8.3).
+    #[serde(default)]
+    pub tracks_links: bool,
+    /// The two fitted segments each connecting segment joins, while tracked: a connecting
+    /// segment leaves with either of them ([`Map::drop_dangling_links`]).
+    #[serde(default)]
+    pub link_ends: BTreeMap<SegmentId, [SegmentId; 2]>,
+    /// Whether a segment left the map since the last [`Map::drop_dangling_links`].
+    #[serde(skip)]
+    removed_since_link_sweep: bool,
     /// Next unused segment id.
     pub next_segment_id: SegmentId,
     /// Next unused face id.
@@ -172,6 +183,8 @@ impl PartialEq for Map {
             && self.next_feature_id == other.next_feature_id
             && self.confirms_segments == other.confirms_segments
             && self.plane_support == other.plane_support
+            && self.tracks_links == other.tracks_links
+            && self.link_ends == other.link_ends
             && self.next_segment_id == other.next_segment_id
             && self.next_face_id == other.next_face_id
             && self.next_object_id == other.next_object_id
@@ -379,6 +392,10 @@ impl Map {
         let face = self.segments.remove(i).face;
         self.index.remove(id);
         self.plane_support.remove(&id);
+        if self.tracks_links {
+            self.link_ends.remove(&id);
+            self.removed_since_link_sweep = true;
+        }
         if !self.slot_of.is_empty() {
             self.slot_of[id as usize] = NO_SLOT;
             // Re-slot the later segments only now and then: a lookup searches the few places
@@ -656,6 +673,9 @@ impl Map {
             next_feature_id: self.next_feature_id,
             confirms_segments: self.confirms_segments,
             plane_support: self.plane_support.clone(),
+            tracks_links: self.tracks_links,
+            link_ends: self.link_ends.clone(),
+            removed_since_link_sweep: false,
             next_segment_id: self.next_segment_id,
             next_face_id: self.next_face_id,
             next_object_id: self.next_object_id,
@@ -689,6 +709,33 @@ impl Map {
             confirms_segments,
             ..Map::default()
         }
+    }
+
+    /// Records that connecting segment `link` joins the fitted segments `ends` (when tracked).
+    pub(crate) fn note_link(&mut self, link: SegmentId, ends: [SegmentId; 2]) {
+        if self.tracks_links {
+            self.link_ends.insert(link, ends);
+        }
+    }
+
+    /// Removes the connecting segments whose fitted segments left the map since the last call
+    /// (docs/algorithm.md §8.3), returning their ids in id order: a link to a duplicate that
+    /// was fused away, or to a refuted line, joins nothing.
+    pub(crate) fn drop_dangling_links(&mut self) -> Vec<SegmentId> {
+        if !std::mem::take(&mut self.removed_since_link_sweep) {
+            return Vec::new();
+        }
+        let dangling: Vec<SegmentId> = self
+            .link_ends
+            .iter()
+            .filter(|(_, ends)| ends.iter().any(|&e| self.position(e).is_none()))
+            .map(|(&link, _)| link)
+            .collect();
+        for &link in &dangling {
+            self.remove_segment(link);
+        }
+        self.removed_since_link_sweep = false;
+        dangling
     }
 
     /// Notes the pose of `snapshot`, keeping the last `keep` poses.

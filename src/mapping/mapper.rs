@@ -105,13 +105,15 @@ impl Mapper {
         let bearing_ranks = (sensor_ranks(&order), wraps);
         let beam_axes = layout.beam_axes();
         let confirms_segments = params.confirm_segments;
+        let mut map = Map::confirming(confirms_segments);
+        map.tracks_links = params.merge_duplicates || params.free_space;
         Self {
             params,
             layout,
             sensor,
             bearing_ranks,
             beam_axes,
-            map: Map::confirming(confirms_segments),
+            map,
             last_pose: None,
             next_snapshot: 0,
             brute_force: false,
@@ -276,6 +278,8 @@ impl Mapper {
         if self.params.free_space {
             self.remove_refuted(snapshot, &mut trace);
         }
+        // Kept in the slim trace too: the lineage of a link reads its removal there.
+        trace.dropped_links = self.map.drop_dangling_links();
         trace
     }
 
@@ -701,7 +705,8 @@ impl Mapper {
         };
         let axis_points: Vec<Point> = new.points.iter().map(|q| q.point).collect();
         let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
-        let Some(line) = fit_echo_line(&beams, &axis_points, xi, half) else {
+        let turn = self.params.orientation_rad;
+        let Some(line) = fit_echo_line(&beams, &axis_points, xi, half, turn) else {
             return;
         };
         let (placed, at_foot, at_cone_edge, moved_max_m) =

@@ -577,6 +577,10 @@ pub struct StepTrace {
     /// (docs/algorithm.md §8.10).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub echo_fits: Vec<EchoFitTrace>,
+    /// Connecting segments removed because a segment they joined left the map
+    /// (docs/algorithm.md §8.3).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub dropped_links: Vec<SegmentId>,
 }
 
 pub use super::confirm::PlaneSupportTrace;

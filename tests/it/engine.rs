@@ -377,8 +377,14 @@ fn simulated_blue_room_asset_maps_its_near_walls_without_spurious_segments() {
         let report = sonarmap::eval::evaluate(mapper.map(), &run, plan, &params);
         assert!(report.true_segments >= 2, "{report:?}");
         assert_eq!(report.spurious_fraction, 0.0, "{report:?}");
+        // `extended` places readings where their echoes came from (§8.10): two neighbouring
+        // sensors that hear one wall square-on both hear its foot, so their pair shrinks to the
+        // few inches the sensors stand apart, where the paper spreads them over their beam
+        // axes (visible length is measured around the axis points). Measured: 0.21 of the
+        // visible walls in `extended`, against more than 0.4 in `paper`.
+        let least_coverage = if params.echo_fit { 0.15 } else { 0.4 };
         assert!(
-            report.coverage_visible.is_some_and(|c| c > 0.4),
+            report.coverage_visible.is_some_and(|c| c > least_coverage),
             "{report:?}"
         );
     }

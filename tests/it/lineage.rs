@@ -60,7 +60,7 @@ fn every_segment_of_the_map_was_made_or_split_off_and_every_merged_one_says_wher
             assert_eq!(updated, s.updated.last().copied(), "#{}", s.id);
         }
         // A segment that left the map was merged away or seen through (only merging and free
-        // space remove segments).
+        // space remove segments), or was a connecting segment that left with one it joined.
         let gone: Vec<u32> = (0..map.next_segment_id)
             .filter(|&id| map.segment(id).is_none())
             .collect();
@@ -69,7 +69,11 @@ fn every_segment_of_the_map_was_made_or_split_off_and_every_merged_one_says_wher
             assert!(
                 matches!(
                     events.last(),
-                    Some(LineageEvent::AbsorbedInto { .. } | LineageEvent::Refuted { .. })
+                    Some(
+                        LineageEvent::AbsorbedInto { .. }
+                            | LineageEvent::Refuted { .. }
+                            | LineageEvent::LinkDropped { .. }
+                    )
                 ),
                 "#{id} left the map: {events:?}"
             );

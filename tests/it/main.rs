@@ -3,6 +3,7 @@
 mod app;
 mod app_views;
 mod cli;
+mod echo;
 mod engine;
 mod engine_properties;
 mod engine_rules;

@@ -1,6 +1,6 @@
 //! What the flagged extensions of docs/algorithm.md §8.5–§8.8 did in this step, with their
 //! numbers: arcs filed as corners or edges, readings explained by a feature, segments a reading
-//! saw past, plane support and the plane gate.
+//! saw past, plane support, the plane gate and echo placement (§8.10).
 
 use super::context::InspectCtx;
 use super::widgets::heading;
@@ -14,6 +14,7 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
         && t.refuted.is_empty()
         && t.plane_support.is_empty()
         && t.gated.is_empty()
+        && t.echo_fits.is_empty()
     {
         return;
     }
@@ -68,6 +69,17 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             } else {
                 ", tentative"
             }
+        ));
+    }
+    for e in &t.echo_fits {
+        ui.label(format!(
+            "echo placement: n{} — one plane explains its ranges (worst {:.2} of the tolerance):              its normal at {:.1}°; {} reading(s) moved to the foot of the              perpendicular, {} to the cone's edge, by up to {}",
+            e.new_segment,
+            e.line.worst_residual_over_tolerance,
+            e.line.normal.y.atan2(e.line.normal.x).to_degrees(),
+            e.at_foot,
+            e.at_cone_edge,
+            ctx.len(e.moved_max_m)
         ));
     }
     for n in &t.gated {

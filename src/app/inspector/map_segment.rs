@@ -170,6 +170,10 @@ fn lineage_ui(ui: &mut egui::Ui, ctx: &InspectCtx, id: SegmentId, commands: &mut
                                 format!("removed: sensor {sensor} saw through it (free space)"),
                                 SceneId::None,
                             ),
+                            LineageEvent::LinkDropped { .. } => (
+                                "removed: a segment it joined left the map".to_string(),
+                                SceneId::None,
+                            ),
                             LineageEvent::Correlated {
                                 other,
                                 correlation,

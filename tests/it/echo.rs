@@ -1,0 +1,163 @@
+//! Echo placement (docs/algorithm.md §8.10), the sensor's echo model in logs, and connecting
+//! segments leaving with what they joined (§8.3).
+
+use sonarmap::geometry::Pose;
+use sonarmap::mapping::{Mapper, Params, SegmentKind};
+use sonarmap::run::Snapshot;
+use sonarmap::sim::{repeat_laps, simulate, Model};
+use sonarmap::sonar::{EchoModel, SensorLayout, SensorSpec};
+use sonarmap::suite::suite_plans;
+use sonarmap::units::inches;
+
+/// The wall y = 2 m heard by a cone sonar with 35° of roughness: the foot of the perpendicular
+/// when the normal lies inside the 12.5° half cone, else the cone's nearer edge (range
+/// `p / cos(|β| − 12.5°)`), else nothing.
+fn oblique_wall_snapshot(layout: &SensorLayout, pose: Pose, t: f64) -> Snapshot {
+    let half = 12.5f64.to_radians();
+    let ranges_m = (0..layout.len())
+        .map(|k| {
+            let s = layout.sensor_pose_in_world(&pose, k);
+            let perpendicular = 2.0 - s.y;
+            let beta = (s.heading_rad - std::f64::consts::FRAC_PI_2 + std::f64::consts::PI)
+                .rem_euclid(std::f64::consts::TAU)
+                - std::f64::consts::PI;
+            let incidence = (beta.abs() - half).max(0.0);
+            (incidence <= 35f64.to_radians()).then(|| perpendicular / incidence.cos())
+        })
+        .collect();
+    Snapshot { t, pose, ranges_m }
+}
+
+fn map_oblique_wall(params: Params) -> Mapper {
+    let layout = SensorLayout::nomad_ring(inches(9.0));
+    let mut mapper = Mapper::new(params, layout.clone(), SensorSpec::default());
+    for i in 0..40 {
+        let pose = Pose::new(0.1 * i as f64, 0.0, 0.3);
+        mapper.step(&oblique_wall_snapshot(&layout, pose, i as f64));
+    }
+    mapper
+}
+
+/// The largest distance of a fitted segment's end-point from the wall y = 2, over its
+/// tolerance `max(3 % of its range, 1 in)`.
+fn worst_end_off_the_wall(mapper: &Mapper, confirmed_only: bool) -> (usize, f64) {
+    let map = mapper.map();
+    let segments: Vec<_> = map
+        .segments
+        .iter()
+        .filter(|s| s.kind == SegmentKind::Fitted && (!confirmed_only || !map.is_tentative(s.id)))
+        .collect();
+    let worst = segments
+        .iter()
+        .flat_map(|s| [s.a, s.b])
+        .map(|e| (e.point.y - 2.0).abs() / (0.03 * e.range_m).max(inches(1.0)))
+        .fold(0.0, f64::max);
+    (segments.len(), worst)
+}
+
+#[test]
+fn an_oblique_wall_heard_from_cone_edges_is_mapped_on_its_line_not_short_of_it() {
+    // Heading 0.3 rad: sensor 4 looks 107.2°, 17.2° off the wall's normal, and hears the wall
+    // from its cone's edge at p / cos 4.7°; on its axis that reading lies at
+    // p · cos 17.2° / cos 4.7° = 0.959 p, 4 % short of the wall (more than the 3 % tolerance).
+    let paper = map_oblique_wall(Params::paper());
+    let (count, worst) = worst_end_off_the_wall(&paper, false);
+    assert!(
+        count > 0 && worst > 1.0,
+        "paper: {count} segments, worst {worst}"
+    );
+    let extended = map_oblique_wall(Params::extended());
+    let (count, worst) = worst_end_off_the_wall(&extended, true);
+    assert!(
+        count > 0 && worst <= 1.0,
+        "extended: {count} confirmed, worst {worst}"
+    );
+}
+
+#[test]
+fn a_single_ray_sensor_keeps_the_papers_placement() {
+    // The same readings from a sensor that declares its echoes come from its axis: no echo
+    // is moved, so extended maps what the axis placement gives.
+    let layout = SensorLayout::nomad_ring(inches(9.0));
+    let sensor = SensorSpec {
+        echo: EchoModel::Axis,
+        ..SensorSpec::default()
+    };
+    let mut mapper = Mapper::new(Params::extended(), layout.clone(), sensor);
+    let mut moved = 0;
+    for i in 0..40 {
+        let pose = Pose::new(0.1 * i as f64, 0.0, 0.3);
+        let trace = mapper.step(&oblique_wall_snapshot(&layout, pose, i as f64));
+        moved += trace.echo_fits.len();
+    }
+    assert_eq!(moved, 0);
+    let cone = {
+        let mut mapper = Mapper::new(Params::extended(), layout.clone(), SensorSpec::default());
+        (0..40)
+            .map(|i| {
+                let pose = Pose::new(0.1 * i as f64, 0.0, 0.3);
+                mapper
+                    .step(&oblique_wall_snapshot(&layout, pose, i as f64))
+                    .echo_fits
+                    .len()
+            })
+            .sum::<usize>()
+    };
+    assert!(cone > 0, "the cone sensor's pieces are fitted");
+}
+
+#[test]
+fn a_logs_echo_model_round_trips_and_an_unknown_one_is_refused_with_its_place() {
+    let plan = &suite_plans(1, 1)[0].2;
+    let run = simulate(plan, Model::Axis, 1);
+    assert_eq!(run.sensor.echo, EchoModel::Axis);
+    let text = sonarmap::log::save_run(&run);
+    assert!(text.contains("\"echo\": \"axis\"") || text.contains("\"echo\":\"axis\""));
+    let back = sonarmap::log::load_run(text.as_bytes(), "axis.log.json").unwrap();
+    assert_eq!(back.sensor.echo, EchoModel::Axis);
+    // A cone sensor (the default) writes nothing, so older readers see the same file.
+    let cone = simulate(plan, Model::Specular, 1);
+    assert!(!sonarmap::log::save_run(&cone).contains("\"echo\""));
+    let bad = text
+        .replacen("\"echo\": \"axis\"", "\"echo\": \"laser\"", 1)
+        .replacen("\"echo\":\"axis\"", "\"echo\":\"laser\"", 1);
+    let err = sonarmap::log::load_run(bad.as_bytes(), "bad.log.json")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("bad.log.json") && err.contains("echo"),
+        "error names the file and the field: {err}"
+    );
+}
+
+#[test]
+fn no_connecting_segment_outlives_a_segment_it_joined_on_a_lap_run() {
+    // Desks, one lap repeated to 3,000 snapshots in `extended`: duplicates fused away and
+    // refuted lines take their connecting segments with them (before, the links piled up:
+    // 137 at 2,000 snapshots, 336 at 6,000, while the fitted segments stayed at 113–116).
+    let (_, seed, plan) = suite_plans(6, 1)
+        .into_iter()
+        .find(|(kind, _, _)| kind.name() == "desks")
+        .expect("a desks scene");
+    let run = repeat_laps(&simulate(&plan, Model::Specular, seed), 3000);
+    let mut mapper =
+        Mapper::new(Params::extended(), run.layout.clone(), run.sensor).with_trace(false);
+    let mut dropped = 0;
+    for snapshot in &run.snapshots {
+        dropped += mapper.step(snapshot).dropped_links.len();
+        let map = mapper.map();
+        for s in map
+            .segments
+            .iter()
+            .filter(|s| s.kind == SegmentKind::Interpolated)
+        {
+            let ends = map.link_ends.get(&s.id).expect("every link is tracked");
+            assert!(
+                ends.iter().all(|&e| map.segment(e).is_some()),
+                "link {} joins {ends:?}, not all in the map",
+                s.id
+            );
+        }
+    }
+    assert!(dropped > 0, "the run fuses duplicates that had links");
+}
