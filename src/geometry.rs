@@ -136,6 +136,15 @@ pub fn distance_to_line(p: &Point, a: &Point, b: &Point) -> f64 {
     }
 }
 
+/// Whether the segments `p1`–`p2` and `q1`–`q2` cross at a point inside both (touching or
+/// collinear segments do not count).
+pub fn segments_cross(p1: &Point, p2: &Point, q1: &Point, q2: &Point) -> bool {
+    let side = |a: &Point, b: &Point, c: &Point| (b - a).perp(&(c - a));
+    let (d1, d2) = (side(q1, q2, p1), side(q1, q2, p2));
+    let (d3, d4) = (side(p1, p2, q1), side(p1, p2, q2));
+    d1 * d2 < 0.0 && d3 * d4 < 0.0
+}
+
 /// Distance from `p` to the closed segment `[a, b]`.
 pub fn distance_to_segment(p: &Point, a: &Point, b: &Point) -> f64 {
     let t = projection_param(p, a, b).clamp(0.0, 1.0);
@@ -240,6 +249,37 @@ pub fn fit_line_tls(points: &[Point]) -> Option<(Point, Vec2)> {
 mod tests {
     use super::*;
     use std::f64::consts::PI;
+
+    #[test]
+    fn segments_cross_only_inside_both() {
+        let p = |x: f64, y: f64| Point::new(x, y);
+        assert!(segments_cross(
+            &p(0.0, 0.0),
+            &p(2.0, 2.0),
+            &p(0.0, 2.0),
+            &p(2.0, 0.0)
+        ));
+        // Touching at an end-point, or parallel, is not crossing.
+        assert!(!segments_cross(
+            &p(0.0, 0.0),
+            &p(1.0, 1.0),
+            &p(1.0, 1.0),
+            &p(2.0, 0.0)
+        ));
+        assert!(!segments_cross(
+            &p(0.0, 0.0),
+            &p(2.0, 0.0),
+            &p(0.0, 1.0),
+            &p(2.0, 1.0)
+        ));
+        // The lines cross, the segments do not.
+        assert!(!segments_cross(
+            &p(0.0, 0.0),
+            &p(1.0, 1.0),
+            &p(3.0, 0.0),
+            &p(2.0, 1.0)
+        ));
+    }
 
     #[test]
     fn angle_limit_test_handles_degenerate_directions_like_the_angle() {

@@ -16,9 +16,10 @@
 //! of the prediction, [`place_echoes`] moves each reading to its echo point: on its cone, at its
 //! range, towards the line's normal.
 
+use super::map::Map;
 use super::point_features::{feature_tolerance_m, Beam};
 use super::support::SupportPoint;
-use crate::geometry::{fit_line_tls, unit, Point, Vec2};
+use crate::geometry::{fit_line_tls, segments_cross, unit, Point, Vec2};
 use serde::{Deserialize, Serialize};
 
 /// Largest angle between an echoing ray and the plane's normal that the fit allows (the
@@ -51,8 +52,12 @@ pub struct EchoLine {
 /// What echo placement did to one new segment, for the trace.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct EchoFitTrace {
-    /// The new segment (index into the step's new segments).
+    /// The new segment (index into the step's new segments; for a dropped piece, the index it
+    /// would have had).
     pub new_segment: usize,
+    /// The piece did not become a segment (most echo points behind confirmed walls).
+    #[serde(default)]
+    pub dropped: bool,
     /// The fitted line.
     pub line: EchoLine,
     /// Readings whose echo came from inside the cone (the foot of the perpendicular).
@@ -61,6 +66,33 @@ pub struct EchoFitTrace {
     pub at_cone_edge: usize,
     /// The largest distance a reading moved from its beam axis, metres.
     pub moved_max_m: f64,
+    /// Readings whose echo point lies behind a confirmed wall, which their sound would have
+    /// met first ([`echo_behind_confirmed_wall`]); more than half, and the piece is dropped.
+    #[serde(default)]
+    pub behind_confirmed_wall: usize,
+}
+
+/// Whether the echo point `echo` of `beam` lies behind a confirmed map segment: the ray from
+/// the sensor to it crosses one more than twice the tolerance before the reading's range. A
+/// concave corner echoes from its vertex at any incidence, and a plane fitted to a corner's
+/// ranges from a narrow baseline stands across the corner with its echo points outside the
+/// room, beyond the walls the map already holds.
+pub fn echo_behind_confirmed_wall(map: &Map, beam: &Beam, echo: &Point, accuracy_pct: f64) -> bool {
+    let reach_m = beam.range_m - 2.0 * feature_tolerance_m(accuracy_pct, beam.range_m);
+    let v = echo - beam.origin;
+    let length = v.norm();
+    if reach_m <= 0.0 || length <= 0.0 {
+        return false;
+    }
+    let end = beam.origin + v * (reach_m / length);
+    let mut behind = false;
+    map.visit_segments_along(&beam.origin, &end, 0.0, |id, s| {
+        behind = behind
+            || (s.fitted
+                && segments_cross(&beam.origin, &end, &s.a.point, &s.b.point)
+                && map.is_confirmed(id));
+    });
+    behind
 }
 
 /// Signed angle from `from` to `to`, radians in (−π, π].
@@ -366,6 +398,57 @@ mod tests {
             })
             .collect();
         assert!(fit_echo_line(&beams, &axis_points(&beams), 3.0, HALF, TURN).is_none());
+    }
+
+    #[test]
+    fn an_echo_point_beyond_a_confirmed_wall_is_behind_it_and_one_before_it_is_not() {
+        use crate::mapping::confirm::note_plane_support;
+        use crate::mapping::map::{EndPoint, Segment, SegmentKind};
+        use std::sync::Arc;
+        // A wall y = 1 from x = -1 to 1; a sensor at the origin reads 2 m (tolerance 0.06 m).
+        let e = |x: f64| EndPoint {
+            point: Point::new(x, 1.0),
+            range_m: 1.0,
+        };
+        let mut map = Map::from_segments(vec![Segment {
+            id: 0,
+            kind: SegmentKind::Fitted,
+            a: e(-1.0),
+            b: e(1.0),
+            face: 0,
+            object: 0,
+            created: 0,
+            updated: Vec::new(),
+            points: Arc::new(Vec::new()),
+        }]);
+        map.confirms_segments = true;
+        let far = beam(0.0, 0.0, 90.0, 2.0);
+        let echo = Point::new(0.3, 1.977);
+        // Tentative walls do not hide anything.
+        assert!(!echo_behind_confirmed_wall(&map, &far, &echo, 3.0));
+        for snapshot in 0..2 {
+            let straight = beam(0.0, 0.0, 90.0, 1.0);
+            note_plane_support(&mut map, 0, &[(0, straight)], snapshot, 3.0, HALF, false);
+        }
+        assert!(map.is_confirmed(0));
+        // The ray to (0.3, 1.977) crosses the wall at y = 1, 1.1 m before the range: behind.
+        assert!(echo_behind_confirmed_wall(&map, &far, &echo, 3.0));
+        // Read at 1.05 m the echo lies within twice the tolerance (0.063 m) of the wall: not
+        // behind it, that is the wall.
+        let near = beam(0.0, 0.0, 90.0, 1.05);
+        assert!(!echo_behind_confirmed_wall(
+            &map,
+            &near,
+            &Point::new(0.0, 1.05),
+            3.0
+        ));
+        // A ray that passes beside the wall's end is not blocked.
+        assert!(!echo_behind_confirmed_wall(
+            &map,
+            &far,
+            &Point::new(1.5, 1.3),
+            3.0
+        ));
     }
 
     #[test]

@@ -3,7 +3,9 @@
 use super::cluster::{cluster_points, sensor_ranks, Clusters};
 use super::confirm::{note_plane_support, supports};
 use super::correlate::correlate_face;
-use super::echo_fit::{fit_echo_line, place_echoes, EchoFitTrace, MIN_ECHO_FIT_READINGS};
+use super::echo_fit::{
+    echo_behind_confirmed_wall, fit_echo_line, place_echoes, EchoFitTrace, MIN_ECHO_FIT_READINGS,
+};
 use super::extensions::{memory_step, reduce_constant_depth};
 use super::fast_path::decide;
 use super::fit::{piece_end_points, split_recursive};
@@ -655,8 +657,8 @@ impl Mapper {
                     b,
                     points: fitted[first..=last].to_vec(),
                 };
-                if params.echo_fit {
-                    self.place_echoes(&mut new, out.segments.len(), trace);
+                if params.echo_fit && !self.place_echoes(&mut new, out.segments.len(), trace) {
+                    continue;
                 }
                 out.segments.push(new);
             }
@@ -684,9 +686,11 @@ impl Mapper {
     /// end-points are taken again from them (§3's fit of the moved piece).
     /// A sensor whose echoes come from its axis ([`EchoModel::Axis`]) keeps the paper's
     /// placement.
-    fn place_echoes(&self, new: &mut NewSegmentTrace, index: usize, trace: &mut StepTrace) {
+    /// Returns false when the piece must not become a segment: most of its echo points lie
+    /// behind confirmed walls.
+    fn place_echoes(&self, new: &mut NewSegmentTrace, index: usize, trace: &mut StepTrace) -> bool {
         if new.points.len() < MIN_ECHO_FIT_READINGS || self.sensor.echo == EchoModel::Axis {
-            return;
+            return true;
         }
         let beams: Option<Vec<Beam>> = new
             .points
@@ -701,16 +705,26 @@ impl Mapper {
             })
             .collect();
         let Some(beams) = beams else {
-            return;
+            return true;
         };
         let axis_points: Vec<Point> = new.points.iter().map(|q| q.point).collect();
         let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
         let turn = self.params.orientation_rad;
         let Some(line) = fit_echo_line(&beams, &axis_points, xi, half, turn) else {
-            return;
+            return true;
         };
         let (placed, at_foot, at_cone_edge, moved_max_m) =
             place_echoes(&new.points, &beams, &line, half);
+        let behind_confirmed_wall = placed
+            .iter()
+            .filter(|q| {
+                new.points
+                    .iter()
+                    .position(|p| p.reading == q.reading)
+                    .is_some_and(|i| echo_behind_confirmed_wall(&self.map, &beams[i], &q.point, xi))
+            })
+            .count();
+        let keep = 2 * behind_confirmed_wall <= new.points.len();
         let (a, b) = piece_end_points(&placed, 0, placed.len() - 1, self.params.fit);
         new.a = a;
         new.b = b;
@@ -718,12 +732,15 @@ impl Mapper {
         if self.record_trace {
             trace.echo_fits.push(EchoFitTrace {
                 new_segment: index,
+                dropped: !keep,
                 line,
                 at_foot,
                 at_cone_edge,
                 moved_max_m,
+                behind_confirmed_wall,
             });
         }
+        keep
     }
 
     /// §8.1 point memory: this step's one-point clusters join the memory, and the pieces its
@@ -745,8 +762,8 @@ impl Mapper {
                 b,
                 points: piece.points,
             };
-            if self.params.echo_fit {
-                self.place_echoes(&mut new, fitted.segments.len(), trace);
+            if self.params.echo_fit && !self.place_echoes(&mut new, fitted.segments.len(), trace) {
+                continue;
             }
             fitted.segments.push(new);
         }

@@ -73,14 +73,29 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
     }
     for e in &t.echo_fits {
         ui.label(format!(
-            "echo placement: n{} — one plane explains its ranges (worst {:.2} of the tolerance):              its normal at {:.1}°; {} reading(s) moved to the foot of the              perpendicular, {} to the cone's edge, by up to {}",
-            e.new_segment,
+            "echo placement: {}: one plane explains its ranges (worst {:.2} of the tolerance):              its normal at {:.1}°; {} reading(s) moved to the foot of the              perpendicular, {} to the cone's edge, by up to {}",
+            if e.dropped {
+                "a piece".to_string()
+            } else {
+                format!("n{}", e.new_segment)
+            },
             e.line.worst_residual_over_tolerance,
             e.line.normal.y.atan2(e.line.normal.x).to_degrees(),
             e.at_foot,
             e.at_cone_edge,
             ctx.len(e.moved_max_m)
         ));
+        if e.behind_confirmed_wall > 0 {
+            ui.label(format!(
+                "  {} of its echo points lie behind a confirmed wall{}",
+                e.behind_confirmed_wall,
+                if e.dropped {
+                    ": more than half, so it was not added"
+                } else {
+                    ""
+                }
+            ));
+        }
     }
     for n in &t.gated {
         ui.label(
