@@ -74,30 +74,27 @@ pub fn refutes(
     (off <= half_beam_rad).then_some((p, off))
 }
 
-/// The segments of `map` that `beam` refutes (see [`refutes`]), from the segments the grid
-/// files in the box of the beam's cone, less the confirmed ones (`Map::is_confirmed`: a
-/// plane supported from two snapshots stays); `scratch` is reused.
+/// The segments of `map` that `beam` refutes (see [`refutes`]), in id order, from the segments
+/// the grid files in the box of the beam's cone, less the confirmed ones (`Map::is_confirmed`:
+/// a plane supported from two snapshots stays). Reads the index's copy of each segment's
+/// end-points (no lookup of the segment itself).
 pub fn refuted_segments(
     map: &Map,
     beam: &Beam,
     accuracy_pct: f64,
     half_beam_rad: f64,
-    scratch: &mut Vec<SegmentId>,
     out: &mut Vec<(SegmentId, f64, f64)>,
 ) {
     out.clear();
     let tip = beam.origin + beam.direction * beam.range_m;
     let reach = beam.range_m * half_beam_rad.tan();
-    map.segments_along_into(&beam.origin, &tip, reach, scratch);
-    scratch.sort_unstable();
-    for &id in scratch.iter() {
-        let Some(s) = map.segment(id).filter(|_| !map.is_confirmed(id)) else {
-            continue;
-        };
+    map.visit_segments_along(&beam.origin, &tip, reach, |id, s| {
         if let Some((p, off)) = refutes(beam, &s.a.point, &s.b.point, accuracy_pct, half_beam_rad) {
             out.push((id, p, off));
         }
-    }
+    });
+    out.retain(|&(id, _, _)| !map.is_confirmed(id));
+    out.sort_unstable_by_key(|&(id, _, _)| id);
 }
 
 #[cfg(test)]
@@ -126,15 +123,8 @@ mod tests {
             direction: Vec2::new(1.0, 0.0),
             range_m: 3.0,
         };
-        let (mut scratch, mut out) = (Vec::new(), Vec::new());
-        refuted_segments(
-            &map,
-            &beam,
-            3.0,
-            12.5f64.to_radians(),
-            &mut scratch,
-            &mut out,
-        );
+        let mut out = Vec::new();
+        refuted_segments(&map, &beam, 3.0, 12.5f64.to_radians(), &mut out);
         assert_eq!(out.len(), 1);
         assert_eq!(out[0].0, 0);
         assert!((out[0].1 - 2.0).abs() < 1e-12 && out[0].2.abs() < 1e-12);
@@ -147,14 +137,7 @@ mod tests {
                 last_snapshot: 0,
             },
         );
-        refuted_segments(
-            &confirmed,
-            &beam,
-            3.0,
-            12.5f64.to_radians(),
-            &mut scratch,
-            &mut out,
-        );
+        refuted_segments(&confirmed, &beam, 3.0, 12.5f64.to_radians(), &mut out);
         assert!(out.is_empty(), "a confirmed segment stays: {out:?}");
     }
 }

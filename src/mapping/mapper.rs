@@ -378,11 +378,11 @@ impl Mapper {
     /// §8.6 free space: the segments a kept reading of this snapshot saw past leave the map.
     fn remove_refuted(&mut self, snapshot: &Snapshot, trace: &mut StepTrace) {
         let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
-        let (mut scratch, mut found) = (Vec::new(), Vec::new());
+        let mut found = Vec::new();
         let kept = std::mem::take(&mut self.buffers.kept);
         for q in &kept {
             let beam = self.beam_of(&snapshot.pose, q);
-            refuted_segments(&self.map, &beam, xi, half, &mut scratch, &mut found);
+            refuted_segments(&self.map, &beam, xi, half, &mut found);
             // Kept in the slim trace too: the lineage of a segment reads its removal there.
             for &(segment, distance_m, off_axis_rad) in &found {
                 self.map.remove_segment(segment);
