@@ -73,7 +73,9 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
     }
     for e in &t.echo_fits {
         ui.label(format!(
-            "echo placement: {}: one plane explains its ranges (worst {:.2} of the tolerance):              its normal at {:.1}°; {} reading(s) moved to the foot of the              perpendicular, {} to the cone's edge, by up to {}",
+            "echo placement: {}: one plane explains its ranges (worst {:.2} of the tolerance): \
+             its normal at {:.1}°; {} reading(s) moved to the foot of the perpendicular, {} to \
+             the cone's edge, by up to {}",
             if e.dropped {
                 "a piece".to_string()
             } else {
