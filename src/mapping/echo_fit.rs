@@ -403,24 +403,9 @@ mod tests {
     #[test]
     fn an_echo_point_beyond_a_confirmed_wall_is_behind_it_and_one_before_it_is_not() {
         use crate::mapping::confirm::note_plane_support;
-        use crate::mapping::map::{EndPoint, Segment, SegmentKind};
-        use std::sync::Arc;
+        use crate::mapping::map::test_wall;
         // A wall y = 1 from x = -1 to 1; a sensor at the origin reads 2 m (tolerance 0.06 m).
-        let e = |x: f64| EndPoint {
-            point: Point::new(x, 1.0),
-            range_m: 1.0,
-        };
-        let mut map = Map::from_segments(vec![Segment {
-            id: 0,
-            kind: SegmentKind::Fitted,
-            a: e(-1.0),
-            b: e(1.0),
-            face: 0,
-            object: 0,
-            created: 0,
-            updated: Vec::new(),
-            points: Arc::new(Vec::new()),
-        }]);
+        let mut map = Map::from_segments(vec![test_wall(0, (-1.0, 1.0), (1.0, 1.0), 1.0)]);
         map.confirms_segments = true;
         let far = beam(0.0, 0.0, 90.0, 2.0);
         let echo = Point::new(0.3, 1.977);
