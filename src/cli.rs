@@ -259,7 +259,8 @@ pub struct SimulateArgs {
 pub enum ModelArg {
     /// Beam cone, incidence limit (roughness), corner reflectors.
     Specular,
-    /// One ray on the axis, first hit whatever the angle.
+    /// One ray on the axis, first hit whatever the angle; the log's sensor says so
+    /// ("echo": "axis").
     Axis,
 }
 

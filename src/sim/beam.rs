@@ -20,7 +20,8 @@ pub enum Model {
     /// Beam cone, incidence limit, corner reflectors (the default).
     #[default]
     Specular,
-    /// One ray on the axis, no incidence limit.
+    /// One ray on the axis, no incidence limit (a run simulated with it declares the sensor's
+    /// echo model [`crate::sonar::EchoModel::Axis`]).
     Axis,
 }
 
