@@ -67,8 +67,11 @@ pub struct SoakArgs {
     /// Seed of the first scene of each kind.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Only these parameter sets (paper, extended, paper+memory, paper+constant_depth,
-    /// paper+merge_duplicates, paper+support_cap, paper+corner_guard); default all.
+    /// Only these parameter sets: paper, extended, or the paper with one extension
+    /// (paper+memory, paper+constant_depth, paper+merge_duplicates, paper+support_cap,
+    /// paper+corner_guard, paper+arc_features, paper+explain_readings, paper+free_space,
+    /// paper+confirm_segments, paper+plane_gate, paper+echo_fit, paper+min_piece_points);
+    /// default all.
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
 }

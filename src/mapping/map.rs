@@ -556,6 +556,28 @@ impl Map {
                 self.segments.len()
             ));
         }
+        if self.tracks_links {
+            // Between steps every connecting segment is tracked and joins two segments there.
+            for s in self
+                .segments
+                .iter()
+                .filter(|s| s.kind == SegmentKind::Interpolated)
+            {
+                let Some(ends) = self.link_ends.get(&s.id) else {
+                    return Err(format!("link {} is not tracked", s.id));
+                };
+                if ends.iter().any(|&e| self.segment(e).is_none()) {
+                    return Err(format!("link {} joins {ends:?}, not all in the map", s.id));
+                }
+            }
+            if let Some(&id) = self
+                .link_ends
+                .keys()
+                .find(|&&id| self.segment(id).is_none())
+            {
+                return Err(format!("link {id} is tracked but not in the map"));
+            }
+        }
         for (slot, s) in self.segments.iter().enumerate() {
             let id = s.id;
             if id >= self.next_segment_id || s.object >= self.next_object_id {
