@@ -161,3 +161,61 @@ fn no_connecting_segment_outlives_a_segment_it_joined_on_a_lap_run() {
     }
     assert!(dropped > 0, "the run fuses duplicates that had links");
 }
+
+mod fit_properties {
+    use proptest::prelude::*;
+    use sonarmap::geometry::{Point, Vec2};
+    use sonarmap::mapping::echo_fit::{fit_echo_line, place_echoes};
+    use sonarmap::mapping::point_features::Beam;
+    use sonarmap::mapping::support::{ReadingRef, SupportPoint};
+
+    const HALF: f64 = 12.5 * std::f64::consts::PI / 180.0;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+
+        /// Noise-free echoes of one plane (feet inside the cone, cone edges up to 30° of
+        /// incidence outside it) from sensors moving along it: the fit finds the plane, and the
+        /// moved points lie on it.
+        #[test]
+        fn echoes_of_one_plane_are_placed_on_it(
+            normal_deg in 0.0f64..360.0,
+            offset_m in 0.8f64..4.0,
+            off_axis_deg in -40.0f64..40.0,
+            spacing_m in 0.05f64..0.25,
+            count in 3usize..9,
+        ) {
+            let normal = Vec2::new(normal_deg.to_radians().cos(), normal_deg.to_radians().sin());
+            let along = Vec2::new(-normal.y, normal.x);
+            let axis_rad = (normal_deg + off_axis_deg).to_radians();
+            let direction = Vec2::new(axis_rad.cos(), axis_rad.sin());
+            let incidence = (off_axis_deg.abs().to_radians() - HALF).max(0.0);
+            let beams: Vec<Beam> = (0..count)
+                .map(|i| {
+                    let origin = Point::origin() + along * (spacing_m * i as f64);
+                    // The plane n·x = offset: perpendicular distance offset − n·o = offset.
+                    Beam { origin, direction, range_m: offset_m / incidence.cos() }
+                })
+                .collect();
+            let points: Vec<SupportPoint> = beams
+                .iter()
+                .enumerate()
+                .map(|(i, b)| SupportPoint {
+                    point: b.origin + b.direction * b.range_m,
+                    range_m: b.range_m,
+                    reading: ReadingRef { snapshot: i, sensor: 0 },
+                })
+                .collect();
+            let axis: Vec<Point> = points.iter().map(|q| q.point).collect();
+            let line = fit_echo_line(&beams, &axis, 3.0, HALF, 15f64.to_radians());
+            let line = line.expect("one plane's echoes fit a line");
+            prop_assert!(line.normal.dot(&normal) > 1f64.to_radians().cos(), "{line:?}");
+            let tol = (0.03 * beams[0].range_m).max(0.0254);
+            prop_assert!((line.offset_m - offset_m).abs() <= tol, "{line:?}");
+            let (placed, ..) = place_echoes(&points, &beams, &line, HALF);
+            for q in &placed {
+                prop_assert!((normal.dot(&q.point.coords) - offset_m).abs() <= tol, "{q:?}");
+            }
+        }
+    }
+}
