@@ -15,7 +15,7 @@
 
 use super::map::{Map, SegmentId};
 use super::point_features::{feature_tolerance_m, Beam};
-use crate::geometry::{projection_param, Point};
+use crate::geometry::{projection_param, Point, Vec2};
 use serde::{Deserialize, Serialize};
 
 /// A segment a reading refuted, for the trace.
@@ -86,9 +86,37 @@ pub fn refuted_segments(
     out: &mut Vec<(SegmentId, f64, f64)>,
 ) {
     out.clear();
-    let tip = beam.origin + beam.direction * beam.range_m;
-    let reach = beam.range_m * half_beam_rad.tan();
-    map.visit_segments_along(&beam.origin, &tip, reach, |id, s| {
+    // The box of the beam's sector: its apex, its two edges' ends and its axis' end, widened
+    // by how far the arc between them can bulge past them (`D·(1 − cos(half/2))`).
+    let (sin_half, cos_half) = half_beam_rad.sin_cos();
+    let d = beam.direction;
+    let reach_m = beam.range_m;
+    let corners = [
+        beam.origin,
+        beam.origin + d * reach_m,
+        beam.origin
+            + Vec2::new(
+                cos_half * d.x - sin_half * d.y,
+                sin_half * d.x + cos_half * d.y,
+            ) * reach_m,
+        beam.origin
+            + Vec2::new(
+                cos_half * d.x + sin_half * d.y,
+                -sin_half * d.x + cos_half * d.y,
+            ) * reach_m,
+    ];
+    let low = corners
+        .iter()
+        .fold(Point::new(f64::INFINITY, f64::INFINITY), |m, c| {
+            Point::new(m.x.min(c.x), m.y.min(c.y))
+        });
+    let high = corners
+        .iter()
+        .fold(Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY), |m, c| {
+            Point::new(m.x.max(c.x), m.y.max(c.y))
+        });
+    let bulge_m = reach_m * (1.0 - (half_beam_rad / 2.0).cos()) + 1e-9;
+    map.visit_segments_along(&low, &high, bulge_m, |id, s| {
         if let Some((p, off)) = refutes(beam, &s.a.point, &s.b.point, accuracy_pct, half_beam_rad) {
             out.push((id, p, off));
         }
