@@ -671,12 +671,19 @@ impl Map {
     /// Files every segment in the spatial index afresh.
     pub fn rebuild_index(&mut self) {
         self.removals_since_reslot = 0;
-        self.index = SegmentGrid::from_segments(self.segments.iter().map(|s| (s.id, s.indexed())));
-        let max_id = self.segments.iter().map(|s| s.id as usize + 1).max();
-        self.slot_of = vec![NO_SLOT; max_id.unwrap_or(0)];
-        for (slot, s) in self.segments.iter().enumerate() {
-            self.slot_of[s.id as usize] = slot as u32;
+        // What the index keeps of each segment, fetched in a pass of its own: the segments sit
+        // behind pointers all over the heap, and a loop doing nothing else keeps many of those
+        // fetches in flight where the filing's would wait on each in turn.
+        let kept: Vec<(SegmentId, IndexedSegment)> =
+            self.segments.iter().map(|s| (s.id, s.indexed())).collect();
+        // Segments are listed by id: the last has the largest.
+        let ids_below = kept.last().map_or(0, |&(id, _)| id as usize + 1);
+        self.slot_of.clear();
+        self.slot_of.resize(ids_below, NO_SLOT);
+        for (slot, &(id, _)) in kept.iter().enumerate() {
+            self.slot_of[id as usize] = slot as u32;
         }
+        self.index = SegmentGrid::from_segments(kept, ids_below);
         self.feature_index = SegmentGrid::default();
         for f in &self.features {
             self.feature_index.insert(f.id, feature_filing(f));
