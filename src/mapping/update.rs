@@ -473,19 +473,27 @@ pub fn apply_update(
 /// tolerance. Returns the worst: a failing one when any fails (the farthest beyond its
 /// tolerance), else the passing one nearest its tolerance; `None` without points.
 fn worst_support_test(points: &[SupportPoint], line: &[Point; 2], params: &Params) -> Option<Test> {
-    points
-        .iter()
-        .map(|q| {
-            let d = distance_to_line(&q.point, &line[0], &line[1]);
-            Test::at_most(d, split_tolerance(params, q.range_m))
-        })
-        .fold(None::<Test>, |acc, t| match acc {
-            Some(w) if !w.pass && t.pass => Some(w),
-            Some(w) if w.pass == t.pass && w.value - w.threshold >= t.value - t.threshold => {
-                Some(w)
-            }
-            _ => Some(t),
-        })
+    let mut tests = points.iter().map(|q| {
+        let d = distance_to_line(&q.point, &line[0], &line[1]);
+        Test::at_most(d, split_tolerance(params, q.range_m))
+    });
+    // The worst so far as a plain value, not an `Option` folded through: the loop runs over
+    // every supporting point of every update (thousands, in `paper`), and the folded option
+    // went through memory each time.
+    let mut worst = tests.next()?;
+    for t in tests {
+        // A failing test is worse than a passing one; between two alike, the one further
+        // beyond (or nearer) its threshold, the earlier on a tie.
+        let keeps = if worst.pass == t.pass {
+            worst.value - worst.threshold >= t.value - t.threshold
+        } else {
+            !worst.pass
+        };
+        if !keeps {
+            worst = t;
+        }
+    }
+    Some(worst)
 }
 
 /// Fits the updated segment's `points` afresh (§3): the first piece keeps the id `target`, the
