@@ -420,7 +420,7 @@ impl Replay {
             self.run.sensor,
         );
         if let Some(state) = self.checkpoints.before(k) {
-            mapper.restore(state.clone());
+            mapper.restore(state);
         }
         self.catch_up(&mut mapper, k);
         mapper

@@ -248,8 +248,11 @@ impl SegmentGrid {
                         if let Some(list) = self.cells.get_mut(&(cx, cy)) {
                             // A segment is listed once a cell of its box: found, the rest of
                             // the list moves up in one copy (a `paper` map piles thousands of
-                            // segments into the cells of a wall it keeps seeing).
-                            if let Some(at) = list.iter().position(|e| e.id == id) {
+                            // segments into the cells of a wall it keeps seeing). Sought from
+                            // the end: a segment is filed anew at the end of its lists each
+                            // time it changes, and the ones that change are the ones that
+                            // changed lately.
+                            if let Some(at) = list.iter().rposition(|e| e.id == id) {
                                 list.remove(at);
                             }
                             if list.is_empty() {

@@ -208,10 +208,9 @@ impl Mapper {
         }
     }
 
-    /// Resumes from a checkpoint.
-    pub fn restore(&mut self, state: MapperState) {
-        self.map = state.map;
-        self.map.rebuild_index();
+    /// Resumes from a checkpoint (its map shared, not moved: see [`Map::with_index`]).
+    pub fn restore(&mut self, state: &MapperState) {
+        self.map = state.map.with_index();
         self.last_pose = state.last_pose;
         self.next_snapshot = state.next_snapshot;
     }
