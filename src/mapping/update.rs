@@ -92,8 +92,17 @@ pub fn merge_support_points(
         // first, as a stable sort orders them), found by binary search.
         // Sized exactly (points that share a reading, as split pieces share their corner, can
         // keep a few over the cap): the list lives on in the map and its checkpoints.
-        let kept_count = old.iter().chain(new).filter(kept).count();
+        let kept_count = match oldest_kept {
+            None => old.len() + new.len(),
+            Some(_) => old.iter().chain(new).filter(kept).count(),
+        };
         let mut merged = Vec::with_capacity(kept_count);
+        // The runs of old points between new ones, copied whole when every point is kept (the
+        // paper's unbounded lists: thousands of points an update).
+        let keep_run = |merged: &mut Vec<SupportPoint>, run: &[SupportPoint]| match oldest_kept {
+            None => merged.extend_from_slice(run),
+            Some(_) => merged.extend(run.iter().filter(kept)),
+        };
         let mut i = 0;
         for (&l, r) in new_keys.iter().zip(new_run.iter()).filter(|(_, r)| kept(r)) {
             let (mut low, mut high) = (i, old_run.len());
@@ -105,11 +114,11 @@ pub fn merge_support_points(
                     high = mid;
                 }
             }
-            merged.extend(old_run[i..low].iter().filter(kept));
+            keep_run(&mut merged, &old_run[i..low]);
             merged.push(*r);
             i = low;
         }
-        merged.extend(old_run[i..].iter().filter(kept));
+        keep_run(&mut merged, &old_run[i..]);
         return merged;
     }
     // Otherwise sort the kept points by (place, reading), ties in list order as a stable sort
