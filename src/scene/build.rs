@@ -12,7 +12,7 @@ use crate::geometry::{lerp, projection_param, unit, Point, Pose};
 use crate::mapping::map::FeatureKind;
 use crate::mapping::trace::{CorrelationKind, ReadingTrace};
 use crate::mapping::{Map, Outcome, SegmentId, SegmentKind, StepTrace};
-use crate::run::Run;
+use crate::run::{Run, Snapshot};
 use crate::units::inches;
 
 /// Everything a scene is built from: borrowed, never copied.
@@ -794,22 +794,46 @@ impl Builder<'_, '_> {
         }
     }
 
+    /// The robot's path through `path` as polylines: one, unless the view has a level of
+    /// detail. Then a stretch between two poses whose ends fall in the 2-pixel cells of a
+    /// stretch drawn already is left out, and the path broken there: a patrol goes over the
+    /// same ground lap after lap, and each lap drawn again would only add vertices.
+    fn path_pieces(&self, path: &[Snapshot]) -> Vec<Vec<Point>> {
+        let mut drawn = Declutter::new(self.options.world_per_px, 2.0, 2.0);
+        let mut pieces: Vec<Vec<Point>> = Vec::new();
+        let mut open = false;
+        for pair in path.windows(2) {
+            let (a, b) = (pair[0].pose.position(), pair[1].pose.position());
+            if !drawn.claim_line(&a, &b) {
+                open = false;
+                continue;
+            }
+            if !open {
+                pieces.push(vec![a]);
+                open = true;
+            }
+            pieces.last_mut().expect("a piece is open").push(b);
+        }
+        pieces
+    }
+
     fn robot(&mut self) {
         let run = self.input.run;
         let k = self.input.snapshot;
         let radius_m = run.robot_radius_m.unwrap_or(inches(9.0));
         let path = &run.snapshots[..(k + 1).min(run.snapshots.len())];
         if path.len() >= 2 {
-            let points = path.iter().map(|s| s.pose.position()).collect();
-            self.push(
-                Layer::Robot,
-                Role::RobotPath,
-                SceneId::Robot,
-                Shape::Polyline {
-                    points,
-                    closed: false,
-                },
-            );
+            for points in self.path_pieces(path) {
+                self.push(
+                    Layer::Robot,
+                    Role::RobotPath,
+                    SceneId::Robot,
+                    Shape::Polyline {
+                        points,
+                        closed: false,
+                    },
+                );
+            }
             let prev = path[path.len() - 2].pose.position();
             self.push(
                 Layer::Robot,
