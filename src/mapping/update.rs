@@ -402,6 +402,10 @@ pub struct UpdateRequest<'a> {
     pub inside: Option<Side>,
     /// The snapshot.
     pub snapshot: usize,
+    /// Whether the post-update test fails (the segment is fitted afresh), when a recording of
+    /// this very update says so: `Some(false)` spares the test over every supporting point
+    /// (thousands, in `paper`). `None`: tested.
+    pub refit: Option<bool>,
 }
 
 /// Applies an update to the map (paper §3.3.2; docs/algorithm.md §5): the geometry of Figure 1
@@ -432,7 +436,11 @@ pub fn apply_update(
     };
     let [a, b] = geometry.ends;
     let points = merge_support_points(&seg.points, request.new_points, &a, &b, params.support_cap);
-    let worst = worst_support_test(&points, &geometry.line, params);
+    let worst = match request.refit {
+        // Recorded as passing: the test would find nothing to refit.
+        Some(false) => None,
+        _ => worst_support_test(&points, &geometry.line, params),
+    };
     let mut update = UpdateTrace {
         segment: target,
         new_segment: request.new_index,
