@@ -802,9 +802,19 @@ impl Builder<'_, '_> {
         let mut drawn = Declutter::new(self.options.world_per_px, 2.0, 2.0);
         let mut pieces: Vec<Vec<Point>> = Vec::new();
         let mut open = false;
-        for pair in path.windows(2) {
-            let (a, b) = (pair[0].pose.position(), pair[1].pose.position());
-            if !drawn.claim_line(&a, &b) {
+        let Some(first) = path.first() else {
+            return pieces;
+        };
+        // Each pose's cell found once (it ends two stretches).
+        let at = |drawn: &Declutter, s: &Snapshot| {
+            let p = s.pose.position();
+            (p, drawn.cell(&p))
+        };
+        let mut from = at(&drawn, first);
+        for s in &path[1..] {
+            let ((a, ca), (b, cb)) = (from, at(&drawn, s));
+            from = (b, cb);
+            if !drawn.claim_cells(ca, cb) {
                 open = false;
                 continue;
             }

@@ -26,7 +26,8 @@ impl Declutter {
         }
     }
 
-    fn cell(&self, p: &Point) -> Option<(i64, i64)> {
+    /// The cell of `p` (`None` without a view: no culling).
+    pub fn cell(&self, p: &Point) -> Option<(i64, i64)> {
         let (w, h) = self.cell_m?;
         Some((floor_i64(p.x / w), floor_i64(p.y / h)))
     }
@@ -34,7 +35,13 @@ impl Declutter {
     /// True, and the pair of cells taken, when no line between the cells of `a` and `b`
     /// (either way round) is drawn yet: copies of a segment closer than a cell coincide.
     pub fn claim_line(&mut self, a: &Point, b: &Point) -> bool {
-        let (Some(ca), Some(cb)) = (self.cell(a), self.cell(b)) else {
+        self.claim_cells(self.cell(a), self.cell(b))
+    }
+
+    /// [`Declutter::claim_line`] with the cells of the ends found already (by
+    /// [`Declutter::cell`]: a polyline's points each end two lines).
+    pub fn claim_cells(&mut self, a: Option<(i64, i64)>, b: Option<(i64, i64)>) -> bool {
+        let (Some(ca), Some(cb)) = (a, b) else {
             return true;
         };
         self.taken_pairs
