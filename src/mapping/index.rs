@@ -139,13 +139,67 @@ fn file_segment(
     }
 }
 
+/// The entries grouped by cell, each cell's in the order given; the cells are entered in
+/// order of (x, y), so the table is laid out the same whichever way the grouping went.
+fn by_cell(mut entries: Vec<(Cell, CellEntry)>) -> FxHashMap<Cell, Vec<CellEntry>> {
+    let mut cells = FxHashMap::default();
+    let Some(&((x, y), _)) = entries.first() else {
+        return cells;
+    };
+    let (mut x0, mut y0, mut x1, mut y1) = (x, y, x, y);
+    for &((x, y), _) in &entries {
+        (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
+    }
+    // Cells span at most a quarter of the i64 range each way: no overflow in i128.
+    let (width, height) = (i128::from(x1 - x0) + 1, i128::from(y1 - y0) + 1);
+    if width * height <= 4 * entries.len() as i128 + 4096 {
+        // A compact box (a map's segments crowd a building's floor): a list per cell of the
+        // box, each sized by a count first, instead of sorting the entries.
+        let slot = |(x, y): Cell| ((x - x0) * height as i64 + (y - y0)) as usize;
+        let mut counts = vec![0usize; (width * height) as usize];
+        for &(cell, _) in &entries {
+            counts[slot(cell)] += 1;
+        }
+        let mut lists: Vec<Vec<CellEntry>> = counts.into_iter().map(Vec::with_capacity).collect();
+        for (cell, entry) in entries {
+            lists[slot(cell)].push(entry);
+        }
+        for (i, list) in lists.into_iter().enumerate() {
+            if !list.is_empty() {
+                let i = i as i64;
+                cells.insert((x0 + i / height as i64, y0 + i % height as i64), list);
+            }
+        }
+        return cells;
+    }
+    // A stable sort keeps each cell's entries in the order given.
+    entries.sort_by_key(|&(cell, _)| cell);
+    let mut rest = entries.as_slice();
+    while let Some(&(cell, _)) = rest.first() {
+        let n = rest.partition_point(|&(c, _)| c == cell);
+        cells.insert(cell, rest[..n].iter().map(|&(_, e)| e).collect());
+        rest = &rest[n..];
+    }
+    cells
+}
+
 impl SegmentGrid {
     /// A grid filing `segments` (ids distinct), built in one pass: the same grid, with each
     /// cell listing its segments in the same order, as inserting them one by one in that order
     /// gives, for a fraction of the cost (a checkpoint's map is indexed this way on restore).
-    pub fn from_segments(segments: impl IntoIterator<Item = (SegmentId, IndexedSegment)>) -> Self {
-        let mut grid = SegmentGrid::default();
-        let mut entries: Vec<(Cell, CellEntry)> = Vec::new();
+    /// Room for the filings of ids below `ids_below` is made up front (a hint: larger ids
+    /// still fit).
+    pub fn from_segments(
+        segments: impl IntoIterator<Item = (SegmentId, IndexedSegment)>,
+        ids_below: usize,
+    ) -> Self {
+        let mut grid = SegmentGrid {
+            filings: Vec::with_capacity(ids_below),
+            ..SegmentGrid::default()
+        };
+        let segments = segments.into_iter();
+        // Most segments take one or two cells.
+        let mut entries: Vec<(Cell, CellEntry)> = Vec::with_capacity(2 * segments.size_hint().0);
         for (id, segment) in segments {
             let filing = file_segment(id, segment, |cell, entry| entries.push((cell, entry)));
             if filing.place == Place::Oversize {
@@ -159,15 +213,7 @@ impl SegmentGrid {
             grid.filings[slot] = Some(filing);
             grid.filed += 1;
         }
-        // A stable sort keeps each cell's entries in filing order.
-        entries.sort_by_key(|&(cell, _)| cell);
-        let mut rest = entries.as_slice();
-        while let Some(&(cell, _)) = rest.first() {
-            let n = rest.partition_point(|&(c, _)| c == cell);
-            grid.cells
-                .insert(cell, rest[..n].iter().map(|&(_, e)| e).collect());
-            rest = &rest[n..];
-        }
+        grid.cells = by_cell(entries);
         grid
     }
 
@@ -200,7 +246,15 @@ impl SegmentGrid {
                 for cx in bx[0]..=bx[2] {
                     for cy in bx[1]..=bx[3] {
                         if let Some(list) = self.cells.get_mut(&(cx, cy)) {
-                            list.retain(|e| e.id != id);
+                            // A segment is listed once a cell of its box: found, the rest of
+                            // the list moves up in one copy (a `paper` map piles thousands of
+                            // segments into the cells of a wall it keeps seeing). Sought from
+                            // the end: a segment is filed anew at the end of its lists each
+                            // time it changes, and the ones that change are the ones that
+                            // changed lately.
+                            if let Some(at) = list.iter().rposition(|e| e.id == id) {
+                                list.remove(at);
+                            }
                             if list.is_empty() {
                                 self.cells.remove(&(cx, cy));
                             }
@@ -388,35 +442,40 @@ mod tests {
     #[test]
     fn a_grid_built_in_one_pass_equals_one_filed_segment_by_segment() {
         // Segments in and across cells, long ones, an oversize one, an infinite one (NaN would
-        // make the grids unequal to themselves).
-        let mut rng = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
-            (rng % 10_000) as f64 / 100.0 - 50.0
-        };
-        let mut segments: Vec<(SegmentId, IndexedSegment)> = (0..500)
-            .map(|id| {
-                let a = Point::new(next(), next());
-                let b = a + (Point::new(next(), next()) - a) * 0.05;
-                (id * 2 + 1, filed(a, b))
-            })
-            .collect();
-        segments.push((2000, filed(Point::new(-1e4, 0.0), Point::new(1e4, 0.0))));
-        segments.push((
-            2001,
-            filed(Point::new(f64::INFINITY, 0.0), Point::new(1.0, 1.0)),
-        ));
-        let mut one_by_one = SegmentGrid::default();
-        for &(id, s) in &segments {
-            one_by_one.insert(id, s);
+        // make the grids unequal to themselves); spread thinly over the grid (its cells
+        // grouped by sorting) and crowded (by counting over the cells' box).
+        for spread_m in [100.0, 6.0] {
+            let mut rng = 0x2545_f491_4f6c_dd1du64;
+            let mut next = || {
+                rng ^= rng << 13;
+                rng ^= rng >> 7;
+                rng ^= rng << 17;
+                ((rng % 10_000) as f64 / 10_000.0 - 0.5) * spread_m
+            };
+            let mut segments: Vec<(SegmentId, IndexedSegment)> = (0..500)
+                .map(|id| {
+                    let a = Point::new(next(), next());
+                    let b = a + (Point::new(next(), next()) - a) * 0.05;
+                    (id * 2 + 1, filed(a, b))
+                })
+                .collect();
+            segments.push((2000, filed(Point::new(-1e4, 0.0), Point::new(1e4, 0.0))));
+            segments.push((
+                2001,
+                filed(Point::new(f64::INFINITY, 0.0), Point::new(1.0, 1.0)),
+            ));
+            let mut one_by_one = SegmentGrid::default();
+            for &(id, s) in &segments {
+                one_by_one.insert(id, s);
+            }
+            for ids_below in [0, 2002, 5000] {
+                let at_once = SegmentGrid::from_segments(segments.iter().copied(), ids_below);
+                assert_eq!(at_once, one_by_one, "spread {spread_m} m");
+                assert!(at_once
+                    .check_files_exactly(segments.iter().copied())
+                    .is_ok());
+            }
         }
-        let at_once = SegmentGrid::from_segments(segments.iter().copied());
-        assert_eq!(at_once, one_by_one);
-        assert!(at_once
-            .check_files_exactly(segments.iter().copied())
-            .is_ok());
     }
 
     #[test]

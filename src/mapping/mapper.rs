@@ -55,15 +55,23 @@ pub struct RecordedDecision {
     pub rule: Rule,
     /// The existing segment it named.
     pub existing: Option<SegmentId>,
+    /// For a MATCH or EXTENSION that updated a segment: whether the updated segment's
+    /// supporting points failed the post-update test, so that it was fitted afresh
+    /// (docs/algorithm.md §5). Taken again, a pass spares the test over every point.
+    pub refit: Option<bool>,
 }
 
 impl RecordedDecision {
-    /// What `decision` was.
-    pub fn of(decision: &DecisionTrace) -> Self {
+    /// What `decision` was, with the step's `updates`.
+    pub fn of(decision: &DecisionTrace, updates: &[UpdateTrace]) -> Self {
         Self {
             outcome: decision.outcome,
             rule: decision.rule,
             existing: decision.existing,
+            refit: updates
+                .iter()
+                .find(|u| u.new_segment == decision.new_segment)
+                .map(|u| u.refit.is_some()),
         }
     }
 }
@@ -213,10 +221,9 @@ impl Mapper {
         }
     }
 
-    /// Resumes from a checkpoint.
-    pub fn restore(&mut self, state: MapperState) {
-        self.map = state.map;
-        self.map.rebuild_index();
+    /// Resumes from a checkpoint (its map shared, not moved: see [`Map::with_index`]).
+    pub fn restore(&mut self, state: &MapperState) {
+        self.map = state.map.with_index();
         self.last_pose = state.last_pose;
         self.next_snapshot = state.next_snapshot;
     }
@@ -846,7 +853,9 @@ impl Mapper {
             };
             decision.result = match decision.outcome {
                 Outcome::Match | Outcome::Extension => {
-                    let update = self.update_for(&decision, &new_segments[ni], &absorbed_into);
+                    let refit = recorded.as_ref().and_then(|r| r[ni].0.refit);
+                    let update =
+                        self.update_for(&decision, &new_segments[ni], &absorbed_into, refit);
                     update.map(|(target, update)| {
                         if let Some(update) = update {
                             absorbed_into
@@ -880,13 +889,15 @@ impl Mapper {
     }
 
     /// §5 for a MATCH or EXTENSION `decision` of `new`: the update of the segment that now
-    /// carries the chosen candidate's id (following the merges of this snapshot, `absorbed_into`).
+    /// carries the chosen candidate's id (following the merges of this snapshot, `absorbed_into`);
+    /// `refit`, when recorded, says whether it is fitted afresh ([`UpdateRequest::refit`]).
     /// Returns that segment's id and the update's trace (none when it is gone).
     fn update_for(
         &mut self,
         decision: &DecisionTrace,
         new: &NewSegmentTrace,
         absorbed_into: &[(SegmentId, SegmentId)],
+        refit: Option<bool>,
     ) -> Option<(SegmentId, Option<UpdateTrace>)> {
         let named = decision.existing?;
         let evaluation = &decision
@@ -911,6 +922,7 @@ impl Mapper {
                 None
             },
             snapshot: self.next_snapshot - 1,
+            refit,
         };
         Some((target, apply_update(&mut self.map, &self.params, &request)))
     }

@@ -92,8 +92,17 @@ pub fn merge_support_points(
         // first, as a stable sort orders them), found by binary search.
         // Sized exactly (points that share a reading, as split pieces share their corner, can
         // keep a few over the cap): the list lives on in the map and its checkpoints.
-        let kept_count = old.iter().chain(new).filter(kept).count();
+        let kept_count = match oldest_kept {
+            None => old.len() + new.len(),
+            Some(_) => old.iter().chain(new).filter(kept).count(),
+        };
         let mut merged = Vec::with_capacity(kept_count);
+        // The runs of old points between new ones, copied whole when every point is kept (the
+        // paper's unbounded lists: thousands of points an update).
+        let keep_run = |merged: &mut Vec<SupportPoint>, run: &[SupportPoint]| match oldest_kept {
+            None => merged.extend_from_slice(run),
+            Some(_) => merged.extend(run.iter().filter(kept)),
+        };
         let mut i = 0;
         for (&l, r) in new_keys.iter().zip(new_run.iter()).filter(|(_, r)| kept(r)) {
             let (mut low, mut high) = (i, old_run.len());
@@ -105,11 +114,11 @@ pub fn merge_support_points(
                     high = mid;
                 }
             }
-            merged.extend(old_run[i..low].iter().filter(kept));
+            keep_run(&mut merged, &old_run[i..low]);
             merged.push(*r);
             i = low;
         }
-        merged.extend(old_run[i..].iter().filter(kept));
+        keep_run(&mut merged, &old_run[i..]);
         return merged;
     }
     // Otherwise sort the kept points by (place, reading), ties in list order as a stable sort
@@ -393,6 +402,10 @@ pub struct UpdateRequest<'a> {
     pub inside: Option<Side>,
     /// The snapshot.
     pub snapshot: usize,
+    /// Whether the post-update test fails (the segment is fitted afresh), when a recording of
+    /// this very update says so: `Some(false)` spares the test over every supporting point
+    /// (thousands, in `paper`). `None`: tested.
+    pub refit: Option<bool>,
 }
 
 /// Applies an update to the map (paper §3.3.2; docs/algorithm.md §5): the geometry of Figure 1
@@ -423,7 +436,11 @@ pub fn apply_update(
     };
     let [a, b] = geometry.ends;
     let points = merge_support_points(&seg.points, request.new_points, &a, &b, params.support_cap);
-    let worst = worst_support_test(&points, &geometry.line, params);
+    let worst = match request.refit {
+        // Recorded as passing: the test would find nothing to refit.
+        Some(false) => None,
+        _ => worst_support_test(&points, &geometry.line, params),
+    };
     let mut update = UpdateTrace {
         segment: target,
         new_segment: request.new_index,
@@ -473,19 +490,27 @@ pub fn apply_update(
 /// tolerance. Returns the worst: a failing one when any fails (the farthest beyond its
 /// tolerance), else the passing one nearest its tolerance; `None` without points.
 fn worst_support_test(points: &[SupportPoint], line: &[Point; 2], params: &Params) -> Option<Test> {
-    points
-        .iter()
-        .map(|q| {
-            let d = distance_to_line(&q.point, &line[0], &line[1]);
-            Test::at_most(d, split_tolerance(params, q.range_m))
-        })
-        .fold(None::<Test>, |acc, t| match acc {
-            Some(w) if !w.pass && t.pass => Some(w),
-            Some(w) if w.pass == t.pass && w.value - w.threshold >= t.value - t.threshold => {
-                Some(w)
-            }
-            _ => Some(t),
-        })
+    let mut tests = points.iter().map(|q| {
+        let d = distance_to_line(&q.point, &line[0], &line[1]);
+        Test::at_most(d, split_tolerance(params, q.range_m))
+    });
+    // The worst so far as a plain value, not an `Option` folded through: the loop runs over
+    // every supporting point of every update (thousands, in `paper`), and the folded option
+    // went through memory each time.
+    let mut worst = tests.next()?;
+    for t in tests {
+        // A failing test is worse than a passing one; between two alike, the one further
+        // beyond (or nearer) its threshold, the earlier on a tie.
+        let keeps = if worst.pass == t.pass {
+            worst.value - worst.threshold >= t.value - t.threshold
+        } else {
+            !worst.pass
+        };
+        if !keeps {
+            worst = t;
+        }
+    }
+    Some(worst)
 }
 
 /// Fits the updated segment's `points` afresh (§3): the first piece keeps the id `target`, the

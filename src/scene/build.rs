@@ -12,7 +12,7 @@ use crate::geometry::{lerp, projection_param, unit, Point, Pose};
 use crate::mapping::map::FeatureKind;
 use crate::mapping::trace::{CorrelationKind, ReadingTrace};
 use crate::mapping::{Map, Outcome, SegmentId, SegmentKind, StepTrace};
-use crate::run::Run;
+use crate::run::{Run, Snapshot};
 use crate::units::inches;
 
 /// Everything a scene is built from: borrowed, never copied.
@@ -121,6 +121,7 @@ pub fn build_scene(input: &SceneInput, options: &ViewOptions) -> Scene {
         options,
         out: Vec::with_capacity(estimate(input)),
         culled: Vec::new(),
+        map_lines: None,
         texts: TextBoxes::new(options.world_per_px),
         pose: input
             .step
@@ -179,6 +180,27 @@ struct Builder<'a, 'b> {
     pose: Option<Pose>,
     /// The bounding box of what the view rectangle left out, by layer.
     culled: Vec<(Layer, ViewRect)>,
+    /// The lines of the map after the step, once a layer needed them.
+    map_lines: Option<Vec<MapLine>>,
+}
+
+/// What the layers that walk the whole map after the step (map, labels) read of a segment,
+/// gathered in one pass: the segments sit behind pointers, all over the heap, and each walk
+/// over them fetches every one from memory again (a `paper` map of a long run holds hundreds
+/// of thousands).
+#[derive(Clone, Copy)]
+struct MapLine {
+    id: SegmentId,
+    kind: SegmentKind,
+    a: Point,
+    b: Point,
+}
+
+impl MapLine {
+    /// Length, metres (as [`crate::mapping::map::Segment::length`]).
+    fn length(&self) -> f64 {
+        (self.b - self.a).norm()
+    }
 }
 
 /// The reading of `sensor` (readings are stored in sensor order; fall back to a search).
@@ -260,6 +282,16 @@ impl Builder<'_, '_> {
         let after = &self.input.map_after.segments;
         let mut j = 0;
         for s in &self.input.map_before.segments {
+            // The very segment at the walk's place in the map after is unchanged, known so
+            // without fetching either from memory; only a view rectangle needs where it lies
+            // (for the culled box).
+            if only_changed && after.get(j).is_some_and(|t| std::sync::Arc::ptr_eq(t, s)) {
+                j += 1;
+                if self.options.visible_m.is_some() {
+                    self.shows(Layer::MapBefore, &s.a.point, &s.b.point);
+                }
+                continue;
+            }
             if !self.shows(Layer::MapBefore, &s.a.point, &s.b.point) {
                 continue;
             }
@@ -412,7 +444,8 @@ impl Builder<'_, '_> {
                 Layer::Clusters,
                 SceneId::None,
                 at,
-                text,
+                text.chars().count(),
+                || text,
                 [0.0, 8.0],
                 TextAlign::Middle,
             );
@@ -476,10 +509,9 @@ impl Builder<'_, '_> {
         let mut dots = Declutter::new(self.options.world_per_px, 3.0, 3.0);
         // A segment whose ends fall within 2 px of one already drawn looks the same.
         let mut lines = Declutter::new(self.options.world_per_px, 2.0, 2.0);
-        for s in &self.input.map_after.segments {
-            if !self.shows(Layer::Map, &s.a.point, &s.b.point)
-                || !lines.claim_line(&s.a.point, &s.b.point)
-            {
+        let map_lines = self.take_map_lines();
+        for s in &map_lines {
+            if !self.shows(Layer::Map, &s.a, &s.b) || !lines.claim_line(&s.a, &s.b) {
                 continue;
             }
             let id = SceneId::MapSegment(s.id);
@@ -490,17 +522,9 @@ impl Builder<'_, '_> {
                 SegmentKind::Fitted => Role::MapFitted,
                 SegmentKind::Interpolated => Role::MapInterpolated,
             };
-            self.push(
-                Layer::Map,
-                role,
-                id,
-                Shape::Segment {
-                    a: s.a.point,
-                    b: s.b.point,
-                },
-            );
+            self.push(Layer::Map, role, id, Shape::Segment { a: s.a, b: s.b });
             if s.kind == SegmentKind::Fitted && s.length() >= min_len_m {
-                for at in [s.a.point, s.b.point] {
+                for at in [s.a, s.b] {
                     if !dots.claim(&at) {
                         continue;
                     }
@@ -516,6 +540,24 @@ impl Builder<'_, '_> {
                 }
             }
         }
+        self.map_lines = Some(map_lines);
+    }
+
+    /// The lines of the map after the step (gathered by the first layer to ask; a layer puts
+    /// them back in `map_lines` when it is done with them).
+    fn take_map_lines(&mut self) -> Vec<MapLine> {
+        self.map_lines.take().unwrap_or_else(|| {
+            let segments = &self.input.map_after.segments;
+            segments
+                .iter()
+                .map(|s| MapLine {
+                    id: s.id,
+                    kind: s.kind,
+                    a: s.a.point,
+                    b: s.b.point,
+                })
+                .collect()
+        })
     }
 
     /// The supporting readings of the segment asked for, each marked where it was read.
@@ -752,22 +794,56 @@ impl Builder<'_, '_> {
         }
     }
 
+    /// The robot's path through `path` as polylines: one, unless the view has a level of
+    /// detail. Then a stretch between two poses whose ends fall in the 2-pixel cells of a
+    /// stretch drawn already is left out, and the path broken there: a patrol goes over the
+    /// same ground lap after lap, and each lap drawn again would only add vertices.
+    fn path_pieces(&self, path: &[Snapshot]) -> Vec<Vec<Point>> {
+        let mut drawn = Declutter::new(self.options.world_per_px, 2.0, 2.0);
+        let mut pieces: Vec<Vec<Point>> = Vec::new();
+        let mut open = false;
+        let Some(first) = path.first() else {
+            return pieces;
+        };
+        // Each pose's cell found once (it ends two stretches).
+        let at = |drawn: &Declutter, s: &Snapshot| {
+            let p = s.pose.position();
+            (p, drawn.cell(&p))
+        };
+        let mut from = at(&drawn, first);
+        for s in &path[1..] {
+            let ((a, ca), (b, cb)) = (from, at(&drawn, s));
+            from = (b, cb);
+            if !drawn.claim_cells(ca, cb) {
+                open = false;
+                continue;
+            }
+            if !open {
+                pieces.push(vec![a]);
+                open = true;
+            }
+            pieces.last_mut().expect("a piece is open").push(b);
+        }
+        pieces
+    }
+
     fn robot(&mut self) {
         let run = self.input.run;
         let k = self.input.snapshot;
         let radius_m = run.robot_radius_m.unwrap_or(inches(9.0));
         let path = &run.snapshots[..(k + 1).min(run.snapshots.len())];
         if path.len() >= 2 {
-            let points = path.iter().map(|s| s.pose.position()).collect();
-            self.push(
-                Layer::Robot,
-                Role::RobotPath,
-                SceneId::Robot,
-                Shape::Polyline {
-                    points,
-                    closed: false,
-                },
-            );
+            for points in self.path_pieces(path) {
+                self.push(
+                    Layer::Robot,
+                    Role::RobotPath,
+                    SceneId::Robot,
+                    Shape::Polyline {
+                        points,
+                        closed: false,
+                    },
+                );
+            }
             let prev = path[path.len() - 2].pose.position();
             self.push(
                 Layer::Robot,
@@ -796,21 +872,24 @@ impl Builder<'_, '_> {
         );
     }
 
-    /// A text of role [`Role::Label`], unless it would cover a text placed before.
+    /// A text of role [`Role::Label`] of `chars` characters, unless it would cover a text
+    /// placed before: `text` makes it only when it is placed.
+    #[allow(clippy::too_many_arguments)]
     fn push_text(
         &mut self,
         layer: Layer,
         id: SceneId,
         anchor: Point,
-        text: String,
+        chars: usize,
+        text: impl FnOnce() -> String,
         offset_px: [f32; 2],
         align: TextAlign,
     ) {
         let size_px = Role::Label.style().marker_size_px;
-        if self.texts.claim(&anchor, &text, size_px, offset_px, align) {
+        if self.texts.claim(&anchor, chars, size_px, offset_px, align) {
             let shape = Shape::Text {
                 anchor,
-                text,
+                text: text(),
                 offset_px,
                 align,
             };
@@ -827,7 +906,8 @@ impl Builder<'_, '_> {
                 Layer::Labels,
                 SceneId::NewSegment(i),
                 anchor,
-                text,
+                text.chars().count(),
+                || text,
                 [-4.0, -14.0],
                 TextAlign::End,
             );
@@ -844,34 +924,33 @@ impl Builder<'_, '_> {
         };
         // The selection first, then the map in order; a label that would cover another is
         // left out (overlapping labels cannot be read).
-        let order = input
+        let map_lines = self.take_map_lines();
+        let selected = input
             .support_of
-            .and_then(|id| input.map_after.segment(id))
+            .and_then(|id| map_lines.binary_search_by_key(&id, |s| s.id).ok());
+        let order = selected
             .into_iter()
-            .chain(
-                input
-                    .map_after
-                    .segments
-                    .iter()
-                    .map(|s| &**s)
-                    .filter(|s| Some(s.id) != input.support_of),
-            );
-        for s in order {
+            .chain((0..map_lines.len()).filter(|&i| Some(map_lines[i].id) != input.support_of));
+        for s in order.map(|i| &map_lines[i]) {
             if s.length() < min_len_m
                 || (input.figure_labels && !met(s.id))
-                || !self.shows(Layer::Labels, &s.a.point, &s.b.point)
+                || !self.shows(Layer::Labels, &s.a, &s.b)
             {
                 continue;
             }
+            // "s" and the id's decimal digits.
+            let chars = 2 + s.id.checked_ilog10().unwrap_or(0) as usize;
             self.push_text(
                 Layer::Labels,
                 SceneId::MapSegment(s.id),
-                s.mid(),
-                format!("s{}", s.id),
+                mid(&s.a, &s.b),
+                chars,
+                || format!("s{}", s.id),
                 [4.0, 4.0],
                 TextAlign::Start,
             );
         }
+        self.map_lines = Some(map_lines);
     }
 }
 

@@ -26,15 +26,22 @@ impl Declutter {
         }
     }
 
-    fn cell(&self, p: &Point) -> Option<(i64, i64)> {
+    /// The cell of `p` (`None` without a view: no culling).
+    pub fn cell(&self, p: &Point) -> Option<(i64, i64)> {
         let (w, h) = self.cell_m?;
-        Some(((p.x / w).floor() as i64, (p.y / h).floor() as i64))
+        Some((floor_i64(p.x / w), floor_i64(p.y / h)))
     }
 
     /// True, and the pair of cells taken, when no line between the cells of `a` and `b`
     /// (either way round) is drawn yet: copies of a segment closer than a cell coincide.
     pub fn claim_line(&mut self, a: &Point, b: &Point) -> bool {
-        let (Some(ca), Some(cb)) = (self.cell(a), self.cell(b)) else {
+        self.claim_cells(self.cell(a), self.cell(b))
+    }
+
+    /// [`Declutter::claim_line`] with the cells of the ends found already (by
+    /// [`Declutter::cell`]: a polyline's points each end two lines).
+    pub fn claim_cells(&mut self, a: Option<(i64, i64)>, b: Option<(i64, i64)>) -> bool {
+        let (Some(ca), Some(cb)) = (a, b) else {
             return true;
         };
         self.taken_pairs
@@ -50,6 +57,19 @@ impl Declutter {
     }
 }
 
+/// `v.floor() as i64` (saturating; NaN gives 0) without a call into the C library: x86-64's
+/// baseline has no rounding instruction, and a scene takes a few cells for each of the
+/// hundreds of thousands of segments of a long `paper` run. Truncation, one less when that
+/// went up (below zero, something cut off).
+fn floor_i64(v: f64) -> i64 {
+    let t = v as i64;
+    if t as f64 > v {
+        t.saturating_sub(1)
+    } else {
+        t
+    }
+}
+
 /// Average advance of a label character, in ems: an upper bound for the digits and lower-case
 /// letters of labels in DejaVu Sans (the widest of the fonts the SVG names; digits advance
 /// 0.636 em) and in egui's font, so a box never understates the text drawn.
@@ -60,12 +80,12 @@ const DESCENT_EM: f64 = 0.25;
 /// The halo drawn around texts (half its 3-pixel stroke), pixels.
 const HALO_PX: f64 = 1.5;
 
-/// The box a text covers on screen, pixels relative to its anchor (x right, y down), as the
-/// renderers place it: `offset_px` moves the baseline's reference point right and up, `align`
-/// says which end of the text sits there. `[x0, y0, x1, y1]`.
-pub fn text_box_px(text: &str, size_px: f32, offset_px: [f32; 2], align: TextAlign) -> [f64; 4] {
+/// The box a text of `chars` characters covers on screen, pixels relative to its anchor (x
+/// right, y down), as the renderers place it: `offset_px` moves the baseline's reference point
+/// right and up, `align` says which end of the text sits there. `[x0, y0, x1, y1]`.
+pub fn text_box_px(chars: usize, size_px: f32, offset_px: [f32; 2], align: TextAlign) -> [f64; 4] {
     let size = f64::from(size_px);
-    let width = CHAR_ADVANCE_EM * size * text.chars().count() as f64;
+    let width = CHAR_ADVANCE_EM * size * chars as f64;
     let x = f64::from(offset_px[0]);
     let baseline = -f64::from(offset_px[1]);
     let x0 = match align {
@@ -101,11 +121,12 @@ impl TextBoxes {
         }
     }
 
-    /// True, and the text's box taken, when it overlaps no box placed before.
+    /// True, and the box of a text of `chars` characters taken, when it overlaps no box placed
+    /// before (the text itself need not be made unless it is placed).
     pub fn claim(
         &mut self,
         anchor: &Point,
-        text: &str,
+        chars: usize,
         size_px: f32,
         offset_px: [f32; 2],
         align: TextAlign,
@@ -113,7 +134,7 @@ impl TextBoxes {
         if self.world_per_px == 0.0 {
             return true;
         }
-        let [x0, y0, x1, y1] = text_box_px(text, size_px, offset_px, align);
+        let [x0, y0, x1, y1] = text_box_px(chars, size_px, offset_px, align);
         let w = self.world_per_px;
         // Screen y runs down, world y up.
         let b = [
@@ -122,7 +143,7 @@ impl TextBoxes {
             anchor.x + x1 * w,
             anchor.y - y0 * w,
         ];
-        let cell = |v: f64| (v / self.cell_m).floor() as i64;
+        let cell = |v: f64| floor_i64(v / self.cell_m);
         let (cx0, cy0, cx1, cy1) = (cell(b[0]), cell(b[1]), cell(b[2]), cell(b[3]));
         for cx in cx0..=cx1 {
             for cy in cy0..=cy1 {
@@ -153,11 +174,11 @@ mod tests {
         // 1 cm per pixel; "s12" at 11 px is about 22 px wide and 13 px high.
         let mut t = TextBoxes::new(0.01);
         let a = Point::new(0.0, 0.0);
-        assert!(t.claim(&a, "s12", 11.0, [4.0, 4.0], TextAlign::Start));
+        assert!(t.claim(&a, 3, 11.0, [4.0, 4.0], TextAlign::Start));
         // 10 px to the right: overlaps.
         assert!(!t.claim(
             &Point::new(0.10, 0.0),
-            "s13",
+            3,
             11.0,
             [4.0, 4.0],
             TextAlign::Start
@@ -165,22 +186,58 @@ mod tests {
         // 40 px to the right, or 20 px up: clear.
         assert!(t.claim(
             &Point::new(0.40, 0.0),
-            "s14",
+            3,
             11.0,
             [4.0, 4.0],
             TextAlign::Start
         ));
         assert!(t.claim(
             &Point::new(0.0, 0.20),
-            "s15",
+            3,
             11.0,
             [4.0, 4.0],
             TextAlign::Start
         ));
         // Without a view every text is placed.
         let mut off = TextBoxes::new(0.0);
-        assert!(off.claim(&a, "s1", 11.0, [0.0, 0.0], TextAlign::Start));
-        assert!(off.claim(&a, "s1", 11.0, [0.0, 0.0], TextAlign::Start));
+        assert!(off.claim(&a, 2, 11.0, [0.0, 0.0], TextAlign::Start));
+        assert!(off.claim(&a, 2, 11.0, [0.0, 0.0], TextAlign::Start));
+    }
+
+    #[test]
+    fn floor_i64_is_floor_then_a_saturating_cast() {
+        let edges = [
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            -1.5,
+            2.0f64.powi(52) + 0.5,
+            -(2.0f64.powi(52) + 0.5),
+            2.0f64.powi(53) + 2.0,
+            -(2.0f64.powi(63)),
+            2.0f64.powi(63),
+            -(2.0f64.powi(64)),
+            1e300,
+            -1e300,
+            f64::MIN_POSITIVE,
+            -f64::MIN_POSITIVE,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let random = (0..10_000).map(|_| {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1);
+            f64::from_bits(state)
+        });
+        for v in edges.into_iter().chain(random) {
+            assert_eq!(floor_i64(v), v.floor() as i64, "{v:e}");
+        }
     }
 
     #[test]

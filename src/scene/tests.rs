@@ -547,3 +547,51 @@ fn a_view_rectangle_keeps_only_the_map_segments_that_meet_it() {
         "segment 2 after the step"
     );
 }
+
+#[test]
+fn zoomed_out_a_path_over_the_same_ground_is_drawn_once_and_whole_without_a_view() {
+    let mut f = fixture();
+    // Out to 1 m and back in 10 cm steps, three times.
+    let lap: Vec<f64> = (0..=10)
+        .chain((1..10).rev())
+        .map(|i| 0.1 * f64::from(i))
+        .collect();
+    f.run.snapshots = (lap.iter().cycle().take(3 * lap.len()).enumerate())
+        .map(|(i, &x)| Snapshot {
+            t: i as f64,
+            pose: Pose::new(x, 0.0, 0.0),
+            ranges_m: vec![None; 4],
+        })
+        .collect();
+    let input = SceneInput {
+        run: &f.run,
+        snapshot: f.run.snapshots.len() - 1,
+        step: &f.step,
+        previous_step: None,
+        map_before: &f.before,
+        map_after: &f.after,
+        truth: None,
+        support_of: None,
+        figure_labels: false,
+    };
+    let path = |options: &ViewOptions| -> Vec<Vec<Point>> {
+        (build_scene(&input, options).layer(Layer::Robot))
+            .filter(|p| p.role == Role::RobotPath)
+            .map(|p| match &p.shape {
+                Shape::Polyline { points, .. } => points.clone(),
+                other => panic!("the path is a polyline, not {other:?}"),
+            })
+            .collect()
+    };
+    let whole = path(&ViewOptions::all());
+    let poses: Vec<Point> = f.run.snapshots.iter().map(|s| s.pose.position()).collect();
+    assert_eq!(whole, vec![poses]);
+    let zoomed_out = path(&ViewOptions {
+        world_per_px: 0.01,
+        ..ViewOptions::all()
+    });
+    let out: Vec<Point> = (0..=10)
+        .map(|i| Point::new(0.1 * f64::from(i), 0.0))
+        .collect();
+    assert_eq!(zoomed_out, vec![out], "the first way out only");
+}
