@@ -972,3 +972,42 @@ fn a_log_opened_while_new_parameters_replay_the_old_run_stays_open() {
         "under the extended preset"
     );
 }
+
+#[test]
+fn the_inspector_explains_an_echo_placement_with_its_numbers() {
+    // The building asset in `extended`: the first snapshot whose step moved a piece's readings
+    // to their echo points (found by running the engine alone) names it in "Extensions this
+    // step", with how many readings moved to a foot and to a cone edge.
+    let mut h = building();
+    h.state_mut()
+        .push(Command::SetPreset(sonarmap::mapping::Preset::Extended));
+    settle(&mut h);
+    let run = h.state().run().clone();
+    let mut mapper = sonarmap::mapping::Mapper::new(
+        sonarmap::mapping::Params::extended(),
+        run.layout.clone(),
+        run.sensor,
+    );
+    let (k, fit) = run
+        .snapshots
+        .iter()
+        .enumerate()
+        .find_map(|(k, s)| {
+            let trace = mapper.step(s);
+            trace.echo_fits.first().cloned().map(|f| (k, f))
+        })
+        .expect("the building's extended run places echoes");
+    h.state_mut().push(Command::Seek(k));
+    h.run();
+    let text = format!(
+        "reading(s) moved to the foot of the perpendicular, {} to",
+        fit.at_cone_edge
+    );
+    assert!(
+        h.query_all_by_label_contains("echo placement: ")
+            .next()
+            .is_some()
+            && h.query_all_by_label_contains(&text).next().is_some(),
+        "snapshot {k}: no echo placement line with {text:?}"
+    );
+}
