@@ -26,6 +26,10 @@ use serde::{Deserialize, Serialize};
 /// roughness of the roughest wall it expects), radians: 40°.
 pub const MAX_INCIDENCE_RAD: f64 = 40.0 * std::f64::consts::PI / 180.0;
 
+/// Fewest readings of a piece before a reflector point is tried against its line (two
+/// readings fit both exactly).
+pub const MIN_REFLECTOR_READINGS: usize = 3;
+
 /// Fewest readings a piece needs before its line is fitted from the ranges.
 pub const MIN_ECHO_FIT_READINGS: usize = 2;
 
@@ -55,9 +59,14 @@ pub struct EchoFitTrace {
     /// The new segment (index into the step's new segments; for a dropped piece, the index it
     /// would have had).
     pub new_segment: usize,
-    /// The piece did not become a segment (most echo points behind confirmed walls).
+    /// The piece did not become a segment: its ranges fit one reflector point better than the
+    /// line (`reflector`), or most of its echo points lie behind confirmed walls.
     #[serde(default)]
     pub dropped: bool,
+    /// The reflector point (a corner or an edge) whose ranges fit better than the line's; it
+    /// was filed as a point feature.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reflector: Option<Point>,
     /// The fitted line.
     pub line: EchoLine,
     /// Readings whose echo came from inside the cone (the foot of the perpendicular).
@@ -252,6 +261,85 @@ pub fn fit_echo_line(
         offset_m,
         worst_residual_over_tolerance: worst,
     })
+}
+
+/// The single reflector point (a corner or an edge) that best explains the ranges of `beams`,
+/// found by Gauss-Newton from `start`, with its cost (the sum of squared range residuals over
+/// squared tolerances, as [`line_cost`]); `None` unless it lies inside every beam's cone and
+/// explains every range within its tolerance.
+///
+/// ```
+/// use sonarmap::geometry::{Point, Vec2};
+/// use sonarmap::mapping::echo_fit::fit_reflector_point;
+/// use sonarmap::mapping::point_features::Beam;
+/// // A corner at (1, 2) heard from x = 0.6, 1.0, 1.4 on y = 0, each sensor looking at it.
+/// let corner = Point::new(1.0, 2.0);
+/// let beams: Vec<Beam> = [0.6, 1.0, 1.4]
+///     .iter()
+///     .map(|&x| {
+///         let v: Vec2 = corner - Point::new(x, 0.0);
+///         Beam { origin: Point::new(x, 0.0), direction: v / v.norm(), range_m: v.norm() }
+///     })
+///     .collect();
+/// let (at, cost) = fit_reflector_point(&beams, Point::new(1.1, 1.9), 3.0, 12.5f64.to_radians()).unwrap();
+/// assert!((at - corner).norm() < 1e-6 && cost < 1e-9);
+/// ```
+pub fn fit_reflector_point(
+    beams: &[Beam],
+    start: Point,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+) -> Option<(Point, f64)> {
+    let mut p = start;
+    for _ in 0..8 {
+        // Normal equations of the linearised residuals r_i = |p − o_i| − D_i.
+        let (mut a11, mut a12, mut a22, mut b1, mut b2) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for b in beams {
+            let v = p - b.origin;
+            let d = v.norm().max(1e-9);
+            let g = v / d;
+            let w = feature_tolerance_m(accuracy_pct, b.range_m).powi(-2);
+            let r = d - b.range_m;
+            a11 += w * g.x * g.x;
+            a12 += w * g.x * g.y;
+            a22 += w * g.y * g.y;
+            b1 += w * g.x * r;
+            b2 += w * g.y * r;
+        }
+        let det = a11 * a22 - a12 * a12;
+        if det.abs() < 1e-12 {
+            return None;
+        }
+        let dx = (a22 * b1 - a12 * b2) / det;
+        let dy = (a11 * b2 - a12 * b1) / det;
+        p -= Vec2::new(dx, dy);
+    }
+    let mut cost = 0.0;
+    for b in beams {
+        let v = p - b.origin;
+        let d = v.norm();
+        let tol = feature_tolerance_m(accuracy_pct, b.range_m);
+        if d <= 0.0 || (d - b.range_m).abs() > tol || v.dot(&b.direction) / d < half_beam_rad.cos()
+        {
+            return None;
+        }
+        cost += ((d - b.range_m) / tol).powi(2);
+    }
+    Some((p, cost))
+}
+
+/// The cost of `line` for `beams`: the sum of squared range residuals over squared
+/// tolerances.
+pub fn line_cost(beams: &[Beam], line: &EchoLine, accuracy_pct: f64, half_beam_rad: f64) -> f64 {
+    let half = (half_beam_rad.cos(), half_beam_rad.sin());
+    beams
+        .iter()
+        .map(|b| {
+            let k = edge_factor(b, &line.normal, half).unwrap_or(f64::INFINITY);
+            let predicted = k * (line.offset_m - line.normal.dot(&b.origin.coords));
+            ((predicted - b.range_m) / feature_tolerance_m(accuracy_pct, b.range_m)).powi(2)
+        })
+        .sum()
 }
 
 /// Each reading of `points` (with its beam in `beams`) moved to its echo point on `line`: at

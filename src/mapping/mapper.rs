@@ -4,7 +4,8 @@ use super::cluster::{cluster_points, sensor_ranks, Clusters};
 use super::confirm::{note_plane_support, supports};
 use super::correlate::correlate_face;
 use super::echo_fit::{
-    echo_behind_confirmed_wall, fit_echo_line, place_echoes, EchoFitTrace, MIN_ECHO_FIT_READINGS,
+    echo_behind_confirmed_wall, fit_echo_line, fit_reflector_point, line_cost, place_echoes,
+    EchoFitTrace, MIN_ECHO_FIT_READINGS, MIN_REFLECTOR_READINGS,
 };
 use super::extensions::{memory_step, reduce_constant_depth};
 use super::fast_path::decide;
@@ -20,7 +21,7 @@ use super::trace::{
     RefutedTrace, Rule, SegmentSource, SplitTrace, StepTrace, UpdateTrace, Warning,
 };
 use super::update::{apply_update, cap_support_points, UpdateRequest};
-use crate::geometry::{Point, Pose};
+use crate::geometry::{Point, Pose, Vec2};
 use crate::run::Snapshot;
 use crate::sonar::{BeamAxis, EchoModel, SensorLayout, SensorSpec};
 use std::ops::Range;
@@ -695,7 +696,12 @@ impl Mapper {
     /// placement.
     /// Returns false when the piece must not become a segment: most of its echo points lie
     /// behind confirmed walls.
-    fn place_echoes(&self, new: &mut NewSegmentTrace, index: usize, trace: &mut StepTrace) -> bool {
+    fn place_echoes(
+        &mut self,
+        new: &mut NewSegmentTrace,
+        index: usize,
+        trace: &mut StepTrace,
+    ) -> bool {
         if new.points.len() < MIN_ECHO_FIT_READINGS || self.sensor.echo == EchoModel::Axis {
             return true;
         }
@@ -722,6 +728,21 @@ impl Mapper {
         };
         let (placed, at_foot, at_cone_edge, moved_max_m) =
             place_echoes(&new.points, &beams, &line, half);
+        // A corner or an edge: one reflector point explains the ranges better than the line.
+        let reflector = if new.points.len() >= MIN_REFLECTOR_READINGS {
+            let centre = placed.iter().map(|q| q.point.coords).sum::<Vec2>() / placed.len() as f64;
+            fit_reflector_point(&beams, Point::from(centre), xi, half)
+                .filter(|&(_, cost)| cost < line_cost(&beams, &line, xi, half))
+                .map(|(at, _)| at)
+        } else {
+            None
+        };
+        if let Some(at) = reflector {
+            let n = beams.len() as f64;
+            let range_m = beams.iter().map(|b| b.range_m).sum::<f64>() / n;
+            let origin = Point::from(beams.iter().map(|b| b.origin.coords).sum::<Vec2>() / n);
+            file_arc(&mut self.map, at, range_m, &origin, trace.snapshot, xi);
+        }
         let behind_confirmed_wall = placed
             .iter()
             .filter(|q| {
@@ -731,7 +752,7 @@ impl Mapper {
                     .is_some_and(|i| echo_behind_confirmed_wall(&self.map, &beams[i], &q.point, xi))
             })
             .count();
-        let keep = 2 * behind_confirmed_wall <= new.points.len();
+        let keep = reflector.is_none() && 2 * behind_confirmed_wall <= new.points.len();
         let (a, b) = piece_end_points(&placed, 0, placed.len() - 1, self.params.fit);
         new.a = a;
         new.b = b;
@@ -740,6 +761,7 @@ impl Mapper {
             trace.echo_fits.push(EchoFitTrace {
                 new_segment: index,
                 dropped: !keep,
+                reflector,
                 line,
                 at_foot,
                 at_cone_edge,

@@ -87,11 +87,18 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             e.at_cone_edge,
             ctx.len(e.moved_max_m)
         ));
+        if let Some(at) = e.reflector {
+            ui.label(format!(
+                "  one reflector at {} explains its ranges better than the line: a corner or an \
+                 edge, filed as a point feature and not added as a segment",
+                ctx.point(&at)
+            ));
+        }
         if e.behind_confirmed_wall > 0 {
             ui.label(format!(
                 "  {} of its echo points lie behind a confirmed wall{}",
                 e.behind_confirmed_wall,
-                if e.dropped {
+                if e.dropped && e.reflector.is_none() {
                     ": more than half, so it was not added"
                 } else {
                     ""
