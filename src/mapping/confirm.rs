@@ -9,7 +9,7 @@
 //! two poses. A segment is **confirmed** once readings of two distinct snapshots support it as
 //! a plane; until then it is tentative (drawn dimmed; `eval` reports both sets).
 
-use super::echo_fit::MAX_INCIDENCE_RAD;
+use super::echo_fit::{echo_ray, MAX_INCIDENCE_RAD};
 use super::map::{Map, SegmentId};
 use super::point_features::{feature_tolerance_m, Beam};
 use crate::geometry::{projection_param, Point, Vec2};
@@ -144,13 +144,7 @@ pub fn supports_as_echo(
     if (predicted_m - beam.range_m).abs() > feature_tolerance_m(accuracy_pct, beam.range_m) {
         return None;
     }
-    // The echo comes along the normal, or along the cone's edge nearer to it.
-    let ray = if inside {
-        normal
-    } else {
-        let (s, d) = (sin_half.copysign(cross), beam.direction);
-        Vec2::new(cos_half * d.x - s * d.y, s * d.x + cos_half * d.y)
-    };
+    let (ray, _) = echo_ray(beam, &normal, (sin_half, cos_half));
     let echo = beam.origin + ray * predicted_m;
     (-0.1..=1.1)
         .contains(&projection_param(&echo, a, b))

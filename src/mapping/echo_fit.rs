@@ -104,9 +104,19 @@ pub fn echo_behind_confirmed_wall(map: &Map, beam: &Beam, echo: &Point, accuracy
     behind
 }
 
-/// Signed angle from `from` to `to`, radians in (−π, π].
-fn signed_angle(from: &Vec2, to: &Vec2) -> f64 {
-    (from.x * to.y - from.y * to.x).atan2(from.dot(to))
+/// The direction `beam`'s echo from a plane with normal `normal` comes along: the normal when
+/// it lies inside the cone (half-width given as its sine and cosine), else the cone's edge
+/// nearer to it; and whether it lies inside.
+pub fn echo_ray(beam: &Beam, normal: &Vec2, (sin_half, cos_half): (f64, f64)) -> (Vec2, bool) {
+    let d = beam.direction;
+    if d.dot(normal) >= cos_half {
+        return (*normal, true);
+    }
+    let s = sin_half.copysign(d.x * normal.y - d.y * normal.x);
+    (
+        Vec2::new(cos_half * d.x - s * d.y, s * d.x + cos_half * d.y),
+        false,
+    )
 }
 
 /// `1 / cos γ`, where γ is the angle between `beam`'s echoing ray and the normal `normal` of a
@@ -353,24 +363,18 @@ pub fn place_echoes(
     half_beam_rad: f64,
 ) -> (Vec<SupportPoint>, usize, usize, f64) {
     let (mut at_foot, mut at_edge, mut moved_max_m) = (0, 0, 0.0f64);
+    let half = half_beam_rad.sin_cos();
     let mut placed: Vec<SupportPoint> = points
         .iter()
         .zip(beams)
         .map(|(q, b)| {
-            let off = signed_angle(&b.direction, &line.normal);
-            if off.abs() <= half_beam_rad {
+            let (ray, inside) = echo_ray(b, &line.normal, half);
+            if inside {
                 at_foot += 1;
             } else {
                 at_edge += 1;
             }
-            let turn = off.clamp(-half_beam_rad, half_beam_rad);
-            let (s, c) = turn.sin_cos();
-            let d = b.direction;
-            let ray = Vec2::new(c * d.x - s * d.y, s * d.x + c * d.y);
-            let mut point = b.origin + ray * b.range_m;
-            if std::env::var("PROJ").is_ok() {
-                point -= line.normal * (line.normal.dot(&point.coords) - line.offset_m);
-            }
+            let point = b.origin + ray * b.range_m;
             moved_max_m = moved_max_m.max((point - q.point).norm());
             SupportPoint { point, ..*q }
         })
