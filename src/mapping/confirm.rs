@@ -9,7 +9,7 @@
 //! two poses. A segment is **confirmed** once readings of two distinct snapshots support it as
 //! a plane; until then it is tentative (drawn dimmed; `eval` reports both sets).
 
-use super::echo_fit::{echo_ray, MAX_INCIDENCE_RAD};
+use super::echo_fit::{echo_ray, incidence_cosine, HalfCone};
 use super::map::{Map, SegmentId};
 use super::point_features::{feature_tolerance_m, Beam};
 use crate::geometry::{projection_param, Point, Vec2};
@@ -91,7 +91,7 @@ pub fn supports_as_plane(
 /// Whether `beam` supports the segment `a`–`b` as a plane, its echo taken from the nearest
 /// point of the plane inside the cone (docs/algorithm.md §8.10): the foot of the perpendicular
 /// when the normal lies inside the cone ([`supports_as_plane`]), else where the cone's nearer
-/// edge meets the line, at most [`MAX_INCIDENCE_RAD`] off the normal. That point must lie on
+/// edge meets the line, at most [`MAX_INCIDENCE_RAD`](super::echo_fit::MAX_INCIDENCE_RAD) off the normal. That point must lie on
 /// the segment (10 % slack) at the range within the tolerance. Returns the predicted range.
 ///
 /// ```
@@ -126,25 +126,15 @@ pub fn supports_as_echo(
         normal = -normal;
         perpendicular_m = -perpendicular_m;
     }
-    // The angle between the axis and the normal, and γ, how far the normal lies outside the
-    // cone: cos γ = cos(off − half) without a trigonometric call but the half-width's.
-    let (sin_half, cos_half) = half_beam_rad.sin_cos();
-    let cos_off = beam.direction.dot(&normal);
-    let cross = beam.direction.x * normal.y - beam.direction.y * normal.x;
-    let inside = cos_off >= cos_half;
-    let cos_incidence = if inside {
-        1.0
-    } else {
-        cos_off * cos_half + cross.abs() * sin_half
-    };
-    if perpendicular_m <= 0.0 || cos_incidence < MAX_INCIDENCE_RAD.cos() {
+    let half = HalfCone::new(half_beam_rad);
+    if perpendicular_m <= 0.0 {
         return None;
     }
-    let predicted_m = perpendicular_m / cos_incidence;
+    let predicted_m = perpendicular_m / incidence_cosine(beam, &normal, half)?;
     if (predicted_m - beam.range_m).abs() > feature_tolerance_m(accuracy_pct, beam.range_m) {
         return None;
     }
-    let (ray, _) = echo_ray(beam, &normal, (sin_half, cos_half));
+    let (ray, _) = echo_ray(beam, &normal, half);
     let echo = beam.origin + ray * predicted_m;
     (-0.1..=1.1)
         .contains(&projection_param(&echo, a, b))

@@ -17,7 +17,7 @@
 //! range, towards the line's normal.
 
 use super::map::Map;
-use super::point_features::{feature_tolerance_m, Beam};
+use super::point_features::{feature_tolerance_m, mean_origin, Beam};
 use super::support::SupportPoint;
 use crate::geometry::{fit_line_tls, segments_cross, unit, Point, Vec2};
 use serde::{Deserialize, Serialize};
@@ -104,33 +104,74 @@ pub fn echo_behind_confirmed_wall(map: &Map, beam: &Beam, echo: &Point, accuracy
     behind
 }
 
+/// Half a beam's width as its cosine and sine, computed once for many readings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HalfCone {
+    /// Cosine of the half-width.
+    pub cos: f64,
+    /// Sine of the half-width.
+    pub sin: f64,
+}
+
+impl HalfCone {
+    /// The half-width `half_beam_rad`, radians.
+    pub fn new(half_beam_rad: f64) -> Self {
+        let (sin, cos) = half_beam_rad.sin_cos();
+        Self { cos, sin }
+    }
+}
+
 /// The direction `beam`'s echo from a plane with normal `normal` comes along: the normal when
-/// it lies inside the cone (half-width given as its sine and cosine), else the cone's edge
-/// nearer to it; and whether it lies inside.
-pub fn echo_ray(beam: &Beam, normal: &Vec2, (sin_half, cos_half): (f64, f64)) -> (Vec2, bool) {
+/// it lies inside the cone, else the cone's edge nearer to it; and whether it lies inside.
+pub fn echo_ray(beam: &Beam, normal: &Vec2, half: HalfCone) -> (Vec2, bool) {
     let d = beam.direction;
-    if d.dot(normal) >= cos_half {
+    if d.dot(normal) >= half.cos {
         return (*normal, true);
     }
-    let s = sin_half.copysign(d.x * normal.y - d.y * normal.x);
+    let s = half.sin.copysign(d.x * normal.y - d.y * normal.x);
     (
-        Vec2::new(cos_half * d.x - s * d.y, s * d.x + cos_half * d.y),
+        Vec2::new(half.cos * d.x - s * d.y, s * d.x + half.cos * d.y),
         false,
     )
 }
 
-/// `1 / cos γ`, where γ is the angle between `beam`'s echoing ray and the normal `normal` of a
-/// plane: zero when the normal lies inside the cone (half-width `half_beam_rad`, given as its
-/// cosine and sine), else how far outside it lies; `None` beyond [`MAX_INCIDENCE_RAD`].
-fn edge_factor(beam: &Beam, normal: &Vec2, (cos_half, sin_half): (f64, f64)) -> Option<f64> {
+/// `cos γ`, where γ is the angle between `beam`'s echoing ray and the normal `normal` of a
+/// plane: zero when the normal lies inside the cone, else how far outside it lies; `None`
+/// beyond [`MAX_INCIDENCE_RAD`]. A plane at perpendicular distance `p` echoes at `p / cos γ`.
+pub fn incidence_cosine(beam: &Beam, normal: &Vec2, half: HalfCone) -> Option<f64> {
     let cos_off = beam.direction.dot(normal);
-    if cos_off >= cos_half {
+    if cos_off >= half.cos {
         return Some(1.0);
     }
     // cos(|off| − half) without a trigonometric call.
     let sin_off = (beam.direction.x * normal.y - beam.direction.y * normal.x).abs();
-    let cos_incidence = cos_off * cos_half + sin_off * sin_half;
-    (cos_incidence >= MAX_INCIDENCE_RAD.cos()).then(|| 1.0 / cos_incidence)
+    let cos_incidence = cos_off * half.cos + sin_off * half.sin;
+    (cos_incidence >= MAX_INCIDENCE_RAD.cos()).then_some(cos_incidence)
+}
+
+/// `1 / cos γ` ([`incidence_cosine`]): the predicted range over the perpendicular distance.
+fn edge_factor(beam: &Beam, normal: &Vec2, half: HalfCone) -> Option<f64> {
+    incidence_cosine(beam, normal, half).map(|c| 1.0 / c)
+}
+
+/// The range `beam` reads from the plane `normal · x = offset_m` (see [`incidence_cosine`]); `None`
+/// beyond [`MAX_INCIDENCE_RAD`].
+fn predicted_range(beam: &Beam, normal: &Vec2, offset_m: f64, half: HalfCone) -> Option<f64> {
+    edge_factor(beam, normal, half).map(|k| k * (offset_m - normal.dot(&beam.origin.coords)))
+}
+
+/// `|predicted − read| / tol` of `beam` for the plane `normal · x = offset_m`; infinite beyond
+/// [`MAX_INCIDENCE_RAD`].
+fn residual_over_tolerance(
+    beam: &Beam,
+    normal: &Vec2,
+    offset_m: f64,
+    accuracy_pct: f64,
+    half: HalfCone,
+) -> f64 {
+    predicted_range(beam, normal, offset_m, half).map_or(f64::INFINITY, |p| {
+        (p - beam.range_m).abs() / feature_tolerance_m(accuracy_pct, beam.range_m)
+    })
 }
 
 /// The best offset for the normal `normal` and its cost (sum of squared residuals over
@@ -140,7 +181,7 @@ fn offset_and_cost(
     beams: &[Beam],
     normal: &Vec2,
     accuracy_pct: f64,
-    half: (f64, f64),
+    half: HalfCone,
 ) -> Option<(f64, f64)> {
     // Each predicted range is k·(c − n·o), linear in the offset c: with the weighted sums
     // below, the best c is sum_kt / sum_kk and the cost sum_tt − sum_kt² / sum_kk.
@@ -198,14 +239,15 @@ pub fn fit_echo_line(
     }
     let (centre, along) = fit_line_tls(axis_points)?;
     let mut normal0 = Vec2::new(-along.y, along.x);
-    let sensors = beams.iter().map(|b| b.origin.coords).sum::<Vec2>() / beams.len() as f64;
-    if normal0.dot(&(centre.coords - sensors)) < 0.0 {
+    if normal0.dot(&(centre - mean_origin(beams))) < 0.0 {
         normal0 = -normal0;
     }
     let angle0 = normal0.y.atan2(normal0.x);
-    let half = (half_beam_rad.cos(), half_beam_rad.sin());
-    let cost_at = |angle: f64| offset_and_cost(beams, &unit(angle), accuracy_pct, half);
-    let cost_or_inf = |angle: f64| cost_at(angle).map_or(f64::INFINITY, |(_, c)| c);
+    let half = HalfCone::new(half_beam_rad);
+    let cost_of = |normal: &Vec2| {
+        offset_and_cost(beams, normal, accuracy_pct, half).map_or(f64::INFINITY, |(_, c)| c)
+    };
+    let cost_or_inf = |angle: f64| cost_of(&unit(angle));
     // Coarse search, nearest to the paper's line first so that equal costs keep it; the
     // normals are turned step by step (no trigonometric call per angle).
     let step = 2.0 * max_turn_rad / SEARCH_STEPS as f64;
@@ -215,9 +257,6 @@ pub fn fit_echo_line(
             step_cos * v.x - sign * step_sin * v.y,
             sign * step_sin * v.x + step_cos * v.y,
         )
-    };
-    let cost_of = |normal: &Vec2| {
-        offset_and_cost(beams, normal, accuracy_pct, half).map_or(f64::INFINITY, |(_, c)| c)
     };
     let mut best: Option<(f64, f64)> = None;
     let mut consider = |angle: f64, cost: f64| {
@@ -257,14 +296,10 @@ pub fn fit_echo_line(
         coarse
     };
     let normal = unit(angle);
-    let (offset_m, _) = cost_at(angle)?;
+    let (offset_m, _) = offset_and_cost(beams, &normal, accuracy_pct, half)?;
     let worst = beams
         .iter()
-        .map(|b| {
-            let k = edge_factor(b, &normal, half).unwrap_or(f64::INFINITY);
-            let predicted = k * (offset_m - normal.dot(&b.origin.coords));
-            (predicted - b.range_m).abs() / feature_tolerance_m(accuracy_pct, b.range_m)
-        })
+        .map(|b| residual_over_tolerance(b, &normal, offset_m, accuracy_pct, half))
         .fold(0.0, f64::max);
     (worst <= 1.0).then_some(EchoLine {
         normal,
@@ -341,50 +376,69 @@ pub fn fit_reflector_point(
 /// The cost of `line` for `beams`: the sum of squared range residuals over squared
 /// tolerances.
 pub fn line_cost(beams: &[Beam], line: &EchoLine, accuracy_pct: f64, half_beam_rad: f64) -> f64 {
-    let half = (half_beam_rad.cos(), half_beam_rad.sin());
+    let half = HalfCone::new(half_beam_rad);
     beams
         .iter()
         .map(|b| {
-            let k = edge_factor(b, &line.normal, half).unwrap_or(f64::INFINITY);
-            let predicted = k * (line.offset_m - line.normal.dot(&b.origin.coords));
-            ((predicted - b.range_m) / feature_tolerance_m(accuracy_pct, b.range_m)).powi(2)
+            residual_over_tolerance(b, &line.normal, line.offset_m, accuracy_pct, half).powi(2)
         })
         .sum()
 }
 
+/// Readings moved to their echo points ([`place_echoes`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Placement {
+    /// The moved readings, in the order given.
+    pub points: Vec<SupportPoint>,
+    /// Readings whose echo came from the foot of the perpendicular.
+    pub at_foot: usize,
+    /// Readings whose echo came from the cone's edge.
+    pub at_cone_edge: usize,
+    /// The largest distance a reading moved, metres.
+    pub moved_max_m: f64,
+}
+
 /// Each reading of `points` (with its beam in `beams`) moved to its echo point on `line`: at
 /// its range, along the normal when that lies inside the cone, else along the cone's nearer
-/// edge; the points ordered along the line, in the direction the piece ran. Returns the points, how many came from a foot
-/// and how many from a cone edge, and the largest move, metres.
+/// edge; in the order given ([`order_along_line`] orders them).
 pub fn place_echoes(
     points: &[SupportPoint],
     beams: &[Beam],
     line: &EchoLine,
     half_beam_rad: f64,
-) -> (Vec<SupportPoint>, usize, usize, f64) {
-    let (mut at_foot, mut at_edge, mut moved_max_m) = (0, 0, 0.0f64);
-    let half = half_beam_rad.sin_cos();
-    let mut placed: Vec<SupportPoint> = points
-        .iter()
-        .zip(beams)
-        .map(|(q, b)| {
-            let (ray, inside) = echo_ray(b, &line.normal, half);
-            if inside {
-                at_foot += 1;
-            } else {
-                at_edge += 1;
-            }
-            let point = b.origin + ray * b.range_m;
-            moved_max_m = moved_max_m.max((point - q.point).norm());
-            SupportPoint { point, ..*q }
-        })
-        .collect();
-    // Along the line in the direction the piece ran.
-    let mut along = Vec2::new(-line.normal.y, line.normal.x);
-    if let (Some(first), Some(last)) = (points.first(), points.last()) {
-        if along.dot(&(last.point - first.point)) < 0.0 {
-            along = -along;
+) -> Placement {
+    let half = HalfCone::new(half_beam_rad);
+    let mut placement = Placement {
+        points: Vec::with_capacity(points.len()),
+        at_foot: 0,
+        at_cone_edge: 0,
+        moved_max_m: 0.0,
+    };
+    for (q, b) in points.iter().zip(beams) {
+        let (ray, inside) = echo_ray(b, &line.normal, half);
+        if inside {
+            placement.at_foot += 1;
+        } else {
+            placement.at_cone_edge += 1;
         }
+        let point = b.origin + ray * b.range_m;
+        placement.moved_max_m = placement.moved_max_m.max((point - q.point).norm());
+        placement.points.push(SupportPoint { point, ..*q });
+    }
+    placement
+}
+
+/// Orders `placed` along `line`, in the direction the piece ran from `first` to `last` (its
+/// readings as the paper placed them), equal places by reading.
+pub fn order_along_line(
+    placed: &mut [SupportPoint],
+    line: &EchoLine,
+    first: &SupportPoint,
+    last: &SupportPoint,
+) {
+    let mut along = Vec2::new(-line.normal.y, line.normal.x);
+    if along.dot(&(last.point - first.point)) < 0.0 {
+        along = -along;
     }
     placed.sort_by(|p, q| {
         along
@@ -392,7 +446,6 @@ pub fn place_echoes(
             .total_cmp(&along.dot(&q.point.coords))
             .then(p.reading.cmp(&q.reading))
     });
-    (placed, at_foot, at_edge, moved_max_m)
 }
 
 #[cfg(test)]
@@ -443,13 +496,32 @@ mod tests {
         assert!((axis[0].y - 1.4772).abs() < 1e-4);
         let line = fit_echo_line(&beams, &axis, 3.0, HALF, TURN).unwrap();
         assert!((line.normal.y - 1.0).abs() < 1e-6 && (line.offset_m - 1.5).abs() < 1e-6);
-        let (placed, foot, edge, moved) = place_echoes(&support(&beams), &beams, &line, HALF);
-        assert_eq!((foot, edge), (3, 0));
-        for (q, x) in placed.iter().zip([0.0, 1.0, 2.0]) {
+        let placed = place_echoes(&support(&beams), &beams, &line, HALF);
+        assert_eq!((placed.at_foot, placed.at_cone_edge), (3, 0));
+        for (q, x) in placed.points.iter().zip([0.0, 1.0, 2.0]) {
             assert!((q.point - Point::new(x, 1.5)).norm() < 1e-6, "{q:?}");
         }
         // Moved by the chord of 10° at 1.5 m: 2 · 1.5 · sin 5° = 0.2615 m.
-        assert!((moved - 0.2615).abs() < 1e-3);
+        assert!((placed.moved_max_m - 0.2615).abs() < 1e-3);
+    }
+
+    #[test]
+    fn placed_points_are_ordered_along_the_line_the_way_the_piece_ran() {
+        // The wall y = 1.5 read from x = 2, 0, 1 by a piece that ran from x = 2 towards x = 0
+        // (its first reading at x = 2, its last at x = 1): ordered 2, 1, 0.
+        let beams: Vec<Beam> = [2.0, 0.0, 1.0]
+            .iter()
+            .map(|&x| beam(x, 0.0, 90.0, 1.5))
+            .collect();
+        let points = support(&beams);
+        let line = fit_echo_line(&beams, &axis_points(&beams), 3.0, HALF, TURN).unwrap();
+        let mut placed = place_echoes(&points, &beams, &line, HALF).points;
+        order_along_line(&mut placed, &line, &points[0], &points[2]);
+        let xs: Vec<f64> = placed.iter().map(|q| q.point.x).collect();
+        assert!(
+            xs.windows(2).all(|w| w[0] > w[1]) && (xs[0] - 2.0).abs() < 1e-9,
+            "{xs:?}"
+        );
     }
 
     #[test]
@@ -462,10 +534,10 @@ mod tests {
             .collect();
         let line = fit_echo_line(&beams, &axis_points(&beams), 3.0, HALF, TURN).unwrap();
         assert!((line.offset_m - 2.0).abs() < 1e-3, "{line:?}");
-        let (placed, foot, edge, _) = place_echoes(&support(&beams), &beams, &line, HALF);
-        assert_eq!((foot, edge), (0, 4));
+        let placed = place_echoes(&support(&beams), &beams, &line, HALF);
+        assert_eq!((placed.at_foot, placed.at_cone_edge), (0, 4));
         // Each echo point lies on the cone edge at 72.5°: (x + 2 tan 17.5°, 2) = (x + 0.6306, 2).
-        for (q, x) in placed.iter().zip([0.0, 0.4, 0.8, 1.2]) {
+        for (q, x) in placed.points.iter().zip([0.0, 0.4, 0.8, 1.2]) {
             assert!(
                 (q.point - Point::new(x + 0.6306, 2.0)).norm() < 2e-3,
                 "{q:?}"

@@ -4,8 +4,8 @@ use super::cluster::{cluster_points, sensor_ranks, Clusters};
 use super::confirm::{note_plane_support, supports};
 use super::correlate::correlate_face;
 use super::echo_fit::{
-    echo_behind_confirmed_wall, fit_echo_line, fit_reflector_point, line_cost, place_echoes,
-    EchoFitTrace, MIN_ECHO_FIT_READINGS, MIN_REFLECTOR_READINGS,
+    echo_behind_confirmed_wall, fit_echo_line, fit_reflector_point, line_cost, order_along_line,
+    place_echoes, EchoFitTrace, MIN_ECHO_FIT_READINGS, MIN_REFLECTOR_READINGS,
 };
 use super::extensions::{memory_step, reduce_constant_depth};
 use super::fast_path::decide;
@@ -14,7 +14,9 @@ use super::free_space::refuted_segments;
 use super::map::{FaceId, Map, Segment, SegmentId, SegmentKind, SupportPoint};
 use super::matching::{evaluate_pair, Candidate, SegmentEnds};
 use super::params::Params;
-use super::point_features::{arc_point, explaining_feature, file_arc, ArcTrace, Beam};
+use super::point_features::{
+    arc_point, explaining_feature, file_arc, mean_origin, mean_range_m, ArcTrace, Beam,
+};
 use super::readings::convert_readings;
 use super::trace::{
     CandidateTrace, ClusterTrace, DecisionTrace, ExplainedTrace, NewSegmentTrace, Outcome,
@@ -352,10 +354,9 @@ impl Mapper {
     fn plane_gate(&self, new: &NewSegmentTrace) -> bool {
         let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
         new.points.iter().any(|q| {
-            let Some(pose) = self.map.recent_pose(q.reading.snapshot) else {
+            let Some(beam) = self.recent_beam_of(q) else {
                 return false;
             };
-            let beam = self.beam_of(&pose, q);
             supports(
                 &beam,
                 &new.a.point,
@@ -474,6 +475,13 @@ impl Mapper {
         }
     }
 
+    /// The world beam of reading `q`, from the pose of its snapshot when that is among the
+    /// recent ones the map keeps (docs/algorithm.md §8.7, §8.10).
+    fn recent_beam_of(&self, q: &SupportPoint) -> Option<Beam> {
+        let pose = self.map.recent_pose(q.reading.snapshot)?;
+        Some(self.beam_of(&pose, q))
+    }
+
     /// The world beam of kept point `q` of a snapshot at `pose`.
     /// Its direction is the sensor's axis, wherever the point was placed (§8.10 moves points
     /// off their axes).
@@ -539,13 +547,7 @@ impl Mapper {
         if self.supports_as_plane_now(&pose, chain, &first, &last) {
             return false;
         }
-        let origin = Point::from(
-            beams
-                .iter()
-                .map(|b| b.origin.coords)
-                .sum::<crate::geometry::Vec2>()
-                / beams.len() as f64,
-        );
+        let origin = mean_origin(&beams);
         let (feature, new_feature) = file_arc(
             &mut self.map,
             at,
@@ -705,18 +707,7 @@ impl Mapper {
         if new.points.len() < MIN_ECHO_FIT_READINGS || self.sensor.echo == EchoModel::Axis {
             return true;
         }
-        let beams: Option<Vec<Beam>> = new
-            .points
-            .iter()
-            .map(|q| {
-                let pose = if q.reading.snapshot == trace.snapshot {
-                    trace.pose
-                } else {
-                    self.map.recent_pose(q.reading.snapshot)
-                };
-                pose.map(|pose| self.beam_of(&pose, q))
-            })
-            .collect();
+        let beams: Option<Vec<Beam>> = new.points.iter().map(|q| self.recent_beam_of(q)).collect();
         let Some(beams) = beams else {
             return true;
         };
@@ -726,11 +717,19 @@ impl Mapper {
         let Some(line) = fit_echo_line(&beams, &axis_points, xi, half, turn) else {
             return true;
         };
-        let (placed, at_foot, at_cone_edge, moved_max_m) =
-            place_echoes(&new.points, &beams, &line, half);
+        let mut placed = place_echoes(&new.points, &beams, &line, half);
+        let behind_confirmed_wall = placed
+            .points
+            .iter()
+            .zip(&beams)
+            .filter(|(q, beam)| echo_behind_confirmed_wall(&self.map, beam, &q.point, xi))
+            .count();
+        let (first, last) = (new.points[0], new.points[new.points.len() - 1]);
+        order_along_line(&mut placed.points, &line, &first, &last);
         // A corner or an edge: one reflector point explains the ranges better than the line.
         let reflector = if new.points.len() >= MIN_REFLECTOR_READINGS {
-            let centre = placed.iter().map(|q| q.point.coords).sum::<Vec2>() / placed.len() as f64;
+            let centre = placed.points.iter().map(|q| q.point.coords).sum::<Vec2>()
+                / placed.points.len() as f64;
             fit_reflector_point(&beams, Point::from(centre), xi, half)
                 .filter(|&(_, cost)| cost < line_cost(&beams, &line, xi, half))
                 .map(|(at, _)| at)
@@ -738,34 +737,30 @@ impl Mapper {
             None
         };
         if let Some(at) = reflector {
-            let n = beams.len() as f64;
-            let range_m = beams.iter().map(|b| b.range_m).sum::<f64>() / n;
-            let origin = Point::from(beams.iter().map(|b| b.origin.coords).sum::<Vec2>() / n);
-            file_arc(&mut self.map, at, range_m, &origin, trace.snapshot, xi);
+            let origin = mean_origin(&beams);
+            file_arc(
+                &mut self.map,
+                at,
+                mean_range_m(&beams),
+                &origin,
+                trace.snapshot,
+                xi,
+            );
         }
-        let behind_confirmed_wall = placed
-            .iter()
-            .filter(|q| {
-                new.points
-                    .iter()
-                    .position(|p| p.reading == q.reading)
-                    .is_some_and(|i| echo_behind_confirmed_wall(&self.map, &beams[i], &q.point, xi))
-            })
-            .count();
         let keep = reflector.is_none() && 2 * behind_confirmed_wall <= new.points.len();
-        let (a, b) = piece_end_points(&placed, 0, placed.len() - 1, self.params.fit);
+        let (a, b) = piece_end_points(&placed.points, 0, placed.points.len() - 1, self.params.fit);
         new.a = a;
         new.b = b;
-        new.points = placed;
+        new.points = placed.points;
         if self.record_trace {
             trace.echo_fits.push(EchoFitTrace {
                 new_segment: index,
                 dropped: !keep,
                 reflector,
                 line,
-                at_foot,
-                at_cone_edge,
-                moved_max_m,
+                at_foot: placed.at_foot,
+                at_cone_edge: placed.at_cone_edge,
+                moved_max_m: placed.moved_max_m,
                 behind_confirmed_wall,
             });
         }

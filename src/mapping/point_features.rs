@@ -15,7 +15,7 @@
 //!
 //! Both look only at the cluster's readings and at the features the grid index files near them.
 
-use super::map::{FeatureKind, Map, PointFeature, SupportPoint};
+use super::map::{FeatureKind, Map, PointFeature};
 use crate::geometry::{Point, Vec2};
 use crate::units::inches;
 use serde::{Deserialize, Serialize};
@@ -31,18 +31,14 @@ pub struct Beam {
     pub range_m: f64,
 }
 
-impl Beam {
-    /// The beam of `q`, whose sensor sits at `origin` (the point lies on the axis at its range).
-    pub fn of(q: &SupportPoint, origin: Point) -> Beam {
-        let v = q.point - origin;
-        let n = v.norm();
-        let direction = if n > 0.0 { v / n } else { Vec2::new(1.0, 0.0) };
-        Beam {
-            origin,
-            direction,
-            range_m: q.range_m,
-        }
-    }
+/// The mean position of the sensors of `beams` (not empty).
+pub fn mean_origin(beams: &[Beam]) -> Point {
+    Point::from(beams.iter().map(|b| b.origin.coords).sum::<Vec2>() / beams.len() as f64)
+}
+
+/// The mean range of `beams` (not empty), metres.
+pub fn mean_range_m(beams: &[Beam]) -> f64 {
+    beams.iter().map(|b| b.range_m).sum::<f64>() / beams.len() as f64
 }
 
 /// The ball test of §1 on two ranges: `|d1 − d2| ≤ ξ·(d1 + d2)/100`.
@@ -112,15 +108,13 @@ pub fn arc_point(beams: &[Beam], sensors: &[usize], accuracy_pct: f64) -> Option
             }
         }
     }
-    let n = beams.len() as f64;
-    let origin = Point::from(beams.iter().map(|b| b.origin.coords).sum::<Vec2>() / n);
     let dir: Vec2 = beams.iter().map(|b| b.direction).sum();
     let norm = dir.norm();
     if norm < 1e-9 {
         return None;
     }
-    let range_m = beams.iter().map(|b| b.range_m).sum::<f64>() / n;
-    Some((origin + dir / norm * range_m, range_m))
+    let range_m = mean_range_m(beams);
+    Some((mean_origin(beams) + dir / norm * range_m, range_m))
 }
 
 /// Whether confirmed feature `f` explains `beam`: its distance from the sensor is the range

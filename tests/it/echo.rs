@@ -212,8 +212,8 @@ mod fit_properties {
             prop_assert!(line.normal.dot(&normal) > 1f64.to_radians().cos(), "{line:?}");
             let tol = (0.03 * beams[0].range_m).max(0.0254);
             prop_assert!((line.offset_m - offset_m).abs() <= tol, "{line:?}");
-            let (placed, ..) = place_echoes(&points, &beams, &line, HALF);
-            for q in &placed {
+            let placed = place_echoes(&points, &beams, &line, HALF);
+            for q in &placed.points {
                 prop_assert!((normal.dot(&q.point.coords) - offset_m).abs() <= tol, "{q:?}");
             }
         }
