@@ -306,12 +306,12 @@ impl SonarApp {
     /// The scene of the current step under `options`.
     fn current_scene_for(&self, options: &ViewOptions) -> Option<Scene> {
         let truth = self.truth.as_ref().map(|t| t.verdicts.as_slice());
-        self.scene_of(
+        Some(self.scene_of(
             self.loaded.replay.run(),
             self.view.as_ref()?,
             truth,
             options,
-        )
+        ))
     }
 
     /// The baseline's scene at the snapshot shown (A of the split view), drawn as the current
@@ -330,19 +330,19 @@ impl SonarApp {
         let mut cache = std::mem::take(&mut self.baseline_scene_cache);
         let scene = cache.scene(subject, visible_m, world_per_px, |options| {
             self.scene_of(b.replay.run(), view, None, options)
-                .unwrap_or_default()
         });
         self.baseline_scene_cache = cache;
         Some(scene)
     }
 
+    /// The scene of `view` of `run` under `options`, with the selection's supporting readings.
     fn scene_of(
         &self,
         run: &Run,
         view: &StepView,
         truth: Option<&[(crate::mapping::SegmentId, crate::eval::Verdict)]>,
         options: &ViewOptions,
-    ) -> Option<Scene> {
+    ) -> Scene {
         // A selected map segment shows where its supporting readings were read.
         let support_of = match self.selection {
             SceneId::MapSegment(id) | SceneId::Update(id) => Some(id),
@@ -351,7 +351,7 @@ impl SonarApp {
         let input = SceneInput::from_view(run, view)
             .with_truth(truth)
             .with_support_of(support_of);
-        Some(build_scene(&input, options))
+        build_scene(&input, options)
     }
 
     /// Scenes the map view has built so far (a frame that reused its scene built none).
