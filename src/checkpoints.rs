@@ -12,6 +12,7 @@ use crate::geometry::Pose;
 use crate::mapping::confirm::PlaneSupport;
 use crate::mapping::features::PointFeature;
 use crate::mapping::map::{Face, MemoryPoint, Segment, SupportPoint};
+use crate::mapping::support_list::SupportList;
 use crate::mapping::MapperState;
 use crate::mapping::SegmentId;
 use std::mem::size_of;
@@ -109,6 +110,22 @@ impl Checkpoints {
     }
 }
 
+/// Bytes of the chunks of `chunks` (a segment's supporting points) that its previous version
+/// (`old`) does not share.
+fn unshared_chunk_bytes(
+    old: Option<&[Arc<Vec<SupportPoint>>]>,
+    chunks: &[Arc<Vec<SupportPoint>>],
+) -> usize {
+    let mut shared: Vec<*const Vec<SupportPoint>> =
+        old.unwrap_or(&[]).iter().map(Arc::as_ptr).collect();
+    shared.sort_unstable();
+    chunks
+        .iter()
+        .filter(|c| shared.binary_search(&Arc::as_ptr(c)).is_err())
+        .map(SupportList::chunk_bytes)
+        .sum()
+}
+
 /// Bytes that `state` keeps alive beyond `previous`: its lists of segments, faces and
 /// remembered points, and each segment or face (with its heap) not shared with `previous`.
 fn kept_alive_bytes(previous: Option<&MapperState>, state: &MapperState) -> usize {
@@ -132,11 +149,10 @@ fn kept_alive_bytes(previous: Option<&MapperState>, state: &MapperState) -> usiz
         &map.segments,
         |s| s.id,
         |old, s| {
-            let points = match old {
-                Some(o) if Arc::ptr_eq(&o.points, &s.points) => 0,
-                _ => s.points.len() * size_of::<SupportPoint>(),
-            };
-            size_of::<Segment>() + s.updated.capacity() * size_of::<usize>() + points
+            size_of::<Segment>()
+                + s.updated.capacity() * size_of::<usize>()
+                + s.points.chunk_list_bytes()
+                + unshared_chunk_bytes(old.map(|o| o.points.chunks()), s.points.chunks())
         },
     );
     let faces = unshared(
@@ -201,7 +217,7 @@ mod tests {
             object: id,
             created: 0,
             updated: Vec::new(),
-            points: Arc::new(vec![q; points]),
+            points: vec![q; points].into(),
         }
     }
 
@@ -217,20 +233,29 @@ mod tests {
     fn a_checkpoint_counts_its_lists_and_only_what_changed_since_the_previous_one() {
         let first = Map::from_segments((0..4).map(|id| segment(id, 10)).collect());
         let mut second = first.clone();
-        // Segment 2 changes (a new version, new points); segment 9 is new.
+        // Segment 2 changes (a new version, new points); segment 9 is new; segment 3 moves and
+        // keeps its points (its one chunk stays shared).
         second.segments[2] = Arc::new(segment(2, 3));
         second.segments.push(Arc::new(segment(9, 1)));
+        let mut moved = (*second.segments[3]).clone();
+        moved.a.point.x += 1.0;
+        second.segments[3] = Arc::new(moved);
         let (a, b) = (state(first), state(second));
         let one = size_of::<Segment>();
-        let point = size_of::<SupportPoint>();
+        // A short list: one chunk pointer, and the chunk (two counts, a vector, its points).
+        let chunk_list = 8;
+        let chunk = |n: usize| 16 + size_of::<Vec<SupportPoint>>() + n * size_of::<SupportPoint>();
         let list = |m: &Map| m.segments.len() * 8 + m.faces.len() * 8;
         assert_eq!(
             kept_alive_bytes(None, &a),
-            list(&a.map) + 4 * (one + 10 * point) + kept_faces(&a.map)
+            list(&a.map) + 4 * (one + chunk_list + chunk(10)) + kept_faces(&a.map)
         );
         assert_eq!(
             kept_alive_bytes(Some(&a), &b),
-            list(&b.map) + (one + 3 * point) + (one + point)
+            list(&b.map)
+                + (one + chunk_list + chunk(3))
+                + (one + chunk_list + chunk(1))
+                + (one + chunk_list)
         );
     }
 

@@ -196,7 +196,6 @@ mod tests {
     use super::*;
     use crate::geometry::Vec2;
     use crate::mapping::map::{EndPoint, Segment, SegmentKind};
-    use std::sync::Arc;
 
     #[test]
     fn two_snapshots_of_plane_support_confirm_a_segment_once_each() {
@@ -213,7 +212,7 @@ mod tests {
             object: 0,
             created: 0,
             updated: Vec::new(),
-            points: Arc::new(Vec::new()),
+            points: Vec::new().into(),
         }]);
         map.confirms_segments = true;
         let half = 12.5f64.to_radians();

@@ -2,9 +2,9 @@
 
 use super::map::{FaceId, Map, ObjectId, Segment, SegmentId, SegmentKind};
 use super::params::Params;
+use super::support_list::SupportList;
 use super::trace::{CorrelationKind, CorrelationTrace, InterpolationReason, Test};
 use crate::geometry::{line_angle_between, line_intersection, projection_param, Point};
-use std::sync::Arc;
 
 /// Correlates new face `face` with the rest of the map (paper §3.3.3, Figure 3;
 /// docs/algorithm.md §6).
@@ -32,7 +32,7 @@ use std::sync::Arc;
 /// let end = |x: f64, y: f64| EndPoint { point: Point::new(x, y), range_m: 1.0 };
 /// let segment = |id: u32, a: EndPoint, b: EndPoint| Segment {
 ///     id, kind: SegmentKind::Fitted, a, b, face: id, object: id, created: 0,
-///     updated: vec![], points: Arc::new(vec![]),
+///     updated: vec![], points: vec![].into(),
 /// };
 /// // A wall along y = 0 to x = 10, a new face from (12, 1) up to (12, 10): d_min = √5 ≤ t_gap,
 /// // the lines cross at 90° > θ_o, and (12, 0) is within t_gap of both ends: a corner there.
@@ -146,7 +146,7 @@ pub fn correlate_face(
                 object,
                 created: snapshot,
                 updated: Vec::new(),
-                points: Arc::new(Vec::new()),
+                points: SupportList::default(),
             });
             map.note_link(id, joins);
             trace.result = CorrelationKind::Interpolated { link: id, reason };
@@ -264,7 +264,7 @@ mod tests {
             object,
             created: 0,
             updated: vec![],
-            points: Arc::new(vec![]),
+            points: vec![].into(),
         });
         face
     }

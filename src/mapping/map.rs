@@ -6,6 +6,7 @@ pub use super::features::{FeatureKind, PointFeature};
 pub use super::ids::{FaceId, FeatureId, ObjectId, SegmentId};
 use super::index::{IndexedSegment, SegmentGrid};
 pub use super::support::{EndPoint, ReadingRef, SupportPoint};
+use super::support_list::SupportList;
 use crate::geometry::{distance_to_segment, Point, Pose};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -41,7 +42,7 @@ pub struct Segment {
     /// Snapshots that updated it, in order (the most recent [`MAX_UPDATES_KEPT`]).
     pub updated: Vec<usize>,
     /// Supporting readings (shared between checkpoints until changed).
-    pub points: Arc<Vec<SupportPoint>>,
+    pub points: SupportList,
 }
 
 /// Update snapshots a segment remembers, for the inspector (a record, not a rule: no decision
@@ -908,7 +909,7 @@ pub(crate) fn test_wall(id: SegmentId, a: (f64, f64), b: (f64, f64), range_m: f6
         object: id,
         created: 0,
         updated: Vec::new(),
-        points: Arc::new(Vec::new()),
+        points: Vec::new().into(),
     }
 }
 

@@ -27,7 +27,6 @@ use crate::geometry::{Point, Pose, Vec2};
 use crate::run::Snapshot;
 use crate::sonar::{BeamAxis, EchoModel, SensorLayout, SensorSpec};
 use std::ops::Range;
-use std::sync::Arc;
 
 /// Runs the paper's algorithm snapshot by snapshot.
 #[derive(Clone, Debug)]
@@ -311,18 +310,13 @@ impl Mapper {
             .filter_map(|d| d.result.map(|r| (d.new_segment, r)))
             .collect();
         for (ni, target) in targets {
-            let beams_of = |points: &[SupportPoint]| -> Vec<(usize, Beam)> {
-                points
-                    .iter()
-                    .filter(|q| q.reading.snapshot == trace.snapshot)
-                    .map(|q| (q.reading.sensor, self.beam_of(&snapshot.pose, q)))
-                    .collect()
-            };
-            let beams = match new_segments.get(ni) {
-                Some(n) if !n.points.is_empty() => beams_of(&n.points),
+            let now = |q: &&SupportPoint| q.reading.snapshot == trace.snapshot;
+            let beam = |q: &SupportPoint| (q.reading.sensor, self.beam_of(&snapshot.pose, q));
+            let beams: Vec<(usize, Beam)> = match new_segments.get(ni) {
+                Some(n) if !n.points.is_empty() => n.points.iter().filter(now).map(beam).collect(),
                 // Untraced, a new face's points moved into the map segment.
                 _ => match self.map.segment(target) {
-                    Some(s) => beams_of(&s.points),
+                    Some(s) => s.points.iter().filter(now).map(beam).collect(),
                     None => continue,
                 },
             };
@@ -991,7 +985,7 @@ impl Mapper {
             object,
             created: snapshot,
             updated: Vec::new(),
-            points: Arc::new(points),
+            points: points.into(),
         });
         id
     }

@@ -16,9 +16,8 @@ use super::map::{EndPoint, Map, SegmentId};
 use super::matching::{place_pair, Placement, SegmentEnds};
 use super::params::Params;
 use super::trace::AbsorbTrace;
-use super::update::{merge_support_points, update_match};
+use super::update::{merge_support_list, update_match};
 use crate::geometry::{distance_to_segment, line_angle_at_most, AngleLimit};
-use std::sync::Arc;
 
 /// Fuses into segment `into` every fitted segment (other than `into` and `exclude`) that
 /// matches it, one at a time until none does; returns what was absorbed, in order.
@@ -86,7 +85,7 @@ fn absorb_one(
     });
     let (_, id, ends, placement) = best?;
     let evaluation = placement.with_orientation(params, into, &existing);
-    let other_points = Arc::clone(&map.segment(id)?.points);
+    let other_points = map.segment(id)?.points.to_vec();
     let geometry = update_match(
         [existing.a, existing.b],
         evaluation.new_left,
@@ -94,10 +93,10 @@ fn absorb_one(
     );
     let [a, b]: [EndPoint; 2] = geometry.ends;
     let target = map.segment(into)?;
-    let points = merge_support_points(&target.points, &other_points, &a, &b, params.support_cap);
+    let points = merge_support_list(&target.points, &other_points, &a, &b, params.support_cap);
     map.remove_segment(id);
     if let Some(s) = map.segment_mut(into) {
-        s.points = Arc::new(points);
+        s.points = points;
     }
     map.set_ends(into, a, b);
     Some(AbsorbTrace {
@@ -139,7 +138,7 @@ mod tests {
             object: face,
             created: 0,
             updated: Vec::new(),
-            points: Arc::new(vec![support(a, 0), support(b, 1)]),
+            points: vec![support(a, 0), support(b, 1)].into(),
         }
     }
 

@@ -7,6 +7,7 @@ use super::fit::{piece_end_points, split_recursive, split_tolerance};
 use super::map::{EndPoint, Map, ReadingRef, Segment, SegmentId, SegmentKind, SupportPoint};
 use super::merge::absorb_duplicates;
 use super::params::Params;
+use super::support_list::SupportList;
 use super::trace::{
     EndOrigin, EndPointFate, EndRole, Outcome, RefitTrace, Side, SplitTrace, Test, UpdateTrace,
 };
@@ -14,7 +15,6 @@ use crate::geometry::{
     distance_to_line, fit_line_tls, lerp, projection_param, total_order_key, AlongLine, Point,
 };
 use std::borrow::Cow;
-use std::sync::Arc;
 
 /// Defining points closer than this (metres) are "nearly coinciding" (§5 fallback).
 const COINCIDENT_M: f64 = 1e-6;
@@ -69,24 +69,7 @@ pub fn merge_support_points(
         .collect();
     let (old_keys, new_keys) = keys.split_at_mut(old.len());
     let (mut old_run, mut new_run) = (Cow::Borrowed(old), Cow::Borrowed(new));
-    let order = |k: f64, q: &SupportPoint, l: f64, r: &SupportPoint| {
-        k.total_cmp(&l).then_with(|| q.reading.cmp(&r.reading))
-    };
-    // True when the run is in order; a run in strictly descending order (points listed against
-    // a→b) is turned round first: the same order a sort gives, since no two of its elements tie.
-    let ascending = |keys: &mut [f64], run: &mut Cow<'_, [SupportPoint]>| {
-        let pairs = || keys.windows(2).zip(run.windows(2));
-        if pairs().all(|(k, q)| order(k[0], &q[0], k[1], &q[1]).is_le()) {
-            return true;
-        }
-        if pairs().all(|(k, q)| order(k[0], &q[0], k[1], &q[1]).is_gt()) {
-            keys.reverse();
-            run.to_mut().reverse();
-            return true;
-        }
-        false
-    };
-    if ascending(old_keys, &mut old_run) && ascending(new_keys, &mut new_run) {
+    if put_in_order(old_keys, &mut old_run) && put_in_order(new_keys, &mut new_run) {
         // The usual case (old points in order along a nearby line, new ones along the chain):
         // each new point goes after every old one that does not come after it (ties: old
         // first, as a stable sort orders them), found by binary search.
@@ -103,20 +86,20 @@ pub fn merge_support_points(
             None => merged.extend_from_slice(run),
             Some(_) => merged.extend(run.iter().filter(kept)),
         };
+        let kept_new = new_keys
+            .iter()
+            .copied()
+            .zip(new_run.iter())
+            .filter(|(_, r)| kept(r));
         let mut i = 0;
-        for (&l, r) in new_keys.iter().zip(new_run.iter()).filter(|(_, r)| kept(r)) {
-            let (mut low, mut high) = (i, old_run.len());
-            while low < high {
-                let mid = (low + high) / 2;
-                if order(old_keys[mid], &old_run[mid], l, r).is_le() {
-                    low = mid + 1;
-                } else {
-                    high = mid;
-                }
-            }
-            keep_run(&mut merged, &old_run[i..low]);
+        for ((_, r), at) in kept_new.clone().zip(insertion_indices(
+            old_run.len(),
+            |k| (old_keys[k], old_run[k].reading),
+            kept_new,
+        )) {
+            keep_run(&mut merged, &old_run[i..at]);
             merged.push(*r);
-            i = low;
+            i = at;
         }
         keep_run(&mut merged, &old_run[i..]);
         return merged;
@@ -141,6 +124,129 @@ pub fn merge_support_points(
         }
     };
     sorted.iter().map(|&(_, _, i)| point(i)).collect()
+}
+
+/// [`merge_support_points`] for a segment's chunked list: when every point is kept (no cap)
+/// and both runs are in order along a→b (the usual case), the new points are inserted into the
+/// chunks they fall in and the other chunks stay shared; otherwise the lists are merged whole.
+/// The points, and their order, are the same either way.
+pub fn merge_support_list(
+    old: &SupportList,
+    new: &[SupportPoint],
+    a: &EndPoint,
+    b: &EndPoint,
+    support_cap: usize,
+) -> SupportList {
+    if let Some(slice) = old.as_slice() {
+        return merge_support_points(slice, new, a, b, support_cap).into();
+    }
+    if support_cap == 0 {
+        let line = AlongLine::new(&a.point, &b.point);
+        let key = |q: &SupportPoint| line.param(&q.point) + 0.0;
+        let mut new_keys: Vec<f64> = new.iter().map(key).collect();
+        let mut new = Cow::Borrowed(new);
+        if put_in_order(&mut new_keys, &mut new) && chunks_in_place_order(old, key) {
+            let starts: Vec<usize> = old
+                .chunks()
+                .iter()
+                .scan(0, |start, c| {
+                    let s = *start;
+                    *start += c.len();
+                    Some(s)
+                })
+                .collect();
+            // Places are computed where the binary searches look, not for every point.
+            let old_place = |k: usize| {
+                let c = starts.partition_point(|&s| s <= k) - 1;
+                let q = &old.chunks()[c][k - starts[c]];
+                (key(q), q.reading)
+            };
+            let pairs = new_keys.iter().copied().zip(new.iter());
+            let at: Vec<usize> = insertion_indices(old.len(), old_place, pairs).collect();
+            return old.with_inserted(&new, &at);
+        }
+    }
+    merge_support_points(&old.to_vec(), new, a, b, support_cap).into()
+}
+
+/// True when a chunked list is in [`place_order`] by `key`: one pass, a chunk at a time (it
+/// runs over every supporting point of every update of a long `paper` wall).
+fn chunks_in_place_order(list: &SupportList, key: impl Fn(&SupportPoint) -> f64) -> bool {
+    let mut previous: Option<(f64, ReadingRef)> = None;
+    for chunk in list.chunks() {
+        for q in chunk.iter() {
+            let k = key(q);
+            if let Some((pk, pr)) = previous {
+                if pk.total_cmp(&k).then_with(|| pr.cmp(&q.reading)).is_gt() {
+                    return false;
+                }
+            }
+            previous = Some((k, q.reading));
+        }
+    }
+    true
+}
+
+/// The order of supporting points along a line: by place `k`, then by reading.
+fn place_order(k: f64, q: &SupportPoint, l: f64, r: &SupportPoint) -> std::cmp::Ordering {
+    k.total_cmp(&l).then_with(|| q.reading.cmp(&r.reading))
+}
+
+/// True when the run is in [`place_order`]; a run in strictly descending order (points listed
+/// against a→b) is turned round first: the same order a sort gives, since no two of its
+/// elements tie.
+fn put_in_order(keys: &mut [f64], run: &mut Cow<'_, [SupportPoint]>) -> bool {
+    if in_place_order(keys.iter().copied().zip(run.iter())) {
+        return true;
+    }
+    let pairs = || keys.windows(2).zip(run.windows(2));
+    if pairs().all(|(k, q)| place_order(k[0], &q[0], k[1], &q[1]).is_gt()) {
+        keys.reverse();
+        run.to_mut().reverse();
+        return true;
+    }
+    false
+}
+
+/// True when the (place, point) pairs are in [`place_order`].
+fn in_place_order<'a>(mut pairs: impl Iterator<Item = (f64, &'a SupportPoint)>) -> bool {
+    let Some(mut previous) = pairs.next() else {
+        return true;
+    };
+    pairs.all(|p| {
+        let in_order = place_order(previous.0, previous.1, p.0, p.1).is_le();
+        previous = p;
+        in_order
+    })
+}
+
+/// Where each new point goes among `old_len` old points in order (`old_place` gives one's
+/// place and reading): the index of the first old point that comes after it, ties
+/// going to the old point (as a stable sort orders them). `new` must be in order too.
+fn insertion_indices<'a>(
+    old_len: usize,
+    old_place: impl Fn(usize) -> (f64, ReadingRef) + 'a,
+    new: impl Iterator<Item = (f64, &'a SupportPoint)> + 'a,
+) -> impl Iterator<Item = usize> + 'a {
+    let mut i = 0;
+    new.map(move |(l, r)| {
+        let (mut low, mut high) = (i, old_len);
+        while low < high {
+            let mid = (low + high) / 2;
+            let (k, reading) = old_place(mid);
+            // place_order without the point itself: only its reading breaks ties.
+            if k.total_cmp(&l)
+                .then_with(|| reading.cmp(&r.reading))
+                .is_le()
+            {
+                low = mid + 1;
+            } else {
+                high = mid;
+            }
+        }
+        i = low;
+        low
+    })
 }
 
 /// Keeps the `support_cap` most recent of `points` (all when the cap is 0), in their order:
@@ -435,7 +541,7 @@ pub fn apply_update(
         None => update_match(before, nl, nr),
     };
     let [a, b] = geometry.ends;
-    let points = merge_support_points(&seg.points, request.new_points, &a, &b, params.support_cap);
+    let points = merge_support_list(&seg.points, request.new_points, &a, &b, params.support_cap);
     let worst = match request.refit {
         // Recorded as passing: the test would find nothing to refit.
         Some(false) => None,
@@ -456,7 +562,7 @@ pub fn apply_update(
     map.segment_mut(target)?.note_update(request.snapshot);
     match worst {
         Some(w) if !w.pass => {
-            let (splits, pieces) = refit_segment(map, params, target, &points);
+            let (splits, pieces) = refit_segment(map, params, target, &points.to_vec());
             if params.merge_duplicates {
                 for &piece in &pieces {
                     let absorbed = absorb_duplicates(map, params, piece, &pieces);
@@ -470,7 +576,7 @@ pub fn apply_update(
             });
         }
         _ => {
-            map.segment_mut(target)?.points = Arc::new(points);
+            map.segment_mut(target)?.points = points;
             map.set_ends(target, a, b);
             // Only a segment that grew past its old end-points can have come to overlap
             // another one.
@@ -489,7 +595,7 @@ pub fn apply_update(
 /// The post-update test: each supporting point's distance to `l_u` against its split
 /// tolerance. Returns the worst: a failing one when any fails (the farthest beyond its
 /// tolerance), else the passing one nearest its tolerance; `None` without points.
-fn worst_support_test(points: &[SupportPoint], line: &[Point; 2], params: &Params) -> Option<Test> {
+fn worst_support_test(points: &SupportList, line: &[Point; 2], params: &Params) -> Option<Test> {
     let mut tests = points.iter().map(|q| {
         let d = distance_to_line(&q.point, &line[0], &line[1]);
         Test::at_most(d, split_tolerance(params, q.range_m))
@@ -530,7 +636,7 @@ fn refit_segment(
     let mut piece_ids = Vec::with_capacity(pieces.len());
     for (k, &[first, last]) in pieces.iter().enumerate() {
         let (pa, pb) = piece_end_points(points, first, last, params.fit);
-        let piece_points = Arc::new(points[first..=last].to_vec());
+        let piece_points = SupportList::from_vec(points[first..=last].to_vec());
         if k == 0 {
             if let Some(s) = map.segment_mut(target) {
                 s.points = piece_points;
@@ -606,7 +712,7 @@ mod tests {
 
     proptest! {
         #[test]
-        fn merging_support_points_equals_keeping_the_newest_and_sorting(
+        fn merging_support_points_or_lists_equals_keeping_the_newest_and_sorting(
             old in proptest::collection::vec((-8i8..8, 0u8..6), 0..70),
             new in proptest::collection::vec((-8i8..8, 0u8..6), 0..70),
             old_order in 0u8..3,
@@ -626,10 +732,11 @@ mod tests {
                 support_points(new, if interleave { 3 } else { 100 }),
                 new_order,
             );
-            prop_assert_eq!(
-                merge_support_points(&old, &new, &a, &b, cap),
-                merged_by_sorting(&old, &new, &a, &b, cap)
-            );
+            let expected = merged_by_sorting(&old, &new, &a, &b, cap);
+            prop_assert_eq!(merge_support_points(&old, &new, &a, &b, cap), expected.clone());
+            // The same points from the chunked list (several chunks past 32 points).
+            let chunked = merge_support_list(&SupportList::from_vec(old), &new, &a, &b, cap);
+            prop_assert_eq!(chunked.to_vec(), expected);
         }
     }
 

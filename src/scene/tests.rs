@@ -7,7 +7,6 @@ use crate::mapping::{EndPoint, Map, Segment, SegmentKind, StepTrace};
 use crate::run::{FloorPlan, Run, Snapshot, Wall};
 use crate::sonar::{SensorLayout, SensorSpec};
 use crate::units::Units;
-use std::sync::Arc;
 
 fn ep(x: f64, y: f64) -> EndPoint {
     EndPoint {
@@ -26,7 +25,7 @@ fn seg(id: u32, a: (f64, f64), b: (f64, f64)) -> Segment {
         object: id,
         created: 0,
         updated: vec![],
-        points: Arc::new(vec![]),
+        points: vec![].into(),
     }
 }
 

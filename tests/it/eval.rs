@@ -6,7 +6,6 @@ use sonarmap::mapping::{EndPoint, Map, Params, Segment, SegmentKind};
 use sonarmap::run::{FloorPlan, Run, Snapshot, Wall};
 use sonarmap::sonar::{SensorLayout, SensorMount, SensorSpec};
 use sonarmap::units::Units;
-use std::sync::Arc;
 
 fn segment(id: u32, kind: SegmentKind, a: (f64, f64), b: (f64, f64), range_m: f64) -> Segment {
     Segment {
@@ -24,7 +23,7 @@ fn segment(id: u32, kind: SegmentKind, a: (f64, f64), b: (f64, f64), range_m: f6
         object: id,
         created: 0,
         updated: vec![],
-        points: Arc::new(vec![]),
+        points: vec![].into(),
     }
 }
 

@@ -15,7 +15,6 @@ use sonarmap::scene::{
 };
 use sonarmap::sonar::{SensorLayout, SensorSpec};
 use sonarmap::units::{inches, Units};
-use std::sync::Arc;
 
 const XI_PCT: f64 = 3.0;
 const T_GAP_IN: f64 = 42.0;
@@ -259,7 +258,7 @@ fn segment_from(id: u32, n: &NewSegmentTrace, k: usize) -> Segment {
         object: id,
         created: k,
         updated: vec![],
-        points: Arc::new(n.points.clone()),
+        points: n.points.clone().into(),
     }
 }
 
