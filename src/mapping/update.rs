@@ -170,18 +170,33 @@ pub fn merge_support_list(
 }
 
 /// True when a chunked list is in [`place_order`] by `key`: one pass, a chunk at a time (it
-/// runs over every supporting point of every update of a long `paper` wall).
+/// runs over every supporting point of every update of a long `paper` wall, so each chunk's
+/// places are computed together, then compared; readings only where places tie).
 fn chunks_in_place_order(list: &SupportList, key: impl Fn(&SupportPoint) -> f64) -> bool {
+    const BLOCK: usize = 32;
+    let mut keys = [0.0; BLOCK];
     let mut previous: Option<(f64, ReadingRef)> = None;
     for chunk in list.chunks() {
-        for q in chunk.iter() {
-            let k = key(q);
+        for block in chunk.chunks(BLOCK) {
+            let keys = &mut keys[..block.len()];
+            for (k, q) in keys.iter_mut().zip(block) {
+                *k = key(q);
+            }
+            let in_order = |k: f64, r: &ReadingRef, l: f64, s: &ReadingRef| {
+                k < l || (k.total_cmp(&l).then_with(|| r.cmp(s)).is_le())
+            };
             if let Some((pk, pr)) = previous {
-                if pk.total_cmp(&k).then_with(|| pr.cmp(&q.reading)).is_gt() {
+                if !in_order(pk, &pr, keys[0], &block[0].reading) {
                     return false;
                 }
             }
-            previous = Some((k, q.reading));
+            let pairs = keys.windows(2).zip(block.windows(2));
+            if !pairs.fold(true, |ok, (k, q)| {
+                ok & in_order(k[0], &q[0].reading, k[1], &q[1].reading)
+            }) {
+                return false;
+            }
+            previous = Some((keys[block.len() - 1], block[block.len() - 1].reading));
         }
     }
     true
