@@ -2,7 +2,9 @@
 
 use super::cluster::{cluster_points, sensor_ranks, Clusters};
 use super::confirm::{note_plane_support, supports};
-use super::corner_diagonals::{corner_diagonals, CORNER_DIAGONAL_RADIUS_M};
+use super::corner_diagonals::{
+    corner_diagonals, CORNER_DIAGONAL_RADIUS_M, CORNER_WALL_REACH_M,
+};
 use super::correlate::correlate_face;
 use super::echo_fit::{
     echo_behind_confirmed_wall, fit_echo_line, fit_reflector_point, line_cost, order_along_line,
@@ -411,9 +413,8 @@ impl Mapper {
         self.buffers.kept = kept;
     }
 
-    /// §8.11: the segments this step made or changed, and those near the end-points of the
-    /// confirmed ones among them, that stand across a corner of two confirmed walls leave the
-    /// map.
+    /// §8.11: the segments this step made or changed, and those near their end-points, that
+    /// stand across a corner of two walls of the map (one confirmed) leave the map.
     fn remove_corner_diagonals(&mut self, trace: &mut StepTrace) {
         let touched: Vec<SegmentId> = trace
             .decisions
@@ -425,6 +426,7 @@ impl Mapper {
             &self.map,
             &touched,
             CORNER_DIAGONAL_RADIUS_M,
+            CORNER_WALL_REACH_M,
             self.params.orientation_rad,
         );
         for d in found {
