@@ -23,8 +23,10 @@ use crate::geometry::{fit_line_tls, segments_cross, unit, Point, Vec2};
 use serde::{Deserialize, Serialize};
 
 /// Largest angle between an echoing ray and the plane's normal that the fit allows (the
-/// roughness of the roughest wall it expects), radians: 40°.
-pub const MAX_INCIDENCE_RAD: f64 = 40.0 * std::f64::consts::PI / 180.0;
+/// roughness of the roughest wall it expects), radians: 60° (docs/algorithm.md §8.10: at 40°
+/// the walls MRPT's simulator echoes from beyond it, since it has no incidence limit, were
+/// left on the beam axes, short of themselves).
+pub const MAX_INCIDENCE_RAD: f64 = 60.0 * std::f64::consts::PI / 180.0;
 
 /// Fewest readings of a piece before a reflector point is tried against its line (two
 /// readings fit both exactly).
