@@ -198,7 +198,10 @@ mod tests {
         // s3 lies along s0 (0° from it, under 15°); s4's ends lie sqrt(2² + 1.5²) = 2.5 m from
         // the vertex; the walls themselves are no diagonals.
         for id in [0, 1, 3, 4] {
-            assert!(corner_diagonal(&map, id, r, CORNER_WALL_REACH_M, TURN).is_none(), "s{id}");
+            assert!(
+                corner_diagonal(&map, id, r, CORNER_WALL_REACH_M, TURN).is_none(),
+                "s{id}"
+            );
         }
     }
 

@@ -548,6 +548,29 @@ mod tests {
     }
 
     #[test]
+    fn a_wall_heard_from_the_cone_edge_at_up_to_sixty_degrees_is_found() {
+        // The wall y = 2 seen 60° off its normal (the sonars look 30° from +x): the cone's
+        // nearer edge meets it at 60° − 12.5° = 47.5° (beyond the old 40° limit, within 60°),
+        // read at 2 / cos 47.5° = 2.9604 m. On the axes the points lie at
+        // y = 2.9604 · sin 30° = 1.4802, 0.52 m short of the wall.
+        let d = 2.0 / 47.5f64.to_radians().cos();
+        assert!((d - 2.9604).abs() < 1e-4);
+        let beams: Vec<Beam> = [0.0, 0.4, 0.8]
+            .iter()
+            .map(|&x| beam(x, 0.0, 30.0, d))
+            .collect();
+        assert!((axis_points(&beams)[0].y - 1.4802).abs() < 1e-4);
+        let cos = incidence_cosine(&beams[0], &Vec2::new(0.0, 1.0), HalfCone::new(HALF));
+        assert!((cos.unwrap() - 47.5f64.to_radians().cos()).abs() < 1e-12);
+        let line = fit_echo_line(&beams, &axis_points(&beams), 3.0, HALF, TURN).unwrap();
+        assert!((line.offset_m - 2.0).abs() < 1e-3, "{line:?}");
+        // Looking 15° from +x (75° off the normal) the edge meets the wall at 62.5°: beyond the
+        // limit, no line.
+        let steep = beam(0.0, 0.0, 15.0, 2.0 / 62.5f64.to_radians().cos());
+        assert!(incidence_cosine(&steep, &Vec2::new(0.0, 1.0), HalfCone::new(HALF)).is_none());
+    }
+
+    #[test]
     fn ranges_no_plane_explains_are_left_on_their_axes() {
         // A corner at (1, 2) read from three places along y = 0 with a sensor looking at it:
         // ranges √5, 2, √5 are too far apart for one plane within 3 %.

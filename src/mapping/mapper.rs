@@ -2,9 +2,7 @@
 
 use super::cluster::{cluster_points, sensor_ranks, Clusters};
 use super::confirm::{note_plane_support, supports};
-use super::corner_diagonals::{
-    corner_diagonals, CORNER_DIAGONAL_RADIUS_M, CORNER_WALL_REACH_M,
-};
+use super::corner_diagonals::{corner_diagonals, CORNER_DIAGONAL_RADIUS_M, CORNER_WALL_REACH_M};
 use super::correlate::correlate_face;
 use super::echo_fit::{
     echo_behind_confirmed_wall, fit_echo_line, fit_reflector_point, line_cost, order_along_line,

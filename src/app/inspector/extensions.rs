@@ -4,8 +4,8 @@
 //! (§8.11).
 
 use super::context::InspectCtx;
-use crate::mapping::corner_diagonals::CORNER_WALL_REACH_M;
 use super::widgets::heading;
+use crate::mapping::corner_diagonals::CORNER_WALL_REACH_M;
 use egui::RichText;
 
 /// The step's extension records; nothing when none acted.
