@@ -11,8 +11,12 @@
 //! is such a diagonal, not a third wall: the vertex's echoes, not a plane, explain its
 //! readings.
 
+use super::index::IndexedSegment;
 use super::map::{Map, SegmentId, SegmentKind};
-use crate::geometry::{distance_to_segment, line_angle_between, line_intersection, Point};
+use crate::geometry::{
+    distance_to_segment, line_angle_at_most, line_angle_between, line_intersection, AngleLimit,
+    Point,
+};
 use serde::{Deserialize, Serialize};
 
 /// How near the junction of two walls both end-points of a diagonal lie, metres (1 m, 39 in:
@@ -59,58 +63,70 @@ pub fn corner_diagonal(
     min_turn_rad: f64,
 ) -> Option<DiagonalTrace> {
     let s = map.segment(id)?;
-    if s.kind != SegmentKind::Fitted {
-        return None;
-    }
     let (a, b) = (s.a.point, s.b.point);
     let along = b - a;
+    // Both end-points within `radius_m` of one point: no longer than `2·radius_m`.
+    if s.kind != SegmentKind::Fitted || along.norm() > 2.0 * radius_m {
+        return None;
+    }
+    struct Wall {
+        id: SegmentId,
+        a: Point,
+        b: Point,
+        confirmed: bool,
+    }
+    let turn = AngleLimit::new(min_turn_rad);
+    let sharp = AngleLimit::new(MIN_CORNER_ANGLE_RAD);
     // A wall of the corner comes within `reach_m` of the junction, which is within `radius_m`
-    // of both end-points: within `radius_m + reach_m` of the mid-point.
-    let walls: Vec<SegmentId> = map
-        .segments_near(&s.mid(), radius_m + reach_m)
-        .into_iter()
-        .filter(|&w| {
-            w != id
-                && map.segment(w).is_some_and(|ws| {
-                    ws.kind == SegmentKind::Fitted
-                        && line_angle_between(&along, &(ws.b.point - ws.a.point)) >= min_turn_rad
-                })
-        })
-        .collect();
-    for (i, &u) in walls.iter().enumerate() {
-        let su = map.segment(u)?;
-        let du = su.b.point - su.a.point;
-        for &v in &walls[i + 1..] {
-            if !map.is_confirmed(u) && !map.is_confirmed(v) {
+    // of both end-points: within `radius_m + reach_m` of each end-point, and of the mid-point.
+    let mid = s.mid();
+    let mut walls: Vec<Wall> = Vec::new();
+    map.visit_segments_along(&mid, &mid, radius_m + reach_m, |w, ws| {
+        if w != id
+            && ws.fitted
+            && distance_to_segment(&a, &ws.a.point, &ws.b.point) <= radius_m + reach_m
+            && distance_to_segment(&b, &ws.a.point, &ws.b.point) <= radius_m + reach_m
+            && !line_angle_at_most(&along, &(ws.b.point - ws.a.point), turn)
+        {
+            walls.push(Wall {
+                id: w,
+                a: ws.a.point,
+                b: ws.b.point,
+                confirmed: map.is_confirmed(w),
+            });
+        }
+    });
+    walls.sort_unstable_by_key(|w| w.id);
+    for (i, u) in walls.iter().enumerate() {
+        let du = u.b - u.a;
+        for v in &walls[i + 1..] {
+            if !u.confirmed && !v.confirmed {
                 continue;
             }
-            let sv = map.segment(v)?;
-            let dv = sv.b.point - sv.a.point;
-            let corner_angle_rad = line_angle_between(&du, &dv);
-            if corner_angle_rad < MIN_CORNER_ANGLE_RAD {
+            let dv = v.b - v.a;
+            if line_angle_at_most(&du, &dv, sharp) {
                 continue;
             }
-            let Some(j) = line_intersection(&su.a.point, &su.b.point, &sv.a.point, &sv.b.point)
-            else {
+            let Some(j) = line_intersection(&u.a, &u.b, &v.a, &v.b) else {
                 continue;
             };
             let ends = [(a - j).norm(), (b - j).norm()];
-            if distance_to_segment(&j, &su.a.point, &su.b.point) <= reach_m
-                && distance_to_segment(&j, &sv.a.point, &sv.b.point) <= reach_m
-                && ends[0] <= radius_m
+            if ends[0] <= radius_m
                 && ends[1] <= radius_m
+                && distance_to_segment(&j, &u.a, &u.b) <= reach_m
+                && distance_to_segment(&j, &v.a, &v.b) <= reach_m
             {
                 return Some(DiagonalTrace {
                     segment: id,
                     ends: [a, b],
-                    walls: [u, v],
+                    walls: [u.id, v.id],
                     junction: j,
                     end_distances_m: ends,
                     angles_rad: [
                         line_angle_between(&along, &du),
                         line_angle_between(&along, &dv),
                     ],
-                    corner_angle_rad,
+                    corner_angle_rad: line_angle_between(&du, &dv),
                 });
             }
         }
@@ -129,14 +145,27 @@ pub fn corner_diagonals(
     reach_m: f64,
     min_turn_rad: f64,
 ) -> Vec<DiagonalTrace> {
+    // Only fitted segments no longer than `2·radius_m` can be diagonals ([`corner_diagonal`]).
+    let short =
+        |ws: &IndexedSegment| ws.fitted && (ws.b.point - ws.a.point).norm() <= 2.0 * radius_m;
+    let mut touched = touched.to_vec();
+    touched.sort_unstable();
+    touched.dedup();
     let mut candidates: Vec<SegmentId> = Vec::new();
-    for &t in touched {
+    for &t in &touched {
         let Some(s) = map.segment(t) else {
             continue;
         };
-        candidates.push(t);
-        candidates.extend(map.segments_near(&s.a.point, radius_m + reach_m));
-        candidates.extend(map.segments_near(&s.b.point, radius_m + reach_m));
+        if short(&s.indexed()) {
+            candidates.push(t);
+        }
+        for p in [s.a.point, s.b.point] {
+            map.visit_segments_along(&p, &p, radius_m + reach_m, |c, cs| {
+                if short(cs) {
+                    candidates.push(c);
+                }
+            });
+        }
     }
     candidates.sort_unstable();
     candidates.dedup();
