@@ -296,7 +296,7 @@ mod tests {
         // diagonals.
         let found = corner_diagonals(&map, &[0], 1.0, 1.6, TURN);
         assert_eq!(found.iter().map(|d| d.segment).collect::<Vec<_>>(), vec![2]);
-        // A segment nothing near any touched one: none.
+        // Nothing touched this step: nothing is tested, nothing found.
         let far = corner_diagonals(&map, &[], 1.0, 1.6, TURN);
         assert!(far.is_empty());
     }
