@@ -65,6 +65,13 @@ pub enum LineageEvent {
         /// The sensor.
         sensor: usize,
     },
+    /// Removed as the diagonal of the corner of `walls` (docs/algorithm.md §8.11).
+    CornerDiagonal {
+        /// Snapshot.
+        snapshot: usize,
+        /// The two walls of the corner.
+        walls: [SegmentId; 2],
+    },
     /// A connecting segment removed because a segment it joined left the map
     /// (docs/algorithm.md §8.3).
     LinkDropped {
@@ -107,6 +114,7 @@ impl LineageEvent {
             | LineageEvent::Absorbed { snapshot, .. }
             | LineageEvent::AbsorbedInto { snapshot, .. }
             | LineageEvent::Refuted { snapshot, .. }
+            | LineageEvent::CornerDiagonal { snapshot, .. }
             | LineageEvent::LinkDropped { snapshot }
             | LineageEvent::Correlated { snapshot, .. } => snapshot,
         }
@@ -197,6 +205,15 @@ impl Lineage {
                 LineageEvent::Refuted {
                     snapshot,
                     sensor: r.sensor,
+                },
+            );
+        }
+        for d in &trace.diagonals {
+            self.push(
+                d.segment,
+                LineageEvent::CornerDiagonal {
+                    snapshot,
+                    walls: d.walls,
                 },
             );
         }

@@ -95,6 +95,15 @@ pub fn soak_variants() -> Vec<(&'static str, Params)> {
             },
         ),
         (
+            // Diagonals are found against confirmed walls: confirmation comes along.
+            "paper+corner_diagonals",
+            Params {
+                confirm_segments: true,
+                corner_diagonals: true,
+                ..paper.clone()
+            },
+        ),
+        (
             "paper+min_piece_points",
             Params {
                 min_piece_points: extended.min_piece_points,

@@ -491,6 +491,12 @@ pub fn params_panel_ui(
                     |p: &mut Params, v| p.echo_fit = v,
                     paper.echo_fit,
                 ),
+                (
+                    "corner_diagonals",
+                    params.corner_diagonals,
+                    |p: &mut Params, v| p.corner_diagonals = v,
+                    paper.corner_diagonals,
+                ),
             ] {
                 field_label(ui, name, is_changed(name));
                 let mut on = get;

@@ -23,8 +23,10 @@ use crate::geometry::{fit_line_tls, segments_cross, unit, Point, Vec2};
 use serde::{Deserialize, Serialize};
 
 /// Largest angle between an echoing ray and the plane's normal that the fit allows (the
-/// roughness of the roughest wall it expects), radians: 40°.
-pub const MAX_INCIDENCE_RAD: f64 = 40.0 * std::f64::consts::PI / 180.0;
+/// roughness of the roughest wall it expects), radians: 60° (docs/algorithm.md §8.10: at 40°
+/// the walls MRPT's simulator echoes from beyond it, since it has no incidence limit, were
+/// left on the beam axes, short of themselves).
+pub const MAX_INCIDENCE_RAD: f64 = 60.0 * std::f64::consts::PI / 180.0;
 
 /// Fewest readings of a piece before a reflector point is tried against its line (two
 /// readings fit both exactly).
@@ -543,6 +545,29 @@ mod tests {
                 "{q:?}"
             );
         }
+    }
+
+    #[test]
+    fn a_wall_heard_from_the_cone_edge_at_up_to_sixty_degrees_is_found() {
+        // The wall y = 2 seen 60° off its normal (the sonars look 30° from +x): the cone's
+        // nearer edge meets it at 60° − 12.5° = 47.5° (beyond the old 40° limit, within 60°),
+        // read at 2 / cos 47.5° = 2.9604 m. On the axes the points lie at
+        // y = 2.9604 · sin 30° = 1.4802, 0.52 m short of the wall.
+        let d = 2.0 / 47.5f64.to_radians().cos();
+        assert!((d - 2.9604).abs() < 1e-4);
+        let beams: Vec<Beam> = [0.0, 0.4, 0.8]
+            .iter()
+            .map(|&x| beam(x, 0.0, 30.0, d))
+            .collect();
+        assert!((axis_points(&beams)[0].y - 1.4802).abs() < 1e-4);
+        let cos = incidence_cosine(&beams[0], &Vec2::new(0.0, 1.0), HalfCone::new(HALF));
+        assert!((cos.unwrap() - 47.5f64.to_radians().cos()).abs() < 1e-12);
+        let line = fit_echo_line(&beams, &axis_points(&beams), 3.0, HALF, TURN).unwrap();
+        assert!((line.offset_m - 2.0).abs() < 1e-3, "{line:?}");
+        // Looking 15° from +x (75° off the normal) the edge meets the wall at 62.5°: beyond the
+        // limit, no line.
+        let steep = beam(0.0, 0.0, 15.0, 2.0 / 62.5f64.to_radians().cos());
+        assert!(incidence_cosine(&steep, &Vec2::new(0.0, 1.0), HalfCone::new(HALF)).is_none());
     }
 
     #[test]

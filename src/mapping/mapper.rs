@@ -2,6 +2,7 @@
 
 use super::cluster::{cluster_points, sensor_ranks, Clusters};
 use super::confirm::{note_plane_support, supports};
+use super::corner_diagonals::{corner_diagonals, CORNER_DIAGONAL_RADIUS_M, CORNER_WALL_REACH_M};
 use super::correlate::correlate_face;
 use super::echo_fit::{
     echo_behind_confirmed_wall, fit_echo_line, fit_reflector_point, line_cost, order_along_line,
@@ -289,6 +290,9 @@ impl Mapper {
         if self.params.free_space {
             self.remove_refuted(snapshot, &mut trace);
         }
+        if self.params.corner_diagonals {
+            self.remove_corner_diagonals(&mut trace);
+        }
         // Kept in the slim trace too: the lineage of a link reads its removal there.
         trace.dropped_links = self.map.drop_dangling_links();
         trace
@@ -399,6 +403,29 @@ impl Mapper {
             }
         }
         self.buffers.kept = kept;
+    }
+
+    /// §8.11: the segments this step made or changed, and those near their end-points, that
+    /// stand across a corner of two walls of the map (one confirmed) leave the map.
+    fn remove_corner_diagonals(&mut self, trace: &mut StepTrace) {
+        let touched: Vec<SegmentId> = trace
+            .decisions
+            .iter()
+            .filter_map(|d| d.result)
+            .chain(trace.updates.iter().map(|u| u.segment))
+            .collect();
+        let found = corner_diagonals(
+            &self.map,
+            &touched,
+            CORNER_DIAGONAL_RADIUS_M,
+            CORNER_WALL_REACH_M,
+            self.params.orientation_rad,
+        );
+        for d in found {
+            self.map.remove_segment(d.segment);
+            // Kept in the slim trace too: the lineage of a segment reads its removal there.
+            trace.diagonals.push(d);
+        }
     }
 
     /// A step's trace with its snapshot, and the warnings of §4: the robot moved more than

@@ -2,6 +2,7 @@
 
 pub mod cluster;
 pub mod confirm;
+pub mod corner_diagonals;
 pub mod correlate;
 pub mod echo_fit;
 pub mod extensions;

@@ -108,6 +108,9 @@ pub struct Params {
     /// A fitted piece's readings move to where one plane's echoes came from, when a line fitted
     /// from their ranges explains them all (docs/algorithm.md §8.10).
     pub echo_fit: bool,
+    /// A segment lying wholly near the junction of two confirmed walls and turned from both
+    /// is a corner's diagonal and leaves the map (docs/algorithm.md §8.11).
+    pub corner_diagonals: bool,
     /// Fewest readings of a fitted piece that becomes a new segment; shorter pieces' readings
     /// go to point memory. 0 is off (the paper fits any piece; docs/algorithm.md §8.8).
     pub min_piece_points: usize,
@@ -145,6 +148,7 @@ impl Params {
             confirm_segments: false,
             plane_gate: false,
             echo_fit: false,
+            corner_diagonals: false,
             min_piece_points: 0,
         }
     }
@@ -164,6 +168,7 @@ impl Params {
             confirm_segments: true,
             plane_gate: true,
             echo_fit: true,
+            corner_diagonals: true,
             min_piece_points: 3,
             ..Self::paper()
         }
@@ -311,6 +316,9 @@ impl Params {
         if let Some(v) = file.echo_fit {
             p.echo_fit = v;
         }
+        if let Some(v) = file.corner_diagonals {
+            p.corner_diagonals = v;
+        }
         if let Some(v) = file.min_piece_points {
             p.min_piece_points = v;
         }
@@ -349,6 +357,7 @@ impl Params {
             confirm_segments: Some(self.confirm_segments),
             plane_gate: Some(self.plane_gate),
             echo_fit: Some(self.echo_fit),
+            corner_diagonals: Some(self.corner_diagonals),
             min_piece_points: Some(self.min_piece_points),
         }
     }
@@ -452,6 +461,8 @@ pub struct ParamsFile {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub echo_fit: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub corner_diagonals: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub min_piece_points: Option<usize>,
 }
 
@@ -472,6 +483,7 @@ mod tests {
         assert!(!p.corner_guard);
         assert!(!p.arc_features && !p.explain_readings && !p.free_space && !p.confirm_segments);
         assert!(!p.plane_gate && !p.echo_fit && p.min_piece_points == 0);
+        assert!(!p.corner_diagonals);
         let e = Params::extended();
         assert_eq!(e.support_cap, 64);
         assert!(e.corner_guard);
@@ -480,6 +492,7 @@ mod tests {
         assert!(e.merge_duplicates);
         assert!(e.arc_features && e.explain_readings && e.free_space && e.confirm_segments);
         assert!(e.plane_gate && e.echo_fit && e.min_piece_points == 3);
+        assert!(e.corner_diagonals);
         assert!(p.validate().is_ok() && e.validate().is_ok());
     }
 

@@ -581,9 +581,14 @@ pub struct StepTrace {
     /// (docs/algorithm.md §8.3).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub dropped_links: Vec<SegmentId>,
+    /// Segments removed as the diagonal of a corner of two confirmed walls
+    /// (docs/algorithm.md §8.11).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub diagonals: Vec<DiagonalTrace>,
 }
 
 pub use super::confirm::PlaneSupportTrace;
+pub use super::corner_diagonals::DiagonalTrace;
 pub use super::echo_fit::EchoFitTrace;
 pub use super::free_space::RefutedTrace;
 pub use super::point_features::ArcTrace;

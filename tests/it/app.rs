@@ -1011,3 +1011,43 @@ fn the_inspector_explains_an_echo_placement_with_its_numbers() {
         "snapshot {k}: no echo placement line with {text:?}"
     );
 }
+
+#[test]
+fn the_inspector_explains_a_corner_diagonal_with_its_numbers() {
+    // The building asset in `extended`: the first snapshot whose step removed a segment as the
+    // diagonal of a corner (found by running the engine alone) names it in "Extensions this
+    // step", with the corner's two walls and the angles between them.
+    let mut h = building();
+    h.state_mut()
+        .push(Command::SetPreset(sonarmap::mapping::Preset::Extended));
+    settle(&mut h);
+    let run = h.state().run().clone();
+    let mut mapper = sonarmap::mapping::Mapper::new(
+        sonarmap::mapping::Params::extended(),
+        run.layout.clone(),
+        run.sensor,
+    );
+    let (k, d) = run
+        .snapshots
+        .iter()
+        .enumerate()
+        .find_map(|(k, s)| {
+            let trace = mapper.step(s);
+            trace.diagonals.first().cloned().map(|d| (k, d))
+        })
+        .expect("the building's extended run removes a corner diagonal");
+    h.state_mut().push(Command::Seek(k));
+    h.run();
+    let text = format!("corner diagonal: s{} (", d.segment);
+    let walls = format!(
+        "of s{} and s{} ({:.1} deg apart",
+        d.walls[0],
+        d.walls[1],
+        d.corner_angle_rad.to_degrees()
+    );
+    assert!(
+        h.query_all_by_label_contains(&text).next().is_some()
+            && h.query_all_by_label_contains(&walls).next().is_some(),
+        "snapshot {k}: no corner diagonal line with {text:?} and {walls:?}"
+    );
+}

@@ -225,6 +225,7 @@ fn a_new_face_whose_first_segment_was_merged_away_in_the_same_snapshot_keeps_its
         confirm_segments: false,
         plane_gate: false,
         echo_fit: false,
+        corner_diagonals: false,
         min_piece_points: 0,
         ..Params::extended()
     };

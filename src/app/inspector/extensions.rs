@@ -1,9 +1,11 @@
 //! What the flagged extensions of docs/algorithm.md §8.5–§8.8 did in this step, with their
 //! numbers: arcs filed as corners or edges, readings explained by a feature, segments a reading
-//! saw past, plane support, the plane gate and echo placement (§8.10).
+//! saw past, plane support, the plane gate, echo placement (§8.10) and corner diagonals
+//! (§8.11).
 
 use super::context::InspectCtx;
 use super::widgets::heading;
+use crate::mapping::corner_diagonals::CORNER_WALL_REACH_M;
 use egui::RichText;
 
 /// The step's extension records; nothing when none acted.
@@ -15,6 +17,7 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
         && t.plane_support.is_empty()
         && t.gated.is_empty()
         && t.echo_fits.is_empty()
+        && t.diagonals.is_empty()
     {
         return;
     }
@@ -105,6 +108,26 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
                 }
             ));
         }
+    }
+    for d in &t.diagonals {
+        ui.label(format!(
+            "corner diagonal: s{} ({} to {}) lies {} and {} from the junction {} of s{} and s{} \
+             ({:.1} deg apart; within {} of each), turned {:.1} and {:.1} deg from them \
+             (at least {:.1}): a corner's echoes, not a wall: removed",
+            d.segment,
+            ctx.point(&d.ends[0]),
+            ctx.point(&d.ends[1]),
+            ctx.len(d.end_distances_m[0]),
+            ctx.len(d.end_distances_m[1]),
+            ctx.point(&d.junction),
+            d.walls[0],
+            d.walls[1],
+            d.corner_angle_rad.to_degrees(),
+            ctx.len(CORNER_WALL_REACH_M),
+            d.angles_rad[0].to_degrees(),
+            d.angles_rad[1].to_degrees(),
+            ctx.params.orientation_rad.to_degrees()
+        ));
     }
     for n in &t.gated {
         ui.label(

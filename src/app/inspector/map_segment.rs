@@ -170,6 +170,13 @@ fn lineage_ui(ui: &mut egui::Ui, ctx: &InspectCtx, id: SegmentId, commands: &mut
                                 format!("removed: sensor {sensor} saw through it (free space)"),
                                 SceneId::None,
                             ),
+                            LineageEvent::CornerDiagonal { walls, .. } => (
+                                format!(
+                                    "removed: a diagonal of the corner of #{} and #{}",
+                                    walls[0], walls[1]
+                                ),
+                                SceneId::MapSegment(walls[0]),
+                            ),
                             LineageEvent::LinkDropped { .. } => (
                                 "removed: a segment it joined left the map".to_string(),
                                 SceneId::None,

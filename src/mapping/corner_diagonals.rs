@@ -1,0 +1,303 @@
+//! Corner diagonals: a segment standing across a corner the map already holds leaves it
+//! (docs/algorithm.md §8.11; beyond the paper).
+//!
+//! A concave corner returns an echo from its vertex to every sonar whose cone contains it, at
+//! any incidence (a corner reflector: Kleeman and Kuc). From a narrow baseline those ranges fit a
+//! plane standing across the corner as well as they fit the vertex (both models explain them
+//! within the sonar's resolution), so the fit draws a short slanted line, a diagonal, near the
+//! vertex; once two sensors or two poses heard it it is confirmed like a wall. Once the map
+//! holds the two walls that make the corner (one of them confirmed), a segment that lies wholly
+//! within [`CORNER_DIAGONAL_RADIUS_M`] of their junction and is turned at least `θ_o` from both
+//! is such a diagonal, not a third wall: the vertex's echoes, not a plane, explain its
+//! readings.
+
+use super::index::IndexedSegment;
+use super::map::{Map, SegmentId, SegmentKind};
+use crate::geometry::{
+    distance_to_segment, line_angle_at_most, line_angle_between, line_intersection, AngleLimit,
+    Point,
+};
+use serde::{Deserialize, Serialize};
+
+/// How near the junction of two walls both end-points of a diagonal lie, metres (1 m, 39 in:
+/// the chords a corner's arc leaves at the ranges of a room are shorter).
+pub const CORNER_DIAGONAL_RADIUS_M: f64 = 1.0;
+
+/// How near the junction each wall of the corner comes, metres (1.6 m, 63 in): the walls are
+/// seldom mapped up to the vertex, whose echoes draw the diagonals instead.
+pub const CORNER_WALL_REACH_M: f64 = 1.6;
+
+/// Smallest angle between the two walls of a corner, radians (30°; a corner sharper than that
+/// is not told from one wall seen twice).
+pub const MIN_CORNER_ANGLE_RAD: f64 = 30.0 * std::f64::consts::PI / 180.0;
+
+/// A segment removed as a corner's diagonal, for the trace.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DiagonalTrace {
+    /// The segment removed.
+    pub segment: SegmentId,
+    /// Its end-points when it left.
+    pub ends: [Point; 2],
+    /// The two walls of the corner (one of them, at least, confirmed).
+    pub walls: [SegmentId; 2],
+    /// The junction: where the walls' lines meet.
+    pub junction: Point,
+    /// Distances of the segment's two end-points from the junction, metres.
+    pub end_distances_m: [f64; 2],
+    /// The segment's angles to the two walls, radians.
+    pub angles_rad: [f64; 2],
+    /// The angle between the two walls, radians.
+    pub corner_angle_rad: f64,
+}
+
+/// Whether the fitted segment `id` of `map` is a diagonal of a corner of two fitted walls, one
+/// of them at least confirmed: its end-points both within `radius_m` of the junction of the
+/// walls' lines, which itself lies within `reach_m` of each wall, the walls at least
+/// [`MIN_CORNER_ANGLE_RAD`] apart and the segment at least `min_turn_rad` from each. The first
+/// such corner (walls by id) when it is.
+pub fn corner_diagonal(
+    map: &Map,
+    id: SegmentId,
+    radius_m: f64,
+    reach_m: f64,
+    min_turn_rad: f64,
+) -> Option<DiagonalTrace> {
+    let s = map.segment(id)?;
+    let (a, b) = (s.a.point, s.b.point);
+    let along = b - a;
+    // Both end-points within `radius_m` of one point: no longer than `2·radius_m`.
+    if s.kind != SegmentKind::Fitted || along.norm() > 2.0 * radius_m {
+        return None;
+    }
+    struct Wall {
+        id: SegmentId,
+        a: Point,
+        b: Point,
+        confirmed: bool,
+    }
+    let turn = AngleLimit::new(min_turn_rad);
+    let sharp = AngleLimit::new(MIN_CORNER_ANGLE_RAD);
+    // A wall of the corner comes within `reach_m` of the junction, which is within `radius_m`
+    // of both end-points: within `radius_m + reach_m` of each end-point, and of the mid-point.
+    let mid = s.mid();
+    let mut walls: Vec<Wall> = Vec::new();
+    map.visit_segments_along(&mid, &mid, radius_m + reach_m, |w, ws| {
+        if w != id
+            && ws.fitted
+            && distance_to_segment(&a, &ws.a.point, &ws.b.point) <= radius_m + reach_m
+            && distance_to_segment(&b, &ws.a.point, &ws.b.point) <= radius_m + reach_m
+            && !line_angle_at_most(&along, &(ws.b.point - ws.a.point), turn)
+        {
+            walls.push(Wall {
+                id: w,
+                a: ws.a.point,
+                b: ws.b.point,
+                confirmed: map.is_confirmed(w),
+            });
+        }
+    });
+    walls.sort_unstable_by_key(|w| w.id);
+    for (i, u) in walls.iter().enumerate() {
+        let du = u.b - u.a;
+        for v in &walls[i + 1..] {
+            if !u.confirmed && !v.confirmed {
+                continue;
+            }
+            let dv = v.b - v.a;
+            if line_angle_at_most(&du, &dv, sharp) {
+                continue;
+            }
+            let Some(j) = line_intersection(&u.a, &u.b, &v.a, &v.b) else {
+                continue;
+            };
+            let ends = [(a - j).norm(), (b - j).norm()];
+            if ends[0] <= radius_m
+                && ends[1] <= radius_m
+                && distance_to_segment(&j, &u.a, &u.b) <= reach_m
+                && distance_to_segment(&j, &v.a, &v.b) <= reach_m
+            {
+                return Some(DiagonalTrace {
+                    segment: id,
+                    ends: [a, b],
+                    walls: [u.id, v.id],
+                    junction: j,
+                    end_distances_m: ends,
+                    angles_rad: [
+                        line_angle_between(&along, &du),
+                        line_angle_between(&along, &dv),
+                    ],
+                    corner_angle_rad: line_angle_between(&du, &dv),
+                });
+            }
+        }
+    }
+    None
+}
+
+/// The corner diagonals ([`corner_diagonal`]) among the segments a step touched (`touched`)
+/// and the segments within `radius_m + reach_m` of their end-points (a wall made, moved or
+/// confirmed this step may make a corner of an older diagonal), in id order; each found
+/// against the map as it stands, before any leaves.
+pub fn corner_diagonals(
+    map: &Map,
+    touched: &[SegmentId],
+    radius_m: f64,
+    reach_m: f64,
+    min_turn_rad: f64,
+) -> Vec<DiagonalTrace> {
+    // Only fitted segments no longer than `2·radius_m` can be diagonals ([`corner_diagonal`]).
+    let short =
+        |ws: &IndexedSegment| ws.fitted && (ws.b.point - ws.a.point).norm() <= 2.0 * radius_m;
+    let mut touched = touched.to_vec();
+    touched.sort_unstable();
+    touched.dedup();
+    let mut candidates: Vec<SegmentId> = Vec::new();
+    for &t in &touched {
+        let Some(s) = map.segment(t) else {
+            continue;
+        };
+        if short(&s.indexed()) {
+            candidates.push(t);
+        }
+        for p in [s.a.point, s.b.point] {
+            map.visit_segments_along(&p, &p, radius_m + reach_m, |c, cs| {
+                if short(cs) {
+                    candidates.push(c);
+                }
+            });
+        }
+    }
+    candidates.sort_unstable();
+    candidates.dedup();
+    candidates
+        .into_iter()
+        .filter_map(|c| corner_diagonal(map, c, radius_m, reach_m, min_turn_rad))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mapping::confirm::{PlaneSupport, CONFIRMING_SNAPSHOTS};
+    use crate::mapping::map::test_wall;
+
+    const TURN: f64 = 15.0 * std::f64::consts::PI / 180.0;
+
+    fn confirm(map: &mut Map, id: SegmentId) {
+        map.plane_support.insert(
+            id,
+            PlaneSupport {
+                snapshots: CONFIRMING_SNAPSHOTS,
+                last_snapshot: 0,
+            },
+        );
+    }
+
+    /// A corner at the origin: s0 along +x, s1 along +y, both 3 m long. s2 stands across it
+    /// from (0.6, 0.2) to (0.2, 0.6); s3 lies along s0, 5 cm in front of it; s4 stands across
+    /// the room 2.5 m from the vertex.
+    fn room_corner() -> Map {
+        Map::from_segments(vec![
+            test_wall(0, (0.0, 0.0), (3.0, 0.0), 1.0),
+            test_wall(1, (0.0, 0.0), (0.0, 3.0), 1.0),
+            test_wall(2, (0.6, 0.2), (0.2, 0.6), 1.0),
+            test_wall(3, (0.2, 0.05), (0.9, 0.05), 1.0),
+            test_wall(4, (2.0, 1.5), (1.5, 2.0), 1.0),
+        ])
+    }
+
+    #[test]
+    fn a_chord_across_a_confirmed_corner_is_a_diagonal_and_a_wall_beside_it_is_not() {
+        let mut map = room_corner();
+        confirm(&mut map, 0);
+        confirm(&mut map, 1);
+        let r = CORNER_DIAGONAL_RADIUS_M;
+        let d = corner_diagonal(&map, 2, r, CORNER_WALL_REACH_M, TURN).expect("a diagonal");
+        // Both ends lie sqrt(0.6² + 0.2²) = sqrt(0.4) = 0.6325 m from the vertex (<= 1 m), the
+        // chord runs along (-0.4, 0.4): 45° from both walls (>= 15°), which meet at 90°.
+        assert_eq!(d.walls, [0, 1]);
+        assert!(d.junction.coords.norm() < 1e-12);
+        for e in d.end_distances_m {
+            assert!((e - 0.4f64.sqrt()).abs() < 1e-12, "{e}");
+        }
+        for a in d.angles_rad {
+            assert!((a.to_degrees() - 45.0).abs() < 1e-9);
+        }
+        assert!((d.corner_angle_rad.to_degrees() - 90.0).abs() < 1e-9);
+        // s3 lies along s0 (0° from it, under 15°); s4's ends lie sqrt(2² + 1.5²) = 2.5 m from
+        // the vertex; the walls themselves are no diagonals.
+        for id in [0, 1, 3, 4] {
+            assert!(
+                corner_diagonal(&map, id, r, CORNER_WALL_REACH_M, TURN).is_none(),
+                "s{id}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_corner_needs_one_confirmed_wall() {
+        let r = CORNER_DIAGONAL_RADIUS_M;
+        let tentative = room_corner();
+        assert!(corner_diagonal(&tentative, 2, r, CORNER_WALL_REACH_M, TURN).is_none());
+        let mut one = room_corner();
+        confirm(&mut one, 1);
+        let d = corner_diagonal(&one, 2, r, CORNER_WALL_REACH_M, TURN).expect("s1 is confirmed");
+        assert_eq!(d.walls, [0, 1]);
+    }
+
+    #[test]
+    fn walls_short_of_the_vertex_make_a_corner_within_their_reach() {
+        // The walls stop 1.2 m short of the vertex (within the 1.6 m reach); then 2 m short.
+        for (gap, corner) in [(1.2, true), (2.0, false)] {
+            let mut map = Map::from_segments(vec![
+                test_wall(0, (gap, 0.0), (4.0, 0.0), 1.0),
+                test_wall(1, (0.0, gap), (0.0, 4.0), 1.0),
+                test_wall(2, (0.6, 0.2), (0.2, 0.6), 1.0),
+            ]);
+            confirm(&mut map, 0);
+            confirm(&mut map, 1);
+            let found = corner_diagonal(&map, 2, CORNER_DIAGONAL_RADIUS_M, 1.6, TURN);
+            assert_eq!(found.is_some(), corner, "walls {gap} m short");
+        }
+    }
+
+    #[test]
+    fn walls_sharper_than_thirty_degrees_make_no_corner() {
+        // s1 turned 20° from s0 (under 30°): the pair is not a corner; at 40° it is. The chord
+        // runs at 120° (perpendicular to the 30° line that bisects 0° and 60°, kept at least
+        // 15° from both walls in either case).
+        for (deg, corner) in [(20.0f64, false), (40.0, true)] {
+            let t = deg.to_radians();
+            let c = 120f64.to_radians();
+            let mid = (0.5, 0.25);
+            let mut map = Map::from_segments(vec![
+                test_wall(0, (0.0, 0.0), (3.0, 0.0), 1.0),
+                test_wall(1, (0.0, 0.0), (3.0 * t.cos(), 3.0 * t.sin()), 1.0),
+                test_wall(
+                    2,
+                    (mid.0 - 0.1 * c.cos(), mid.1 - 0.1 * c.sin()),
+                    (mid.0 + 0.1 * c.cos(), mid.1 + 0.1 * c.sin()),
+                    1.0,
+                ),
+            ]);
+            confirm(&mut map, 0);
+            confirm(&mut map, 1);
+            let found = corner_diagonal(&map, 2, 1.0, 1.6, TURN);
+            assert_eq!(found.is_some(), corner, "walls {deg}° apart");
+        }
+    }
+
+    #[test]
+    fn a_wall_confirmed_this_step_finds_an_older_diagonal_near_it() {
+        let mut map = room_corner();
+        confirm(&mut map, 0);
+        confirm(&mut map, 1);
+        // Only s0 was touched: s2 lies near its end-points and is found; s3 and s4 are not
+        // diagonals.
+        let found = corner_diagonals(&map, &[0], 1.0, 1.6, TURN);
+        assert_eq!(found.iter().map(|d| d.segment).collect::<Vec<_>>(), vec![2]);
+        // Nothing touched this step: nothing is tested, nothing found.
+        let far = corner_diagonals(&map, &[], 1.0, 1.6, TURN);
+        assert!(far.is_empty());
+    }
+}
