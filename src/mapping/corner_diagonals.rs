@@ -14,8 +14,8 @@
 use super::index::IndexedSegment;
 use super::map::{Map, SegmentId, SegmentKind};
 use crate::geometry::{
-    distance_to_segment, line_angle_at_most, line_angle_between, line_intersection, AngleLimit,
-    Point,
+    distance_to_line, distance_to_segment, line_angle_at_most, line_angle_between,
+    line_intersection, AngleLimit, Point,
 };
 use serde::{Deserialize, Serialize};
 
@@ -82,8 +82,12 @@ pub fn corner_diagonal(
     let mid = s.mid();
     let mut walls: Vec<Wall> = Vec::new();
     map.visit_segments_along(&mid, &mid, radius_m + reach_m, |w, ws| {
+        // The junction lies on the wall's line within `radius_m` of both end-points, so the
+        // line passes that near each (a cheap test that leaves out most walls nearby).
         if w != id
             && ws.fitted
+            && distance_to_line(&a, &ws.a.point, &ws.b.point) <= radius_m
+            && distance_to_line(&b, &ws.a.point, &ws.b.point) <= radius_m
             && distance_to_segment(&a, &ws.a.point, &ws.b.point) <= radius_m + reach_m
             && distance_to_segment(&b, &ws.a.point, &ws.b.point) <= radius_m + reach_m
             && !line_angle_at_most(&along, &(ws.b.point - ws.a.point), turn)
@@ -134,13 +138,15 @@ pub fn corner_diagonal(
     None
 }
 
-/// The corner diagonals ([`corner_diagonal`]) among the segments a step touched (`touched`)
-/// and the segments within `radius_m + reach_m` of their end-points (a wall made, moved or
-/// confirmed this step may make a corner of an older diagonal), in id order; each found
-/// against the map as it stands, before any leaves.
+/// The corner diagonals ([`corner_diagonal`]) among the segments that can make a corner that
+/// was not there before (`new_corners`: made, grown or confirmed this step) and the segments
+/// within `radius_m + reach_m` of their end-points whose corner they can be a wall of, in id
+/// order; each found against the map as it stands, before any leaves. A segment updated
+/// within its old end-points is not tested again: it was tested when it was made or last
+/// grew, and the walls around it were tested when they changed.
 pub fn corner_diagonals(
     map: &Map,
-    touched: &[SegmentId],
+    new_corners: &[SegmentId],
     radius_m: f64,
     reach_m: f64,
     min_turn_rad: f64,
@@ -148,20 +154,27 @@ pub fn corner_diagonals(
     // Only fitted segments no longer than `2·radius_m` can be diagonals ([`corner_diagonal`]).
     let short =
         |ws: &IndexedSegment| ws.fitted && (ws.b.point - ws.a.point).norm() <= 2.0 * radius_m;
-    let mut touched = touched.to_vec();
-    touched.sort_unstable();
-    touched.dedup();
     let mut candidates: Vec<SegmentId> = Vec::new();
-    for &t in &touched {
+    let mut new_corners = new_corners.to_vec();
+    new_corners.sort_unstable();
+    new_corners.dedup();
+    for &t in &new_corners {
         let Some(s) = map.segment(t) else {
             continue;
         };
         if short(&s.indexed()) {
             candidates.push(t);
         }
-        for p in [s.a.point, s.b.point] {
+        // A segment whose corner this one is a wall of: the wall's line passes within
+        // `radius_m` of both its end-points (see [`corner_diagonal`]).
+        let (wa, wb) = (s.a.point, s.b.point);
+        let beside = |cs: &IndexedSegment| {
+            distance_to_line(&cs.a.point, &wa, &wb) <= radius_m
+                && distance_to_line(&cs.b.point, &wa, &wb) <= radius_m
+        };
+        for p in [wa, wb] {
             map.visit_segments_along(&p, &p, radius_m + reach_m, |c, cs| {
-                if short(cs) {
+                if short(cs) && beside(cs) {
                     candidates.push(c);
                 }
             });
@@ -292,12 +305,20 @@ mod tests {
         let mut map = room_corner();
         confirm(&mut map, 0);
         confirm(&mut map, 1);
-        // Only s0 was touched: s2 lies near its end-points and is found; s3 and s4 are not
-        // diagonals.
+        // s0 can make a new corner (confirmed this step): s2 lies near its end-points and is
+        // found; s3 and s4 are not diagonals.
         let found = corner_diagonals(&map, &[0], 1.0, 1.6, TURN);
         assert_eq!(found.iter().map(|d| d.segment).collect::<Vec<_>>(), vec![2]);
-        // Nothing touched this step: nothing is tested, nothing found.
-        let far = corner_diagonals(&map, &[], 1.0, 1.6, TURN);
-        assert!(far.is_empty());
+        // s2 made or grown itself: it is tested, and found.
+        let itself = corner_diagonals(&map, &[2], 1.0, 1.6, TURN);
+        assert_eq!(
+            itself.iter().map(|d| d.segment).collect::<Vec<_>>(),
+            vec![2]
+        );
+        // Both changed: s2 is found once.
+        let both = corner_diagonals(&map, &[2, 0, 2], 1.0, 1.6, TURN);
+        assert_eq!(both.iter().map(|d| d.segment).collect::<Vec<_>>(), vec![2]);
+        // Nothing changed this step: nothing is tested, nothing found.
+        assert!(corner_diagonals(&map, &[], 1.0, 1.6, TURN).is_empty());
     }
 }

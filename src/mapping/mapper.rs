@@ -1,7 +1,7 @@
 //! The mapper: one snapshot in, the map updated and the step's trace out (paper §3).
 
 use super::cluster::{cluster_points, sensor_ranks, Clusters};
-use super::confirm::{note_plane_support, supports};
+use super::confirm::{note_plane_support, supports, CONFIRMING_SNAPSHOTS};
 use super::corner_diagonals::{corner_diagonals, CORNER_DIAGONAL_RADIUS_M, CORNER_WALL_REACH_M};
 use super::correlate::correlate_face;
 use super::echo_fit::{
@@ -23,7 +23,7 @@ use super::trace::{
     CandidateTrace, ClusterTrace, DecisionTrace, ExplainedTrace, NewSegmentTrace, Outcome,
     RefutedTrace, Rule, SegmentSource, SplitTrace, StepTrace, UpdateTrace, Warning,
 };
-use super::update::{apply_update, cap_support_points, UpdateRequest};
+use super::update::{apply_update, cap_support_points, grew_past, UpdateRequest};
 use crate::geometry::{Point, Pose, Vec2};
 use crate::run::Snapshot;
 use crate::sonar::{BeamAxis, EchoModel, SensorLayout, SensorSpec};
@@ -405,18 +405,34 @@ impl Mapper {
         self.buffers.kept = kept;
     }
 
-    /// §8.11: the segments this step made or changed, and those near their end-points, that
-    /// stand across a corner of two walls of the map (one confirmed) leave the map.
+    /// §8.11: the segments that can make a corner that was not there before (made, grown or
+    /// confirmed this step), and the segments near their end-points, that stand across a
+    /// corner of two walls of the map (one confirmed) leave the map.
     fn remove_corner_diagonals(&mut self, trace: &mut StepTrace) {
-        let touched: Vec<SegmentId> = trace
+        // Made this step (a new face, or a refit's piece), grown past their old end-points (or
+        // by a duplicate they absorbed), or confirmed this step.
+        let made = trace
             .decisions
             .iter()
-            .filter_map(|d| d.result)
-            .chain(trace.updates.iter().map(|u| u.segment))
-            .collect();
+            .filter(|d| d.outcome == Outcome::NewFace)
+            .filter_map(|d| d.result);
+        let changed = trace.updates.iter().flat_map(|u| {
+            let grew = grew_past(&u.before, &u.after) || !u.absorbed.is_empty();
+            let pieces = u.refit.iter().flat_map(|r| r.pieces.iter().copied());
+            grew.then_some(u.segment).into_iter().chain(pieces)
+        });
+        let snapshot = trace.snapshot;
+        let matched = trace.decisions.iter().filter_map(|d| d.result);
+        let confirmed_now = matched.filter(|id| {
+            self.map
+                .plane_support
+                .get(id)
+                .is_some_and(|p| p.snapshots == CONFIRMING_SNAPSHOTS && p.last_snapshot == snapshot)
+        });
+        let new_corners: Vec<SegmentId> = made.chain(changed).chain(confirmed_now).collect();
         let found = corner_diagonals(
             &self.map,
-            &touched,
+            &new_corners,
             CORNER_DIAGONAL_RADIUS_M,
             CORNER_WALL_REACH_M,
             self.params.orientation_rad,

@@ -595,16 +595,21 @@ pub fn apply_update(
             map.set_ends(target, a, b);
             // Only a segment that grew past its old end-points can have come to overlap
             // another one.
-            let grew = [a, b].iter().any(|e| {
-                let t = projection_param(&e.point, &before[0].point, &before[1].point);
-                !(-1e-9..=1.0 + 1e-9).contains(&t)
-            });
-            if params.merge_duplicates && grew {
+            if params.merge_duplicates && grew_past(&before, &[a, b]) {
                 update.absorbed = absorb_duplicates(map, params, target, &[]);
             }
         }
     }
     Some(update)
+}
+
+/// Whether a segment that ran between `before` now reaches past either of them (an end-point
+/// of `after` projects outside `before`).
+pub fn grew_past(before: &[EndPoint; 2], after: &[EndPoint; 2]) -> bool {
+    after.iter().any(|e| {
+        let t = projection_param(&e.point, &before[0].point, &before[1].point);
+        !(-1e-9..=1.0 + 1e-9).contains(&t)
+    })
 }
 
 /// The post-update test: each supporting point's distance to `l_u` against its split
