@@ -15,7 +15,7 @@ use std::sync::Arc;
 
 /// Points a chunk holds at least (unless the whole list is shorter); a chunk grown past twice
 /// this by insertions is split.
-pub const CHUNK_POINTS: usize = 16;
+pub const CHUNK_POINTS: usize = 64;
 
 /// Supporting points in order, in shared chunks (cheap to clone; see the module docs).
 #[derive(Clone, Default)]
@@ -226,14 +226,12 @@ mod tests {
     fn a_long_list_is_cut_into_chunks_of_at_least_chunk_points() {
         let list = SupportList::from_vec((0..300).map(point).collect());
         let sizes: Vec<usize> = list.chunks().iter().map(|c| c.len()).collect();
-        // 300 = 16 * 17 + 28: the remainder joins the last chunk.
-        let mut expected = vec![16; 17];
-        expected.push(28);
-        assert_eq!(sizes, expected);
+        // 300 = 64 * 3 + 108: the remainder joins the last chunk.
+        assert_eq!(sizes, [64, 64, 64, 108]);
         assert_eq!(xs(&list), (0..300).collect::<Vec<_>>());
         assert!(list.as_slice().is_none());
         assert_eq!(
-            SupportList::from_vec((0..32).map(point).collect())
+            SupportList::from_vec((0..128).map(point).collect())
                 .chunks()
                 .len(),
             1
@@ -243,8 +241,8 @@ mod tests {
     #[test]
     fn inserting_copies_only_the_chunks_it_inserts_into() {
         let list = SupportList::from_vec((0..300).map(|i| point(2 * i)).collect());
-        // 2 * 70 + 1 = 141 goes before index 71 (in the fifth chunk, 64..80), 599 after the
-        // end (into the eighteenth and last).
+        // 2 * 70 + 1 = 141 goes before index 71 (in the second chunk, 64..128), 599 after the
+        // end (into the fourth and last).
         let grown = list.with_inserted(&[point(141), point(599)], &[71, 300]);
         assert_eq!(grown.len(), 302);
         let shared: Vec<bool> = list
@@ -253,8 +251,7 @@ mod tests {
             .zip(grown.chunks())
             .map(|(a, b)| Arc::ptr_eq(a, b))
             .collect();
-        let expected: Vec<bool> = (0..18).map(|c| c != 4 && c != 17).collect();
-        assert_eq!(shared, expected);
+        assert_eq!(shared, [true, false, true, false]);
         let mut expected: Vec<usize> = (0..300).map(|i| 2 * i).collect();
         expected.insert(71, 141);
         expected.push(599);
@@ -267,6 +264,10 @@ mod tests {
         let new: Vec<SupportPoint> = (1000..1100).map(point).collect();
         let grown = list.with_inserted(&new, &[150; 100]);
         assert!(grown.chunks().iter().all(|c| c.len() <= 2 * CHUNK_POINTS));
+        assert!(
+            grown.chunks().len() > list.chunks().len(),
+            "the grown chunk was split"
+        );
         assert_eq!(grown.len(), 300);
         let mut expected: Vec<usize> = (0..200).collect();
         expected.splice(150..150, 1000..1100);

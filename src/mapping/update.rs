@@ -733,7 +733,7 @@ mod tests {
     proptest! {
         #[test]
         fn merging_support_points_or_lists_equals_keeping_the_newest_and_sorting(
-            old in proptest::collection::vec((-8i8..8, 0u8..6), 0..70),
+            old in proptest::collection::vec((-8i8..8, 0u8..6), 0..400),
             new in proptest::collection::vec((-8i8..8, 0u8..6), 0..70),
             old_order in 0u8..3,
             new_order in 0u8..3,
@@ -754,7 +754,7 @@ mod tests {
             );
             let expected = merged_by_sorting(&old, &new, &a, &b, cap);
             prop_assert_eq!(merge_support_points(&old, &new, &a, &b, cap), expected.clone());
-            // The same points from the chunked list (several chunks past 32 points).
+            // The same points from the chunked list (several chunks past 128 points).
             let chunked = merge_support_list(&SupportList::from_vec(old), &new, &a, &b, cap);
             prop_assert_eq!(chunked.to_vec(), expected);
         }
