@@ -973,11 +973,11 @@ fn a_log_opened_while_new_parameters_replay_the_old_run_stays_open() {
     );
 }
 
-#[test]
-fn the_inspector_explains_an_echo_placement_with_its_numbers() {
-    // The building asset in `extended`: the first snapshot whose step moved a piece's readings
-    // to their echo points (found by running the engine alone) names it in "Extensions this
-    // step", with how many readings moved to a foot and to a cone edge.
+/// The building asset in `extended`, shown at the first snapshot whose step (found by running
+/// the engine alone) gives `found` something, with the snapshot and that something.
+fn building_extended_at_first<T>(
+    mut found: impl FnMut(&sonarmap::mapping::StepTrace) -> Option<T>,
+) -> (Harness<'static, SonarApp>, usize, T) {
     let mut h = building();
     h.state_mut()
         .push(Command::SetPreset(sonarmap::mapping::Preset::Extended));
@@ -988,17 +988,22 @@ fn the_inspector_explains_an_echo_placement_with_its_numbers() {
         run.layout.clone(),
         run.sensor,
     );
-    let (k, fit) = run
+    let (k, thing) = run
         .snapshots
         .iter()
         .enumerate()
-        .find_map(|(k, s)| {
-            let trace = mapper.step(s);
-            trace.echo_fits.first().cloned().map(|f| (k, f))
-        })
-        .expect("the building's extended run places echoes");
+        .find_map(|(k, s)| found(&mapper.step(s)).map(|t| (k, t)))
+        .expect("the building's extended run has such a step");
     h.state_mut().push(Command::Seek(k));
     h.run();
+    (h, k, thing)
+}
+
+#[test]
+fn the_inspector_explains_an_echo_placement_with_its_numbers() {
+    // The first snapshot whose step moved a piece's readings to their echo points names it in
+    // "Extensions this step", with how many readings moved to a foot and to a cone edge.
+    let (h, k, fit) = building_extended_at_first(|trace| trace.echo_fits.first().cloned());
     let text = format!(
         "reading(s) moved to the foot of the perpendicular, {} to",
         fit.at_cone_edge
@@ -1014,30 +1019,9 @@ fn the_inspector_explains_an_echo_placement_with_its_numbers() {
 
 #[test]
 fn the_inspector_explains_a_corner_diagonal_with_its_numbers() {
-    // The building asset in `extended`: the first snapshot whose step removed a segment as the
-    // diagonal of a corner (found by running the engine alone) names it in "Extensions this
-    // step", with the corner's two walls and the angles between them.
-    let mut h = building();
-    h.state_mut()
-        .push(Command::SetPreset(sonarmap::mapping::Preset::Extended));
-    settle(&mut h);
-    let run = h.state().run().clone();
-    let mut mapper = sonarmap::mapping::Mapper::new(
-        sonarmap::mapping::Params::extended(),
-        run.layout.clone(),
-        run.sensor,
-    );
-    let (k, d) = run
-        .snapshots
-        .iter()
-        .enumerate()
-        .find_map(|(k, s)| {
-            let trace = mapper.step(s);
-            trace.diagonals.first().cloned().map(|d| (k, d))
-        })
-        .expect("the building's extended run removes a corner diagonal");
-    h.state_mut().push(Command::Seek(k));
-    h.run();
+    // The first snapshot whose step removed a segment as the diagonal of a corner names it in
+    // "Extensions this step", with the corner's two walls and the angle between them.
+    let (h, k, d) = building_extended_at_first(|trace| trace.diagonals.first().cloned());
     let text = format!("corner diagonal: s{} (", d.segment);
     let walls = format!(
         "of s{} and s{} ({:.1} deg apart",
