@@ -306,7 +306,7 @@ impl Mapper {
         new_segments: &[NewSegmentTrace],
         trace: &mut StepTrace,
     ) {
-        let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
+        let (xi, half) = self.accuracy_and_half_beam();
         let cone_edges = self.cone_edges();
         let targets: Vec<(usize, SegmentId)> = trace
             .decisions
@@ -340,6 +340,12 @@ impl Mapper {
         }
     }
 
+    /// The sonar's accuracy ξ (%) and the half-width of its beam (radians), which every test of
+    /// a reading against a plane or a reflector takes (docs/algorithm.md §8.5–§8.10).
+    fn accuracy_and_half_beam(&self) -> (f64, f64) {
+        (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0)
+    }
+
     /// Whether the plane tests of §8.7 take echoes from the cone's edges too (§8.10: echo
     /// placement on, for a sensor whose echoes come from its whole cone).
     fn cone_edges(&self) -> bool {
@@ -350,7 +356,7 @@ impl Mapper {
     /// ([`crate::mapping::confirm::supports_as_plane`]), each from its own snapshot's pose
     /// (point memory's readings are at most `memory_snapshots` old).
     fn plane_gate(&self, new: &NewSegmentTrace) -> bool {
-        let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
+        let (xi, half) = self.accuracy_and_half_beam();
         new.points.iter().any(|q| {
             let Some(beam) = self.recent_beam_of(q) else {
                 return false;
@@ -376,7 +382,7 @@ impl Mapper {
         a: &Point,
         b: &Point,
     ) -> bool {
-        let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
+        let (xi, half) = self.accuracy_and_half_beam();
         points
             .iter()
             .any(|q| supports(&self.beam_of(pose, q), a, b, xi, half, self.cone_edges()).is_some())
@@ -384,7 +390,7 @@ impl Mapper {
 
     /// §8.6 free space: the segments a kept reading of this snapshot saw past leave the map.
     fn remove_refuted(&mut self, snapshot: &Snapshot, trace: &mut StepTrace) {
-        let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
+        let (xi, half) = self.accuracy_and_half_beam();
         let mut found = Vec::new();
         let kept = std::mem::take(&mut self.buffers.kept);
         for q in &kept {
@@ -543,7 +549,7 @@ impl Mapper {
         if self.map.features.is_empty() {
             return;
         }
-        let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
+        let (xi, half) = self.accuracy_and_half_beam();
         let mut scratch = Vec::new();
         kept.retain(|q| {
             let beam = self.beam_of(&snapshot.pose, q);
@@ -749,7 +755,7 @@ impl Mapper {
             return true;
         };
         let axis_points: Vec<Point> = new.points.iter().map(|q| q.point).collect();
-        let (xi, half) = (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0);
+        let (xi, half) = self.accuracy_and_half_beam();
         let turn = self.params.orientation_rad;
         let Some(line) = fit_echo_line(&beams, &axis_points, xi, half, turn) else {
             return true;

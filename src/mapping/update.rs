@@ -182,8 +182,9 @@ fn chunks_in_place_order(list: &SupportList, key: impl Fn(&SupportPoint) -> f64)
             for (k, q) in keys.iter_mut().zip(block) {
                 *k = key(q);
             }
+            // `k < l` settles most pairs without the full comparison.
             let in_order = |k: f64, r: &ReadingRef, l: f64, s: &ReadingRef| {
-                k < l || (k.total_cmp(&l).then_with(|| r.cmp(s)).is_le())
+                k < l || place_order(k, r, l, s).is_le()
             };
             if let Some((pk, pr)) = previous {
                 if !in_order(pk, &pr, keys[0], &block[0].reading) {
@@ -202,9 +203,9 @@ fn chunks_in_place_order(list: &SupportList, key: impl Fn(&SupportPoint) -> f64)
     true
 }
 
-/// The order of supporting points along a line: by place `k`, then by reading.
-fn place_order(k: f64, q: &SupportPoint, l: f64, r: &SupportPoint) -> std::cmp::Ordering {
-    k.total_cmp(&l).then_with(|| q.reading.cmp(&r.reading))
+/// The order of supporting points along a line: by place (`k` against `l`), then by reading.
+fn place_order(k: f64, q: &ReadingRef, l: f64, r: &ReadingRef) -> std::cmp::Ordering {
+    k.total_cmp(&l).then_with(|| q.cmp(r))
 }
 
 /// True when the run is in [`place_order`]; a run in strictly descending order (points listed
@@ -215,7 +216,7 @@ fn put_in_order(keys: &mut [f64], run: &mut Cow<'_, [SupportPoint]>) -> bool {
         return true;
     }
     let pairs = || keys.windows(2).zip(run.windows(2));
-    if pairs().all(|(k, q)| place_order(k[0], &q[0], k[1], &q[1]).is_gt()) {
+    if pairs().all(|(k, q)| place_order(k[0], &q[0].reading, k[1], &q[1].reading).is_gt()) {
         keys.reverse();
         run.to_mut().reverse();
         return true;
@@ -229,7 +230,7 @@ fn in_place_order<'a>(mut pairs: impl Iterator<Item = (f64, &'a SupportPoint)>) 
         return true;
     };
     pairs.all(|p| {
-        let in_order = place_order(previous.0, previous.1, p.0, p.1).is_le();
+        let in_order = place_order(previous.0, &previous.1.reading, p.0, &p.1.reading).is_le();
         previous = p;
         in_order
     })
@@ -249,11 +250,7 @@ fn insertion_indices<'a>(
         while low < high {
             let mid = (low + high) / 2;
             let (k, reading) = old_place(mid);
-            // place_order without the point itself: only its reading breaks ties.
-            if k.total_cmp(&l)
-                .then_with(|| reading.cmp(&r.reading))
-                .is_le()
-            {
+            if place_order(k, &reading, l, &r.reading).is_le() {
                 low = mid + 1;
             } else {
                 high = mid;
