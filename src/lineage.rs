@@ -199,27 +199,8 @@ impl Lineage {
                 _ => {}
             }
         }
-        for r in &trace.refuted {
-            self.push(
-                r.segment,
-                LineageEvent::Refuted {
-                    snapshot,
-                    sensor: r.sensor,
-                },
-            );
-        }
-        for d in &trace.diagonals {
-            self.push(
-                d.segment,
-                LineageEvent::CornerDiagonal {
-                    snapshot,
-                    walls: d.walls,
-                },
-            );
-        }
-        for &link in &trace.dropped_links {
-            self.push(link, LineageEvent::LinkDropped { snapshot });
-        }
+        // In the step's order: correlation (§6), then free space (§8.6), corner diagonals
+        // (§8.11) and the links that left with a segment (§8.3).
         for (correlation, c) in trace.correlations.iter().enumerate() {
             let result = match c.result {
                 CorrelationKind::Corner { .. } => CorrelationResult::Corner,
@@ -240,6 +221,27 @@ impl Lineage {
                     );
                 }
             }
+        }
+        for r in &trace.refuted {
+            self.push(
+                r.segment,
+                LineageEvent::Refuted {
+                    snapshot,
+                    sensor: r.sensor,
+                },
+            );
+        }
+        for d in &trace.diagonals {
+            self.push(
+                d.segment,
+                LineageEvent::CornerDiagonal {
+                    snapshot,
+                    walls: d.walls,
+                },
+            );
+        }
+        for &link in &trace.dropped_links {
+            self.push(link, LineageEvent::LinkDropped { snapshot });
         }
     }
 

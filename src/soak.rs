@@ -104,6 +104,15 @@ pub fn soak_variants() -> Vec<(&'static str, Params)> {
             },
         ),
         (
+            // Settling needs confirmed walls: confirmation comes along.
+            "paper+settled_walls",
+            Params {
+                confirm_segments: true,
+                settled_walls: true,
+                ..paper.clone()
+            },
+        ),
+        (
             "paper+min_piece_points",
             Params {
                 min_piece_points: extended.min_piece_points,

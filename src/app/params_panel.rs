@@ -497,6 +497,12 @@ pub fn params_panel_ui(
                     |p: &mut Params, v| p.corner_diagonals = v,
                     paper.corner_diagonals,
                 ),
+                (
+                    "settled_walls",
+                    params.settled_walls,
+                    |p: &mut Params, v| p.settled_walls = v,
+                    paper.settled_walls,
+                ),
             ] {
                 field_label(ui, name, is_changed(name));
                 let mut on = get;

@@ -86,8 +86,20 @@ pub fn refuted_segments(
     out: &mut Vec<(SegmentId, f64, f64)>,
 ) {
     out.clear();
-    // The box of the beam's sector: its apex, its two edges' ends and its axis' end, widened
-    // by how far the arc between them can bulge past them (`D·(1 − cos(half/2))`).
+    let (low, high, bulge_m) = sector_box(beam, half_beam_rad);
+    map.visit_segments_along(&low, &high, bulge_m, |id, s| {
+        if let Some((p, off)) = refutes(beam, &s.a.point, &s.b.point, accuracy_pct, half_beam_rad) {
+            out.push((id, p, off));
+        }
+    });
+    out.retain(|&(id, _, _)| !map.is_confirmed(id));
+    out.sort_unstable_by_key(|&(id, _, _)| id);
+}
+
+/// The box of `beam`'s sector (its apex, its two edges' ends and its axis' end) and how far
+/// the arc between them can bulge past it (`D·(1 − cos(half/2))`), metres: every point the
+/// cone reaches within the range lies within that distance of the box.
+pub fn sector_box(beam: &Beam, half_beam_rad: f64) -> (Point, Point, f64) {
     let (sin_half, cos_half) = half_beam_rad.sin_cos();
     let d = beam.direction;
     let reach_m = beam.range_m;
@@ -115,14 +127,11 @@ pub fn refuted_segments(
         .fold(Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY), |m, c| {
             Point::new(m.x.max(c.x), m.y.max(c.y))
         });
-    let bulge_m = reach_m * (1.0 - (half_beam_rad / 2.0).cos()) + 1e-9;
-    map.visit_segments_along(&low, &high, bulge_m, |id, s| {
-        if let Some((p, off)) = refutes(beam, &s.a.point, &s.b.point, accuracy_pct, half_beam_rad) {
-            out.push((id, p, off));
-        }
-    });
-    out.retain(|&(id, _, _)| !map.is_confirmed(id));
-    out.sort_unstable_by_key(|&(id, _, _)| id);
+    (
+        low,
+        high,
+        reach_m * (1.0 - (half_beam_rad / 2.0).cos()) + 1e-9,
+    )
 }
 
 #[cfg(test)]

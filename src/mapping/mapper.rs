@@ -19,9 +19,10 @@ use super::point_features::{
     arc_point, explaining_feature, file_arc, mean_origin, mean_range_m, ArcTrace, Beam,
 };
 use super::readings::convert_readings;
+use super::settled_walls::settling_wall;
 use super::trace::{
     CandidateTrace, ClusterTrace, DecisionTrace, ExplainedTrace, NewSegmentTrace, Outcome,
-    RefutedTrace, Rule, SegmentSource, SplitTrace, StepTrace, UpdateTrace, Warning,
+    RefutedTrace, Rule, SegmentSource, SettledTrace, SplitTrace, StepTrace, UpdateTrace, Warning,
 };
 use super::update::{apply_update, cap_support_points, grew_past, UpdateRequest};
 use crate::geometry::{Point, Pose, Vec2};
@@ -85,6 +86,9 @@ impl RecordedDecision {
 struct StepBuffers {
     /// The kept points.
     kept: Vec<SupportPoint>,
+    /// The points a confirmed wall settled: out of the clusters, still clearing free space
+    /// (docs/algorithm.md §8.12).
+    settled: Vec<SupportPoint>,
     clusters: Clusters,
     /// A cluster's points as fitted (untraced).
     fitted: Vec<SupportPoint>,
@@ -392,8 +396,10 @@ impl Mapper {
     fn remove_refuted(&mut self, snapshot: &Snapshot, trace: &mut StepTrace) {
         let (xi, half) = self.accuracy_and_half_beam();
         let mut found = Vec::new();
+        // §8.12: a settled reading clears the space in front of its wall too.
         let kept = std::mem::take(&mut self.buffers.kept);
-        for q in &kept {
+        let settled = std::mem::take(&mut self.buffers.settled);
+        for q in kept.iter().chain(&settled) {
             let beam = self.beam_of(&snapshot.pose, q);
             refuted_segments(&self.map, &beam, xi, half, &mut found);
             // Kept in the slim trace too: the lineage of a segment reads its removal there.
@@ -409,6 +415,7 @@ impl Mapper {
             }
         }
         self.buffers.kept = kept;
+        self.buffers.settled = settled;
     }
 
     /// §8.11: the segments that can make a corner that was not there before (made, grown or
@@ -506,6 +513,10 @@ impl Mapper {
         if self.params.explain_readings {
             self.drop_explained_readings(snapshot, trace, &mut buffers.kept);
         }
+        buffers.settled.clear();
+        if self.params.settled_walls {
+            self.set_aside_settled_readings(snapshot, trace, buffers);
+        }
         cluster_points(
             &buffers.kept,
             ranks,
@@ -569,6 +580,42 @@ impl Mapper {
                         .acos(),
                 });
             }
+            false
+        });
+    }
+
+    /// §8.12 settled walls: the kept points a confirmed wall explains well inside its ends (at
+    /// least the memory gap from either end) move from `buffers.kept` to `buffers.settled`.
+    fn set_aside_settled_readings(
+        &self,
+        snapshot: &Snapshot,
+        trace: &mut StepTrace,
+        buffers: &mut StepBuffers,
+    ) {
+        if self.map.plane_support.is_empty() {
+            return;
+        }
+        let (xi, half) = self.accuracy_and_half_beam();
+        let cone_edges = self.cone_edges();
+        let margin_m = self.params.memory_gap_m;
+        let settled = &mut buffers.settled;
+        buffers.kept.retain(|q| {
+            let beam = self.beam_of(&snapshot.pose, q);
+            let Some((segment, predicted_m, inside_m)) =
+                settling_wall(&self.map, &beam, xi, half, cone_edges, margin_m)
+            else {
+                return true;
+            };
+            if self.record_trace {
+                trace.settled.push(SettledTrace {
+                    sensor: q.reading.sensor,
+                    range_m: q.range_m,
+                    segment,
+                    predicted_m,
+                    inside_m,
+                });
+            }
+            settled.push(*q);
             false
         });
     }

@@ -21,6 +21,7 @@ pub mod merge;
 pub mod params;
 pub mod point_features;
 pub mod readings;
+pub mod settled_walls;
 pub mod support;
 pub mod support_list;
 pub mod trace;

@@ -111,6 +111,10 @@ pub struct Params {
     /// A segment lying wholly near the junction of two confirmed walls and turned from both
     /// is a corner's diagonal and leaves the map (docs/algorithm.md §8.11).
     pub corner_diagonals: bool,
+    /// A reading a confirmed wall explains as a plane echo, well inside its ends, is settled:
+    /// kept out of the clusters and point memory, still clearing free space (docs/algorithm.md
+    /// §8.12). Acts only with `confirm_segments`.
+    pub settled_walls: bool,
     /// Fewest readings of a fitted piece that becomes a new segment; shorter pieces' readings
     /// go to point memory. 0 is off (the paper fits any piece; docs/algorithm.md §8.8).
     pub min_piece_points: usize,
@@ -149,6 +153,7 @@ impl Params {
             plane_gate: false,
             echo_fit: false,
             corner_diagonals: false,
+            settled_walls: false,
             min_piece_points: 0,
         }
     }
@@ -169,6 +174,7 @@ impl Params {
             plane_gate: true,
             echo_fit: true,
             corner_diagonals: true,
+            settled_walls: true,
             min_piece_points: 3,
             ..Self::paper()
         }
@@ -319,6 +325,9 @@ impl Params {
         if let Some(v) = file.corner_diagonals {
             p.corner_diagonals = v;
         }
+        if let Some(v) = file.settled_walls {
+            p.settled_walls = v;
+        }
         if let Some(v) = file.min_piece_points {
             p.min_piece_points = v;
         }
@@ -358,6 +367,7 @@ impl Params {
             plane_gate: Some(self.plane_gate),
             echo_fit: Some(self.echo_fit),
             corner_diagonals: Some(self.corner_diagonals),
+            settled_walls: Some(self.settled_walls),
             min_piece_points: Some(self.min_piece_points),
         }
     }
@@ -463,6 +473,8 @@ pub struct ParamsFile {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub corner_diagonals: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub settled_walls: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub min_piece_points: Option<usize>,
 }
 
@@ -483,7 +495,7 @@ mod tests {
         assert!(!p.corner_guard);
         assert!(!p.arc_features && !p.explain_readings && !p.free_space && !p.confirm_segments);
         assert!(!p.plane_gate && !p.echo_fit && p.min_piece_points == 0);
-        assert!(!p.corner_diagonals);
+        assert!(!p.corner_diagonals && !p.settled_walls);
         let e = Params::extended();
         assert_eq!(e.support_cap, 64);
         assert!(e.corner_guard);
@@ -492,7 +504,7 @@ mod tests {
         assert!(e.merge_duplicates);
         assert!(e.arc_features && e.explain_readings && e.free_space && e.confirm_segments);
         assert!(e.plane_gate && e.echo_fit && e.min_piece_points == 3);
-        assert!(e.corner_diagonals);
+        assert!(e.corner_diagonals && e.settled_walls);
         assert!(p.validate().is_ok() && e.validate().is_ok());
     }
 

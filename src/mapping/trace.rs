@@ -558,6 +558,10 @@ pub struct StepTrace {
     /// §8.5).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub explained: Vec<ExplainedTrace>,
+    /// Readings a confirmed wall explained, kept out of the clusters and point memory
+    /// (docs/algorithm.md §8.12).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub settled: Vec<SettledTrace>,
     /// Clusters the arc rule filed as point features instead of fitting them
     /// (docs/algorithm.md §8.5).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -592,6 +596,7 @@ pub use super::corner_diagonals::DiagonalTrace;
 pub use super::echo_fit::EchoFitTrace;
 pub use super::free_space::RefutedTrace;
 pub use super::point_features::ArcTrace;
+pub use super::settled_walls::SettledTrace;
 
 /// A reading explained by a confirmed point feature (docs/algorithm.md §8.5).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

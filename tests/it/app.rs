@@ -1035,3 +1035,17 @@ fn the_inspector_explains_a_corner_diagonal_with_its_numbers() {
         "snapshot {k}: no corner diagonal line with {text:?} and {walls:?}"
     );
 }
+
+#[test]
+fn the_inspector_explains_a_settled_reading_with_its_wall() {
+    // The first snapshot whose step kept a reading out of the clusters because a confirmed wall
+    // explains it names the reading and the wall in "Extensions this step".
+    let (h, k, s) = building_extended_at_first(|trace| trace.settled.first().cloned());
+    let text = format!("settled: sensor {} read ", s.sensor);
+    let wall = format!("confirmed wall s{} predicts", s.segment);
+    assert!(
+        h.query_all_by_label_contains(&text).next().is_some()
+            && h.query_all_by_label_contains(&wall).next().is_some(),
+        "snapshot {k}: no settled line with {text:?} and {wall:?}"
+    );
+}

@@ -226,6 +226,7 @@ fn a_new_face_whose_first_segment_was_merged_away_in_the_same_snapshot_keeps_its
         plane_gate: false,
         echo_fit: false,
         corner_diagonals: false,
+        settled_walls: false,
         min_piece_points: 0,
         ..Params::extended()
     };

@@ -59,8 +59,9 @@ fn every_segment_of_the_map_was_made_or_split_off_and_every_merged_one_says_wher
                 .next_back();
             assert_eq!(updated, s.updated.last().copied(), "#{}", s.id);
         }
-        // A segment that left the map was merged away or seen through (only merging and free
-        // space remove segments), or was a connecting segment that left with one it joined.
+        // A segment that left the map was merged away, seen through or found to stand across a
+        // corner (only merging, free space and corner diagonals remove segments), or was a
+        // connecting segment that left with one it joined; nothing happens to it after that.
         let gone: Vec<u32> = (0..map.next_segment_id)
             .filter(|&id| map.segment(id).is_none())
             .collect();
@@ -72,6 +73,7 @@ fn every_segment_of_the_map_was_made_or_split_off_and_every_merged_one_says_wher
                     Some(
                         LineageEvent::AbsorbedInto { .. }
                             | LineageEvent::Refuted { .. }
+                            | LineageEvent::CornerDiagonal { .. }
                             | LineageEvent::LinkDropped { .. }
                     )
                 ),

@@ -1,11 +1,12 @@
 //! What the flagged extensions of docs/algorithm.md §8.5–§8.8 did in this step, with their
 //! numbers: arcs filed as corners or edges, readings explained by a feature, segments a reading
-//! saw past, plane support, the plane gate, echo placement (§8.10) and corner diagonals
-//! (§8.11).
+//! saw past, plane support, the plane gate, echo placement (§8.10), corner diagonals (§8.11)
+//! and readings a confirmed wall settled (§8.12).
 
 use super::context::InspectCtx;
 use super::widgets::heading;
 use crate::mapping::corner_diagonals::CORNER_WALL_REACH_M;
+use crate::mapping::point_features::feature_tolerance_m;
 use egui::RichText;
 
 /// The step's extension records; nothing when none acted.
@@ -18,6 +19,7 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
         && t.gated.is_empty()
         && t.echo_fits.is_empty()
         && t.diagonals.is_empty()
+        && t.settled.is_empty()
     {
         return;
     }
@@ -46,6 +48,17 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             e.feature,
             ctx.len(e.feature_distance_m),
             e.off_axis_rad.to_degrees()
+        ));
+    }
+    for e in &t.settled {
+        ui.label(format!(
+            "settled: sensor {} read {}; confirmed wall s{} predicts {} (within ξ·D/100 = {}),              its echo {} inside the nearer end: kept out of the clusters and point memory",
+            e.sensor,
+            ctx.len(e.range_m),
+            e.segment,
+            ctx.len(e.predicted_m),
+            ctx.len(feature_tolerance_m(xi, e.range_m)),
+            ctx.len(e.inside_m)
         ));
     }
     for r in &t.refuted {

@@ -1,0 +1,208 @@
+//! Settled walls (docs/algorithm.md §8.12; beyond the paper).
+//!
+//! A robot that patrols its rooms reads the same walls thousands of times. Once a wall is
+//! confirmed (§8.7: readings from two snapshots supported it as a plane), a reading it explains
+//! as a plane echo, well inside its ends, adds nothing the map does not hold: the paper would
+//! cluster it, fit it, match it to that wall and fuse it (§3.3.2), moving the wall by a fraction
+//! of the tolerance. Such a reading is *settled*: it is kept out of the clusters and point memory,
+//! as §8.5 keeps out the readings a corner explains, and still clears the space in front of the
+//! wall (§8.6 free space). A reading near either end of the wall, where the wall may go on, is
+//! not settled: it must be able to extend the wall.
+//!
+//! This is data association gating, as a feature-based map does it (Leonard and Durrant-Whyte):
+//! a measurement the map predicts is consumed by the feature that predicted it.
+
+use super::confirm::supports;
+use super::echo_fit::{echo_ray, HalfCone};
+use super::free_space::sector_box;
+use super::map::{Map, SegmentId};
+use super::point_features::{feature_tolerance_m, Beam};
+use crate::geometry::{projection_param, Point, Vec2};
+use serde::{Deserialize, Serialize};
+
+/// A reading a confirmed wall explained, kept out of the clusters, for the trace.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SettledTrace {
+    /// The sensor.
+    pub sensor: usize,
+    /// Its range, metres.
+    pub range_m: f64,
+    /// The confirmed wall that explains it.
+    pub segment: SegmentId,
+    /// The range the wall predicts for the beam (its echo point's distance), metres.
+    pub predicted_m: f64,
+    /// The echo point's distance from the nearer end of the wall, metres.
+    pub inside_m: f64,
+}
+
+/// Where on the segment `a`–`b` the echo of `beam` (predicted at `predicted_m`) comes from:
+/// along the plane's normal when it lies inside the cone, else along the cone's nearer edge
+/// (docs/algorithm.md §8.10).
+fn echo_point(beam: &Beam, a: &Point, b: &Point, predicted_m: f64, half_beam_rad: f64) -> Point {
+    let along = b - a;
+    let mut normal = Vec2::new(-along.y, along.x) / along.norm();
+    if normal.dot(&(a - beam.origin)) < 0.0 {
+        normal = -normal;
+    }
+    let (ray, _) = echo_ray(beam, &normal, HalfCone::new(half_beam_rad));
+    beam.origin + ray * predicted_m
+}
+
+/// Whether the confirmed wall `a`–`b` settles `beam`'s reading: the wall explains it as a plane
+/// echo (the test a reading takes to confirm it, §8.7, with the cone's edges when `cone_edges`)
+/// and the echo point lies at least `end_margin_m` inside both ends. Returns the predicted range
+/// and the echo point's distance from the nearer end.
+///
+/// ```
+/// use sonarmap::geometry::{Point, Vec2};
+/// use sonarmap::mapping::point_features::Beam;
+/// use sonarmap::mapping::settled_walls::settles;
+/// // A sensor at (1, 0) looking along +y reads 2.03 m; the wall runs from (0, 2) to (3, 2):
+/// // the foot (1, 2) is on the axis, |2 − 2.03| = 0.03 ≤ 0.0609 (3 % of 2.03), and it lies 1 m
+/// // from the nearer end (a), more than the 0.3 m margin: settled.
+/// let beam = Beam { origin: Point::new(1.0, 0.0), direction: Vec2::new(0.0, 1.0), range_m: 2.03 };
+/// let half = 12.5f64.to_radians();
+/// let (predicted, inside) =
+///     settles(&beam, &Point::new(0.0, 2.0), &Point::new(3.0, 2.0), 3.0, half, false, 0.3).unwrap();
+/// assert!((predicted - 2.0).abs() < 1e-12 && (inside - 1.0).abs() < 1e-12);
+/// // The same reading with the wall ending at x = 1.2: the foot is 0.2 m from that end, where
+/// // the wall may go on: not settled.
+/// assert!(settles(&beam, &Point::new(-2.0, 2.0), &Point::new(1.2, 2.0), 3.0, half, false, 0.3).is_none());
+/// // Read at 2.2 m (something behind the wall's line): not explained, not settled.
+/// let far = Beam { range_m: 2.2, ..beam };
+/// assert!(settles(&far, &Point::new(0.0, 2.0), &Point::new(3.0, 2.0), 3.0, half, false, 0.3).is_none());
+/// ```
+pub fn settles(
+    beam: &Beam,
+    a: &Point,
+    b: &Point,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+    cone_edges: bool,
+    end_margin_m: f64,
+) -> Option<(f64, f64)> {
+    let predicted_m = supports(beam, a, b, accuracy_pct, half_beam_rad, cone_edges)?;
+    let length_m = (b - a).norm();
+    let echo = echo_point(beam, a, b, predicted_m, half_beam_rad);
+    let t = projection_param(&echo, a, b);
+    let inside_m = (t * length_m).min((1.0 - t) * length_m);
+    (inside_m >= end_margin_m).then_some((predicted_m, inside_m))
+}
+
+/// The confirmed fitted wall of `map` that settles `beam`'s reading ([`settles`]), the one whose
+/// prediction is nearest the range (the lower id on a tie), with its predicted range and the
+/// echo point's distance from its nearer end; from the segments the grid files in the box of
+/// the beam's cone, reaching one tolerance past the range.
+pub fn settling_wall(
+    map: &Map,
+    beam: &Beam,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+    cone_edges: bool,
+    end_margin_m: f64,
+) -> Option<(SegmentId, f64, f64)> {
+    let reach = Beam {
+        range_m: beam.range_m + feature_tolerance_m(accuracy_pct, beam.range_m),
+        ..*beam
+    };
+    let (low, high, bulge_m) = sector_box(&reach, half_beam_rad);
+    let mut best: Option<(SegmentId, f64, f64)> = None;
+    map.visit_segments_along(&low, &high, bulge_m, |id, s| {
+        if !s.fitted || !map.is_confirmed(id) {
+            return;
+        }
+        let Some((predicted_m, inside_m)) = settles(
+            beam,
+            &s.a.point,
+            &s.b.point,
+            accuracy_pct,
+            half_beam_rad,
+            cone_edges,
+            end_margin_m,
+        ) else {
+            return;
+        };
+        let residual = |p: f64| (p - beam.range_m).abs();
+        let better =
+            best.is_none_or(|(bid, bp, _)| (residual(predicted_m), id) < (residual(bp), bid));
+        if better {
+            best = Some((id, predicted_m, inside_m));
+        }
+    });
+    best
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mapping::confirm::PlaneSupport;
+    use crate::mapping::map::test_wall;
+
+    const HALF: f64 = 0.218_166_156_499_291_6; // 12.5°
+
+    fn confirmed(map: &mut Map, id: SegmentId) {
+        map.plane_support.insert(
+            id,
+            PlaneSupport {
+                snapshots: 2,
+                last_snapshot: 1,
+            },
+        );
+    }
+
+    fn looking_up_from(x: f64, range_m: f64) -> Beam {
+        Beam {
+            origin: Point::new(x, 0.0),
+            direction: Vec2::new(0.0, 1.0),
+            range_m,
+        }
+    }
+
+    #[test]
+    fn only_a_confirmed_wall_settles_a_reading() {
+        let mut map = Map::from_segments(vec![test_wall(0, (0.0, 2.0), (3.0, 2.0), 2.0)]);
+        let beam = looking_up_from(1.5, 2.03);
+        assert_eq!(settling_wall(&map, &beam, 3.0, HALF, false, 0.3), None);
+        confirmed(&mut map, 0);
+        let (id, predicted, inside) = settling_wall(&map, &beam, 3.0, HALF, false, 0.3).unwrap();
+        assert_eq!(id, 0);
+        assert!((predicted - 2.0).abs() < 1e-12);
+        // The foot (1.5, 2) is 1.5 m from either end.
+        assert!((inside - 1.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn of_two_confirmed_walls_the_one_predicting_the_range_best_settles_it() {
+        // Two confirmed walls 4 cm apart, both within the tolerance of a 2.03 m reading
+        // (0.0609 m): the one at 2.04 m (residual 0.01) wins over the one at 2.00 (0.03).
+        let mut map = Map::from_segments(vec![
+            test_wall(0, (0.0, 2.0), (3.0, 2.0), 2.0),
+            test_wall(1, (0.0, 2.04), (3.0, 2.04), 2.0),
+        ]);
+        confirmed(&mut map, 0);
+        confirmed(&mut map, 1);
+        let (id, predicted, _) =
+            settling_wall(&map, &looking_up_from(1.0, 2.03), 3.0, HALF, false, 0.3).unwrap();
+        assert_eq!(id, 1);
+        assert!((predicted - 2.04).abs() < 1e-12);
+    }
+
+    #[test]
+    fn an_oblique_wall_settles_its_cone_edge_echo_only_with_cone_edges() {
+        // The wall y = 2 from x = -1 to 3, seen from the origin 30° off its normal: the cone's
+        // edge meets it 17.5° off the normal, at 2 / cos 17.5° = 2.0971 m, at x = 0.6306.
+        let mut map = Map::from_segments(vec![test_wall(0, (-1.0, 2.0), (3.0, 2.0), 2.0)]);
+        confirmed(&mut map, 0);
+        let dir = Vec2::new(60f64.to_radians().cos(), 60f64.to_radians().sin());
+        let beam = Beam {
+            origin: Point::origin(),
+            direction: dir,
+            range_m: 2.10,
+        };
+        assert_eq!(settling_wall(&map, &beam, 3.0, HALF, false, 0.3), None);
+        let (_, predicted, inside) = settling_wall(&map, &beam, 3.0, HALF, true, 0.3).unwrap();
+        assert!((predicted - 2.0971).abs() < 1e-4);
+        // 1.6306 m from the end at x = -1.
+        assert!((inside - 1.6306).abs() < 1e-4);
+    }
+}
