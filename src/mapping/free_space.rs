@@ -86,7 +86,7 @@ pub fn refuted_segments(
     out: &mut Vec<(SegmentId, f64, f64)>,
 ) {
     out.clear();
-    let (low, high, bulge_m) = sector_box(beam, half_beam_rad);
+    let (low, high, bulge_m) = cone_box(beam, half_beam_rad, 0.0, beam.range_m);
     map.visit_segments_along(&low, &high, bulge_m, |id, s| {
         if let Some((p, off)) = refutes(beam, &s.a.point, &s.b.point, accuracy_pct, half_beam_rad) {
             out.push((id, p, off));
@@ -96,26 +96,30 @@ pub fn refuted_segments(
     out.sort_unstable_by_key(|&(id, _, _)| id);
 }
 
-/// The box of `beam`'s sector (its apex, its two edges' ends and its axis' end) and how far
-/// the arc between them can bulge past it (`D·(1 − cos(half/2))`), metres: every point the
-/// cone reaches within the range lies within that distance of the box.
-pub fn sector_box(beam: &Beam, half_beam_rad: f64) -> (Point, Point, f64) {
+/// The box of the part of `beam`'s cone between `near_m` and `far_m` from its sensor (the
+/// ends of its two edges at both distances, and of its axis at `far_m`), and how far the far
+/// arc can bulge past it (`far·(1 − cos(half/2))`), metres: every point of the cone between
+/// those distances lies within that distance of the box. With `near_m` 0 it is the whole
+/// sector up to `far_m`.
+pub fn cone_box(beam: &Beam, half_beam_rad: f64, near_m: f64, far_m: f64) -> (Point, Point, f64) {
     let (sin_half, cos_half) = half_beam_rad.sin_cos();
     let d = beam.direction;
-    let reach_m = beam.range_m;
+    let edges = [
+        Vec2::new(
+            cos_half * d.x - sin_half * d.y,
+            sin_half * d.x + cos_half * d.y,
+        ),
+        Vec2::new(
+            cos_half * d.x + sin_half * d.y,
+            -sin_half * d.x + cos_half * d.y,
+        ),
+    ];
     let corners = [
-        beam.origin,
-        beam.origin + d * reach_m,
-        beam.origin
-            + Vec2::new(
-                cos_half * d.x - sin_half * d.y,
-                sin_half * d.x + cos_half * d.y,
-            ) * reach_m,
-        beam.origin
-            + Vec2::new(
-                cos_half * d.x + sin_half * d.y,
-                -sin_half * d.x + cos_half * d.y,
-            ) * reach_m,
+        beam.origin + d * far_m,
+        beam.origin + edges[0] * near_m,
+        beam.origin + edges[0] * far_m,
+        beam.origin + edges[1] * near_m,
+        beam.origin + edges[1] * far_m,
     ];
     let low = corners
         .iter()
@@ -130,7 +134,7 @@ pub fn sector_box(beam: &Beam, half_beam_rad: f64) -> (Point, Point, f64) {
     (
         low,
         high,
-        reach_m * (1.0 - (half_beam_rad / 2.0).cos()) + 1e-9,
+        far_m * (1.0 - (half_beam_rad / 2.0).cos()) + 1e-9,
     )
 }
 

@@ -557,7 +557,8 @@ impl Mapper {
         trace: &mut StepTrace,
         kept: &mut Vec<SupportPoint>,
     ) {
-        if self.map.features.is_empty() {
+        // Only a confirmed feature explains a reading.
+        if !self.map.features.iter().any(|f| f.is_confirmed()) {
             return;
         }
         let (xi, half) = self.accuracy_and_half_beam();

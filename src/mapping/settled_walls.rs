@@ -14,7 +14,7 @@
 
 use super::confirm::supports;
 use super::echo_fit::{echo_ray, HalfCone};
-use super::free_space::sector_box;
+use super::free_space::cone_box;
 use super::map::{Map, SegmentId};
 use super::point_features::{feature_tolerance_m, Beam};
 use crate::geometry::{projection_param, Point, Vec2};
@@ -92,7 +92,8 @@ pub fn settles(
 /// The confirmed fitted wall of `map` that settles `beam`'s reading ([`settles`]), the one whose
 /// prediction is nearest the range (the lower id on a tie), with its predicted range and the
 /// echo point's distance from its nearer end; from the segments the grid files in the box of
-/// the beam's cone, reaching one tolerance past the range.
+/// the beam's cone within one tolerance of the range (where the echo point of a wall that
+/// explains it lies).
 pub fn settling_wall(
     map: &Map,
     beam: &Beam,
@@ -101,11 +102,13 @@ pub fn settling_wall(
     cone_edges: bool,
     end_margin_m: f64,
 ) -> Option<(SegmentId, f64, f64)> {
-    let reach = Beam {
-        range_m: beam.range_m + feature_tolerance_m(accuracy_pct, beam.range_m),
-        ..*beam
-    };
-    let (low, high, bulge_m) = sector_box(&reach, half_beam_rad);
+    let tolerance_m = feature_tolerance_m(accuracy_pct, beam.range_m);
+    let (low, high, bulge_m) = cone_box(
+        beam,
+        half_beam_rad,
+        (beam.range_m - tolerance_m).max(0.0),
+        beam.range_m + tolerance_m,
+    );
     let mut best: Option<(SegmentId, f64, f64)> = None;
     map.visit_segments_along(&low, &high, bulge_m, |id, s| {
         if !s.fitted || !map.is_confirmed(id) {

@@ -289,3 +289,20 @@ fn a_steps_cost_counts_at_least_every_candidate_its_decisions_tested() {
     }
     assert!(offered_any);
 }
+
+#[test]
+fn untraced_lap_runs_map_as_traced_ones_in_every_scene_kind() {
+    // Every extension, on runs long enough to confirm walls, settle readings and fill point
+    // memory: an untraced step keeps fewer records, and the maps must not notice.
+    for kind in sonarmap::sim::SceneKind::ALL {
+        let run = sonarmap::soak::family_run(kind, 3, 600);
+        let mut traced = Mapper::new(Params::extended(), run.layout.clone(), run.sensor);
+        let mut untraced =
+            Mapper::new(Params::extended(), run.layout.clone(), run.sensor).with_trace(false);
+        for (k, s) in run.snapshots.iter().enumerate() {
+            traced.step(s);
+            untraced.step(s);
+            assert_eq!(traced.map(), untraced.map(), "{kind:?} after snapshot {k}");
+        }
+    }
+}
