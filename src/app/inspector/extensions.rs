@@ -52,7 +52,8 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
     }
     for e in &t.settled {
         ui.label(format!(
-            "settled: sensor {} read {}; confirmed wall s{} predicts {} (within ξ·D/100 = {}),              its echo {} inside the nearer end: kept out of the clusters and point memory",
+            "settled: sensor {} read {}; confirmed wall s{} predicts {} (tolerance {}), its \
+             echo {} inside the nearer end: kept out of the clusters and point memory",
             e.sensor,
             ctx.len(e.range_m),
             e.segment,
