@@ -86,6 +86,66 @@ fn within_gap(p: &Point, q: &Point, gap_m: f64) -> bool {
     (q - p).norm() <= gap_m
 }
 
+/// The single-linkage groups of `points` (two points within `gap_m` of each other are in one
+/// group): every group's indices one group after another, each sorted, the groups in the order
+/// of their first index; and where each group ends. Pairs are found by a sweep along x, so a
+/// memory of `n` readings costs about `n log n`, not `n²`.
+fn single_linkage_groups(points: &[Point], gap_m: f64) -> (Vec<usize>, Vec<usize>) {
+    let n = points.len();
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let mut by_x: Vec<usize> = (0..n).collect();
+    by_x.sort_unstable_by(|&i, &j| points[i].x.total_cmp(&points[j].x));
+    // `within_gap` refuses pairs further apart than this along x.
+    let slack = gap_m * (1.0 + 1e-9);
+    for (k, &i) in by_x.iter().enumerate() {
+        for &j in &by_x[k + 1..] {
+            // A NaN ends the sweep too (it links nothing).
+            let dx = points[j].x - points[i].x;
+            if dx.is_nan() || dx > slack {
+                break;
+            }
+            if within_gap(&points[i], &points[j], gap_m) {
+                let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
+                parent[ri.max(rj)] = ri.min(rj);
+            }
+        }
+    }
+    // Group ids in the order of each group's first index; then the indices by group.
+    let mut group_of_root = vec![usize::MAX; n];
+    let mut group_of = vec![0; n];
+    let mut sizes: Vec<usize> = Vec::new();
+    for i in 0..n {
+        let r = root(&mut parent, i);
+        if group_of_root[r] == usize::MAX {
+            group_of_root[r] = sizes.len();
+            sizes.push(0);
+        }
+        group_of[i] = group_of_root[r];
+        sizes[group_of[i]] += 1;
+    }
+    let group_ends: Vec<usize> = sizes
+        .iter()
+        .scan(0, |end, &size| {
+            *end += size;
+            Some(*end)
+        })
+        .collect();
+    let mut next: Vec<usize> = group_ends.iter().zip(&sizes).map(|(e, s)| e - s).collect();
+    let mut members = vec![0; n];
+    for (i, &g) in group_of.iter().enumerate() {
+        members[next[g]] = i;
+        next[g] += 1;
+    }
+    (members, group_ends)
+}
+
 /// Point memory for one snapshot (docs/algorithm.md §8): expires readings older than
 /// `memory_snapshots`, adds this snapshot's one-point clusters, links readings within
 /// `memory_gap` into groups (single linkage), orders each group along its principal axis, fits
@@ -113,35 +173,8 @@ pub fn memory_step(
         trace.added.extend(singles.iter().map(|s| s.reading));
     }
     let n = memory.len();
-    // Single-linkage groups by flood fill, in memory order: `members` holds every group's
-    // readings one group after another (each group sorted), `group_ends` where each ends.
-    let mut group_of = vec![usize::MAX; n];
-    let mut members: Vec<usize> = Vec::with_capacity(n);
-    let mut group_ends: Vec<usize> = Vec::new();
-    for seed in 0..n {
-        if group_of[seed] != usize::MAX {
-            continue;
-        }
-        let g = group_ends.len();
-        let start = members.len();
-        group_of[seed] = g;
-        members.push(seed);
-        let mut k = start;
-        while k < members.len() {
-            let p = memory[members[k]].support.point;
-            for other in 0..n {
-                if group_of[other] == usize::MAX
-                    && within_gap(&p, &memory[other].support.point, params.memory_gap_m)
-                {
-                    group_of[other] = g;
-                    members.push(other);
-                }
-            }
-            k += 1;
-        }
-        members[start..].sort_unstable();
-        group_ends.push(members.len());
-    }
+    let points: Vec<Point> = memory.iter().map(|m| m.support.point).collect();
+    let (members, group_ends) = single_linkage_groups(&points, params.memory_gap_m);
     let mut used = vec![false; n];
     let mut pieces_out = Vec::new();
     let groups = group_ends.iter().scan(0, |start, &end| {
@@ -212,6 +245,68 @@ pub fn memory_step(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The groups by flood fill over every pair, as point memory first found them.
+    fn flood_fill_groups(points: &[Point], gap_m: f64) -> (Vec<usize>, Vec<usize>) {
+        let n = points.len();
+        let mut group_of = vec![usize::MAX; n];
+        let (mut members, mut ends) = (Vec::new(), Vec::new());
+        for seed in 0..n {
+            if group_of[seed] != usize::MAX {
+                continue;
+            }
+            let start = members.len();
+            group_of[seed] = ends.len();
+            members.push(seed);
+            let mut k = start;
+            while k < members.len() {
+                let p = points[members[k]];
+                for other in 0..n {
+                    if group_of[other] == usize::MAX && within_gap(&p, &points[other], gap_m) {
+                        group_of[other] = ends.len();
+                        members.push(other);
+                    }
+                }
+                k += 1;
+            }
+            members[start..].sort_unstable();
+            ends.push(members.len());
+        }
+        (members, ends)
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn the_sweep_finds_the_groups_a_flood_fill_over_every_pair_finds(
+            coords in proptest::collection::vec((0u8..40, 0u8..40), 0..80),
+            gap_tenths in 1u8..12,
+        ) {
+            // Points on a 0.1 m lattice, so that many pairs lie exactly at the gap.
+            let points: Vec<Point> = coords
+                .iter()
+                .map(|&(x, y)| Point::new(f64::from(x) * 0.1, f64::from(y) * 0.1))
+                .collect();
+            let gap_m = f64::from(gap_tenths) * 0.1;
+            proptest::prop_assert_eq!(
+                single_linkage_groups(&points, gap_m),
+                flood_fill_groups(&points, gap_m)
+            );
+        }
+    }
+
+    #[test]
+    fn a_reading_without_a_place_is_a_group_of_its_own() {
+        let points = [
+            Point::new(0.0, 0.0),
+            Point::new(f64::NAN, 0.0),
+            Point::new(0.2, 0.0),
+            Point::new(f64::INFINITY, 0.0),
+        ];
+        assert_eq!(
+            single_linkage_groups(&points, 0.3),
+            (vec![0, 2, 1, 3], vec![2, 3, 4])
+        );
+    }
     use crate::mapping::map::ReadingRef;
 
     fn sp(snapshot: usize, sensor: usize, x: f64, y: f64, d: f64) -> SupportPoint {
