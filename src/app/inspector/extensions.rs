@@ -60,6 +60,20 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
         ));
     }
     for p in &t.plane_support {
+        if let Some(b) = &p.baseline {
+            ui.label(format!(
+                "baseline confirmation: readings of snapshots {} (sensor {}) and {} (sensor {}) \
+                 support s{} as a plane, their sensors {} apart along it and {} across: confirmed",
+                b.readings[0].snapshot,
+                b.readings[0].sensor,
+                b.readings[1].snapshot,
+                b.readings[1].sensor,
+                p.segment,
+                ctx.len(b.along_m),
+                ctx.len(b.across_m),
+            ));
+            continue;
+        }
         ui.label(format!(
             "plane support: sensor {} read {}, s{} lies {} away: {} snapshot(s){}",
             p.sensor,
