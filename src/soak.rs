@@ -91,6 +91,15 @@ pub fn soak_variants() -> Vec<(&'static str, Params)> {
             },
         ),
         (
+            // Only confirmed segments lose their confirmation: confirmation comes along.
+            "paper+refit_unconfirms",
+            Params {
+                confirm_segments: true,
+                refit_unconfirms: true,
+                ..paper.clone()
+            },
+        ),
+        (
             "paper+plane_gate",
             Params {
                 plane_gate: true,

@@ -10,10 +10,11 @@
 //! a plane; until then it is tentative (drawn dimmed; `eval` reports both sets).
 
 use super::echo_fit::{echo_ray, incidence_cosine, HalfCone};
+use super::map::EndPoint;
 use super::map::{Map, SegmentId};
 use super::point_features::{feature_tolerance_m, Beam};
 use super::support::ReadingRef;
-use crate::geometry::{projection_param, Point, Vec2};
+use crate::geometry::{distance_to_line, line_angle_between, projection_param, Point, Vec2};
 use serde::{Deserialize, Serialize};
 
 /// Snapshots whose readings support a segment as a plane before it is confirmed.
@@ -219,6 +220,66 @@ pub fn note_plane_support(
     })
 }
 
+/// A confirmed segment that a refit (§5) moved off its line and so lost its confirmation
+/// (docs/algorithm.md §8.7, `refit_unconfirms`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct UnconfirmedTrace {
+    /// The segment (the refit's first piece, which keeps the id).
+    pub segment: SegmentId,
+    /// Its end-points before the update and after the refit.
+    pub before: [Point; 2],
+    /// After the refit.
+    pub after: [Point; 2],
+    /// The angle it turned, radians.
+    pub turn_rad: f64,
+    /// The distances of its new end-points from the old line, metres.
+    pub off_line_m: [f64; 2],
+    /// Their limits, `2·tol(D)` with `D` each end-point's range, metres.
+    pub limits_m: [f64; 2],
+}
+
+/// Whether a refit moved a segment off its line (docs/algorithm.md §8.7, `refit_unconfirms`):
+/// from `before` (its end-points before the update) to `after` (the refit's first piece, its
+/// end-points with their ranges), it turned more than `max_turn_rad` (`θ_o`), or an end-point
+/// of `after` lies farther than `2·tol(D)` from the old line (`tol(D) = max(ξ·D/100, 1 in)`,
+/// `D` that end-point's range). The plane support that confirmed it was support for the old
+/// line. Returns the numbers when it did.
+///
+/// ```
+/// use sonarmap::geometry::Point;
+/// use sonarmap::mapping::confirm::refit_moved_off;
+/// use sonarmap::mapping::map::EndPoint;
+/// let end = |x: f64, y: f64| EndPoint { point: Point::new(x, y), range_m: 1.0 };
+/// let before = [Point::new(0.0, 1.0), Point::new(2.0, 1.0)];
+/// // An end 0.05 m off the old line: under 2 · 0.03 = 0.06 (3 % of 1 m): the same line.
+/// assert!(refit_moved_off(before, [end(0.0, 1.0), end(1.5, 1.05)], 3.0, 15f64.to_radians()).is_none());
+/// // 0.07 m off: moved.
+/// let t = refit_moved_off(before, [end(0.0, 1.0), end(1.5, 1.07)], 3.0, 15f64.to_radians()).unwrap();
+/// assert!((t.off_line_m[1] - 0.07).abs() < 1e-12 && (t.limits_m[1] - 0.06).abs() < 1e-12);
+/// ```
+pub fn refit_moved_off(
+    before: [Point; 2],
+    after: [EndPoint; 2],
+    accuracy_pct: f64,
+    max_turn_rad: f64,
+) -> Option<UnconfirmedTrace> {
+    let turn_rad = line_angle_between(&(before[1] - before[0]), &(after[1].point - after[0].point));
+    let off = |e: &EndPoint| distance_to_line(&e.point, &before[0], &before[1]);
+    let limit = |e: &EndPoint| 2.0 * feature_tolerance_m(accuracy_pct, e.range_m);
+    let off_line_m = [off(&after[0]), off(&after[1])];
+    let limits_m = [limit(&after[0]), limit(&after[1])];
+    let moved =
+        turn_rad > max_turn_rad || off_line_m[0] > limits_m[0] || off_line_m[1] > limits_m[1];
+    moved.then(|| UnconfirmedTrace {
+        segment: 0,
+        before,
+        after: [after[0].point, after[1].point],
+        turn_rad,
+        off_line_m,
+        limits_m,
+    })
+}
+
 /// Baseline confirmation (docs/algorithm.md §8.7): among `beams` (readings, each with its own
 /// snapshot's beam), two of distinct snapshots that support the segment `a`–`b` as a plane
 /// ([`supports`]) and whose sensors stood at least `min_baseline_m` apart along it, the
@@ -313,7 +374,7 @@ pub fn note_baseline_support(
     snapshot: usize,
 ) -> Option<PlaneSupportTrace> {
     let s = map.segment(id)?;
-    let distance_m = crate::geometry::distance_to_line(&later.origin, &s.a.point, &s.b.point);
+    let distance_m = distance_to_line(&later.origin, &s.a.point, &s.b.point);
     let support = map.plane_support.entry(id).or_default();
     if support.confirmed() {
         return None;
@@ -413,6 +474,50 @@ mod tests {
     fn a_reading_that_does_not_support_the_plane_makes_no_baseline() {
         // At x = 0.4 the sensor reads 1.10 m: |1 − 1.1| = 0.1 > 0.033 (3 % of 1.1).
         assert!(pair_of(&[up(1, 4, 0.0, 0.0, 1.0), up(2, 4, 0.4, 0.0, 1.1)]).is_none());
+    }
+
+    /// End-points read from `range_m`.
+    fn ends(a: (f64, f64), b: (f64, f64), range_m: f64) -> [EndPoint; 2] {
+        let e = |(x, y): (f64, f64)| EndPoint {
+            point: Point::new(x, y),
+            range_m,
+        };
+        [e(a), e(b)]
+    }
+
+    const THETA_O: f64 = 15.0 * std::f64::consts::PI / 180.0;
+
+    #[test]
+    fn a_refit_within_two_tolerances_of_the_old_line_keeps_it() {
+        // Old line y = 1 from x = 0 to 2. After: (0, 1)–(1.5, 1.05), read at 1 m: the end is
+        // 0.05 m off, under 2 · 0.03 = 0.06; turned atan(0.05 / 1.5) = 1.9° < 15°.
+        let before = [Point::new(0.0, 1.0), Point::new(2.0, 1.0)];
+        let after = ends((0.0, 1.0), (1.5, 1.05), 1.0);
+        assert!(refit_moved_off(before, after, 3.0, THETA_O).is_none());
+    }
+
+    #[test]
+    fn a_refit_that_moved_an_end_off_the_old_line_unconfirms_it() {
+        // 0.07 m off > 0.06 (read at 1 m); read at 3 m the limit is 2 · 0.09 = 0.18: kept.
+        let before = [Point::new(0.0, 1.0), Point::new(2.0, 1.0)];
+        let t = refit_moved_off(before, ends((0.0, 1.0), (1.5, 1.07), 1.0), 3.0, THETA_O).unwrap();
+        assert!(t.off_line_m[0].abs() < 1e-12 && (t.off_line_m[1] - 0.07).abs() < 1e-12);
+        assert!((t.limits_m[0] - 0.06).abs() < 1e-12 && (t.limits_m[1] - 0.06).abs() < 1e-12);
+        assert!((t.turn_rad - (0.07f64 / 1.5).atan()).abs() < 1e-12);
+        assert_eq!(t.after, [Point::new(0.0, 1.0), Point::new(1.5, 1.07)]);
+        assert!(
+            refit_moved_off(before, ends((0.0, 1.0), (1.5, 1.07), 3.0), 3.0, THETA_O).is_none()
+        );
+    }
+
+    #[test]
+    fn a_refit_that_turned_past_theta_o_unconfirms_it() {
+        // (0, 1)–(0.2, 1.055): the end is 0.055 m off (under 0.06) but the piece turned
+        // atan(0.055 / 0.2) = 15.4° > θ_o = 15°.
+        let before = [Point::new(0.0, 1.0), Point::new(2.0, 1.0)];
+        let t = refit_moved_off(before, ends((0.0, 1.0), (0.2, 1.055), 1.0), 3.0, THETA_O).unwrap();
+        assert!((t.turn_rad.to_degrees() - 15.376).abs() < 1e-3);
+        assert!(t.off_line_m[1] < t.limits_m[1]);
     }
 
     #[test]

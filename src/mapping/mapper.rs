@@ -2,8 +2,8 @@
 
 use super::cluster::{cluster_points, sensor_ranks, Clusters};
 use super::confirm::{
-    baseline_pair, note_baseline_support, note_plane_support, supports, CONFIRMING_BASELINE_M,
-    CONFIRMING_BASELINE_TURN_RAD, CONFIRMING_SNAPSHOTS,
+    baseline_pair, note_baseline_support, note_plane_support, refit_moved_off, supports,
+    UnconfirmedTrace, CONFIRMING_BASELINE_M, CONFIRMING_BASELINE_TURN_RAD, CONFIRMING_SNAPSHOTS,
 };
 use super::corner_diagonals::{corner_diagonals, CORNER_DIAGONAL_RADIUS_M, CORNER_WALL_REACH_M};
 use super::correlate::correlate_face;
@@ -285,6 +285,9 @@ impl Mapper {
         let new_faces =
             self.match_and_update(&mut fitted.segments, recorded, &mut trace, &mut buffers);
         if self.params.confirm_segments {
+            if self.params.refit_unconfirms {
+                self.unconfirm_moved_refits(&mut trace);
+            }
             self.note_plane_support(snapshot, &fitted.segments, &mut trace);
             if self.params.baseline_confirm && !buffers.memory_readings.is_empty() {
                 self.note_baseline_support(snapshot, &buffers.memory_readings, &mut trace);
@@ -346,6 +349,34 @@ impl Mapper {
                 if self.record_trace {
                     trace.plane_support.push(t);
                 }
+            }
+        }
+    }
+
+    /// §8.7 `refit_unconfirms`: a confirmed segment that a refit of this step moved off its
+    /// line ([`refit_moved_off`]) is tentative again.
+    fn unconfirm_moved_refits(&mut self, trace: &mut StepTrace) {
+        for u in &trace.updates {
+            if u.refit.is_none() || !self.map.is_confirmed(u.segment) {
+                continue;
+            }
+            let Some(s) = self.map.segment(u.segment) else {
+                continue;
+            };
+            let before = [u.before[0].point, u.before[1].point];
+            let moved = refit_moved_off(
+                before,
+                [s.a, s.b],
+                self.params.accuracy_pct,
+                self.params.orientation_rad,
+            );
+            if let Some(moved) = moved {
+                self.map.plane_support.remove(&u.segment);
+                // Kept in the slim trace too: the lineage of a segment reads it there.
+                trace.unconfirmed.push(UnconfirmedTrace {
+                    segment: u.segment,
+                    ..moved
+                });
             }
         }
     }

@@ -18,6 +18,7 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
         && t.gated.is_empty()
         && t.echo_fits.is_empty()
         && t.diagonals.is_empty()
+        && t.unconfirmed.is_empty()
     {
         return;
     }
@@ -57,6 +58,19 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             r.segment,
             ctx.len(r.distance_m),
             r.off_axis_rad.to_degrees()
+        ));
+    }
+    for u in &t.unconfirmed {
+        ui.label(format!(
+            "refit moved s{} off its line (turned {:.1}°, limit {:.1}°; ends {} and {} off it, \
+             limits {} and {}): tentative again",
+            u.segment,
+            u.turn_rad.to_degrees(),
+            ctx.params.orientation_rad.to_degrees(),
+            ctx.len(u.off_line_m[0]),
+            ctx.len(u.off_line_m[1]),
+            ctx.len(u.limits_m[0]),
+            ctx.len(u.limits_m[1]),
         ));
     }
     for p in &t.plane_support {
