@@ -81,6 +81,25 @@ pub fn soak_variants() -> Vec<(&'static str, Params)> {
             },
         ),
         (
+            // Confirms point memory's pieces: memory and confirmation come along.
+            "paper+baseline_confirm",
+            Params {
+                memory_snapshots: extended.memory_snapshots,
+                confirm_segments: true,
+                baseline_confirm: true,
+                ..paper.clone()
+            },
+        ),
+        (
+            // Only confirmed segments lose their confirmation: confirmation comes along.
+            "paper+refit_unconfirms",
+            Params {
+                confirm_segments: true,
+                refit_unconfirms: true,
+                ..paper.clone()
+            },
+        ),
+        (
             "paper+plane_gate",
             Params {
                 plane_gate: true,

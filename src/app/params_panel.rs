@@ -480,6 +480,18 @@ pub fn params_panel_ui(
                     paper.confirm_segments,
                 ),
                 (
+                    "baseline_confirm",
+                    params.baseline_confirm,
+                    |p: &mut Params, v| p.baseline_confirm = v,
+                    paper.baseline_confirm,
+                ),
+                (
+                    "refit_unconfirms",
+                    params.refit_unconfirms,
+                    |p: &mut Params, v| p.refit_unconfirms = v,
+                    paper.refit_unconfirms,
+                ),
+                (
                     "plane_gate",
                     params.plane_gate,
                     |p: &mut Params, v| p.plane_gate = v,

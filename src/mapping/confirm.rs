@@ -10,13 +10,25 @@
 //! a plane; until then it is tentative (drawn dimmed; `eval` reports both sets).
 
 use super::echo_fit::{echo_ray, incidence_cosine, HalfCone};
+use super::map::EndPoint;
 use super::map::{Map, SegmentId};
 use super::point_features::{feature_tolerance_m, Beam};
-use crate::geometry::{projection_param, Point, Vec2};
+use super::support::ReadingRef;
+use crate::geometry::{distance_to_line, line_angle_between, projection_param, Point, Vec2};
 use serde::{Deserialize, Serialize};
 
 /// Snapshots whose readings support a segment as a plane before it is confirmed.
 pub const CONFIRMING_SNAPSHOTS: u32 = 2;
+
+/// How far apart along a segment the sensors of two readings of one step must have stood for
+/// them to confirm it (docs/algorithm.md §8.7, baseline confirmation): 8 in, the baseline
+/// that confirms a point feature (§8.5).
+pub const CONFIRMING_BASELINE_M: f64 = 8.0 * 0.0254;
+
+/// How far from a segment's direction the displacement between those two sensors may turn
+/// (docs/algorithm.md §8.7, baseline confirmation): 10°, across the segment at most
+/// `tan 10° = 0.18` of the way along it (measured: 7.5° to 12.5° give the same suite figures).
+pub const CONFIRMING_BASELINE_TURN_RAD: f64 = 10.0 * std::f64::consts::PI / 180.0;
 
 /// What the map keeps of a segment's plane support.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -49,6 +61,22 @@ pub struct PlaneSupportTrace {
     pub snapshots: u32,
     /// Whether it is confirmed now.
     pub confirmed: bool,
+    /// When it was confirmed by two poses of one step (docs/algorithm.md §8.7, baseline
+    /// confirmation): the two readings and how far apart their sensors stood.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub baseline: Option<BaselinePair>,
+}
+
+/// Two readings of distinct snapshots that support a segment as a plane, their sensors
+/// displaced along it (docs/algorithm.md §8.7, baseline confirmation).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BaselinePair {
+    /// The two readings, the earlier snapshot first.
+    pub readings: [ReadingRef; 2],
+    /// How far the second sensor stood from the first along the segment, metres.
+    pub along_m: f64,
+    /// How far across it (along its normal), metres.
+    pub across_m: f64,
 }
 
 /// Whether `beam` supports the segment `a`–`b` as a plane; returns the perpendicular distance.
@@ -188,6 +216,179 @@ pub fn note_plane_support(
         distance_m,
         snapshots: support.snapshots,
         confirmed: support.confirmed(),
+        baseline: None,
+    })
+}
+
+/// A confirmed segment that a refit (§5) moved off its line and so lost its confirmation
+/// (docs/algorithm.md §8.7, `refit_unconfirms`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct UnconfirmedTrace {
+    /// The segment (the refit's first piece, which keeps the id).
+    pub segment: SegmentId,
+    /// Its end-points before the update and after the refit.
+    pub before: [Point; 2],
+    /// After the refit.
+    pub after: [Point; 2],
+    /// The angle it turned, radians.
+    pub turn_rad: f64,
+    /// The distances of its new end-points from the old line, metres.
+    pub off_line_m: [f64; 2],
+    /// Their limits, `2·tol(D)` with `D` each end-point's range, metres.
+    pub limits_m: [f64; 2],
+}
+
+/// Whether a refit moved a segment off its line (docs/algorithm.md §8.7, `refit_unconfirms`):
+/// from `before` (its end-points before the update) to `after` (the refit's first piece, its
+/// end-points with their ranges), it turned more than `max_turn_rad` (`θ_o`), or an end-point
+/// of `after` lies farther than `2·tol(D)` from the old line (`tol(D) = max(ξ·D/100, 1 in)`,
+/// `D` that end-point's range). The plane support that confirmed it was support for the old
+/// line. Returns the numbers when it did.
+///
+/// ```
+/// use sonarmap::geometry::Point;
+/// use sonarmap::mapping::confirm::refit_moved_off;
+/// use sonarmap::mapping::map::EndPoint;
+/// let end = |x: f64, y: f64| EndPoint { point: Point::new(x, y), range_m: 1.0 };
+/// let before = [Point::new(0.0, 1.0), Point::new(2.0, 1.0)];
+/// // An end 0.05 m off the old line: under 2 · 0.03 = 0.06 (3 % of 1 m): the same line.
+/// assert!(refit_moved_off(before, [end(0.0, 1.0), end(1.5, 1.05)], 3.0, 15f64.to_radians()).is_none());
+/// // 0.07 m off: moved.
+/// let t = refit_moved_off(before, [end(0.0, 1.0), end(1.5, 1.07)], 3.0, 15f64.to_radians()).unwrap();
+/// assert!((t.off_line_m[1] - 0.07).abs() < 1e-12 && (t.limits_m[1] - 0.06).abs() < 1e-12);
+/// ```
+pub fn refit_moved_off(
+    before: [Point; 2],
+    after: [EndPoint; 2],
+    accuracy_pct: f64,
+    max_turn_rad: f64,
+) -> Option<UnconfirmedTrace> {
+    let turn_rad = line_angle_between(&(before[1] - before[0]), &(after[1].point - after[0].point));
+    let off = |e: &EndPoint| distance_to_line(&e.point, &before[0], &before[1]);
+    let limit = |e: &EndPoint| 2.0 * feature_tolerance_m(accuracy_pct, e.range_m);
+    let off_line_m = [off(&after[0]), off(&after[1])];
+    let limits_m = [limit(&after[0]), limit(&after[1])];
+    let moved =
+        turn_rad > max_turn_rad || off_line_m[0] > limits_m[0] || off_line_m[1] > limits_m[1];
+    moved.then(|| UnconfirmedTrace {
+        segment: 0,
+        before,
+        after: [after[0].point, after[1].point],
+        turn_rad,
+        off_line_m,
+        limits_m,
+    })
+}
+
+/// Baseline confirmation (docs/algorithm.md §8.7): among `beams` (readings, each with its own
+/// snapshot's beam), two of distinct snapshots that support the segment `a`–`b` as a plane
+/// ([`supports`]) and whose sensors stood at least `min_baseline_m` apart along it, the
+/// displacement at most `max_turn_rad` from its direction (across it at most
+/// `along·tan max_turn`). The pair displaced farthest along it (the first such in order on
+/// ties), if any.
+///
+/// A sensor that moves towards a surface hears the same patch of it, and its range shrinks
+/// as it would for a corner or an edge in the beam; moved along a plane it hears another
+/// patch at the same perpendicular distance. Readings that went into a segment in one step
+/// from two poses so displaced (point memory's pieces hold readings of up to
+/// `memory_snapshots` snapshots) are two observations of the plane, as two steps' readings
+/// are.
+///
+/// ```
+/// use sonarmap::geometry::{Point, Vec2};
+/// use sonarmap::mapping::confirm::baseline_pair;
+/// use sonarmap::mapping::point_features::Beam;
+/// use sonarmap::mapping::support::ReadingRef;
+/// // A side sensor looking along +y at the wall y = 1 from x = 0 and x = 0.4 (snapshots 3, 5).
+/// let at = |x: f64, snapshot: usize| {
+///     let beam = Beam { origin: Point::new(x, 0.0), direction: Vec2::new(0.0, 1.0), range_m: 1.0 };
+///     (ReadingRef { snapshot, sensor: 2 }, beam)
+/// };
+/// let (a, b) = (Point::new(0.0, 1.0), Point::new(0.4, 1.0));
+/// let half = 12.5f64.to_radians();
+/// let pair = baseline_pair(&[at(0.0, 3), at(0.4, 5)], &a, &b, 3.0, half, false, 0.2032, 15f64.to_radians());
+/// assert!((pair.unwrap().along_m - 0.4).abs() < 1e-12);
+/// // 0.1 m apart: under the 8 in baseline.
+/// assert!(baseline_pair(&[at(0.0, 3), at(0.1, 5)], &a, &b, 3.0, half, false, 0.2032, 15f64.to_radians()).is_none());
+/// ```
+#[allow(clippy::too_many_arguments)]
+pub fn baseline_pair(
+    beams: &[(ReadingRef, Beam)],
+    a: &Point,
+    b: &Point,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+    cone_edges: bool,
+    min_baseline_m: f64,
+    max_turn_rad: f64,
+) -> Option<BaselinePair> {
+    let along = b - a;
+    let length = along.norm();
+    if length <= 0.0 {
+        return None;
+    }
+    let direction = along / length;
+    let supporting: Vec<&(ReadingRef, Beam)> = beams
+        .iter()
+        .filter(|(_, beam)| supports(beam, a, b, accuracy_pct, half_beam_rad, cone_edges).is_some())
+        .collect();
+    let tan_turn = max_turn_rad.tan();
+    let mut best: Option<BaselinePair> = None;
+    for (i, (r1, b1)) in supporting.iter().enumerate() {
+        for (r2, b2) in &supporting[i + 1..] {
+            if r1.snapshot == r2.snapshot {
+                continue;
+            }
+            let moved = b2.origin - b1.origin;
+            let along_m = moved.dot(&direction).abs();
+            let across_m = (moved - direction * moved.dot(&direction)).norm();
+            if along_m < min_baseline_m
+                || across_m > along_m * tan_turn
+                || best.is_some_and(|p| along_m <= p.along_m)
+            {
+                continue;
+            }
+            let readings = if r1.snapshot < r2.snapshot {
+                [*r1, *r2]
+            } else {
+                [*r2, *r1]
+            };
+            best = Some(BaselinePair {
+                readings,
+                along_m,
+                across_m,
+            });
+        }
+    }
+    best
+}
+
+/// Confirms segment `id` by `pair` (its readings went into it in `snapshot`'s step; see
+/// [`baseline_pair`]) unless it is confirmed already. Returns the trace record: the later
+/// reading of the pair, its range and its distance from the segment's line.
+pub fn note_baseline_support(
+    map: &mut Map,
+    id: SegmentId,
+    pair: BaselinePair,
+    later: &Beam,
+    snapshot: usize,
+) -> Option<PlaneSupportTrace> {
+    let s = map.segment(id)?;
+    let distance_m = distance_to_line(&later.origin, &s.a.point, &s.b.point);
+    let support = map.plane_support.entry(id).or_default();
+    if support.confirmed() {
+        return None;
+    }
+    support.snapshots = CONFIRMING_SNAPSHOTS;
+    support.last_snapshot = snapshot;
+    Some(PlaneSupportTrace {
+        segment: id,
+        sensor: pair.readings[1].sensor,
+        range_m: later.range_m,
+        distance_m,
+        snapshots: support.snapshots,
+        confirmed: true,
+        baseline: Some(pair),
     })
 }
 
@@ -196,6 +397,161 @@ mod tests {
     use super::*;
     use crate::geometry::Vec2;
     use crate::mapping::map::{EndPoint, Segment, SegmentKind};
+
+    const HALF: f64 = 12.5 * std::f64::consts::PI / 180.0;
+
+    /// Sensor `sensor` of snapshot `snapshot` at (`x`, `y`) looking along +y, reading `range_m`.
+    fn up(snapshot: usize, sensor: usize, x: f64, y: f64, range_m: f64) -> (ReadingRef, Beam) {
+        let beam = Beam {
+            origin: Point::new(x, y),
+            direction: Vec2::new(0.0, 1.0),
+            range_m,
+        };
+        (ReadingRef { snapshot, sensor }, beam)
+    }
+
+    /// The wall y = 1 from x = −0.2 to 0.8.
+    fn wall() -> (Point, Point) {
+        (Point::new(-0.2, 1.0), Point::new(0.8, 1.0))
+    }
+
+    fn pair_of(beams: &[(ReadingRef, Beam)]) -> Option<BaselinePair> {
+        let (a, b) = wall();
+        baseline_pair(
+            beams,
+            &a,
+            &b,
+            3.0,
+            HALF,
+            false,
+            CONFIRMING_BASELINE_M,
+            CONFIRMING_BASELINE_TURN_RAD,
+        )
+    }
+
+    #[test]
+    fn baseline_pair_takes_the_two_snapshots_farthest_apart_along_the_wall() {
+        // A side sensor reads 1.00 m from x = 0, 0.25 and 0.5 (snapshots 1, 2, 3): the pair
+        // 1–3 is 0.5 m apart along the wall, 0 across.
+        let beams = [
+            up(1, 4, 0.0, 0.0, 1.0),
+            up(2, 4, 0.25, 0.0, 1.0),
+            up(3, 4, 0.5, 0.0, 1.0),
+        ];
+        let pair = pair_of(&beams).unwrap();
+        assert_eq!(pair.readings[0].snapshot, 1);
+        assert_eq!(pair.readings[1].snapshot, 3);
+        assert!((pair.along_m - 0.5).abs() < 1e-12 && pair.across_m.abs() < 1e-12);
+        // Given in the other order, the earlier snapshot still comes first.
+        let reversed = [beams[2], beams[1], beams[0]];
+        assert_eq!(pair_of(&reversed).unwrap().readings, pair.readings);
+    }
+
+    #[test]
+    fn readings_of_one_snapshot_make_no_baseline() {
+        // Two sensors of snapshot 5, 0.3 m apart along the wall, both reading 1 m.
+        assert!(pair_of(&[up(5, 3, 0.0, 0.0, 1.0), up(5, 4, 0.3, 0.0, 1.0)]).is_none());
+    }
+
+    #[test]
+    fn sensors_closer_than_eight_inches_along_the_wall_make_no_baseline() {
+        // 0.20 m < 8 in = 0.2032 m; 0.21 m passes.
+        assert!(pair_of(&[up(1, 4, 0.0, 0.0, 1.0), up(2, 4, 0.2, 0.0, 1.0)]).is_none());
+        let pair = pair_of(&[up(1, 4, 0.0, 0.0, 1.0), up(2, 4, 0.21, 0.0, 1.0)]).unwrap();
+        assert!((pair.along_m - 0.21).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_sensor_that_moved_towards_the_wall_makes_no_baseline() {
+        // 0.3 m along and 0.1 m towards the wall (reading 0.90 m): 0.1 > 0.3 · tan 10° =
+        // 0.0529, refused. 0.05 m towards it (reading 0.95 m): 0.05 ≤ 0.0529, a baseline.
+        assert!(pair_of(&[up(1, 4, 0.0, 0.0, 1.0), up(2, 4, 0.3, 0.1, 0.9)]).is_none());
+        let pair = pair_of(&[up(1, 4, 0.0, 0.0, 1.0), up(2, 4, 0.3, 0.05, 0.95)]).unwrap();
+        assert!((pair.along_m - 0.3).abs() < 1e-12 && (pair.across_m - 0.05).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_reading_that_does_not_support_the_plane_makes_no_baseline() {
+        // At x = 0.4 the sensor reads 1.10 m: |1 − 1.1| = 0.1 > 0.033 (3 % of 1.1).
+        assert!(pair_of(&[up(1, 4, 0.0, 0.0, 1.0), up(2, 4, 0.4, 0.0, 1.1)]).is_none());
+    }
+
+    /// End-points read from `range_m`.
+    fn ends(a: (f64, f64), b: (f64, f64), range_m: f64) -> [EndPoint; 2] {
+        let e = |(x, y): (f64, f64)| EndPoint {
+            point: Point::new(x, y),
+            range_m,
+        };
+        [e(a), e(b)]
+    }
+
+    const THETA_O: f64 = 15.0 * std::f64::consts::PI / 180.0;
+
+    #[test]
+    fn a_refit_within_two_tolerances_of_the_old_line_keeps_it() {
+        // Old line y = 1 from x = 0 to 2. After: (0, 1)–(1.5, 1.05), read at 1 m: the end is
+        // 0.05 m off, under 2 · 0.03 = 0.06; turned atan(0.05 / 1.5) = 1.9° < 15°.
+        let before = [Point::new(0.0, 1.0), Point::new(2.0, 1.0)];
+        let after = ends((0.0, 1.0), (1.5, 1.05), 1.0);
+        assert!(refit_moved_off(before, after, 3.0, THETA_O).is_none());
+    }
+
+    #[test]
+    fn a_refit_that_moved_an_end_off_the_old_line_unconfirms_it() {
+        // 0.07 m off > 0.06 (read at 1 m); read at 3 m the limit is 2 · 0.09 = 0.18: kept.
+        let before = [Point::new(0.0, 1.0), Point::new(2.0, 1.0)];
+        let t = refit_moved_off(before, ends((0.0, 1.0), (1.5, 1.07), 1.0), 3.0, THETA_O).unwrap();
+        assert!(t.off_line_m[0].abs() < 1e-12 && (t.off_line_m[1] - 0.07).abs() < 1e-12);
+        assert!((t.limits_m[0] - 0.06).abs() < 1e-12 && (t.limits_m[1] - 0.06).abs() < 1e-12);
+        assert!((t.turn_rad - (0.07f64 / 1.5).atan()).abs() < 1e-12);
+        assert_eq!(t.after, [Point::new(0.0, 1.0), Point::new(1.5, 1.07)]);
+        assert!(
+            refit_moved_off(before, ends((0.0, 1.0), (1.5, 1.07), 3.0), 3.0, THETA_O).is_none()
+        );
+    }
+
+    #[test]
+    fn a_refit_that_turned_past_theta_o_unconfirms_it() {
+        // (0, 1)–(0.2, 1.055): the end is 0.055 m off (under 0.06) but the piece turned
+        // atan(0.055 / 0.2) = 15.4° > θ_o = 15°.
+        let before = [Point::new(0.0, 1.0), Point::new(2.0, 1.0)];
+        let t = refit_moved_off(before, ends((0.0, 1.0), (0.2, 1.055), 1.0), 3.0, THETA_O).unwrap();
+        assert!((t.turn_rad.to_degrees() - 15.376).abs() < 1e-3);
+        assert!(t.off_line_m[1] < t.limits_m[1]);
+    }
+
+    #[test]
+    fn a_baseline_confirms_a_tentative_segment_once() {
+        let e = |x: f64| EndPoint {
+            point: Point::new(x, 1.0),
+            range_m: 1.0,
+        };
+        let mut map = Map::from_segments(vec![Segment {
+            id: 0,
+            kind: SegmentKind::Fitted,
+            a: e(-0.2),
+            b: e(0.8),
+            face: 0,
+            object: 0,
+            created: 3,
+            updated: Vec::new(),
+            points: Vec::new().into(),
+        }]);
+        map.confirms_segments = true;
+        let beams = [up(1, 4, 0.0, 0.0, 1.0), up(3, 4, 0.5, 0.0, 1.01)];
+        let pair = pair_of(&beams).unwrap();
+        assert!(map.is_tentative(0));
+        let t = note_baseline_support(&mut map, 0, pair, &beams[1].1, 3).unwrap();
+        assert!(t.confirmed && t.snapshots == CONFIRMING_SNAPSHOTS);
+        assert_eq!((t.sensor, t.range_m), (4, 1.01));
+        // The later sensor stands 1 m from the wall's line.
+        assert!((t.distance_m - 1.0).abs() < 1e-12);
+        assert_eq!(t.baseline, Some(pair));
+        assert!(!map.is_tentative(0));
+        assert!(map.check_invariants(0).is_ok());
+        // Confirmed already: nothing more to note.
+        assert!(note_baseline_support(&mut map, 0, pair, &beams[1].1, 4).is_none());
+    }
 
     #[test]
     fn two_snapshots_of_plane_support_confirm_a_segment_once_each() {

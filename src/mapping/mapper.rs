@@ -1,7 +1,10 @@
 //! The mapper: one snapshot in, the map updated and the step's trace out (paper §3).
 
 use super::cluster::{cluster_points, sensor_ranks, Clusters};
-use super::confirm::{note_plane_support, supports, CONFIRMING_SNAPSHOTS};
+use super::confirm::{
+    baseline_pair, note_baseline_support, note_plane_support, refit_moved_off, supports,
+    UnconfirmedTrace, CONFIRMING_BASELINE_M, CONFIRMING_BASELINE_TURN_RAD, CONFIRMING_SNAPSHOTS,
+};
 use super::corner_diagonals::{corner_diagonals, CORNER_DIAGONAL_RADIUS_M, CORNER_WALL_REACH_M};
 use super::correlate::correlate_face;
 use super::echo_fit::{
@@ -19,7 +22,8 @@ use super::point_features::{
     arc_point, explaining_feature, file_arc, mean_origin, mean_range_m, ArcTrace, Beam,
 };
 use super::readings::convert_readings;
-use super::settled_walls::settling_wall;
+use super::settled_walls::{settling_wall, SETTLED_END_MARGIN_GAPS};
+use super::support::ReadingRef;
 use super::trace::{
     CandidateTrace, ClusterTrace, DecisionTrace, ExplainedTrace, NewSegmentTrace, Outcome,
     RefutedTrace, Rule, SegmentSource, SettledTrace, SplitTrace, StepTrace, UpdateTrace, Warning,
@@ -107,6 +111,8 @@ struct StepBuffers {
     candidate_sets: Vec<Range<usize>>,
     /// A decision's tested candidates (untraced).
     mpc_stage: Vec<CandidateTrace>,
+    /// The readings of earlier snapshots point memory's pieces brought to this step.
+    memory_readings: Vec<ReadingRef>,
 }
 
 /// The mutable state a checkpoint needs to resume a [`Mapper`].
@@ -281,15 +287,22 @@ impl Mapper {
         let mut buffers = std::mem::take(&mut self.buffers);
         self.readings_and_clusters(snapshot, &mut trace, &mut buffers);
         let mut fitted = self.fit_clusters(&mut trace, &mut buffers);
+        buffers.memory_readings.clear();
         if self.params.memory_snapshots > 0 {
-            self.fit_remembered_points(&mut fitted, &mut trace);
+            self.fit_remembered_points(&mut fitted, &mut trace, &mut buffers.memory_readings);
         }
         let new_faces =
             self.match_and_update(&mut fitted.segments, recorded, &mut trace, &mut buffers);
-        self.buffers = buffers;
         if self.params.confirm_segments {
+            if self.params.refit_unconfirms {
+                self.unconfirm_moved_refits(&mut trace);
+            }
             self.note_plane_support(snapshot, &fitted.segments, &mut trace);
+            if self.params.baseline_confirm && !buffers.memory_readings.is_empty() {
+                self.note_baseline_support(snapshot, &buffers.memory_readings, &mut trace);
+            }
         }
+        self.buffers = buffers;
         if self.record_trace {
             trace.new_segments = fitted.segments;
         }
@@ -342,6 +355,105 @@ impl Mapper {
                 half,
                 cone_edges,
             ) {
+                if self.record_trace {
+                    trace.plane_support.push(t);
+                }
+            }
+        }
+    }
+
+    /// §8.7 `refit_unconfirms`: a confirmed segment that a refit of this step moved off its
+    /// line ([`refit_moved_off`]) is tentative again.
+    fn unconfirm_moved_refits(&mut self, trace: &mut StepTrace) {
+        for u in &trace.updates {
+            if u.refit.is_none() || !self.map.is_confirmed(u.segment) {
+                continue;
+            }
+            let Some(s) = self.map.segment(u.segment) else {
+                continue;
+            };
+            let before = [u.before[0].point, u.before[1].point];
+            let moved = refit_moved_off(
+                before,
+                [s.a, s.b],
+                self.params.accuracy_pct,
+                self.params.orientation_rad,
+            );
+            if let Some(moved) = moved {
+                self.map.plane_support.remove(&u.segment);
+                // Kept in the slim trace too: the lineage of a segment reads it there.
+                trace.unconfirmed.push(UnconfirmedTrace {
+                    segment: u.segment,
+                    ..moved
+                });
+            }
+        }
+    }
+
+    /// §8.7 baseline confirmation: each segment this step made (a NEW FACE) is confirmed when
+    /// two of its readings of distinct snapshots (this snapshot's, and those of earlier
+    /// snapshots that point memory's pieces brought, `memory_readings`), each from its own
+    /// snapshot's pose, support it as a plane from sensors at least [`CONFIRMING_BASELINE_M`]
+    /// apart along it, within [`CONFIRMING_BASELINE_TURN_RAD`] of its direction.
+    fn note_baseline_support(
+        &mut self,
+        snapshot: &Snapshot,
+        memory_readings: &[ReadingRef],
+        trace: &mut StepTrace,
+    ) {
+        let (xi, half) = self.accuracy_and_half_beam();
+        let cone_edges = self.cone_edges();
+        // Made this step: a MATCH's or an EXTENSION's target holds readings of earlier steps
+        // that were tested when they came.
+        let mut targets: Vec<SegmentId> = trace
+            .decisions
+            .iter()
+            .filter(|d| d.outcome == Outcome::NewFace)
+            .filter_map(|d| d.result)
+            .collect();
+        targets.sort_unstable();
+        targets.dedup();
+        for target in targets {
+            if !self.map.is_tentative(target) {
+                continue;
+            }
+            let Some(s) = self.map.segment(target) else {
+                continue;
+            };
+            let beams: Vec<(ReadingRef, Beam)> = s
+                .points
+                .iter()
+                .filter(|q| {
+                    q.reading.snapshot == trace.snapshot || memory_readings.contains(&q.reading)
+                })
+                .filter_map(|q| {
+                    let beam = if q.reading.snapshot == trace.snapshot {
+                        self.beam_of(&snapshot.pose, q)
+                    } else {
+                        self.recent_beam_of(q)?
+                    };
+                    Some((q.reading, beam))
+                })
+                .collect();
+            let (a, b) = (s.a.point, s.b.point);
+            let Some(pair) = baseline_pair(
+                &beams,
+                &a,
+                &b,
+                xi,
+                half,
+                cone_edges,
+                CONFIRMING_BASELINE_M,
+                CONFIRMING_BASELINE_TURN_RAD,
+            ) else {
+                continue;
+            };
+            let Some(&(_, later)) = beams.iter().find(|(r, _)| *r == pair.readings[1]) else {
+                continue;
+            };
+            if let Some(t) =
+                note_baseline_support(&mut self.map, target, pair, &later, trace.snapshot)
+            {
                 if self.record_trace {
                     trace.plane_support.push(t);
                 }
@@ -484,7 +596,7 @@ impl Mapper {
             }
         }
         self.last_pose = Some(snapshot.pose);
-        if self.params.plane_gate || self.params.echo_fit {
+        if self.params.plane_gate || self.params.echo_fit || self.params.baseline_confirm {
             let keep = self.params.memory_snapshots + 1;
             self.map.note_pose(index, snapshot.pose, keep);
         }
@@ -591,7 +703,8 @@ impl Mapper {
     }
 
     /// §8.12 settled walls: the kept points a confirmed wall explains well inside its ends (at
-    /// least the memory gap from either end) move from `buffers.kept` to `buffers.settled`.
+    /// least [`SETTLED_END_MARGIN_GAPS`] memory gaps from either end) move from `buffers.kept`
+    /// to `buffers.settled`.
     fn set_aside_settled_readings(
         &self,
         snapshot: &Snapshot,
@@ -603,7 +716,7 @@ impl Mapper {
         }
         let (xi, half) = self.accuracy_and_half_beam();
         let cone_edges = self.cone_edges();
-        let margin_m = self.params.memory_gap_m;
+        let margin_m = SETTLED_END_MARGIN_GAPS * self.params.memory_gap_m;
         let settled = &mut buffers.settled;
         buffers.kept.retain(|q| {
             let beam = self.beam_of(&snapshot.pose, q);
@@ -865,7 +978,12 @@ impl Mapper {
 
     /// §8.1 point memory: this step's one-point clusters join the memory, and the pieces its
     /// groups yield become new segments after the clusters'.
-    fn fit_remembered_points(&mut self, fitted: &mut FittedStep, trace: &mut StepTrace) {
+    fn fit_remembered_points(
+        &mut self,
+        fitted: &mut FittedStep,
+        trace: &mut StepTrace,
+        memory_readings: &mut Vec<ReadingRef>,
+    ) {
         let (memory_trace, pieces) = memory_step(
             &mut self.map.memory,
             &fitted.singles,
@@ -874,6 +992,13 @@ impl Mapper {
             self.record_trace,
         );
         for piece in pieces {
+            memory_readings.extend(
+                piece
+                    .points
+                    .iter()
+                    .map(|q| q.reading)
+                    .filter(|r| r.snapshot != trace.snapshot),
+            );
             let last = piece.points.len() - 1;
             let (a, b) = piece_end_points(&piece.points, 0, last, self.params.fit);
             let mut new = NewSegmentTrace {

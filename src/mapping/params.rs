@@ -103,6 +103,13 @@ pub struct Params {
     /// Segments are tentative until readings of two snapshots support them as a plane
     /// (docs/algorithm.md §8.7).
     pub confirm_segments: bool,
+    /// With `confirm_segments`: a segment made in one step from readings of several snapshots
+    /// (a point-memory piece) is confirmed when two of them, of distinct snapshots, support it
+    /// as a plane from sensors 8 in or more apart along it (docs/algorithm.md §8.7).
+    pub baseline_confirm: bool,
+    /// With `confirm_segments`: a confirmed segment that a refit (§5) turned more than `θ_o` or
+    /// moved more than `2·tol(D)` off its line is tentative again (docs/algorithm.md §8.7).
+    pub refit_unconfirms: bool,
     /// A NEW FACE needs a reading that supports it as a plane (docs/algorithm.md §8.7).
     pub plane_gate: bool,
     /// A fitted piece's readings move to where one plane's echoes came from, when a line fitted
@@ -150,6 +157,8 @@ impl Params {
             explain_readings: false,
             free_space: false,
             confirm_segments: false,
+            baseline_confirm: false,
+            refit_unconfirms: false,
             plane_gate: false,
             echo_fit: false,
             corner_diagonals: false,
@@ -171,6 +180,8 @@ impl Params {
             explain_readings: true,
             free_space: true,
             confirm_segments: true,
+            baseline_confirm: true,
+            refit_unconfirms: true,
             plane_gate: true,
             echo_fit: true,
             corner_diagonals: true,
@@ -316,6 +327,12 @@ impl Params {
         if let Some(v) = file.confirm_segments {
             p.confirm_segments = v;
         }
+        if let Some(v) = file.baseline_confirm {
+            p.baseline_confirm = v;
+        }
+        if let Some(v) = file.refit_unconfirms {
+            p.refit_unconfirms = v;
+        }
         if let Some(v) = file.plane_gate {
             p.plane_gate = v;
         }
@@ -364,6 +381,8 @@ impl Params {
             explain_readings: Some(self.explain_readings),
             free_space: Some(self.free_space),
             confirm_segments: Some(self.confirm_segments),
+            baseline_confirm: Some(self.baseline_confirm),
+            refit_unconfirms: Some(self.refit_unconfirms),
             plane_gate: Some(self.plane_gate),
             echo_fit: Some(self.echo_fit),
             corner_diagonals: Some(self.corner_diagonals),
@@ -467,6 +486,10 @@ pub struct ParamsFile {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub confirm_segments: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub baseline_confirm: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refit_unconfirms: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub plane_gate: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub echo_fit: Option<bool>,
@@ -496,6 +519,7 @@ mod tests {
         assert!(!p.arc_features && !p.explain_readings && !p.free_space && !p.confirm_segments);
         assert!(!p.plane_gate && !p.echo_fit && p.min_piece_points == 0);
         assert!(!p.corner_diagonals && !p.settled_walls);
+        assert!(!p.baseline_confirm && !p.refit_unconfirms);
         let e = Params::extended();
         assert_eq!(e.support_cap, 64);
         assert!(e.corner_guard);
@@ -505,6 +529,7 @@ mod tests {
         assert!(e.arc_features && e.explain_readings && e.free_space && e.confirm_segments);
         assert!(e.plane_gate && e.echo_fit && e.min_piece_points == 3);
         assert!(e.corner_diagonals && e.settled_walls);
+        assert!(e.baseline_confirm && e.refit_unconfirms);
         assert!(p.validate().is_ok() && e.validate().is_ok());
     }
 

@@ -594,9 +594,13 @@ pub struct StepTrace {
     /// (docs/algorithm.md §8.11).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub diagonals: Vec<DiagonalTrace>,
+    /// Confirmed segments a refit moved off their line, tentative again (docs/algorithm.md
+    /// §8.7, `refit_unconfirms`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub unconfirmed: Vec<UnconfirmedTrace>,
 }
 
-pub use super::confirm::PlaneSupportTrace;
+pub use super::confirm::{PlaneSupportTrace, UnconfirmedTrace};
 pub use super::corner_diagonals::DiagonalTrace;
 pub use super::echo_fit::EchoFitTrace;
 pub use super::free_space::RefutedTrace;

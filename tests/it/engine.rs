@@ -271,6 +271,58 @@ fn point_memory_turns_a_wall_seen_by_one_sonar_into_a_segment() {
     );
 }
 
+/// The robot drives along a wall at y = 40 in, 8 in a snapshot; only the sonar facing it
+/// (90°) echoes, 31 in. Returns the mapper after the first step that made a segment, and that
+/// step's trace.
+fn first_memory_segment(params: Params) -> (Mapper, StepTrace) {
+    let layout = SensorLayout::nomad_ring(inches(9.0));
+    let mut mapper = Mapper::new(params, layout, SensorSpec::default());
+    for i in 0..12 {
+        let mut ranges_m = vec![None; 16];
+        ranges_m[4] = Some(inches(31.0));
+        let trace = mapper.step(&Snapshot {
+            t: i as f64,
+            pose: pose_in(8.0 * i as f64, 0.0),
+            ranges_m,
+        });
+        if !mapper.map().segments.is_empty() {
+            return (mapper, trace);
+        }
+    }
+    panic!("point memory made no segment");
+}
+
+#[test]
+fn a_memory_segment_seen_from_poses_along_its_wall_is_confirmed_when_made() {
+    // Three readings, of snapshots 0, 1 and 2, sensors 16 in apart along the wall: the segment
+    // point memory makes of them at snapshot 2 is confirmed at once (docs/algorithm.md §8.7).
+    let (mapper, trace) = first_memory_segment(Params::extended());
+    assert_eq!(trace.snapshot, 2);
+    let s = &mapper.map().segments[0];
+    assert!(!mapper.map().is_tentative(s.id));
+    let support = trace
+        .plane_support
+        .iter()
+        .find(|p| p.baseline.is_some())
+        .expect("a baseline confirmation in the trace");
+    let pair = support.baseline.unwrap();
+    assert_eq!(
+        (pair.readings[0].snapshot, pair.readings[1].snapshot),
+        (0, 2)
+    );
+    assert_eq!((pair.readings[0].sensor, pair.readings[1].sensor), (4, 4));
+    assert!((pair.along_m - inches(16.0)).abs() < 1e-9 && pair.across_m < 1e-9);
+    assert!(support.confirmed && support.segment == s.id);
+    // Without the rule, one snapshot's reading supported it: tentative.
+    let (mapper, trace) = first_memory_segment(Params {
+        baseline_confirm: false,
+        ..Params::extended()
+    });
+    assert_eq!(trace.snapshot, 2);
+    assert!(mapper.map().is_tentative(mapper.map().segments[0].id));
+    assert!(trace.plane_support.iter().all(|p| p.baseline.is_none()));
+}
+
 #[test]
 fn constant_depth_turns_a_corner_arc_into_one_reading() {
     // A corner reflector answers sonars 1, 2 and 3 at the same range: an arc of three points.

@@ -227,6 +227,8 @@ fn a_new_face_whose_first_segment_was_merged_away_in_the_same_snapshot_keeps_its
         echo_fit: false,
         corner_diagonals: false,
         settled_walls: false,
+        baseline_confirm: false,
+        refit_unconfirms: false,
         min_piece_points: 0,
         ..Params::extended()
     };

@@ -20,6 +20,7 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
         && t.echo_fits.is_empty()
         && t.diagonals.is_empty()
         && t.settled.is_empty()
+        && t.unconfirmed.is_empty()
     {
         return;
     }
@@ -73,7 +74,34 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             r.off_axis_rad.to_degrees()
         ));
     }
+    for u in &t.unconfirmed {
+        ui.label(format!(
+            "refit moved s{} off its line (turned {:.1}°, limit {:.1}°; ends {} and {} off it, \
+             limits {} and {}): tentative again",
+            u.segment,
+            u.turn_rad.to_degrees(),
+            ctx.params.orientation_rad.to_degrees(),
+            ctx.len(u.off_line_m[0]),
+            ctx.len(u.off_line_m[1]),
+            ctx.len(u.limits_m[0]),
+            ctx.len(u.limits_m[1]),
+        ));
+    }
     for p in &t.plane_support {
+        if let Some(b) = &p.baseline {
+            ui.label(format!(
+                "baseline confirmation: readings of snapshots {} (sensor {}) and {} (sensor {}) \
+                 support s{} as a plane, their sensors {} apart along it and {} across: confirmed",
+                b.readings[0].snapshot,
+                b.readings[0].sensor,
+                b.readings[1].snapshot,
+                b.readings[1].sensor,
+                p.segment,
+                ctx.len(b.along_m),
+                ctx.len(b.across_m),
+            ));
+            continue;
+        }
         ui.label(format!(
             "plane support: sensor {} read {}, s{} lies {} away: {} snapshot(s){}",
             p.sensor,
