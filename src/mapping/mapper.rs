@@ -67,24 +67,19 @@ pub struct RecordedDecision {
     /// supporting points failed the post-update test, so that it was fitted afresh
     /// (docs/algorithm.md §5). Taken again, a pass spares the test over every point.
     pub refit: Option<bool>,
-    /// For such an update: whether the segment's supporting points were still in order along
-    /// the updated line ([`UpdateTrace::old_points_in_order`]). Taken again, it spares the check
-    /// over every point.
-    pub old_points_in_order: Option<bool>,
 }
 
 impl RecordedDecision {
     /// What `decision` was, with the step's `updates`.
     pub fn of(decision: &DecisionTrace, updates: &[UpdateTrace]) -> Self {
-        let update = updates
-            .iter()
-            .find(|u| u.new_segment == decision.new_segment);
         Self {
             outcome: decision.outcome,
             rule: decision.rule,
             existing: decision.existing,
-            refit: update.map(|u| u.refit.is_some()),
-            old_points_in_order: update.and_then(|u| u.old_points_in_order),
+            refit: updates
+                .iter()
+                .find(|u| u.new_segment == decision.new_segment)
+                .map(|u| u.refit.is_some()),
         }
     }
 }
@@ -1091,9 +1086,9 @@ impl Mapper {
             };
             decision.result = match decision.outcome {
                 Outcome::Match | Outcome::Extension => {
-                    let recorded = recorded.as_ref().map(|r| r[ni].0);
+                    let refit = recorded.as_ref().and_then(|r| r[ni].0.refit);
                     let update =
-                        self.update_for(&decision, &new_segments[ni], &absorbed_into, recorded);
+                        self.update_for(&decision, &new_segments[ni], &absorbed_into, refit);
                     update.map(|(target, update)| {
                         if let Some(update) = update {
                             absorbed_into
@@ -1128,16 +1123,14 @@ impl Mapper {
 
     /// §5 for a MATCH or EXTENSION `decision` of `new`: the update of the segment that now
     /// carries the chosen candidate's id (following the merges of this snapshot, `absorbed_into`);
-    /// `recorded`, a recording of this very decision, says whether it is fitted afresh and
-    /// whether its points stay in order ([`UpdateRequest::refit`],
-    /// [`UpdateRequest::old_points_in_order`]).
+    /// `refit`, when recorded, says whether it is fitted afresh ([`UpdateRequest::refit`]).
     /// Returns that segment's id and the update's trace (none when it is gone).
     fn update_for(
         &mut self,
         decision: &DecisionTrace,
         new: &NewSegmentTrace,
         absorbed_into: &[(SegmentId, SegmentId)],
-        recorded: Option<RecordedDecision>,
+        refit: Option<bool>,
     ) -> Option<(SegmentId, Option<UpdateTrace>)> {
         let named = decision.existing?;
         let evaluation = &decision
@@ -1162,8 +1155,7 @@ impl Mapper {
                 None
             },
             snapshot: self.next_snapshot - 1,
-            refit: recorded.and_then(|r| r.refit),
-            old_points_in_order: recorded.and_then(|r| r.old_points_in_order),
+            refit,
         };
         Some((target, apply_update(&mut self.map, &self.params, &request)))
     }

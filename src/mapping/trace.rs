@@ -431,11 +431,6 @@ pub struct UpdateTrace {
     /// Map segments fused into the updated one afterwards (`merge_duplicates`), in order.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub absorbed: Vec<AbsorbTrace>,
-    /// Whether the segment's supporting points were still in order along `l_u`, so that the new
-    /// ones were inserted among them rather than all sorted again (`None`: not asked, a short or
-    /// capped list). The same points either way; the replay takes it again to spare the check.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub old_points_in_order: Option<bool>,
 }
 
 /// A map segment fused into an updated segment because it matched it (`merge_duplicates`,

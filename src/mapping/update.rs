@@ -137,63 +137,36 @@ pub fn merge_support_list(
     b: &EndPoint,
     support_cap: usize,
 ) -> SupportList {
-    merge_support_list_as(old, new, a, b, support_cap, None).0
-}
-
-/// [`merge_support_list`], also returning whether the old chunked list was still in order along
-/// a→b (`None` when that was not asked: a list of one chunk, or a cap). `old_in_order`, when a
-/// recording of this very merge gives it, spares the check over every old point: the replay's
-/// catch-up of a `paper` wall seen for an hour (thousands of points an update).
-pub fn merge_support_list_as(
-    old: &SupportList,
-    new: &[SupportPoint],
-    a: &EndPoint,
-    b: &EndPoint,
-    support_cap: usize,
-    old_in_order: Option<bool>,
-) -> (SupportList, Option<bool>) {
     if let Some(slice) = old.as_slice() {
-        return (
-            merge_support_points(slice, new, a, b, support_cap).into(),
-            None,
-        );
+        return merge_support_points(slice, new, a, b, support_cap).into();
     }
-    if support_cap != 0 {
-        return (
-            merge_support_points(&old.to_vec(), new, a, b, support_cap).into(),
-            None,
-        );
+    if support_cap == 0 {
+        let line = AlongLine::new(&a.point, &b.point);
+        let key = |q: &SupportPoint| line.param(&q.point) + 0.0;
+        let mut new_keys: Vec<f64> = new.iter().map(key).collect();
+        let mut new = Cow::Borrowed(new);
+        if put_in_order(&mut new_keys, &mut new) && chunks_in_place_order(old, key) {
+            let starts: Vec<usize> = old
+                .chunks()
+                .iter()
+                .scan(0, |start, c| {
+                    let s = *start;
+                    *start += c.len();
+                    Some(s)
+                })
+                .collect();
+            // Places are computed where the binary searches look, not for every point.
+            let old_place = |k: usize| {
+                let c = starts.partition_point(|&s| s <= k) - 1;
+                let q = &old.chunks()[c][k - starts[c]];
+                (key(q), q.reading)
+            };
+            let pairs = new_keys.iter().copied().zip(new.iter());
+            let at: Vec<usize> = insertion_indices(old.len(), old_place, pairs).collect();
+            return old.with_inserted(&new, &at);
+        }
     }
-    let line = AlongLine::new(&a.point, &b.point);
-    let key = |q: &SupportPoint| line.param(&q.point) + 0.0;
-    let mut new_keys: Vec<f64> = new.iter().map(key).collect();
-    let mut new_run = Cow::Borrowed(new);
-    let new_in_order = put_in_order(&mut new_keys, &mut new_run);
-    let in_order = old_in_order.unwrap_or_else(|| chunks_in_place_order(old, key));
-    if new_in_order && in_order {
-        let starts: Vec<usize> = old
-            .chunks()
-            .iter()
-            .scan(0, |start, c| {
-                let s = *start;
-                *start += c.len();
-                Some(s)
-            })
-            .collect();
-        // Places are computed where the binary searches look, not for every point.
-        let old_place = |k: usize| {
-            let c = starts.partition_point(|&s| s <= k) - 1;
-            let q = &old.chunks()[c][k - starts[c]];
-            (key(q), q.reading)
-        };
-        let pairs = new_keys.iter().copied().zip(new_run.iter());
-        let at: Vec<usize> = insertion_indices(old.len(), old_place, pairs).collect();
-        return (old.with_inserted(&new_run, &at), Some(true));
-    }
-    (
-        merge_support_points(&old.to_vec(), new, a, b, support_cap).into(),
-        Some(in_order),
-    )
+    merge_support_points(&old.to_vec(), new, a, b, support_cap).into()
 }
 
 /// True when a chunked list is in [`place_order`] by `key`: one pass, a chunk at a time (it
@@ -551,9 +524,6 @@ pub struct UpdateRequest<'a> {
     /// this very update says so: `Some(false)` spares the test over every supporting point
     /// (thousands, in `paper`). `None`: tested.
     pub refit: Option<bool>,
-    /// Whether the segment's supporting points are still in order along `l_u`, when a recording
-    /// of this very update says so ([`merge_support_list_as`]). `None`: checked.
-    pub old_points_in_order: Option<bool>,
 }
 
 /// Applies an update to the map (paper §3.3.2; docs/algorithm.md §5): the geometry of Figure 1
@@ -583,14 +553,7 @@ pub fn apply_update(
         None => update_match(before, nl, nr),
     };
     let [a, b] = geometry.ends;
-    let (points, old_points_in_order) = merge_support_list_as(
-        &seg.points,
-        request.new_points,
-        &a,
-        &b,
-        params.support_cap,
-        request.old_points_in_order,
-    );
+    let points = merge_support_list(&seg.points, request.new_points, &a, &b, params.support_cap);
     let worst = match request.refit {
         // Recorded as passing: the test would find nothing to refit.
         Some(false) => None,
@@ -607,7 +570,6 @@ pub fn apply_update(
         fallback_tls: geometry.fallback_tls,
         refit: None,
         absorbed: Vec::new(),
-        old_points_in_order,
     };
     map.segment_mut(target)?.note_update(request.snapshot);
     match worst {

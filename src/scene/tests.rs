@@ -201,7 +201,6 @@ fn fixture() -> Fixture {
         fallback_tls: false,
         refit: None,
         absorbed: Vec::new(),
-        old_points_in_order: None,
     }];
     step.correlations = vec![CorrelationTrace {
         face: 1,

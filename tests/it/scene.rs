@@ -376,7 +376,6 @@ fn match_step(trace: &mut StepTrace, before: &Map, k: usize) -> Map {
                     fallback_tls: false,
                     refit: None,
                     absorbed: Vec::new(),
-                    old_points_in_order: None,
                 });
                 Some(e)
             }
