@@ -24,6 +24,16 @@ pub enum Units {
 pub const METRES_PER_INCH: f64 = 0.0254;
 
 impl Units {
+    /// Decimals that show a length to about a millimetre (a tenth of an inch): the inspector's
+    /// numbers, where a sonar's tolerance is a few centimetres.
+    pub fn fine_decimals(self) -> usize {
+        match self {
+            Units::Inches | Units::Centimetres => 1,
+            Units::Millimetres => 0,
+            Units::Metres => 3,
+        }
+    }
+
     /// Metres in one of this unit.
     pub fn metres_per_unit(self) -> f64 {
         match self {
@@ -74,6 +84,24 @@ pub fn inches(length_in: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn fine_decimals_resolve_a_tenth_of_an_inch_or_better() {
+        for u in [
+            Units::Inches,
+            Units::Millimetres,
+            Units::Centimetres,
+            Units::Metres,
+        ] {
+            let step_m = u.to_m(10f64.powi(-(u.fine_decimals() as i32)));
+            assert!(step_m <= inches(0.1) + 1e-12, "{u:?}: {step_m} m");
+        }
+        // A 2.5 cm sonar tolerance reads 0.025 m, not 0.0 m.
+        assert_eq!(
+            format!("{:.*}", Units::Metres.fine_decimals(), 0.025),
+            "0.025"
+        );
+    }
 
     #[test]
     fn conversions_round_trip() {

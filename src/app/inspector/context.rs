@@ -32,8 +32,14 @@ impl InspectCtx<'_> {
         self.run.units
     }
 
+    /// A length in the run's units, to about a millimetre (whole values without decimals).
     pub(super) fn len(&self, m: f64) -> String {
-        format_length(m, self.units())
+        let u = self.units();
+        let v = u.from_m(m);
+        if (v - v.round()).abs() < 1e-9 {
+            return format_length(m, u);
+        }
+        format!("{:.*} {}", u.fine_decimals(), v, u.symbol())
     }
 
     pub(super) fn point(&self, p: &Point) -> String {
