@@ -396,7 +396,7 @@ pub fn note_baseline_support(
 mod tests {
     use super::*;
     use crate::geometry::Vec2;
-    use crate::mapping::map::{EndPoint, Segment, SegmentKind};
+    use crate::mapping::map::{test_wall, EndPoint};
 
     const HALF: f64 = 12.5 * std::f64::consts::PI / 180.0;
 
@@ -522,21 +522,7 @@ mod tests {
 
     #[test]
     fn a_baseline_confirms_a_tentative_segment_once() {
-        let e = |x: f64| EndPoint {
-            point: Point::new(x, 1.0),
-            range_m: 1.0,
-        };
-        let mut map = Map::from_segments(vec![Segment {
-            id: 0,
-            kind: SegmentKind::Fitted,
-            a: e(-0.2),
-            b: e(0.8),
-            face: 0,
-            object: 0,
-            created: 3,
-            updated: Vec::new(),
-            points: Vec::new().into(),
-        }]);
+        let mut map = Map::from_segments(vec![test_wall(0, (-0.2, 1.0), (0.8, 1.0), 1.0)]);
         map.confirms_segments = true;
         let beams = [up(1, 4, 0.0, 0.0, 1.0), up(3, 4, 0.5, 0.0, 1.01)];
         let pair = pair_of(&beams).unwrap();
@@ -555,21 +541,7 @@ mod tests {
 
     #[test]
     fn two_snapshots_of_plane_support_confirm_a_segment_once_each() {
-        let e = |x: f64| EndPoint {
-            point: Point::new(x, 2.0),
-            range_m: 2.0,
-        };
-        let mut map = Map::from_segments(vec![Segment {
-            id: 0,
-            kind: SegmentKind::Fitted,
-            a: e(-1.0),
-            b: e(1.0),
-            face: 0,
-            object: 0,
-            created: 0,
-            updated: Vec::new(),
-            points: Vec::new().into(),
-        }]);
+        let mut map = Map::from_segments(vec![test_wall(0, (-1.0, 2.0), (1.0, 2.0), 2.0)]);
         map.confirms_segments = true;
         let half = 12.5f64.to_radians();
         // Straight at the wall, 2.02 m: |2 − 2.02| = 0.02 ≤ 0.0606.
