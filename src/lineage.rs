@@ -57,6 +57,12 @@ pub enum LineageEvent {
         /// The segment it was fused into.
         into: SegmentId,
     },
+    /// Tentative again: its refit moved it off the line its confirmation was for
+    /// (`refit_unconfirms`, docs/algorithm.md §8.7).
+    Unconfirmed {
+        /// Snapshot.
+        snapshot: usize,
+    },
     /// Removed because sensor `sensor`'s reading saw through it (free space,
     /// docs/algorithm.md §8.6).
     Refuted {
@@ -113,6 +119,7 @@ impl LineageEvent {
             | LineageEvent::SplitFrom { snapshot, .. }
             | LineageEvent::Absorbed { snapshot, .. }
             | LineageEvent::AbsorbedInto { snapshot, .. }
+            | LineageEvent::Unconfirmed { snapshot, .. }
             | LineageEvent::Refuted { snapshot, .. }
             | LineageEvent::CornerDiagonal { snapshot, .. }
             | LineageEvent::LinkDropped { snapshot }
@@ -199,8 +206,12 @@ impl Lineage {
                 _ => {}
             }
         }
-        // In the step's order: correlation (§6), then free space (§8.6), corner diagonals
-        // (§8.11) and the links that left with a segment (§8.3).
+        // In the step's order: refits that lost their confirmation (§8.7), correlation (§6),
+        // then free space (§8.6), corner diagonals (§8.11) and the links that left with a
+        // segment (§8.3).
+        for u in &trace.unconfirmed {
+            self.push(u.segment, LineageEvent::Unconfirmed { snapshot });
+        }
         for (correlation, c) in trace.correlations.iter().enumerate() {
             let result = match c.result {
                 CorrelationKind::Corner { .. } => CorrelationResult::Corner,

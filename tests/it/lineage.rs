@@ -82,3 +82,32 @@ fn every_segment_of_the_map_was_made_or_split_off_and_every_merged_one_says_wher
         }
     }
 }
+
+#[test]
+fn a_refit_that_loses_its_confirmation_says_so_in_the_lineage() {
+    // Over the generated lap runs of every scene kind in `extended`, each segment a refit made
+    // tentative again (§8.7 refit_unconfirms) has that step in its lineage.
+    let mut found = 0;
+    for kind in SceneKind::ALL {
+        let run = sonarmap::soak::family_run(kind, 5, 600);
+        let mut mapper =
+            sonarmap::mapping::Mapper::new(Params::extended(), run.layout.clone(), run.sensor)
+                .with_trace(false);
+        let mut lineage = sonarmap::lineage::Lineage::default();
+        for (k, s) in run.snapshots.iter().enumerate() {
+            let trace = mapper.step(s);
+            lineage.record(&trace);
+            for u in &trace.unconfirmed {
+                found += 1;
+                assert!(
+                    lineage
+                        .of(u.segment, k)
+                        .contains(&LineageEvent::Unconfirmed { snapshot: k }),
+                    "{kind:?} #{} at {k}",
+                    u.segment
+                );
+            }
+        }
+    }
+    assert!(found > 0, "no refit lost its confirmation on these runs");
+}

@@ -166,6 +166,12 @@ fn lineage_ui(ui: &mut egui::Ui, ctx: &InspectCtx, id: SegmentId, commands: &mut
                             LineageEvent::AbsorbedInto { into, .. } => {
                                 (format!("merged into #{into}"), SceneId::MapSegment(into))
                             }
+                            LineageEvent::Unconfirmed { .. } => (
+                                "tentative again: its refit moved it off the line it was \
+                                 confirmed on"
+                                    .to_string(),
+                                SceneId::None,
+                            ),
                             LineageEvent::Refuted { sensor, .. } => (
                                 format!("removed: sensor {sensor} saw through it (free space)"),
                                 SceneId::None,
