@@ -103,6 +103,27 @@ pub fn supports_as_plane(
     accuracy_pct: f64,
     half_beam_rad: f64,
 ) -> Option<f64> {
+    foot_echo(beam, a, b, accuracy_pct, half_beam_rad).map(|e| e.range_m)
+}
+
+/// Where a plane along `a`–`b` echoes `beam` from: the range it predicts, metres, and the echo
+/// point's place along a→b (0 at `a`, 1 at `b`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlaneEcho {
+    /// The predicted range, metres.
+    pub range_m: f64,
+    /// The echo point's place along a→b.
+    pub along: f64,
+}
+
+/// [`supports_as_plane`], with where the echo comes from (the foot of the perpendicular).
+fn foot_echo(
+    beam: &Beam,
+    a: &Point,
+    b: &Point,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+) -> Option<PlaneEcho> {
     let t = projection_param(&beam.origin, a, b);
     if !(-0.1..=1.1).contains(&t) {
         return None;
@@ -113,7 +134,10 @@ pub fn supports_as_plane(
     if d <= 0.0 || (d - beam.range_m).abs() > feature_tolerance_m(accuracy_pct, beam.range_m) {
         return None;
     }
-    (v.dot(&beam.direction) / d >= half_beam_rad.cos()).then_some(d)
+    (v.dot(&beam.direction) / d >= half_beam_rad.cos()).then_some(PlaneEcho {
+        range_m: d,
+        along: t,
+    })
 }
 
 /// Whether `beam` supports the segment `a`–`b` as a plane, its echo taken from the nearest
@@ -143,6 +167,17 @@ pub fn supports_as_echo(
     accuracy_pct: f64,
     half_beam_rad: f64,
 ) -> Option<f64> {
+    cone_echo(beam, a, b, accuracy_pct, half_beam_rad).map(|e| e.range_m)
+}
+
+/// [`supports_as_echo`], with where the echo comes from.
+fn cone_echo(
+    beam: &Beam,
+    a: &Point,
+    b: &Point,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+) -> Option<PlaneEcho> {
     let along = b - a;
     let length = along.norm();
     if length <= 0.0 {
@@ -163,10 +198,11 @@ pub fn supports_as_echo(
         return None;
     }
     let (ray, _) = echo_ray(beam, &normal, half);
-    let echo = beam.origin + ray * predicted_m;
-    (-0.1..=1.1)
-        .contains(&projection_param(&echo, a, b))
-        .then_some(predicted_m)
+    let t = projection_param(&(beam.origin + ray * predicted_m), a, b);
+    (-0.1..=1.1).contains(&t).then_some(PlaneEcho {
+        range_m: predicted_m,
+        along: t,
+    })
 }
 
 /// The plane test a segment's readings take: [`supports_as_echo`] with `cone_edges`, else
@@ -179,10 +215,22 @@ pub fn supports(
     half_beam_rad: f64,
     cone_edges: bool,
 ) -> Option<f64> {
+    plane_echo(beam, a, b, accuracy_pct, half_beam_rad, cone_edges).map(|e| e.range_m)
+}
+
+/// [`supports`], with where the echo comes from along the segment.
+pub fn plane_echo(
+    beam: &Beam,
+    a: &Point,
+    b: &Point,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+    cone_edges: bool,
+) -> Option<PlaneEcho> {
     if cone_edges {
-        supports_as_echo(beam, a, b, accuracy_pct, half_beam_rad)
+        cone_echo(beam, a, b, accuracy_pct, half_beam_rad)
     } else {
-        supports_as_plane(beam, a, b, accuracy_pct, half_beam_rad)
+        foot_echo(beam, a, b, accuracy_pct, half_beam_rad)
     }
 }
 

@@ -418,14 +418,13 @@ impl Mapper {
             let beams: Vec<(ReadingRef, Beam)> = s
                 .points
                 .iter()
-                .filter(|q| {
-                    q.reading.snapshot == trace.snapshot || memory_readings.contains(&q.reading)
-                })
                 .filter_map(|q| {
                     let beam = if q.reading.snapshot == trace.snapshot {
                         self.beam_of(&snapshot.pose, q)
-                    } else {
+                    } else if memory_readings.contains(&q.reading) {
                         self.recent_beam_of(q)?
+                    } else {
+                        return None;
                     };
                     Some((q.reading, beam))
                 })

@@ -12,12 +12,11 @@
 //! This is data association gating, as a feature-based map does it (Leonard and Durrant-Whyte):
 //! a measurement the map predicts is consumed by the feature that predicted it.
 
-use super::confirm::supports;
-use super::echo_fit::{echo_ray, HalfCone};
+use super::confirm::plane_echo;
 use super::free_space::cone_box;
 use super::map::{Map, SegmentId};
 use super::point_features::{feature_tolerance_m, Beam};
-use crate::geometry::{projection_param, Point, Vec2};
+use crate::geometry::Point;
 use serde::{Deserialize, Serialize};
 
 /// How far inside a wall's ends its echo point must lie for the wall to settle a reading, in
@@ -39,19 +38,6 @@ pub struct SettledTrace {
     pub predicted_m: f64,
     /// The echo point's distance from the nearer end of the wall, metres.
     pub inside_m: f64,
-}
-
-/// Where on the segment `a`–`b` the echo of `beam` (predicted at `predicted_m`) comes from:
-/// along the plane's normal when it lies inside the cone, else along the cone's nearer edge
-/// (docs/algorithm.md §8.10).
-fn echo_point(beam: &Beam, a: &Point, b: &Point, predicted_m: f64, half_beam_rad: f64) -> Point {
-    let along = b - a;
-    let mut normal = Vec2::new(-along.y, along.x) / along.norm();
-    if normal.dot(&(a - beam.origin)) < 0.0 {
-        normal = -normal;
-    }
-    let (ray, _) = echo_ray(beam, &normal, HalfCone::new(half_beam_rad));
-    beam.origin + ray * predicted_m
 }
 
 /// Whether the confirmed wall `a`–`b` settles `beam`'s reading: the wall explains it as a plane
@@ -87,12 +73,10 @@ pub fn settles(
     cone_edges: bool,
     end_margin_m: f64,
 ) -> Option<(f64, f64)> {
-    let predicted_m = supports(beam, a, b, accuracy_pct, half_beam_rad, cone_edges)?;
+    let echo = plane_echo(beam, a, b, accuracy_pct, half_beam_rad, cone_edges)?;
     let length_m = (b - a).norm();
-    let echo = echo_point(beam, a, b, predicted_m, half_beam_rad);
-    let t = projection_param(&echo, a, b);
-    let inside_m = (t * length_m).min((1.0 - t) * length_m);
-    (inside_m >= end_margin_m).then_some((predicted_m, inside_m))
+    let inside_m = (echo.along * length_m).min((1.0 - echo.along) * length_m);
+    (inside_m >= end_margin_m).then_some((echo.range_m, inside_m))
 }
 
 /// The confirmed fitted wall of `map` that settles `beam`'s reading ([`settles`]), the one whose
@@ -144,6 +128,7 @@ pub fn settling_wall(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::Vec2;
     use crate::mapping::confirm::PlaneSupport;
     use crate::mapping::map::test_wall;
 
