@@ -51,7 +51,7 @@ pub struct DiagonalTrace {
 }
 
 /// Whether the fitted segment `id` of `map` is a diagonal of a corner of two fitted walls, one
-/// of them at least confirmed: its end-points both within `radius_m` of the junction of the
+/// of them at least confirmed (both, when `id` itself is confirmed): its end-points both within `radius_m` of the junction of the
 /// walls' lines, which itself lies within `reach_m` of each wall, the walls at least
 /// [`MIN_CORNER_ANGLE_RAD`] apart and the segment at least `min_turn_rad` from each. The first
 /// such corner (walls by id) when it is.
@@ -101,10 +101,13 @@ pub fn corner_diagonal(
         }
     });
     walls.sort_unstable_by_key(|w| w.id);
+    // A confirmed segment is a diagonal only of a corner of two confirmed walls: readings of
+    // two snapshots that support it as a plane outweigh one tentative wall.
+    let walls_needed = if map.is_confirmed(id) { 2 } else { 1 };
     for (i, u) in walls.iter().enumerate() {
         let du = u.b - u.a;
         for v in &walls[i + 1..] {
-            if !u.confirmed && !v.confirmed {
+            if usize::from(u.confirmed) + usize::from(v.confirmed) < walls_needed {
                 continue;
             }
             let dv = v.b - v.a;
@@ -255,6 +258,21 @@ mod tests {
         let mut one = room_corner();
         confirm(&mut one, 1);
         let d = corner_diagonal(&one, 2, r, CORNER_WALL_REACH_M, TURN).expect("s1 is confirmed");
+        assert_eq!(d.walls, [0, 1]);
+    }
+
+    #[test]
+    fn a_confirmed_chord_needs_two_confirmed_walls() {
+        let r = CORNER_DIAGONAL_RADIUS_M;
+        // s2 (the chord) confirmed, and only s1 of the walls: s2's two snapshots of plane
+        // support outweigh the one confirmed wall, and it stays.
+        let mut one = room_corner();
+        confirm(&mut one, 1);
+        confirm(&mut one, 2);
+        assert!(corner_diagonal(&one, 2, r, CORNER_WALL_REACH_M, TURN).is_none());
+        // With both walls confirmed it is a diagonal again (45° from each, ends 0.632 m away).
+        confirm(&mut one, 0);
+        let d = corner_diagonal(&one, 2, r, CORNER_WALL_REACH_M, TURN).expect("two walls");
         assert_eq!(d.walls, [0, 1]);
     }
 

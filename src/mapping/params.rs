@@ -171,6 +171,9 @@ impl Params {
     /// groups and the long-run bounds (merging duplicates, the support cap, the corner guard).
     pub fn extended() -> Self {
         Self {
+            // Total least squares: a piece's end-points on the line through all its readings,
+            // not on one noisy reading each (docs/algorithm.md §8.13).
+            fit: FitMode::TotalLeastSquares,
             memory_snapshots: 10,
             constant_depth: true,
             merge_duplicates: true,
@@ -522,6 +525,10 @@ mod tests {
         assert!(!p.baseline_confirm && !p.refit_unconfirms);
         let e = Params::extended();
         assert_eq!(e.support_cap, 64);
+        assert_eq!(
+            (p.fit, e.fit),
+            (FitMode::EndPoints, FitMode::TotalLeastSquares)
+        );
         assert!(e.corner_guard);
         assert_eq!(e.memory_snapshots, 10);
         assert!(e.constant_depth);

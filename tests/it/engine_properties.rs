@@ -217,8 +217,10 @@ fn a_new_face_whose_first_segment_was_merged_away_in_the_same_snapshot_keeps_its
         ..Params::paper()
     };
     // `extended` with the long-run bounds of §8.3 but without the rules of §8.5–§8.8, which
-    // keep most of this corridor's readings out of new faces.
+    // keep most of this corridor's readings out of new faces, and with the paper's fit (§8.13
+    // places the pieces elsewhere, and the scene no longer arises).
     let bounds = Params {
+        fit: sonarmap::mapping::params::FitMode::EndPoints,
         arc_features: false,
         explain_readings: false,
         free_space: false,
