@@ -387,6 +387,25 @@ pub fn line_cost(beams: &[Beam], line: &EchoLine, accuracy_pct: f64, half_beam_r
         .sum()
 }
 
+/// The reflector point near `start` that explains the ranges of `beams` (at least
+/// [`MIN_REFLECTOR_READINGS`]) better than `line` does (a lower [`fit_reflector_point`] cost
+/// than [`line_cost`]): a corner or an edge, not a plane (docs/algorithm.md §8.10). `None`
+/// when the line does at least as well, or fewer readings cannot tell.
+pub fn reflector_beating_line(
+    beams: &[Beam],
+    line: &EchoLine,
+    start: Point,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+) -> Option<Point> {
+    if beams.len() < MIN_REFLECTOR_READINGS {
+        return None;
+    }
+    fit_reflector_point(beams, start, accuracy_pct, half_beam_rad)
+        .filter(|&(_, cost)| cost < line_cost(beams, line, accuracy_pct, half_beam_rad))
+        .map(|(at, _)| at)
+}
+
 /// Readings moved to their echo points ([`place_echoes`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Placement {

@@ -8,8 +8,8 @@ use super::confirm::{
 use super::corner_diagonals::{corner_diagonals, CORNER_DIAGONAL_RADIUS_M, CORNER_WALL_REACH_M};
 use super::correlate::correlate_face;
 use super::echo_fit::{
-    echo_behind_confirmed_wall, fit_echo_line, fit_reflector_point, line_cost, order_along_line,
-    place_echoes, EchoFitTrace, MIN_ECHO_FIT_READINGS, MIN_REFLECTOR_READINGS,
+    echo_behind_confirmed_wall, fit_echo_line, order_along_line, place_echoes,
+    reflector_beating_line, EchoFitTrace, MIN_ECHO_FIT_READINGS,
 };
 use super::extensions::{memory_step, reduce_constant_depth};
 use super::fast_path::decide;
@@ -750,6 +750,20 @@ impl Mapper {
         if self.supports_as_plane_now(&pose, chain, &first, &last) {
             return false;
         }
+        // With echo placement (§8.10) on for a cone sensor: a plane seen square-on by
+        // neighbouring sonars reads (nearly) one range to each, at its foot or its cone's edge;
+        // when one plane explains every range at least as well as one reflector point, the
+        // cluster stays for the fit and point memory.
+        if self.params.echo_fit && self.sensor.echo == EchoModel::Cone {
+            let (xi, half) = self.accuracy_and_half_beam();
+            let axis_points: Vec<Point> = chain.iter().map(|q| q.point).collect();
+            let turn = self.params.orientation_rad;
+            if let Some(line) = fit_echo_line(&beams, &axis_points, xi, half, turn) {
+                if reflector_beating_line(&beams, &line, at, xi, half).is_none() {
+                    return false;
+                }
+            }
+        }
         let origin = mean_origin(&beams);
         let (feature, new_feature) = file_arc(
             &mut self.map,
@@ -875,7 +889,9 @@ impl Mapper {
                 }
                 out.segments.push(new);
             }
-            if chain_len == 1 {
+            // A one-point cluster, or one the constant-depth reduction (§8.2) left with one
+            // reading (a wall seen square-on by three sonars), goes to point memory (§8.1).
+            if fitted.len() == 1 {
                 out.singles.push(fitted[0]);
             }
             if self.record_trace {
@@ -930,15 +946,9 @@ impl Mapper {
         let (first, last) = (new.points[0], new.points[new.points.len() - 1]);
         order_along_line(&mut placed.points, &line, &first, &last);
         // A corner or an edge: one reflector point explains the ranges better than the line.
-        let reflector = if new.points.len() >= MIN_REFLECTOR_READINGS {
-            let centre = placed.points.iter().map(|q| q.point.coords).sum::<Vec2>()
-                / placed.points.len() as f64;
-            fit_reflector_point(&beams, Point::from(centre), xi, half)
-                .filter(|&(_, cost)| cost < line_cost(&beams, &line, xi, half))
-                .map(|(at, _)| at)
-        } else {
-            None
-        };
+        let centre =
+            placed.points.iter().map(|q| q.point.coords).sum::<Vec2>() / placed.points.len() as f64;
+        let reflector = reflector_beating_line(&beams, &line, Point::from(centre), xi, half);
         if let Some(at) = reflector {
             let origin = mean_origin(&beams);
             file_arc(
@@ -1276,7 +1286,8 @@ pub fn candidate_reach_m(params: &Params, max_end_range_m: f64, new: &SegmentEnd
 struct FittedStep {
     /// The new segments, in cluster order (then memory groups').
     segments: Vec<NewSegmentTrace>,
-    /// The points of one-point clusters (for point memory).
+    /// The points of one-point clusters, and of clusters §8.2 reduced to one (for point
+    /// memory).
     singles: Vec<SupportPoint>,
 }
 

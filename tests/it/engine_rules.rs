@@ -141,3 +141,65 @@ fn walls_all_round_close_the_loop() {
         );
     }
 }
+
+/// A ring of 24 sonars 15° apart on a 0.2 m radius (sensor `k` looks at `15·k` degrees) reads
+/// the wall `y = 2` square-on with sensors 5, 6 and 7 (75°, 90°, 105°), the cone (25° wide)
+/// reaching the wall's foot for sensor 6 and the cone's edge, 2.5° from the normal, for 5 and 7.
+fn ring_facing_a_wall() -> (SensorLayout, Vec<Option<f64>>) {
+    let layout = SensorLayout::ring(24, 15f64.to_radians(), 0.0, 0.2);
+    let mut ranges = vec![None; 24];
+    // Sensor 6 stands at (0, 0.2): 1.8 m from the wall. Sensors 5 and 7 stand at
+    // y = 0.2·sin 75° = 0.19319, 1.80681 m from it, their axes 15° off the normal: the cone's
+    // edge meets the wall at 2.5° from it, 1.80681 / cos 2.5° = 1.80853 m away.
+    ranges[6] = Some(1.8);
+    let edge = (2.0 - 0.2 * 75f64.to_radians().sin()) / 2.5f64.to_radians().cos();
+    assert!((edge - 1.80853).abs() < 1e-5);
+    ranges[5] = Some(edge);
+    ranges[7] = Some(edge);
+    (layout, ranges)
+}
+
+#[test]
+fn a_wall_seen_square_on_by_three_sonars_is_no_arc_and_its_middle_reading_goes_to_point_memory() {
+    // The three ranges pass the ball test pairwise (|1.8 − 1.80853| ≤ 0.03·3.6), and no reading
+    // supports the chord of the axis points (y = 0.19319 + 1.80853·sin 75° = 1.94010) as a plane
+    // (sensor 6 lies 1.74010 from it, 0.060 off its 1.8 against a tolerance of 0.054): the arc
+    // rule of §8.5 alone files the cluster as one reflector point. The line y = 2 explains every
+    // range (the foot for sensor 6, the cones' edges for 5 and 7), and a point cannot do better:
+    // the cluster stays, its constant-depth run (§8.2) keeps sensor 6's reading, and that goes to
+    // point memory (§8.1).
+    let (layout, ranges) = ring_facing_a_wall();
+    let mut mapper = Mapper::new(Params::extended(), layout.clone(), SensorSpec::default());
+    let trace = mapper.step(&snapshot(0.0, &ranges));
+    assert!(trace.arcs.is_empty(), "{:?}", trace.arcs);
+    assert!(mapper.map().features.is_empty());
+    let cluster = trace
+        .clusters
+        .iter()
+        .find(|c| c.sensors == [5, 6, 7])
+        .expect("one cluster of the three");
+    assert_eq!(cluster.constant_depth.len(), 1);
+    assert_eq!(cluster.constant_depth[0].kept_sensor, 6);
+    assert_eq!(cluster.fitted.len(), 1);
+    let added: Vec<usize> = trace
+        .memory
+        .as_ref()
+        .expect("point memory is on")
+        .added
+        .iter()
+        .map(|r| r.sensor)
+        .collect();
+    assert_eq!(added, vec![6]);
+
+    // Without echo placement (§8.10) nothing explains the ranges as a plane: the arc rule files
+    // the reflector, and nothing goes to memory.
+    let params = Params {
+        echo_fit: false,
+        ..Params::extended()
+    };
+    let mut mapper = Mapper::new(params, layout, SensorSpec::default());
+    let trace = mapper.step(&snapshot(0.0, &ranges));
+    assert_eq!(trace.arcs.len(), 1);
+    assert_eq!(trace.arcs[0].sensors, vec![5, 6, 7]);
+    assert!(trace.memory.as_ref().is_none_or(|m| m.added.is_empty()));
+}
