@@ -84,13 +84,14 @@ pub fn corner_diagonal(
     map.visit_segments_along(&mid, &mid, radius_m + reach_m, |w, ws| {
         // The junction lies on the wall's line within `radius_m` of both end-points, so the
         // line passes that near each (a cheap test that leaves out most walls nearby).
+        // The turn first: most segments near a wall's piece run along it.
         if w != id
             && ws.fitted
+            && !line_angle_at_most(&along, &(ws.b.point - ws.a.point), turn)
             && distance_to_line(&a, &ws.a.point, &ws.b.point) <= radius_m
             && distance_to_line(&b, &ws.a.point, &ws.b.point) <= radius_m
             && distance_to_segment(&a, &ws.a.point, &ws.b.point) <= radius_m + reach_m
             && distance_to_segment(&b, &ws.a.point, &ws.b.point) <= radius_m + reach_m
-            && !line_angle_at_most(&along, &(ws.b.point - ws.a.point), turn)
         {
             walls.push(Wall {
                 id: w,
