@@ -734,7 +734,8 @@ impl Mapper {
     }
 
     /// §8.5 arc rule on cluster `ci` (`chain` in order): when it is an arc, its point is filed
-    /// as a point feature and true is returned (the cluster is then not fitted).
+    /// as a point feature; true when the cluster is then not fitted (one plane does not explain
+    /// its ranges as well).
     fn file_if_arc(&mut self, ci: usize, chain: &[SupportPoint], trace: &mut StepTrace) -> bool {
         let Some(pose) = trace.pose else {
             return false;
@@ -751,17 +752,17 @@ impl Mapper {
             return false;
         }
         // With echo placement (§8.10) on for a cone sensor: a plane seen square-on by
-        // neighbouring sonars reads (nearly) one range to each, at its foot or its cone's edge;
-        // when one plane explains every range at least as well as one reflector point, the
-        // cluster stays for the fit and point memory.
+        // neighbouring sonars reads (nearly) one range to each, at its foot or its cone's edge.
+        // When one plane explains every range at least as well as one reflector point, the
+        // cluster is both: filed as a reflector observation (its feature is confirmed only if
+        // it stays put as the robot moves, as a corner does) and fitted.
+        let mut also_fitted = false;
         if self.params.echo_fit && self.sensor.echo == EchoModel::Cone {
             let (xi, half) = self.accuracy_and_half_beam();
             let axis_points: Vec<Point> = chain.iter().map(|q| q.point).collect();
             let turn = self.params.orientation_rad;
             if let Some(line) = fit_echo_line(&beams, &axis_points, xi, half, turn) {
-                if reflector_beating_line(&beams, &line, at, xi, half).is_none() {
-                    return false;
-                }
+                also_fitted = reflector_beating_line(&beams, &line, at, xi, half).is_none();
             }
         }
         let origin = mean_origin(&beams);
@@ -785,9 +786,10 @@ impl Mapper {
                 at,
                 feature,
                 new_feature,
+                also_fitted,
             });
         }
-        true
+        !also_fitted
     }
 
     /// §3: each cluster fitted by the recursive end-point fit (after constant-depth groups,

@@ -69,6 +69,10 @@ pub struct ArcTrace {
     pub feature: u32,
     /// True when the feature is new.
     pub new_feature: bool,
+    /// One plane explains the ranges at least as well as the reflector point (a wall seen
+    /// square-on reads so too): the cluster is fitted as well (docs/algorithm.md §8.5).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub also_fitted: bool,
 }
 
 /// The arc rule on one cluster (`beams` in chain order): the reflector point and mean range

@@ -160,19 +160,20 @@ fn ring_facing_a_wall() -> (SensorLayout, Vec<Option<f64>>) {
 }
 
 #[test]
-fn a_wall_seen_square_on_by_three_sonars_is_no_arc_and_its_middle_reading_goes_to_point_memory() {
+fn a_wall_seen_square_on_by_three_sonars_is_fitted_too_and_its_middle_reading_goes_to_point_memory()
+{
     // The three ranges pass the ball test pairwise (|1.8 − 1.80853| ≤ 0.03·3.6), and no reading
     // supports the chord of the axis points (y = 0.19319 + 1.80853·sin 75° = 1.94010) as a plane
     // (sensor 6 lies 1.74010 from it, 0.060 off its 1.8 against a tolerance of 0.054): the arc
-    // rule of §8.5 alone files the cluster as one reflector point. The line y = 2 explains every
-    // range (the foot for sensor 6, the cones' edges for 5 and 7), and a point cannot do better:
-    // the cluster stays, its constant-depth run (§8.2) keeps sensor 6's reading, and that goes to
-    // point memory (§8.1).
+    // rule of §8.5 alone files the cluster as one reflector point and fits nothing. The line
+    // y = 2 explains every range (the foot for sensor 6, the cones' edges for 5 and 7), and a
+    // point cannot do better: the reflector is filed and the cluster is fitted too; its
+    // constant-depth run (§8.2) keeps sensor 6's reading, and that goes to point memory (§8.1).
     let (layout, ranges) = ring_facing_a_wall();
     let mut mapper = Mapper::new(Params::extended(), layout.clone(), SensorSpec::default());
     let trace = mapper.step(&snapshot(0.0, &ranges));
-    assert!(trace.arcs.is_empty(), "{:?}", trace.arcs);
-    assert!(mapper.map().features.is_empty());
+    assert_eq!(trace.arcs.len(), 1);
+    assert!(trace.arcs[0].also_fitted);
     let cluster = trace
         .clusters
         .iter()
@@ -192,7 +193,7 @@ fn a_wall_seen_square_on_by_three_sonars_is_no_arc_and_its_middle_reading_goes_t
     assert_eq!(added, vec![6]);
 
     // Without echo placement (§8.10) nothing explains the ranges as a plane: the arc rule files
-    // the reflector, and nothing goes to memory.
+    // the reflector alone, and nothing goes to memory.
     let params = Params {
         echo_fit: false,
         ..Params::extended()
@@ -201,5 +202,7 @@ fn a_wall_seen_square_on_by_three_sonars_is_no_arc_and_its_middle_reading_goes_t
     let trace = mapper.step(&snapshot(0.0, &ranges));
     assert_eq!(trace.arcs.len(), 1);
     assert_eq!(trace.arcs[0].sensors, vec![5, 6, 7]);
+    assert!(!trace.arcs[0].also_fitted);
+    assert!(trace.clusters.iter().all(|c| c.constant_depth.is_empty()));
     assert!(trace.memory.as_ref().is_none_or(|m| m.added.is_empty()));
 }

@@ -29,7 +29,7 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
     for a in &t.arcs {
         ui.label(format!(
             "arc: cluster {} (sensors {:?}) ranges {} to {}, pairwise within ξ·(D1+D2)/100 = {} %: \
-             one reflector at {} -> feature f{}{}",
+             one reflector at {} -> feature f{}{}{}",
             a.cluster,
             a.sensors,
             ctx.len(a.range_min_m),
@@ -37,7 +37,12 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             2.0 * xi,
             ctx.point(&a.at),
             a.feature,
-            if a.new_feature { " (new)" } else { "" }
+            if a.new_feature { " (new)" } else { "" },
+            if a.also_fitted {
+                "; one plane explains the ranges as well (a wall seen square-on?): fitted too"
+            } else {
+                ""
+            }
         ));
     }
     for e in &t.explained {
