@@ -15,6 +15,7 @@ use crate::mapping::map::{Face, MemoryPoint, Segment, SupportPoint};
 use crate::mapping::support_list::SupportList;
 use crate::mapping::MapperState;
 use crate::mapping::SegmentId;
+use rustc_hash::FxHashSet;
 use std::mem::size_of;
 use std::sync::Arc;
 
@@ -110,22 +111,6 @@ impl Checkpoints {
     }
 }
 
-/// Bytes of the chunks of `chunks` (a segment's supporting points) that its previous version
-/// (`old`) does not share.
-fn unshared_chunk_bytes(
-    old: Option<&[Arc<Vec<SupportPoint>>]>,
-    chunks: &[Arc<Vec<SupportPoint>>],
-) -> usize {
-    let mut shared: Vec<*const Vec<SupportPoint>> =
-        old.unwrap_or(&[]).iter().map(Arc::as_ptr).collect();
-    shared.sort_unstable();
-    chunks
-        .iter()
-        .filter(|c| shared.binary_search(&Arc::as_ptr(c)).is_err())
-        .map(SupportList::chunk_bytes)
-        .sum()
-}
-
 /// Bytes that `state` keeps alive beyond `previous`: its lists of segments, faces and
 /// remembered points, and each segment or face (with its heap) not shared with `previous`.
 fn kept_alive_bytes(previous: Option<&MapperState>, state: &MapperState) -> usize {
@@ -144,33 +129,45 @@ fn kept_alive_bytes(previous: Option<&MapperState>, state: &MapperState) -> usiz
         Some(p) => (&p.map.segments, &p.map.faces),
         None => (&empty, &Vec::new()),
     };
+    // The supporting-point chunks `previous` holds in the segments this state changed or
+    // dropped: a new version of a segment, or a piece of its refit, may share them. A chunk is
+    // counted once, the first time a segment here holds it.
+    let mut known: FxHashSet<*const Vec<SupportPoint>> =
+        replaced(old_segments, &map.segments, |s| s.id)
+            .flat_map(|s| s.points.chunks().iter().map(Arc::as_ptr))
+            .collect();
     let segments = unshared(
         old_segments,
         &map.segments,
         |s| s.id,
-        |old, s| {
+        |s| {
+            let new_chunks = s
+                .points
+                .chunks()
+                .iter()
+                .filter(|c| known.insert(Arc::as_ptr(c)));
             size_of::<Segment>()
                 + s.updated.capacity() * size_of::<usize>()
                 + s.points.chunk_list_bytes()
-                + unshared_chunk_bytes(old.map(|o| o.points.chunks()), s.points.chunks())
+                + new_chunks.map(SupportList::chunk_bytes).sum::<usize>()
         },
     );
     let faces = unshared(
         old_faces,
         &map.faces,
         |f| f.id,
-        |_, f| size_of::<Face>() + f.segments.capacity() * size_of::<u32>(),
+        |f| size_of::<Face>() + f.segments.capacity() * size_of::<u32>(),
     );
     lists + segments + faces
 }
 
 /// The sum of `size` over the items of `new` (both lists ordered by id) that are not the very
-/// item `old` holds under their id; `size` also gets the old item of that id, if any.
+/// item `old` holds under their id, in order.
 fn unshared<T>(
     old: &[Arc<T>],
     new: &[Arc<T>],
     id: impl Fn(&T) -> u32,
-    size: impl Fn(Option<&T>, &T) -> usize,
+    mut size: impl FnMut(&T) -> usize,
 ) -> usize {
     let mut j = 0;
     let mut total = 0;
@@ -179,13 +176,28 @@ fn unshared<T>(
         while j < old.len() && id(&old[j]) < key {
             j += 1;
         }
-        let same_id = old.get(j).filter(|o| id(o) == key);
-        match same_id {
-            Some(o) if Arc::ptr_eq(o, item) => {}
-            o => total += size(o.map(|o| &**o), item),
+        if !old.get(j).is_some_and(|o| Arc::ptr_eq(o, item)) {
+            total += size(item);
         }
     }
     total
+}
+
+/// The items of `old` that `new` (both lists ordered by id) no longer holds: those whose id
+/// it lacks or holds another item under.
+fn replaced<'a, T>(
+    old: &'a [Arc<T>],
+    new: &'a [Arc<T>],
+    id: impl Fn(&T) -> u32 + 'a,
+) -> impl Iterator<Item = &'a T> + 'a {
+    let mut j = 0;
+    old.iter().filter_map(move |item| {
+        let key = id(item);
+        while j < new.len() && id(&new[j]) < key {
+            j += 1;
+        }
+        (!new.get(j).is_some_and(|n| Arc::ptr_eq(n, item))).then_some(&**item)
+    })
 }
 
 #[cfg(test)]
@@ -256,6 +268,32 @@ mod tests {
                 + (one + chunk_list + chunk(3))
                 + (one + chunk_list + chunk(1))
                 + (one + chunk_list)
+        );
+    }
+
+    #[test]
+    fn a_refit_piece_sharing_chunks_of_the_segment_it_came_from_counts_only_its_own() {
+        // 128 points: eight chunks of 16.
+        let first = Map::from_segments(vec![segment(0, 128)]);
+        let mut second = first.clone();
+        let whole = second.segments[0].points.clone();
+        // A refit keeps points 0..80 under id 0 (the first five chunks, shared) and makes
+        // piece 1 of points 88..128: 88..96 (8 points, short) joins the chunk 96..112 in a
+        // copy of 24 points, and 112..128 stays shared.
+        let mut head = (*second.segments[0]).clone();
+        head.points = whole.slice(0..80);
+        second.segments[0] = Arc::new(head);
+        let mut tail = segment(1, 0);
+        tail.points = whole.slice(88..128);
+        second.segments.push(Arc::new(tail));
+        let (a, b) = (state(first), state(second));
+        let one = size_of::<Segment>();
+        let chunk = |n: usize| 16 + size_of::<Vec<SupportPoint>>() + n * size_of::<SupportPoint>();
+        // Lists: two segments and one face. A slice's list of chunk pointers has room for the
+        // chunks the range meets and one more: 6 for the head, 4 for the tail.
+        assert_eq!(
+            kept_alive_bytes(Some(&a), &b),
+            2 * 8 + 8 + (one + 6 * 8) + (one + 4 * 8 + chunk(24))
         );
     }
 

@@ -574,7 +574,7 @@ pub fn apply_update(
     map.segment_mut(target)?.note_update(request.snapshot);
     match worst {
         Some(w) if !w.pass => {
-            let (splits, pieces) = refit_segment(map, params, target, &points.to_vec());
+            let (splits, pieces) = refit_segment(map, params, target, &points);
             if params.merge_duplicates {
                 for &piece in &pieces {
                     let absorbed = absorb_duplicates(map, params, piece, &pieces);
@@ -636,14 +636,16 @@ fn worst_support_test(points: &SupportList, line: &[Point; 2], params: &Params) 
     Some(worst)
 }
 
-/// Fits the updated segment's `points` afresh (§3): the first piece keeps the id `target`, the
+/// Fits the updated segment's points (`support`) afresh (§3): the first piece keeps the id `target`, the
 /// others get new ids and follow it in its face. Returns the split tests and the pieces' ids.
+/// Each piece's points share the chunks of `support` that lie wholly inside it.
 fn refit_segment(
     map: &mut Map,
     params: &Params,
     target: SegmentId,
-    points: &[SupportPoint],
+    support: &SupportList,
 ) -> (Vec<SplitTrace>, Vec<SegmentId>) {
+    let points = &support.to_vec();
     let (mut splits, mut pieces) = (Vec::new(), Vec::new());
     split_recursive(points, params, &mut splits, &mut pieces);
     let Some(seg) = map.segment(target) else {
@@ -653,7 +655,7 @@ fn refit_segment(
     let mut piece_ids = Vec::with_capacity(pieces.len());
     for (k, &[first, last]) in pieces.iter().enumerate() {
         let (pa, pb) = piece_end_points(points, first, last, params.fit);
-        let piece_points = SupportList::from_vec(points[first..=last].to_vec());
+        let piece_points = support.slice(first..last + 1);
         if k == 0 {
             if let Some(s) = map.segment_mut(target) {
                 s.points = piece_points;
