@@ -147,7 +147,7 @@ fn kept_alive_bytes(previous: Option<&MapperState>, state: &MapperState) -> usiz
                 .iter()
                 .filter(|c| known.insert(Arc::as_ptr(c)));
             size_of::<Segment>()
-                + s.updated.capacity() * size_of::<usize>()
+                + s.updated.capacity() * size_of::<u32>()
                 + s.points.chunk_list_bytes()
                 + new_chunks.map(SupportList::chunk_bytes).sum::<usize>()
         },
