@@ -2,11 +2,12 @@
 //!
 //! A checkpoint is a [`MapperState`]: its map shares every segment and face that did not change
 //! since the previous checkpoint, so what it alone keeps alive is its lists of segments and
-//! faces (a pointer each) and the versions of what changed. That grows with the map: a `paper`
-//! map of a long lap run holds hundreds of thousands of segments. The store counts those bytes
-//! as checkpoints are taken, and when they pass the budget it drops every other checkpoint and
-//! doubles the spacing, so the checkpoints of any run stay within the budget (give or take one
-//! checkpoint) at the price of longer catch-ups on a seek.
+//! faces (a pointer each) and the versions of what changed (of a segment's supporting points,
+//! the chunks that changed). That grows with the map: a `paper` map of a long lap run holds
+//! hundreds of thousands of segments. The store counts those bytes as checkpoints are taken,
+//! and when they pass the budget it drops every other checkpoint and doubles the spacing, so
+//! the checkpoints of any run stay within the budget (give or take one checkpoint) at the price
+//! of longer catch-ups on a seek.
 
 use crate::geometry::Pose;
 use crate::mapping::confirm::PlaneSupport;
@@ -132,10 +133,9 @@ fn kept_alive_bytes(previous: Option<&MapperState>, state: &MapperState) -> usiz
     // The supporting-point chunks `previous` holds in the segments this state changed or
     // dropped: a new version of a segment, or a piece of its refit, may share them. A chunk is
     // counted once, the first time a segment here holds it.
-    let mut known: FxHashSet<*const Vec<SupportPoint>> =
-        replaced(old_segments, &map.segments, |s| s.id)
-            .flat_map(|s| s.points.chunks().iter().map(Arc::as_ptr))
-            .collect();
+    let mut known: FxHashSet<*const SupportPoint> = replaced(old_segments, &map.segments, |s| s.id)
+        .flat_map(|s| s.points.chunks().iter().map(|c| c.as_ptr()))
+        .collect();
     let segments = unshared(
         old_segments,
         &map.segments,
@@ -145,7 +145,7 @@ fn kept_alive_bytes(previous: Option<&MapperState>, state: &MapperState) -> usiz
                 .points
                 .chunks()
                 .iter()
-                .filter(|c| known.insert(Arc::as_ptr(c)));
+                .filter(|c| known.insert(c.as_ptr()));
             size_of::<Segment>()
                 + s.updated.capacity() * size_of::<u32>()
                 + s.points.chunk_list_bytes()
@@ -254,17 +254,21 @@ mod tests {
         second.segments[3] = Arc::new(moved);
         let (a, b) = (state(first), state(second));
         let one = size_of::<Segment>();
-        // A short list: one chunk pointer, and the chunk (two counts, a vector, its points).
-        let chunk_list = 8;
-        let chunk = |n: usize| 16 + size_of::<Vec<SupportPoint>>() + n * size_of::<SupportPoint>();
-        let list = |m: &Map| m.segments.len() * 8 + m.faces.len() * 8;
+        // A short list: one chunk pointer (with its length, 16 bytes), and the chunk (two
+        // counts, then its points).
+        let chunk_list = 16;
+        let chunk = |n: usize| 16 + n * size_of::<SupportPoint>();
+        // The lists of the first: 4 segment and 4 face pointers.
+        let first_lists = 4 * 8 + 4 * 8;
         assert_eq!(
             kept_alive_bytes(None, &a),
-            list(&a.map) + 4 * (one + chunk_list + chunk(10)) + kept_faces(&a.map)
+            first_lists + 4 * (one + chunk_list + chunk(10)) + kept_faces(&a.map)
         );
+        // The lists of the second: 5 segment and 4 face pointers.
+        let second_lists = 5 * 8 + 4 * 8;
         assert_eq!(
             kept_alive_bytes(Some(&a), &b),
-            list(&b.map)
+            second_lists
                 + (one + chunk_list + chunk(3))
                 + (one + chunk_list + chunk(1))
                 + (one + chunk_list)
@@ -288,12 +292,13 @@ mod tests {
         second.segments.push(Arc::new(tail));
         let (a, b) = (state(first), state(second));
         let one = size_of::<Segment>();
-        let chunk = |n: usize| 16 + size_of::<Vec<SupportPoint>>() + n * size_of::<SupportPoint>();
-        // Lists: two segments and one face. A slice's list of chunk pointers has room for the
-        // chunks the range meets and one more: 6 for the head, 4 for the tail.
+        let chunk = |n: usize| 16 + n * size_of::<SupportPoint>();
+        // Lists: two segment pointers and one face pointer. A slice's list of chunk pointers
+        // has room for the chunks the range meets and one more, 16 bytes each: 6 for the head,
+        // 4 for the tail.
         assert_eq!(
             kept_alive_bytes(Some(&a), &b),
-            2 * 8 + 8 + (one + 6 * 8) + (one + 4 * 8 + chunk(24))
+            (2 * 8 + 8) + (one + 6 * 16) + (one + 4 * 16 + chunk(24))
         );
     }
 

@@ -21,10 +21,15 @@ use std::sync::Arc;
 /// 16, while the lists of chunk pointers grew from 0.09 to 0.33 MB.
 pub const CHUNK_POINTS: usize = 16;
 
+/// A shared run of points: one allocation (the counts, then the points), its length in the
+/// pointer, so that a pass over a list reads each chunk with one fetch from memory (a pass
+/// over every point of a long wall is most of a `paper` step's cost).
+pub type Chunk = Arc<[SupportPoint]>;
+
 /// Supporting points in order, in shared chunks (cheap to clone; see the module docs).
 #[derive(Clone, Default)]
 pub struct SupportList {
-    chunks: Vec<Arc<Vec<SupportPoint>>>,
+    chunks: Vec<Chunk>,
     len: usize,
 }
 
@@ -37,19 +42,18 @@ impl SupportList {
         }
         if len <= 2 * CHUNK_POINTS {
             return Self {
-                chunks: vec![Arc::new(points)],
+                chunks: vec![Chunk::from(points)],
                 len,
             };
         }
         let mut chunks = Vec::with_capacity(len / CHUNK_POINTS);
         // Whole chunks from the front; the remainder joins the last one.
         let whole = len / CHUNK_POINTS;
-        let mut rest = points.split_off((whole - 1) * CHUNK_POINTS);
+        let rest = points.split_off((whole - 1) * CHUNK_POINTS);
         for piece in points.chunks(CHUNK_POINTS) {
-            chunks.push(Arc::new(piece.to_vec()));
+            chunks.push(Chunk::from(piece));
         }
-        rest.shrink_to_fit();
-        chunks.push(Arc::new(rest));
+        chunks.push(Chunk::from(rest));
         Self { chunks, len }
     }
 
@@ -72,7 +76,7 @@ impl SupportList {
     pub fn as_slice(&self) -> Option<&[SupportPoint]> {
         match self.chunks.as_slice() {
             [] => Some(&[]),
-            [only] => Some(only),
+            [only] => Some(&only[..]),
             _ => None,
         }
     }
@@ -88,19 +92,16 @@ impl SupportList {
 
     /// Heap bytes of the list of chunk pointers (each chunk counted by [`Self::chunk_bytes`]).
     pub fn chunk_list_bytes(&self) -> usize {
-        self.chunks.capacity() * size_of::<Arc<Vec<SupportPoint>>>()
+        self.chunks.capacity() * size_of::<Chunk>()
     }
 
-    /// Heap bytes of one chunk: its shared allocation (two counts and the vector) and its
-    /// points.
-    pub fn chunk_bytes(chunk: &Arc<Vec<SupportPoint>>) -> usize {
-        2 * size_of::<usize>()
-            + size_of::<Vec<SupportPoint>>()
-            + chunk.capacity() * size_of::<SupportPoint>()
+    /// Heap bytes of one chunk: its shared allocation (two counts, then its points).
+    pub fn chunk_bytes(chunk: &Chunk) -> usize {
+        2 * size_of::<usize>() + chunk.len() * size_of::<SupportPoint>()
     }
 
     /// The chunks, in order.
-    pub fn chunks(&self) -> &[Arc<Vec<SupportPoint>>] {
+    pub fn chunks(&self) -> &[Chunk] {
         &self.chunks
     }
 
@@ -167,7 +168,7 @@ impl SupportList {
         }
         // Each chunk meeting the range, with the part of it inside the range: only the first
         // and the last can be cut.
-        let mut parts: Vec<(&Arc<Vec<SupportPoint>>, std::ops::Range<usize>)> = Vec::new();
+        let mut parts: Vec<(&Chunk, std::ops::Range<usize>)> = Vec::new();
         let mut start = 0;
         for chunk in &self.chunks {
             let end = start + chunk.len();
@@ -192,7 +193,7 @@ impl SupportList {
                 shared.end -= 1;
             }
         }
-        let copy = |from: &[(&Arc<Vec<SupportPoint>>, std::ops::Range<usize>)]| {
+        let copy = |from: &[(&Chunk, std::ops::Range<usize>)]| {
             let mut points = Vec::with_capacity(from.iter().map(|(_, part)| part.len()).sum());
             for (chunk, part) in from {
                 points.extend_from_slice(&chunk[part.clone()]);
@@ -228,15 +229,15 @@ impl SupportList {
 
 /// Appends `points` as one chunk, or as several of about [`CHUNK_POINTS`] when it is longer
 /// than twice that.
-fn push_split(chunks: &mut Vec<Arc<Vec<SupportPoint>>>, points: Vec<SupportPoint>) {
+fn push_split(chunks: &mut Vec<Chunk>, points: Vec<SupportPoint>) {
     if points.len() <= 2 * CHUNK_POINTS {
-        chunks.push(Arc::new(points));
+        chunks.push(Chunk::from(points));
         return;
     }
     let pieces = points.len().div_ceil(CHUNK_POINTS);
     let size = points.len().div_ceil(pieces);
     for piece in points.chunks(size) {
-        chunks.push(Arc::new(piece.to_vec()));
+        chunks.push(Chunk::from(piece));
     }
 }
 
@@ -261,9 +262,9 @@ impl From<Vec<SupportPoint>> for SupportList {
 impl<'a> IntoIterator for &'a SupportList {
     type Item = &'a SupportPoint;
     type IntoIter = std::iter::FlatMap<
-        std::slice::Iter<'a, Arc<Vec<SupportPoint>>>,
+        std::slice::Iter<'a, Chunk>,
         std::slice::Iter<'a, SupportPoint>,
-        fn(&'a Arc<Vec<SupportPoint>>) -> std::slice::Iter<'a, SupportPoint>,
+        fn(&'a Chunk) -> std::slice::Iter<'a, SupportPoint>,
     >;
     fn into_iter(self) -> Self::IntoIter {
         self.chunks.iter().flat_map(|c| c.iter())
@@ -366,8 +367,7 @@ mod tests {
         // 25..32 (7 points, short) joins 32..48 (copied); 48..64 stays shared; 80..82 (2
         // points, short) joins 64..80 (copied).
         assert_eq!(sizes, [23, 16, 18]);
-        let is_shared =
-            |c: &Arc<Vec<SupportPoint>>| list.chunks().iter().any(|o| Arc::ptr_eq(o, c));
+        let is_shared = |c: &Chunk| list.chunks().iter().any(|o| Arc::ptr_eq(o, c));
         let shared: Vec<bool> = piece.chunks().iter().map(is_shared).collect();
         assert_eq!(shared, [false, true, false]);
         // A cut part of at least CHUNK_POINTS (80..97 of the last chunk) is a chunk of its own.
