@@ -376,6 +376,7 @@ fn match_step(trace: &mut StepTrace, before: &Map, k: usize) -> Map {
                     fallback_tls: false,
                     refit: None,
                     absorbed: Vec::new(),
+                    support_in_order: None,
                 });
                 Some(e)
             }
