@@ -2,11 +2,12 @@
 //!
 //! A checkpoint is a [`MapperState`]: its map shares every segment and face that did not change
 //! since the previous checkpoint, so what it alone keeps alive is its lists of segments and
-//! faces (a pointer each) and the versions of what changed. That grows with the map: a `paper`
-//! map of a long lap run holds hundreds of thousands of segments. The store counts those bytes
-//! as checkpoints are taken, and when they pass the budget it drops every other checkpoint and
-//! doubles the spacing, so the checkpoints of any run stay within the budget (give or take one
-//! checkpoint) at the price of longer catch-ups on a seek.
+//! faces (a pointer each) and the versions of what changed (of a segment's supporting points,
+//! the chunks that changed). That grows with the map: a `paper` map of a long lap run holds
+//! hundreds of thousands of segments. The store counts those bytes as checkpoints are taken,
+//! and when they pass the budget it drops every other checkpoint and doubles the spacing, so
+//! the checkpoints of any run stay within the budget (give or take one checkpoint) at the price
+//! of longer catch-ups on a seek.
 
 use crate::geometry::Pose;
 use crate::mapping::confirm::PlaneSupport;
@@ -15,6 +16,7 @@ use crate::mapping::map::{Face, MemoryPoint, Segment, SupportPoint};
 use crate::mapping::support_list::SupportList;
 use crate::mapping::MapperState;
 use crate::mapping::SegmentId;
+use rustc_hash::FxHashSet;
 use std::mem::size_of;
 use std::sync::Arc;
 
@@ -110,22 +112,6 @@ impl Checkpoints {
     }
 }
 
-/// Bytes of the chunks of `chunks` (a segment's supporting points) that its previous version
-/// (`old`) does not share.
-fn unshared_chunk_bytes(
-    old: Option<&[Arc<Vec<SupportPoint>>]>,
-    chunks: &[Arc<Vec<SupportPoint>>],
-) -> usize {
-    let mut shared: Vec<*const Vec<SupportPoint>> =
-        old.unwrap_or(&[]).iter().map(Arc::as_ptr).collect();
-    shared.sort_unstable();
-    chunks
-        .iter()
-        .filter(|c| shared.binary_search(&Arc::as_ptr(c)).is_err())
-        .map(SupportList::chunk_bytes)
-        .sum()
-}
-
 /// Bytes that `state` keeps alive beyond `previous`: its lists of segments, faces and
 /// remembered points, and each segment or face (with its heap) not shared with `previous`.
 fn kept_alive_bytes(previous: Option<&MapperState>, state: &MapperState) -> usize {
@@ -144,33 +130,44 @@ fn kept_alive_bytes(previous: Option<&MapperState>, state: &MapperState) -> usiz
         Some(p) => (&p.map.segments, &p.map.faces),
         None => (&empty, &Vec::new()),
     };
+    // The supporting-point chunks `previous` holds in the segments this state changed or
+    // dropped: a new version of a segment, or a piece of its refit, may share them. A chunk is
+    // counted once, the first time a segment here holds it.
+    let mut known: FxHashSet<*const SupportPoint> = replaced(old_segments, &map.segments, |s| s.id)
+        .flat_map(|s| s.points.chunks().iter().map(|c| c.as_ptr()))
+        .collect();
     let segments = unshared(
         old_segments,
         &map.segments,
         |s| s.id,
-        |old, s| {
+        |s| {
+            let new_chunks = s
+                .points
+                .chunks()
+                .iter()
+                .filter(|c| known.insert(c.as_ptr()));
             size_of::<Segment>()
-                + s.updated.capacity() * size_of::<usize>()
+                + s.updated.capacity() * size_of::<u32>()
                 + s.points.chunk_list_bytes()
-                + unshared_chunk_bytes(old.map(|o| o.points.chunks()), s.points.chunks())
+                + new_chunks.map(SupportList::chunk_bytes).sum::<usize>()
         },
     );
     let faces = unshared(
         old_faces,
         &map.faces,
         |f| f.id,
-        |_, f| size_of::<Face>() + f.segments.capacity() * size_of::<u32>(),
+        |f| size_of::<Face>() + f.segments.capacity() * size_of::<u32>(),
     );
     lists + segments + faces
 }
 
 /// The sum of `size` over the items of `new` (both lists ordered by id) that are not the very
-/// item `old` holds under their id; `size` also gets the old item of that id, if any.
+/// item `old` holds under their id, in order.
 fn unshared<T>(
     old: &[Arc<T>],
     new: &[Arc<T>],
     id: impl Fn(&T) -> u32,
-    size: impl Fn(Option<&T>, &T) -> usize,
+    mut size: impl FnMut(&T) -> usize,
 ) -> usize {
     let mut j = 0;
     let mut total = 0;
@@ -179,13 +176,28 @@ fn unshared<T>(
         while j < old.len() && id(&old[j]) < key {
             j += 1;
         }
-        let same_id = old.get(j).filter(|o| id(o) == key);
-        match same_id {
-            Some(o) if Arc::ptr_eq(o, item) => {}
-            o => total += size(o.map(|o| &**o), item),
+        if !old.get(j).is_some_and(|o| Arc::ptr_eq(o, item)) {
+            total += size(item);
         }
     }
     total
+}
+
+/// The items of `old` that `new` (both lists ordered by id) no longer holds: those whose id
+/// it lacks or holds another item under.
+fn replaced<'a, T>(
+    old: &'a [Arc<T>],
+    new: &'a [Arc<T>],
+    id: impl Fn(&T) -> u32 + 'a,
+) -> impl Iterator<Item = &'a T> + 'a {
+    let mut j = 0;
+    old.iter().filter_map(move |item| {
+        let key = id(item);
+        while j < new.len() && id(&new[j]) < key {
+            j += 1;
+        }
+        (!new.get(j).is_some_and(|n| Arc::ptr_eq(n, item))).then_some(&**item)
+    })
 }
 
 #[cfg(test)]
@@ -242,20 +254,51 @@ mod tests {
         second.segments[3] = Arc::new(moved);
         let (a, b) = (state(first), state(second));
         let one = size_of::<Segment>();
-        // A short list: one chunk pointer, and the chunk (two counts, a vector, its points).
-        let chunk_list = 8;
-        let chunk = |n: usize| 16 + size_of::<Vec<SupportPoint>>() + n * size_of::<SupportPoint>();
-        let list = |m: &Map| m.segments.len() * 8 + m.faces.len() * 8;
+        // A short list: one chunk pointer (with its length, 16 bytes), and the chunk (two
+        // counts, then its points).
+        let chunk_list = 16;
+        let chunk = |n: usize| 16 + n * size_of::<SupportPoint>();
+        // The lists of the first: 4 segment and 4 face pointers.
+        let first_lists = 4 * 8 + 4 * 8;
         assert_eq!(
             kept_alive_bytes(None, &a),
-            list(&a.map) + 4 * (one + chunk_list + chunk(10)) + kept_faces(&a.map)
+            first_lists + 4 * (one + chunk_list + chunk(10)) + kept_faces(&a.map)
         );
+        // The lists of the second: 5 segment and 4 face pointers.
+        let second_lists = 5 * 8 + 4 * 8;
         assert_eq!(
             kept_alive_bytes(Some(&a), &b),
-            list(&b.map)
+            second_lists
                 + (one + chunk_list + chunk(3))
                 + (one + chunk_list + chunk(1))
                 + (one + chunk_list)
+        );
+    }
+
+    #[test]
+    fn a_refit_piece_sharing_chunks_of_the_segment_it_came_from_counts_only_its_own() {
+        // 128 points: eight chunks of 16.
+        let first = Map::from_segments(vec![segment(0, 128)]);
+        let mut second = first.clone();
+        let whole = second.segments[0].points.clone();
+        // A refit keeps points 0..80 under id 0 (the first five chunks, shared) and makes
+        // piece 1 of points 88..128: 88..96 (8 points, short) joins the chunk 96..112 in a
+        // copy of 24 points, and 112..128 stays shared.
+        let mut head = (*second.segments[0]).clone();
+        head.points = whole.slice(0..80);
+        second.segments[0] = Arc::new(head);
+        let mut tail = segment(1, 0);
+        tail.points = whole.slice(88..128);
+        second.segments.push(Arc::new(tail));
+        let (a, b) = (state(first), state(second));
+        let one = size_of::<Segment>();
+        let chunk = |n: usize| 16 + n * size_of::<SupportPoint>();
+        // Lists: two segment pointers and one face pointer. A slice's list of chunk pointers
+        // has room for the chunks the range meets and one more, 16 bytes each: 6 for the head,
+        // 4 for the tail.
+        assert_eq!(
+            kept_alive_bytes(Some(&a), &b),
+            (2 * 8 + 8) + (one + 6 * 16) + (one + 4 * 16 + chunk(24))
         );
     }
 

@@ -97,7 +97,7 @@ pub fn map_to_file(map: &Map, units: Units, snapshot: usize) -> MapFile {
                 face: s.face,
                 object: s.object,
                 created: s.created,
-                updated: s.updated.clone(),
+                updated: s.updated.iter().map(|&k| k as usize).collect(),
                 points: s
                     .points
                     .iter()

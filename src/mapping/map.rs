@@ -39,8 +39,10 @@ pub struct Segment {
     pub object: ObjectId,
     /// Snapshot that created it.
     pub created: usize,
-    /// Snapshots that updated it, in order (the most recent [`MAX_UPDATES_KEPT`]).
-    pub updated: Vec<usize>,
+    /// Snapshots that updated it, in order (the most recent [`MAX_UPDATES_KEPT`]); 32 bits
+    /// each, since every version of a segment (each checkpoint holding one that changed) keeps
+    /// its own copy.
+    pub updated: Vec<u32>,
     /// Supporting readings (shared between checkpoints until changed).
     pub points: SupportList,
 }
@@ -55,6 +57,7 @@ impl Segment {
     /// Records an update by `snapshot` (once per snapshot; the oldest record goes past
     /// [`MAX_UPDATES_KEPT`]).
     pub fn note_update(&mut self, snapshot: usize) {
+        let snapshot = u32::try_from(snapshot).expect("snapshot indices fit in 32 bits");
         if self.updated.last() == Some(&snapshot) {
             return;
         }

@@ -67,19 +67,23 @@ pub struct RecordedDecision {
     /// supporting points failed the post-update test, so that it was fitted afresh
     /// (docs/algorithm.md §5). Taken again, a pass spares the test over every point.
     pub refit: Option<bool>,
+    /// For an update: whether the segment's supporting points were in order along the updated
+    /// line ([`UpdateTrace::support_in_order`]). Taken again, spares the pass that finds it.
+    pub support_in_order: Option<bool>,
 }
 
 impl RecordedDecision {
     /// What `decision` was, with the step's `updates`.
     pub fn of(decision: &DecisionTrace, updates: &[UpdateTrace]) -> Self {
+        let update = updates
+            .iter()
+            .find(|u| u.new_segment == decision.new_segment);
         Self {
             outcome: decision.outcome,
             rule: decision.rule,
             existing: decision.existing,
-            refit: updates
-                .iter()
-                .find(|u| u.new_segment == decision.new_segment)
-                .map(|u| u.refit.is_some()),
+            refit: update.map(|u| u.refit.is_some()),
+            support_in_order: update.and_then(|u| u.support_in_order),
         }
     }
 }
@@ -1097,9 +1101,9 @@ impl Mapper {
             };
             decision.result = match decision.outcome {
                 Outcome::Match | Outcome::Extension => {
-                    let refit = recorded.as_ref().and_then(|r| r[ni].0.refit);
+                    let taken = recorded.as_ref().map(|r| &r[ni].0);
                     let update =
-                        self.update_for(&decision, &new_segments[ni], &absorbed_into, refit);
+                        self.update_for(&decision, &new_segments[ni], &absorbed_into, taken);
                     update.map(|(target, update)| {
                         if let Some(update) = update {
                             absorbed_into
@@ -1134,14 +1138,16 @@ impl Mapper {
 
     /// §5 for a MATCH or EXTENSION `decision` of `new`: the update of the segment that now
     /// carries the chosen candidate's id (following the merges of this snapshot, `absorbed_into`);
-    /// `refit`, when recorded, says whether it is fitted afresh ([`UpdateRequest::refit`]).
+    /// `recorded`, this decision as a recording took it, says whether it is fitted afresh and
+    /// whether its points were in order ([`UpdateRequest::refit`],
+    /// [`UpdateRequest::support_in_order`]).
     /// Returns that segment's id and the update's trace (none when it is gone).
     fn update_for(
         &mut self,
         decision: &DecisionTrace,
         new: &NewSegmentTrace,
         absorbed_into: &[(SegmentId, SegmentId)],
-        refit: Option<bool>,
+        recorded: Option<&RecordedDecision>,
     ) -> Option<(SegmentId, Option<UpdateTrace>)> {
         let named = decision.existing?;
         let evaluation = &decision
@@ -1166,7 +1172,8 @@ impl Mapper {
                 None
             },
             snapshot: self.next_snapshot - 1,
-            refit,
+            refit: recorded.and_then(|r| r.refit),
+            support_in_order: recorded.and_then(|r| r.support_in_order),
         };
         Some((target, apply_update(&mut self.map, &self.params, &request)))
     }

@@ -431,6 +431,12 @@ pub struct UpdateTrace {
     /// Map segments fused into the updated one afterwards (`merge_duplicates`), in order.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub absorbed: Vec<AbsorbTrace>,
+    /// Whether the segment's supporting points were found in order along the updated line
+    /// before the new ones went in (`None` when that was not asked); recorded so that a replay
+    /// catching up spares the pass over every point ([`UpdateRequest::support_in_order`]). Not
+    /// written to trace files.
+    #[serde(skip)]
+    pub support_in_order: Option<bool>,
 }
 
 /// A map segment fused into an updated segment because it matched it (`merge_duplicates`,

@@ -137,15 +137,36 @@ pub fn merge_support_list(
     b: &EndPoint,
     support_cap: usize,
 ) -> SupportList {
+    merge_support_list_as_recorded(old, new, a, b, support_cap, None).0
+}
+
+/// [`merge_support_list`], also returning whether the old list was found in order along a→b
+/// (`None` when that was not asked: one chunk, a cap, or new points out of order). With
+/// `old_in_order`, the answer a recording of this very merge gave, the pass over every old
+/// point that finds it is spared (a replay catching up takes it again).
+pub fn merge_support_list_as_recorded(
+    old: &SupportList,
+    new: &[SupportPoint],
+    a: &EndPoint,
+    b: &EndPoint,
+    support_cap: usize,
+    old_in_order: Option<bool>,
+) -> (SupportList, Option<bool>) {
     if let Some(slice) = old.as_slice() {
-        return merge_support_points(slice, new, a, b, support_cap).into();
+        return (
+            merge_support_points(slice, new, a, b, support_cap).into(),
+            None,
+        );
     }
+    let mut asked = None;
     if support_cap == 0 {
         let line = AlongLine::new(&a.point, &b.point);
         let key = |q: &SupportPoint| line.param(&q.point) + 0.0;
         let mut new_keys: Vec<f64> = new.iter().map(key).collect();
         let mut new = Cow::Borrowed(new);
-        if put_in_order(&mut new_keys, &mut new) && chunks_in_place_order(old, key) {
+        let in_order = put_in_order(&mut new_keys, &mut new)
+            && *asked.insert(old_in_order.unwrap_or_else(|| chunks_in_place_order(old, key)));
+        if in_order {
             let starts: Vec<usize> = old
                 .chunks()
                 .iter()
@@ -163,10 +184,11 @@ pub fn merge_support_list(
             };
             let pairs = new_keys.iter().copied().zip(new.iter());
             let at: Vec<usize> = insertion_indices(old.len(), old_place, pairs).collect();
-            return old.with_inserted(&new, &at);
+            return (old.with_inserted(&new, &at), asked);
         }
     }
-    merge_support_points(&old.to_vec(), new, a, b, support_cap).into()
+    let merged = merge_support_points(&old.to_vec(), new, a, b, support_cap).into();
+    (merged, asked)
 }
 
 /// True when a chunked list is in [`place_order`] by `key`: one pass, a chunk at a time (it
@@ -524,6 +546,10 @@ pub struct UpdateRequest<'a> {
     /// this very update says so: `Some(false)` spares the test over every supporting point
     /// (thousands, in `paper`). `None`: tested.
     pub refit: Option<bool>,
+    /// Whether the segment's supporting points were in order along the updated line, when a
+    /// recording of this very update says so ([`UpdateTrace::support_in_order`]): spares the
+    /// pass over every point that finds it. `None`: found.
+    pub support_in_order: Option<bool>,
 }
 
 /// Applies an update to the map (paper §3.3.2; docs/algorithm.md §5): the geometry of Figure 1
@@ -553,7 +579,14 @@ pub fn apply_update(
         None => update_match(before, nl, nr),
     };
     let [a, b] = geometry.ends;
-    let points = merge_support_list(&seg.points, request.new_points, &a, &b, params.support_cap);
+    let (points, support_in_order) = merge_support_list_as_recorded(
+        &seg.points,
+        request.new_points,
+        &a,
+        &b,
+        params.support_cap,
+        request.support_in_order,
+    );
     let worst = match request.refit {
         // Recorded as passing: the test would find nothing to refit.
         Some(false) => None,
@@ -570,11 +603,12 @@ pub fn apply_update(
         fallback_tls: geometry.fallback_tls,
         refit: None,
         absorbed: Vec::new(),
+        support_in_order,
     };
     map.segment_mut(target)?.note_update(request.snapshot);
     match worst {
         Some(w) if !w.pass => {
-            let (splits, pieces) = refit_segment(map, params, target, &points.to_vec());
+            let (splits, pieces) = refit_segment(map, params, target, &points);
             if params.merge_duplicates {
                 for &piece in &pieces {
                     let absorbed = absorb_duplicates(map, params, piece, &pieces);
@@ -636,14 +670,16 @@ fn worst_support_test(points: &SupportList, line: &[Point; 2], params: &Params) 
     Some(worst)
 }
 
-/// Fits the updated segment's `points` afresh (§3): the first piece keeps the id `target`, the
+/// Fits the updated segment's points (`support`) afresh (§3): the first piece keeps the id `target`, the
 /// others get new ids and follow it in its face. Returns the split tests and the pieces' ids.
+/// Each piece's points share the chunks of `support` that lie wholly inside it.
 fn refit_segment(
     map: &mut Map,
     params: &Params,
     target: SegmentId,
-    points: &[SupportPoint],
+    support: &SupportList,
 ) -> (Vec<SplitTrace>, Vec<SegmentId>) {
+    let points = &support.to_vec();
     let (mut splits, mut pieces) = (Vec::new(), Vec::new());
     split_recursive(points, params, &mut splits, &mut pieces);
     let Some(seg) = map.segment(target) else {
@@ -653,7 +689,7 @@ fn refit_segment(
     let mut piece_ids = Vec::with_capacity(pieces.len());
     for (k, &[first, last]) in pieces.iter().enumerate() {
         let (pa, pb) = piece_end_points(points, first, last, params.fit);
-        let piece_points = SupportList::from_vec(points[first..=last].to_vec());
+        let piece_points = support.slice(first..last + 1);
         if k == 0 {
             if let Some(s) = map.segment_mut(target) {
                 s.points = piece_points;

@@ -201,6 +201,7 @@ fn fixture() -> Fixture {
         fallback_tls: false,
         refit: None,
         absorbed: Vec::new(),
+        support_in_order: None,
     }];
     step.correlations = vec![CorrelationTrace {
         face: 1,

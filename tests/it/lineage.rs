@@ -57,7 +57,7 @@ fn every_segment_of_the_map_was_made_or_split_off_and_every_merged_one_says_wher
                     _ => None,
                 })
                 .next_back();
-            assert_eq!(updated, s.updated.last().copied(), "#{}", s.id);
+            assert_eq!(updated, s.updated.last().map(|&k| k as usize), "#{}", s.id);
         }
         // A segment that left the map was merged away, seen through or found to stand across a
         // corner (only merging, free space and corner diagonals remove segments), or was a

@@ -364,7 +364,7 @@ fn match_step(trace: &mut StepTrace, before: &Map, k: usize) -> Map {
                 };
                 seg.a = a;
                 seg.b = b;
-                seg.updated.push(k);
+                seg.updated.push(k as u32);
                 trace.updates.push(UpdateTrace {
                     segment: e,
                     new_segment: i,
@@ -376,6 +376,7 @@ fn match_step(trace: &mut StepTrace, before: &Map, k: usize) -> Map {
                     fallback_tls: false,
                     refit: None,
                     absorbed: Vec::new(),
+                    support_in_order: None,
                 });
                 Some(e)
             }
