@@ -51,10 +51,10 @@ pub struct DiagonalTrace {
 }
 
 /// Whether the fitted segment `id` of `map` is a diagonal of a corner of two fitted walls, one
-/// of them at least confirmed (both, when `id` itself is confirmed): its end-points both within `radius_m` of the junction of the
-/// walls' lines, which itself lies within `reach_m` of each wall, the walls at least
-/// [`MIN_CORNER_ANGLE_RAD`] apart and the segment at least `min_turn_rad` from each. The first
-/// such corner (walls by id) when it is.
+/// of them at least confirmed (both, when `id` itself is confirmed): its end-points both
+/// within `radius_m` of the junction of the walls' lines, which itself lies within `reach_m`
+/// of each wall, the walls at least [`MIN_CORNER_ANGLE_RAD`] apart and the segment at least
+/// `min_turn_rad` from each. The first such corner (walls by id) when it is.
 pub fn corner_diagonal(
     map: &Map,
     id: SegmentId,
@@ -82,9 +82,9 @@ pub fn corner_diagonal(
     let mid = s.mid();
     let mut walls: Vec<Wall> = Vec::new();
     map.visit_segments_along(&mid, &mid, radius_m + reach_m, |w, ws| {
-        // The junction lies on the wall's line within `radius_m` of both end-points, so the
-        // line passes that near each (a cheap test that leaves out most walls nearby).
-        // The turn first: most segments near a wall's piece run along it.
+        // The turn first: most segments near a wall's piece run along it. Then the junction
+        // lies on the wall's line within `radius_m` of both end-points, so the line passes
+        // that near each (a cheap test that leaves out most walls nearby).
         if w != id
             && ws.fitted
             && !line_angle_at_most(&along, &(ws.b.point - ws.a.point), turn)

@@ -245,6 +245,7 @@ pub fn memory_step(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mapping::map::ReadingRef;
 
     /// The groups by flood fill over every pair, as point memory first found them.
     fn flood_fill_groups(points: &[Point], gap_m: f64) -> (Vec<usize>, Vec<usize>) {
@@ -307,7 +308,6 @@ mod tests {
             (vec![0, 2, 1, 3], vec![2, 3, 4])
         );
     }
-    use crate::mapping::map::ReadingRef;
 
     fn sp(snapshot: usize, sensor: usize, x: f64, y: f64, d: f64) -> SupportPoint {
         SupportPoint {

@@ -52,18 +52,18 @@ pub struct SettledTrace {
 /// use sonarmap::mapping::settled_walls::settles;
 /// // A sensor at (1, 0) looking along +y reads 2.03 m; the wall runs from (0, 2) to (3, 2):
 /// // the foot (1, 2) is on the axis, |2 − 2.03| = 0.03 ≤ 0.0609 (3 % of 2.03), and it lies 1 m
-/// // from the nearer end (a), more than the 0.61 m margin (two memory gaps): settled.
+/// // from the nearer end (a), more than the 0.3048 m margin (one memory gap): settled.
 /// let beam = Beam { origin: Point::new(1.0, 0.0), direction: Vec2::new(0.0, 1.0), range_m: 2.03 };
 /// let half = 12.5f64.to_radians();
 /// let (predicted, inside) =
-///     settles(&beam, &Point::new(0.0, 2.0), &Point::new(3.0, 2.0), 3.0, half, false, 0.61).unwrap();
+///     settles(&beam, &Point::new(0.0, 2.0), &Point::new(3.0, 2.0), 3.0, half, false, 0.3048).unwrap();
 /// assert!((predicted - 2.0).abs() < 1e-12 && (inside - 1.0).abs() < 1e-12);
 /// // The same reading with the wall ending at x = 1.2: the foot is 0.2 m from that end, where
 /// // the wall may go on: not settled.
-/// assert!(settles(&beam, &Point::new(-2.0, 2.0), &Point::new(1.2, 2.0), 3.0, half, false, 0.61).is_none());
+/// assert!(settles(&beam, &Point::new(-2.0, 2.0), &Point::new(1.2, 2.0), 3.0, half, false, 0.3048).is_none());
 /// // Read at 2.2 m (something behind the wall's line): not explained, not settled.
 /// let far = Beam { range_m: 2.2, ..beam };
-/// assert!(settles(&far, &Point::new(0.0, 2.0), &Point::new(3.0, 2.0), 3.0, half, false, 0.61).is_none());
+/// assert!(settles(&far, &Point::new(0.0, 2.0), &Point::new(3.0, 2.0), 3.0, half, false, 0.3048).is_none());
 /// ```
 pub fn settles(
     beam: &Beam,

@@ -670,9 +670,9 @@ fn worst_support_test(points: &SupportList, line: &[Point; 2], params: &Params) 
     Some(worst)
 }
 
-/// Fits the updated segment's points (`support`) afresh (§3): the first piece keeps the id `target`, the
-/// others get new ids and follow it in its face. Returns the split tests and the pieces' ids.
-/// Each piece's points share the chunks of `support` that lie wholly inside it.
+/// Fits the updated segment's points (`support`) afresh (§3): the first piece keeps the id
+/// `target`, the others get new ids and follow it in its face. Returns the split tests and the
+/// pieces' ids. Each piece's points share the chunks of `support` that lie wholly inside it.
 fn refit_segment(
     map: &mut Map,
     params: &Params,
