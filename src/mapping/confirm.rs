@@ -134,7 +134,7 @@ fn foot_echo(
     if d <= 0.0 || (d - beam.range_m).abs() > feature_tolerance_m(accuracy_pct, beam.range_m) {
         return None;
     }
-    (v.dot(&beam.direction) / d >= half_beam_rad.cos()).then_some(PlaneEcho {
+    (v.dot(&beam.direction) / d >= HalfCone::new(half_beam_rad).cos).then_some(PlaneEcho {
         range_m: d,
         along: t,
     })

@@ -106,20 +106,40 @@ pub fn echo_behind_confirmed_wall(map: &Map, beam: &Beam, echo: &Point, accuracy
     behind
 }
 
-/// Half a beam's width as its cosine and sine, computed once for many readings.
+/// Half a beam's width as its cosine and sine (and the cosine of half of it), computed once
+/// for many readings.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HalfCone {
     /// Cosine of the half-width.
     pub cos: f64,
     /// Sine of the half-width.
     pub sin: f64,
+    /// Cosine of half the half-width (how far a cone's far arc bulges past its chord).
+    pub cos_half: f64,
 }
 
 impl HalfCone {
-    /// The half-width `half_beam_rad`, radians.
+    /// The half-width `half_beam_rad`, radians. The last one asked for is remembered (one per
+    /// thread): a step asks for its sensor's half-width thousands of times, and a sine and
+    /// cosine each time were a tenth of a lap run's instructions.
     pub fn new(half_beam_rad: f64) -> Self {
+        thread_local! {
+            static LAST: std::cell::Cell<Option<(u64, HalfCone)>> = const { std::cell::Cell::new(None) };
+        }
+        let key = half_beam_rad.to_bits();
+        if let Some((k, cone)) = LAST.get() {
+            if k == key {
+                return cone;
+            }
+        }
         let (sin, cos) = half_beam_rad.sin_cos();
-        Self { cos, sin }
+        let cone = Self {
+            cos,
+            sin,
+            cos_half: (half_beam_rad / 2.0).cos(),
+        };
+        LAST.set(Some((key, cone)));
+        cone
     }
 }
 
@@ -366,7 +386,9 @@ pub fn fit_reflector_point(
         let v = p - b.origin;
         let d = v.norm();
         let tol = feature_tolerance_m(accuracy_pct, b.range_m);
-        if d <= 0.0 || (d - b.range_m).abs() > tol || v.dot(&b.direction) / d < half_beam_rad.cos()
+        if d <= 0.0
+            || (d - b.range_m).abs() > tol
+            || v.dot(&b.direction) / d < HalfCone::new(half_beam_rad).cos
         {
             return None;
         }

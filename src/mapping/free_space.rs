@@ -13,6 +13,7 @@
 //! oblique reading came back as a new face on the next lap, and the map of a small room grew
 //! from 273 to 1,176 segments over 20,000 snapshots, each snapshot costing 3× more by the end.
 
+use super::echo_fit::HalfCone;
 use super::map::{Map, SegmentId};
 use super::point_features::{feature_tolerance_m, Beam};
 use crate::geometry::{projection_param, Point, Vec2};
@@ -102,7 +103,11 @@ pub fn refuted_segments(
 /// those distances lies within that distance of the box. With `near_m` 0 it is the whole
 /// sector up to `far_m`.
 pub fn cone_box(beam: &Beam, half_beam_rad: f64, near_m: f64, far_m: f64) -> (Point, Point, f64) {
-    let (sin_half, cos_half) = half_beam_rad.sin_cos();
+    let HalfCone {
+        cos: cos_half,
+        sin: sin_half,
+        cos_half: cos_quarter,
+    } = HalfCone::new(half_beam_rad);
     let d = beam.direction;
     let edges = [
         Vec2::new(
@@ -131,11 +136,7 @@ pub fn cone_box(beam: &Beam, half_beam_rad: f64, near_m: f64, far_m: f64) -> (Po
         .fold(Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY), |m, c| {
             Point::new(m.x.max(c.x), m.y.max(c.y))
         });
-    (
-        low,
-        high,
-        far_m * (1.0 - (half_beam_rad / 2.0).cos()) + 1e-9,
-    )
+    (low, high, far_m * (1.0 - cos_quarter) + 1e-9)
 }
 
 #[cfg(test)]

@@ -3,17 +3,15 @@
 //! touches; a query returns the segments filed under the cells the query box touches whose own
 //! bounding box meets the query box, so it never misses one.
 
+use super::cell_table::{Cell, CellTable};
 use super::ids::{FaceId, SegmentId};
 use super::support::EndPoint;
 use crate::geometry::Point;
-use rustc_hash::FxHashMap;
 
 /// Cell edge, metres.
 const CELL_M: f64 = 1.0;
 /// A segment spanning more cells than this a side is kept in a list every query returns.
 const MAX_SPAN_CELLS: i64 = 256;
-
-type Cell = (i64, i64);
 
 /// What the grid keeps of a segment: enough for a candidate search to go without reaching for
 /// the segment itself (its end-points, face and kind never change without a new filing).
@@ -71,7 +69,7 @@ fn f32_outward(v: f64, up: bool) -> f32 {
 /// Segments filed by grid cell.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SegmentGrid {
-    cells: FxHashMap<Cell, Vec<CellEntry>>,
+    cells: CellTable<CellEntry>,
     /// Filing of each segment, indexed by id (ids are dense and never reused).
     filings: Vec<Option<Filing>>,
     filed: usize,
@@ -79,9 +77,15 @@ pub struct SegmentGrid {
 }
 
 fn cell_of(v: f64) -> i64 {
-    let c = (v / CELL_M).floor();
-    if c.is_finite() {
-        c.clamp(i64::MIN as f64 / 4.0, i64::MAX as f64 / 4.0) as i64
+    const LIMIT: f64 = (i64::MAX / 4) as f64;
+    let v = v / CELL_M;
+    if v.abs() < LIMIT {
+        // `floor` without the library call (x86-64's baseline has no rounding instruction):
+        // truncation, one less below zero off the integers.
+        let t = v as i64;
+        t - i64::from((t as f64) > v)
+    } else if v.is_finite() {
+        v.clamp(-LIMIT, LIMIT) as i64
     } else {
         0
     }
@@ -139,50 +143,6 @@ fn file_segment(
     }
 }
 
-/// The entries grouped by cell, each cell's in the order given; the cells are entered in
-/// order of (x, y), so the table is laid out the same whichever way the grouping went.
-fn by_cell(mut entries: Vec<(Cell, CellEntry)>) -> FxHashMap<Cell, Vec<CellEntry>> {
-    let mut cells = FxHashMap::default();
-    let Some(&((x, y), _)) = entries.first() else {
-        return cells;
-    };
-    let (mut x0, mut y0, mut x1, mut y1) = (x, y, x, y);
-    for &((x, y), _) in &entries {
-        (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
-    }
-    // Cells span at most a quarter of the i64 range each way: no overflow in i128.
-    let (width, height) = (i128::from(x1 - x0) + 1, i128::from(y1 - y0) + 1);
-    if width * height <= 4 * entries.len() as i128 + 4096 {
-        // A compact box (a map's segments crowd a building's floor): a list per cell of the
-        // box, each sized by a count first, instead of sorting the entries.
-        let slot = |(x, y): Cell| ((x - x0) * height as i64 + (y - y0)) as usize;
-        let mut counts = vec![0usize; (width * height) as usize];
-        for &(cell, _) in &entries {
-            counts[slot(cell)] += 1;
-        }
-        let mut lists: Vec<Vec<CellEntry>> = counts.into_iter().map(Vec::with_capacity).collect();
-        for (cell, entry) in entries {
-            lists[slot(cell)].push(entry);
-        }
-        for (i, list) in lists.into_iter().enumerate() {
-            if !list.is_empty() {
-                let i = i as i64;
-                cells.insert((x0 + i / height as i64, y0 + i % height as i64), list);
-            }
-        }
-        return cells;
-    }
-    // A stable sort keeps each cell's entries in the order given.
-    entries.sort_by_key(|&(cell, _)| cell);
-    let mut rest = entries.as_slice();
-    while let Some(&(cell, _)) = rest.first() {
-        let n = rest.partition_point(|&(c, _)| c == cell);
-        cells.insert(cell, rest[..n].iter().map(|&(_, e)| e).collect());
-        rest = &rest[n..];
-    }
-    cells
-}
-
 impl SegmentGrid {
     /// A grid filing `segments` (ids distinct), built in one pass: the same grid, with each
     /// cell listing its segments in the same order, as inserting them one by one in that order
@@ -213,7 +173,7 @@ impl SegmentGrid {
             grid.filings[slot] = Some(filing);
             grid.filed += 1;
         }
-        grid.cells = by_cell(entries);
+        grid.cells = CellTable::from_entries(entries);
         grid
     }
 
@@ -221,9 +181,7 @@ impl SegmentGrid {
     pub fn insert(&mut self, id: SegmentId, segment: IndexedSegment) {
         self.remove(id);
         let cells = &mut self.cells;
-        let filing = file_segment(id, segment, |cell, entry| {
-            cells.entry(cell).or_default().push(entry);
-        });
+        let filing = file_segment(id, segment, |cell, entry| cells.push(cell, entry));
         if filing.place == Place::Oversize {
             self.oversize.push(id);
         }
@@ -245,20 +203,12 @@ impl SegmentGrid {
             Place::Cells(bx) => {
                 for cx in bx[0]..=bx[2] {
                     for cy in bx[1]..=bx[3] {
-                        if let Some(list) = self.cells.get_mut(&(cx, cy)) {
-                            // A segment is listed once a cell of its box: found, the rest of
-                            // the list moves up in one copy (a `paper` map piles thousands of
-                            // segments into the cells of a wall it keeps seeing). Sought from
-                            // the end: a segment is filed anew at the end of its lists each
-                            // time it changes, and the ones that change are the ones that
-                            // changed lately.
-                            if let Some(at) = list.iter().rposition(|e| e.id == id) {
-                                list.remove(at);
-                            }
-                            if list.is_empty() {
-                                self.cells.remove(&(cx, cy));
-                            }
-                        }
+                        // A segment is listed once a cell of its box: found, the rest of the
+                        // list moves up in one copy (a `paper` map piles thousands of segments
+                        // into the cells of a wall it keeps seeing). Sought from the end: a
+                        // segment is filed anew at the end of its lists each time it changes,
+                        // and the ones that change are the ones that changed lately.
+                        self.cells.remove_last((cx, cy), |e| e.id == id);
                     }
                 }
             }
@@ -298,12 +248,12 @@ impl SegmentGrid {
         }
         let meets = |w: &[f64; 4]| w[0] <= max.x && w[2] >= min.x && w[1] <= max.y && w[3] >= min.y;
         match cell_box(min, max) {
-            Some(q) if ((q[2] - q[0] + 1) * (q[3] - q[1] + 1)) as usize <= self.cells.len() => {
+            Some(q)
+                if ((q[2] - q[0] + 1) * (q[3] - q[1] + 1)) as usize <= self.cells.occupied() =>
+            {
                 for cx in q[0]..=q[2] {
                     for cy in q[1]..=q[3] {
-                        let Some(list) = self.cells.get(&(cx, cy)) else {
-                            continue;
-                        };
+                        let list = self.cells.get((cx, cy));
                         let (query_column, query_row) = (cx == q[0], cy == q[1]);
                         for e in list {
                             // Visited from the first cell where the boxes meet: the segment's
@@ -327,7 +277,7 @@ impl SegmentGrid {
             // entry in its first cell (the filings by id also hold every id removed since,
             // which a long run piles up).
             _ => {
-                for e in self.cells.values().flatten() {
+                for e in self.cells.iter().flat_map(|(_, list)| list) {
                     if !(e.first_column && e.first_row && meets(&e.world.map(f64::from))) {
                         continue;
                     }
@@ -370,8 +320,10 @@ impl SegmentGrid {
                         for cy in bx[1]..=bx[3] {
                             let listed = self
                                 .cells
-                                .get(&(cx, cy))
-                                .map_or(0, |list| list.iter().filter(|e| e.id == id).count());
+                                .get((cx, cy))
+                                .iter()
+                                .filter(|e| e.id == id)
+                                .count();
                             if listed != 1 {
                                 return Err(format!(
                                     "segment {id} is listed {listed} times in cell ({cx}, {cy})"
@@ -393,7 +345,7 @@ impl SegmentGrid {
                 self.filed
             ));
         }
-        let entries: usize = self.cells.values().map(Vec::len).sum();
+        let entries: usize = self.cells.iter().map(|(_, list)| list.len()).sum();
         let expected_entries: usize = self
             .filings
             .iter()

@@ -29,7 +29,7 @@ use super::trace::{
     RefutedTrace, Rule, SegmentSource, SettledTrace, SplitTrace, StepTrace, UpdateTrace, Warning,
 };
 use super::update::{apply_update, cap_support_points, grew_past, UpdateRequest};
-use crate::geometry::{Point, Pose, Vec2};
+use crate::geometry::{Point, Pose, RobotFrame, Vec2};
 use crate::run::Snapshot;
 use crate::sonar::{BeamAxis, EchoModel, SensorLayout, SensorSpec};
 use std::ops::Range;
@@ -46,6 +46,9 @@ pub struct Mapper {
     beam_axes: Vec<BeamAxis>,
     map: Map,
     last_pose: Option<Pose>,
+    /// The robot frame of the step's pose: a step's beams are turned into the world with it
+    /// (one sine and cosine a step, not one a beam).
+    step_frame: Option<(Pose, RobotFrame)>,
     next_snapshot: usize,
     brute_force: bool,
     record_trace: bool,
@@ -142,6 +145,7 @@ impl Mapper {
             beam_axes,
             map,
             last_pose: None,
+            step_frame: None,
             next_snapshot: 0,
             brute_force: false,
             record_trace: true,
@@ -594,6 +598,7 @@ impl Mapper {
             }
         }
         self.last_pose = Some(snapshot.pose);
+        self.step_frame = Some((snapshot.pose, snapshot.pose.robot_frame()));
         if self.params.plane_gate || self.params.echo_fit || self.params.baseline_confirm {
             let keep = self.params.memory_snapshots + 1;
             self.map.note_pose(index, snapshot.pose, keep);
@@ -655,7 +660,10 @@ impl Mapper {
     /// Its direction is the sensor's axis, wherever the point was placed (§8.10 moves points
     /// off their axes).
     fn beam_of(&self, pose: &Pose, q: &SupportPoint) -> Beam {
-        let frame = pose.robot_frame();
+        let frame = match self.step_frame {
+            Some((step_pose, frame)) if step_pose == *pose => frame,
+            _ => pose.robot_frame(),
+        };
         let axis = &self.beam_axes[q.reading.sensor];
         Beam {
             origin: frame.to_world(&axis.origin_in_robot),

@@ -1,5 +1,6 @@
 //! The paper's mapping algorithm (docs/algorithm.md §1–§8), one rule a file.
 
+mod cell_table;
 pub mod cluster;
 pub mod confirm;
 pub mod corner_diagonals;

@@ -15,6 +15,7 @@
 //!
 //! Both look only at the cluster's readings and at the features the grid index files near them.
 
+use super::echo_fit::HalfCone;
 use super::map::{FeatureKind, Map, PointFeature};
 use crate::geometry::{Point, Vec2};
 use crate::units::inches;
@@ -143,7 +144,7 @@ pub fn explains(at: &Point, beam: &Beam, accuracy_pct: f64, half_beam_rad: f64) 
     if (d - beam.range_m).abs() > feature_tolerance_m(accuracy_pct, beam.range_m) || d <= 0.0 {
         return false;
     }
-    v.dot(&beam.direction) / d >= half_beam_rad.cos()
+    v.dot(&beam.direction) / d >= HalfCone::new(half_beam_rad).cos
 }
 
 /// Radius within which an arc's point joins an existing feature rather than making a new one:
