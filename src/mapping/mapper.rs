@@ -22,7 +22,7 @@ use super::point_features::{
     arc_point, explaining_feature, file_arc, mean_origin, mean_range_m, ArcTrace, Beam,
 };
 use super::readings::convert_readings;
-use super::settled_walls::{settling_wall, SETTLED_END_MARGIN_GAPS};
+use super::settled_walls::{settling_wall, NearWall, SETTLED_END_MARGIN_GAPS};
 use super::support::ReadingRef;
 use super::trace::{
     CandidateTrace, ClusterTrace, DecisionTrace, ExplainedTrace, NewSegmentTrace, Outcome,
@@ -101,6 +101,8 @@ struct StepBuffers {
     /// (docs/algorithm.md §8.12).
     settled: Vec<SupportPoint>,
     clusters: Clusters,
+    /// The confirmed walls near a reading (§8.12, scratch).
+    near_walls: Vec<NearWall>,
     /// A cluster's points as fitted (untraced).
     fitted: Vec<SupportPoint>,
     /// A cluster's split tests (untraced).
@@ -723,11 +725,11 @@ impl Mapper {
         let (xi, half) = self.accuracy_and_half_beam();
         let cone_edges = self.cone_edges();
         let margin_m = SETTLED_END_MARGIN_GAPS * self.params.memory_gap_m;
-        let settled = &mut buffers.settled;
+        let (settled, near) = (&mut buffers.settled, &mut buffers.near_walls);
         buffers.kept.retain(|q| {
             let beam = self.beam_of(&snapshot.pose, q);
             let Some((segment, predicted_m, inside_m)) =
-                settling_wall(&self.map, &beam, xi, half, cone_edges, margin_m)
+                settling_wall(&self.map, &beam, xi, half, cone_edges, margin_m, near)
             else {
                 return true;
             };

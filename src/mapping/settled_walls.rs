@@ -7,16 +7,17 @@
 //! of the tolerance. Such a reading is *settled*: it is kept out of the clusters and point memory,
 //! as §8.5 keeps out the readings a corner explains, and still clears the space in front of the
 //! wall (§8.6 free space). A reading near either end of the wall, where the wall may go on, is
-//! not settled: it must be able to extend the wall.
+//! not settled: it must be able to extend the wall. A wall mapped as overlapping pieces counts
+//! as one: the margin is taken from the ends of the chain.
 //!
 //! This is data association gating, as a feature-based map does it (Leonard and Durrant-Whyte):
 //! a measurement the map predicts is consumed by the feature that predicted it.
 
-use super::confirm::plane_echo;
+use super::confirm::{plane_echo, PlaneEcho};
 use super::free_space::cone_box;
 use super::map::{Map, SegmentId};
 use super::point_features::{feature_tolerance_m, Beam};
-use crate::geometry::Point;
+use crate::geometry::{distance_to_line, Point};
 use serde::{Deserialize, Serialize};
 
 /// How far inside a wall's ends its echo point must lie for the wall to settle a reading, in
@@ -37,7 +38,8 @@ pub struct SettledTrace {
     pub segment: SegmentId,
     /// The range the wall predicts for the beam (its echo point's distance), metres.
     pub predicted_m: f64,
-    /// The echo point's distance from the nearer end of the wall, metres.
+    /// The echo point's distance from the nearer end of the wall, or of the chain of confirmed
+    /// pieces that continue it (docs/algorithm.md §8.12), metres.
     pub inside_m: f64,
 }
 
@@ -80,11 +82,64 @@ pub fn settles(
     (inside_m >= end_margin_m).then_some((echo.range_m, inside_m))
 }
 
-/// The confirmed fitted wall of `map` that settles `beam`'s reading ([`settles`]), the one whose
-/// prediction is nearest the range (the lower id on a tie), with its predicted range and the
-/// echo point's distance from its nearer end; from the segments the grid files in the box of
-/// the beam's cone within one tolerance of the range (where the echo point of a wall that
-/// explains it lies).
+/// A confirmed fitted wall near a reading, as [`settling_wall`] gathers them.
+#[derive(Clone, Copy, Debug)]
+pub struct NearWall {
+    id: SegmentId,
+    a: Point,
+    b: Point,
+    /// Its echo of the reading, when it explains it as a plane.
+    echo: Option<PlaneEcho>,
+}
+
+/// How far the wall `w` (which explains the reading, its echo point at `x` along it) and the
+/// confirmed walls that continue it reach past the echo point on either side, metres (the
+/// smaller of the two). A wall continues the chain when both its ends lie within `tolerance_m`
+/// of `w`'s line and it overlaps or touches the chain so far: walls are mapped as chains of
+/// overlapping pieces (§8.13), and a piece that leaves a gap, however small, may stand across
+/// a door or past a true end.
+fn chained_inside_m(w: &NearWall, x: f64, walls: &[NearWall], tolerance_m: f64) -> f64 {
+    let length_m = (w.b - w.a).norm();
+    let u = (w.b - w.a) / length_m;
+    // Reaches past the echo point, towards a and towards b.
+    let (mut back_m, mut ahead_m) = (x * length_m, (1.0 - x) * length_m);
+    let origin = w.a + (w.b - w.a) * x;
+    let on_line = |c: &NearWall| {
+        distance_to_line(&c.a, &w.a, &w.b) <= tolerance_m
+            && distance_to_line(&c.b, &w.a, &w.b) <= tolerance_m
+    };
+    // A chain of n pieces takes at most n passes.
+    for _ in 0..walls.len() {
+        let mut grew = false;
+        for c in walls.iter().filter(|c| c.id != w.id && on_line(c)) {
+            let (p, q) = ((c.a - origin).dot(&u), (c.b - origin).dot(&u));
+            let (low, high) = (p.min(q), p.max(q));
+            if low <= ahead_m && high > ahead_m {
+                ahead_m = high;
+                grew = true;
+            }
+            if high >= -back_m && -low > back_m {
+                back_m = -low;
+                grew = true;
+            }
+        }
+        if !grew {
+            break;
+        }
+    }
+    back_m.min(ahead_m)
+}
+
+/// The confirmed fitted wall of `map` that settles `beam`'s reading, the one whose prediction is
+/// nearest the range (the lower id on a tie), with its predicted range and how far the echo
+/// point lies inside the ends of the wall and the confirmed pieces that continue it. A wall
+/// settles the reading when it explains it as a plane echo ([`plane_echo`], the test a reading
+/// takes to confirm it, §8.7, with the cone's edges when `cone_edges`) and the echo point lies
+/// at least `end_margin_m` inside both ends of the chain of overlapping confirmed walls along
+/// its line ([`chained_inside_m`]): a wall mapped as pieces settles readings near the joints
+/// of its pieces, not at its ends. The walls are
+/// those the grid files in the box of the beam's cone within one tolerance of the range (where
+/// the echo point of a wall that explains it lies), widened by the margin; `near` is scratch.
 pub fn settling_wall(
     map: &Map,
     beam: &Beam,
@@ -92,6 +147,7 @@ pub fn settling_wall(
     half_beam_rad: f64,
     cone_edges: bool,
     end_margin_m: f64,
+    near: &mut Vec<NearWall>,
 ) -> Option<(SegmentId, f64, f64)> {
     let tolerance_m = feature_tolerance_m(accuracy_pct, beam.range_m);
     let (low, high, bulge_m) = cone_box(
@@ -100,29 +156,37 @@ pub fn settling_wall(
         (beam.range_m - tolerance_m).max(0.0),
         beam.range_m + tolerance_m,
     );
-    let mut best: Option<(SegmentId, f64, f64)> = None;
-    map.visit_segments_along(&low, &high, bulge_m, |id, s| {
+    near.clear();
+    map.visit_segments_along(&low, &high, bulge_m + end_margin_m, |id, s| {
         if !s.fitted || !map.is_confirmed(id) {
             return;
         }
-        let Some((predicted_m, inside_m)) = settles(
-            beam,
-            &s.a.point,
-            &s.b.point,
-            accuracy_pct,
-            half_beam_rad,
-            cone_edges,
-            end_margin_m,
-        ) else {
-            return;
+        let (a, b) = (s.a.point, s.b.point);
+        let echo = plane_echo(beam, &a, &b, accuracy_pct, half_beam_rad, cone_edges);
+        near.push(NearWall { id, a, b, echo });
+    });
+    let mut best: Option<(SegmentId, f64, f64)> = None;
+    for w in near.iter() {
+        let Some(echo) = w.echo else {
+            continue;
         };
+        let length_m = (w.b - w.a).norm();
+        let alone_m = (echo.along * length_m).min((1.0 - echo.along) * length_m);
+        let inside_m = if alone_m >= end_margin_m {
+            alone_m
+        } else {
+            chained_inside_m(w, echo.along, near, tolerance_m)
+        };
+        if inside_m < end_margin_m {
+            continue;
+        }
         let residual = |p: f64| (p - beam.range_m).abs();
         let better =
-            best.is_none_or(|(bid, bp, _)| (residual(predicted_m), id) < (residual(bp), bid));
+            best.is_none_or(|(bid, bp, _)| (residual(echo.range_m), w.id) < (residual(bp), bid));
         if better {
-            best = Some((id, predicted_m, inside_m));
+            best = Some((w.id, echo.range_m, inside_m));
         }
-    });
+    }
     best
 }
 
@@ -157,13 +221,66 @@ mod tests {
     fn only_a_confirmed_wall_settles_a_reading() {
         let mut map = Map::from_segments(vec![test_wall(0, (0.0, 2.0), (3.0, 2.0), 2.0)]);
         let beam = looking_up_from(1.5, 2.03);
-        assert_eq!(settling_wall(&map, &beam, 3.0, HALF, false, 0.3), None);
+        assert_eq!(
+            settling_wall(&map, &beam, 3.0, HALF, false, 0.3, &mut Vec::new()),
+            None
+        );
         confirmed(&mut map, 0);
-        let (id, predicted, inside) = settling_wall(&map, &beam, 3.0, HALF, false, 0.3).unwrap();
+        let (id, predicted, inside) =
+            settling_wall(&map, &beam, 3.0, HALF, false, 0.3, &mut Vec::new()).unwrap();
         assert_eq!(id, 0);
         assert!((predicted - 2.0).abs() < 1e-12);
         // The foot (1.5, 2) is 1.5 m from either end.
         assert!((inside - 1.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_wall_mapped_as_overlapping_pieces_settles_readings_at_its_joints_not_at_its_ends() {
+        // s0 runs from x = 0.2 to 1.1 along y = 2, s1 from 1.05 to 2.0: they overlap by 5 cm.
+        // A 2.03 m reading from (1, 0) has its foot at x = 1, 0.1 m from s0's end (less than
+        // the 0.3 m margin), but s1 carries the wall on to x = 2: the chain reaches 0.8 m back
+        // and 1.0 m ahead of the foot. Both pieces predict 2.0 m; the lower id settles it.
+        let mut map = Map::from_segments(vec![
+            test_wall(0, (0.2, 2.0), (1.1, 2.0), 2.0),
+            test_wall(1, (1.05, 2.0), (2.0, 2.0), 2.0),
+        ]);
+        confirmed(&mut map, 0);
+        confirmed(&mut map, 1);
+        let settle = |map: &Map, x: f64| {
+            settling_wall(
+                map,
+                &looking_up_from(x, 2.03),
+                3.0,
+                HALF,
+                false,
+                0.3,
+                &mut Vec::new(),
+            )
+        };
+        let (id, predicted, inside) = settle(&map, 1.0).unwrap();
+        assert_eq!(id, 0);
+        assert!((predicted - 2.0).abs() < 1e-12);
+        assert!((inside - 0.8).abs() < 1e-12, "{inside}");
+        // At x = 1.9 the foot is 0.1 m from the chain's end: it may go on, not settled.
+        assert_eq!(settle(&map, 1.9), None);
+        // With s1 starting 5 cm past s0's end (a gap, perhaps a door), the foot at x = 1 is
+        // 0.1 m from the end of s0, which s1 does not continue (nor explain: its foot lies
+        // 0.15 m before it, past the 10 % slack).
+        let mut gapped = Map::from_segments(vec![
+            test_wall(0, (0.2, 2.0), (1.1, 2.0), 2.0),
+            test_wall(1, (1.15, 2.0), (2.0, 2.0), 2.0),
+        ]);
+        confirmed(&mut gapped, 0);
+        confirmed(&mut gapped, 1);
+        assert_eq!(settle(&gapped, 1.0), None);
+        // A piece off the line (7 cm, past the 6.09 cm tolerance) does not continue it either.
+        let mut off = Map::from_segments(vec![
+            test_wall(0, (0.2, 2.0), (1.1, 2.0), 2.0),
+            test_wall(1, (1.05, 2.07), (2.0, 2.07), 2.0),
+        ]);
+        confirmed(&mut off, 0);
+        confirmed(&mut off, 1);
+        assert_eq!(settle(&off, 1.0), None);
     }
 
     #[test]
@@ -176,8 +293,16 @@ mod tests {
         ]);
         confirmed(&mut map, 0);
         confirmed(&mut map, 1);
-        let (id, predicted, _) =
-            settling_wall(&map, &looking_up_from(1.0, 2.03), 3.0, HALF, false, 0.3).unwrap();
+        let (id, predicted, _) = settling_wall(
+            &map,
+            &looking_up_from(1.0, 2.03),
+            3.0,
+            HALF,
+            false,
+            0.3,
+            &mut Vec::new(),
+        )
+        .unwrap();
         assert_eq!(id, 1);
         assert!((predicted - 2.04).abs() < 1e-12);
     }
@@ -194,8 +319,12 @@ mod tests {
             direction: dir,
             range_m: 2.10,
         };
-        assert_eq!(settling_wall(&map, &beam, 3.0, HALF, false, 0.3), None);
-        let (_, predicted, inside) = settling_wall(&map, &beam, 3.0, HALF, true, 0.3).unwrap();
+        assert_eq!(
+            settling_wall(&map, &beam, 3.0, HALF, false, 0.3, &mut Vec::new()),
+            None
+        );
+        let (_, predicted, inside) =
+            settling_wall(&map, &beam, 3.0, HALF, true, 0.3, &mut Vec::new()).unwrap();
         assert!((predicted - 2.0971).abs() < 1e-4);
         // 1.6306 m from the end at x = -1.
         assert!((inside - 1.6306).abs() < 1e-4);

@@ -59,7 +59,8 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
     for e in &t.settled {
         ui.label(format!(
             "settled: sensor {} read {}; confirmed wall s{} predicts {} (tolerance {}), its \
-             echo {} inside the nearer end: kept out of the clusters and point memory",
+             echo {} inside the nearer end (of the wall and the confirmed pieces continuing it): \
+             kept out of the clusters and point memory",
             e.sensor,
             ctx.len(e.range_m),
             e.segment,
