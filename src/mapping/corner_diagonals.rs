@@ -62,6 +62,18 @@ pub fn corner_diagonal(
     reach_m: f64,
     min_turn_rad: f64,
 ) -> Option<DiagonalTrace> {
+    corner_diagonal_among(map, &Near::Grid(map), id, radius_m, reach_m, min_turn_rad)
+}
+
+/// [`corner_diagonal`], the walls found in `near`.
+fn corner_diagonal_among(
+    map: &Map,
+    near: &Near,
+    id: SegmentId,
+    radius_m: f64,
+    reach_m: f64,
+    min_turn_rad: f64,
+) -> Option<DiagonalTrace> {
     let s = map.segment(id)?;
     let (a, b) = (s.a.point, s.b.point);
     let along = b - a;
@@ -81,7 +93,7 @@ pub fn corner_diagonal(
     // of both end-points: within `radius_m + reach_m` of each end-point, and of the mid-point.
     let mid = s.mid();
     let mut walls: Vec<Wall> = Vec::new();
-    map.visit_segments_along(&mid, &mid, radius_m + reach_m, |w, ws| {
+    near.visit(&mid, &mid, radius_m + reach_m, |w, ws| {
         // The turn first: most segments near a wall's piece run along it. Then the junction
         // lies on the wall's line within `radius_m` of both end-points, so the line passes
         // that near each (a cheap test that leaves out most walls nearby).
@@ -158,26 +170,52 @@ pub fn corner_diagonals(
     // Only fitted segments no longer than `2·radius_m` can be diagonals ([`corner_diagonal`]).
     let short =
         |ws: &IndexedSegment| ws.fitted && (ws.b.point - ws.a.point).norm() <= 2.0 * radius_m;
-    let mut candidates: Vec<SegmentId> = Vec::new();
     let mut new_corners = new_corners.to_vec();
     new_corners.sort_unstable();
     new_corners.dedup();
-    for &t in &new_corners {
-        let Some(s) = map.segment(t) else {
-            continue;
-        };
-        if short(&s.indexed()) {
-            candidates.push(t);
+    let corners: Vec<(SegmentId, IndexedSegment)> = new_corners
+        .iter()
+        .filter_map(|&t| map.segment(t).map(|s| (t, s.indexed())))
+        .collect();
+    // Every segment the tests below look at, gathered from the grid in one pass: a candidate
+    // meets the box of an end-point widened by `radius_m + reach_m` and is no longer than
+    // `2·radius_m`, so the box its own test looks in (around its mid-point) lies within
+    // `2·(radius_m + reach_m) + radius_m` of that end-point.
+    let ends = corners.iter().flat_map(|(_, s)| [s.a.point, s.b.point]);
+    let low = ends
+        .clone()
+        .fold(Point::new(f64::INFINITY, f64::INFINITY), |m, p| {
+            Point::new(m.x.min(p.x), m.y.min(p.y))
+        });
+    let high = ends.fold(Point::new(f64::NEG_INFINITY, f64::NEG_INFINITY), |m, p| {
+        Point::new(m.x.max(p.x), m.y.max(p.y))
+    });
+    let mut listed = Vec::new();
+    if low.x <= high.x && low.y <= high.y {
+        let gather_m = 2.0 * (radius_m + reach_m) + radius_m;
+        map.visit_segments_along(&low, &high, gather_m, |id, s| listed.push((id, *s)));
+    }
+    // A map that crowds the box (a `paper` map with the rule on) is searched through the grid
+    // for each test instead.
+    let near = if listed.len() <= MAX_LISTED {
+        Near::Listed(&listed)
+    } else {
+        Near::Grid(map)
+    };
+    let mut candidates: Vec<SegmentId> = Vec::new();
+    for (t, s) in &corners {
+        if short(s) {
+            candidates.push(*t);
         }
+        let (wa, wb) = (&s.a.point, &s.b.point);
         // A segment whose corner this one is a wall of: the wall's line passes within
         // `radius_m` of both its end-points (see [`corner_diagonal`]).
-        let (wa, wb) = (s.a.point, s.b.point);
         let beside = |cs: &IndexedSegment| {
-            distance_to_line(&cs.a.point, &wa, &wb) <= radius_m
-                && distance_to_line(&cs.b.point, &wa, &wb) <= radius_m
+            distance_to_line(&cs.a.point, wa, wb) <= radius_m
+                && distance_to_line(&cs.b.point, wa, wb) <= radius_m
         };
         for p in [wa, wb] {
-            map.visit_segments_along(&p, &p, radius_m + reach_m, |c, cs| {
+            near.visit(p, p, radius_m + reach_m, |c, cs| {
                 if short(cs) && beside(cs) {
                     candidates.push(c);
                 }
@@ -188,8 +226,48 @@ pub fn corner_diagonals(
     candidates.dedup();
     candidates
         .into_iter()
-        .filter_map(|c| corner_diagonal(map, c, radius_m, reach_m, min_turn_rad))
+        .filter_map(|c| corner_diagonal_among(map, &near, c, radius_m, reach_m, min_turn_rad))
         .collect()
+}
+
+/// Most segments [`corner_diagonals`] gathers to search through itself.
+const MAX_LISTED: usize = 1024;
+
+/// Where the tests find the segments near a point: the map's grid, or a list gathered from it
+/// that holds every segment the grid would give.
+enum Near<'a> {
+    Grid(&'a Map),
+    Listed(&'a [(SegmentId, IndexedSegment)]),
+}
+
+impl Near<'_> {
+    /// Calls `visit` for the segments whose bounding box meets the box of `a` and `b` widened
+    /// by `reach_m` (through the grid: and those it keeps for every query).
+    fn visit(
+        &self,
+        a: &Point,
+        b: &Point,
+        reach_m: f64,
+        mut visit: impl FnMut(SegmentId, &IndexedSegment),
+    ) {
+        match self {
+            Near::Grid(map) => map.visit_segments_along(a, b, reach_m, visit),
+            Near::Listed(list) => {
+                let (x0, y0) = (a.x.min(b.x) - reach_m, a.y.min(b.y) - reach_m);
+                let (x1, y1) = (a.x.max(b.x) + reach_m, a.y.max(b.y) + reach_m);
+                for (id, s) in list.iter() {
+                    let (p, q) = (s.a.point, s.b.point);
+                    if p.x.min(q.x) <= x1
+                        && p.x.max(q.x) >= x0
+                        && p.y.min(q.y) <= y1
+                        && p.y.max(q.y) >= y0
+                    {
+                        visit(*id, s);
+                    }
+                }
+            }
+        }
+    }
 }
 
 #[cfg(test)]
