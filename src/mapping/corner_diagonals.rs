@@ -167,6 +167,25 @@ pub fn corner_diagonals(
     reach_m: f64,
     min_turn_rad: f64,
 ) -> Vec<DiagonalTrace> {
+    corner_diagonals_listing(
+        map,
+        new_corners,
+        radius_m,
+        reach_m,
+        min_turn_rad,
+        MAX_LISTED,
+    )
+}
+
+/// [`corner_diagonals`], searching a gathered list of at most `max_listed` segments.
+fn corner_diagonals_listing(
+    map: &Map,
+    new_corners: &[SegmentId],
+    radius_m: f64,
+    reach_m: f64,
+    min_turn_rad: f64,
+    max_listed: usize,
+) -> Vec<DiagonalTrace> {
     // Only fitted segments no longer than `2·radius_m` can be diagonals ([`corner_diagonal`]).
     let short =
         |ws: &IndexedSegment| ws.fitted && (ws.b.point - ws.a.point).norm() <= 2.0 * radius_m;
@@ -197,7 +216,7 @@ pub fn corner_diagonals(
     }
     // A map that crowds the box (a `paper` map with the rule on) is searched through the grid
     // for each test instead.
-    let near = if listed.len() <= MAX_LISTED {
+    let near = if listed.len() <= max_listed {
         Near::Listed(&listed)
     } else {
         Near::Grid(map)
@@ -277,6 +296,39 @@ mod tests {
     use crate::mapping::map::test_wall;
 
     const TURN: f64 = 15.0 * std::f64::consts::PI / 180.0;
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+        /// The gathered list finds what the grid finds: random walls and short pieces crowded
+        /// into a few metres (each a corner the step made, some confirmed), searched both ways.
+        #[test]
+        fn the_gathered_list_finds_the_diagonals_the_grid_finds(
+            pieces in proptest::collection::vec(
+                (0.0..8.0f64, 0.0..8.0f64, 0.0..std::f64::consts::TAU, 0.1..4.0f64, proptest::bool::ANY),
+                2..60,
+            ),
+            corners in proptest::collection::vec(0usize..60, 1..8),
+        ) {
+            let segments = pieces
+                .iter()
+                .enumerate()
+                .map(|(i, &(x, y, dir, len, _))| {
+                    test_wall(i as SegmentId, (x, y), (x + len * dir.cos(), y + len * dir.sin()), 1.0)
+                })
+                .collect();
+            let mut map = Map::from_segments(segments);
+            for (i, p) in pieces.iter().enumerate() {
+                if p.4 {
+                    confirm(&mut map, i as SegmentId);
+                }
+            }
+            let corners: Vec<SegmentId> = corners.iter().map(|&c| (c % pieces.len()) as SegmentId).collect();
+            let (r, reach) = (CORNER_DIAGONAL_RADIUS_M, CORNER_WALL_REACH_M);
+            let listed = corner_diagonals_listing(&map, &corners, r, reach, TURN, usize::MAX);
+            let through_grid = corner_diagonals_listing(&map, &corners, r, reach, TURN, 0);
+            proptest::prop_assert_eq!(listed, through_grid);
+        }
+    }
 
     fn confirm(map: &mut Map, id: SegmentId) {
         map.plane_support.insert(
