@@ -15,11 +15,13 @@ use super::extensions::{memory_step, reduce_constant_depth};
 use super::fast_path::decide;
 use super::fit::{piece_end_points, split_recursive};
 use super::free_space::refuted_segments;
+use super::ids::FeatureId;
 use super::map::{FaceId, Map, Segment, SegmentId, SegmentKind, SupportPoint};
 use super::matching::{evaluate_pair, Candidate, SegmentEnds};
 use super::params::Params;
 use super::point_features::{
-    arc_point, explaining_feature, file_arc, mean_origin, mean_range_m, ArcTrace, Beam,
+    arc_point, explaining_feature, explaining_feature_among, file_arc, mean_origin, mean_range_m,
+    ArcTrace, Beam,
 };
 use super::readings::convert_readings;
 use super::settled_walls::{settling_wall, NearWall, SETTLED_END_MARGIN_GAPS};
@@ -33,6 +35,10 @@ use crate::geometry::{Point, Pose, RobotFrame, Vec2};
 use crate::run::Snapshot;
 use crate::sonar::{BeamAxis, EchoModel, SensorLayout, SensorSpec};
 use std::ops::Range;
+
+/// Most confirmed point features §8.5's explained readings search one by one; more are
+/// searched through the map's grid.
+const MAX_FEATURES_SEARCHED_DIRECTLY: usize = 64;
 
 /// Runs the paper's algorithm snapshot by snapshot.
 #[derive(Clone, Debug)]
@@ -682,15 +688,26 @@ impl Mapper {
         trace: &mut StepTrace,
         kept: &mut Vec<SupportPoint>,
     ) {
-        // Only a confirmed feature explains a reading.
-        if !self.map.features.iter().any(|f| f.is_confirmed()) {
+        // Only a confirmed feature explains a reading. A few are searched through directly,
+        // many through the grid.
+        let confirmed: Vec<(FeatureId, Point)> = self
+            .map
+            .confirmed_features()
+            .map(|f| (f.id, f.at))
+            .collect();
+        if confirmed.is_empty() {
             return;
         }
         let (xi, half) = self.accuracy_and_half_beam();
         let mut scratch = Vec::new();
         kept.retain(|q| {
             let beam = self.beam_of(&snapshot.pose, q);
-            let Some(id) = explaining_feature(&self.map, &beam, xi, half, &mut scratch) else {
+            let id = if confirmed.len() <= MAX_FEATURES_SEARCHED_DIRECTLY {
+                explaining_feature_among(&confirmed, &beam, xi, half)
+            } else {
+                explaining_feature(&self.map, &beam, xi, half, &mut scratch)
+            };
+            let Some(id) = id else {
                 return true;
             };
             if self.record_trace {

@@ -256,19 +256,58 @@ pub fn explaining_feature(
     if map.features.is_empty() {
         return None;
     }
-    let tip = beam.origin + beam.direction * beam.range_m;
-    let reach = beam.range_m * half_beam_rad + feature_tolerance_m(accuracy_pct, beam.range_m);
+    let (tip, reach) = feature_reach(beam, accuracy_pct, half_beam_rad);
     map.features_near_into(&tip, reach, scratch);
-    scratch
+    let near = scratch
         .iter()
         .filter_map(|&id| map.feature(id))
-        .filter(|f| f.is_confirmed() && explains(&f.at, beam, accuracy_pct, half_beam_rad))
-        .min_by(|a, b| {
-            let da = ((a.at - beam.origin).norm() - beam.range_m).abs();
-            let db = ((b.at - beam.origin).norm() - beam.range_m).abs();
-            da.total_cmp(&db).then(a.id.cmp(&b.id))
+        .filter(|f| f.is_confirmed())
+        .map(|f| (f.id, f.at));
+    nearest_explaining(near, beam, accuracy_pct, half_beam_rad)
+}
+
+/// [`explaining_feature`] among `confirmed`, the map's confirmed features (id and place, in
+/// any order), each tested against the box the grid would search: the same feature, without
+/// the grid, for a map with few confirmed features.
+pub fn explaining_feature_among(
+    confirmed: &[(u32, Point)],
+    beam: &Beam,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+) -> Option<u32> {
+    let (tip, reach) = feature_reach(beam, accuracy_pct, half_beam_rad);
+    let r = Vec2::new(reach, reach);
+    let (low, high) = (tip - r, tip + r);
+    let in_box = |at: &Point| {
+        !reach.is_finite() || (low.x <= at.x && at.x <= high.x && low.y <= at.y && at.y <= high.y)
+    };
+    let near = confirmed.iter().filter(|(_, at)| in_box(at)).copied();
+    nearest_explaining(near, beam, accuracy_pct, half_beam_rad)
+}
+
+/// The point a beam's reading puts on its axis, and how far from it a feature that explains the
+/// reading can lie (the cone's half-width at the range, and the tolerance), metres.
+fn feature_reach(beam: &Beam, accuracy_pct: f64, half_beam_rad: f64) -> (Point, f64) {
+    let tip = beam.origin + beam.direction * beam.range_m;
+    let reach = beam.range_m * half_beam_rad + feature_tolerance_m(accuracy_pct, beam.range_m);
+    (tip, reach)
+}
+
+/// Of the features `near` (id and place), the one that explains `beam` nearest to its range
+/// (the lower id on a tie).
+fn nearest_explaining(
+    near: impl Iterator<Item = (u32, Point)>,
+    beam: &Beam,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+) -> Option<u32> {
+    near.filter(|(_, at)| explains(at, beam, accuracy_pct, half_beam_rad))
+        .min_by(|(ia, a), (ib, b)| {
+            let da = ((a - beam.origin).norm() - beam.range_m).abs();
+            let db = ((b - beam.origin).norm() - beam.range_m).abs();
+            da.total_cmp(&db).then(ia.cmp(ib))
         })
-        .map(|f| f.id)
+        .map(|(id, _)| id)
 }
 
 #[cfg(test)]
@@ -326,6 +365,44 @@ mod tests {
         assert!(new2 && f2 != f0);
         map.rebuild_index();
         assert!(map.check_invariants(0).is_ok());
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+        /// Searching the confirmed features one by one finds the feature the grid finds, for
+        /// beams among crowded features (some confirmed), some at the edges of their reach.
+        #[test]
+        fn the_direct_search_finds_the_feature_the_grid_finds(
+            features in proptest::collection::vec((0.0..4.0f64, 0.0..4.0f64, proptest::bool::ANY), 1..40),
+            beams in proptest::collection::vec((0.0..4.0f64, 0.0..4.0f64, 0.0..std::f64::consts::TAU, 0.2..4.0f64), 1..20),
+        ) {
+            let mut map = Map::default();
+            for &(x, y, confirmed) in &features {
+                let id = map.push_feature(FeatureKind::Corner, Point::new(x, y), 1.0, Point::origin(), 0);
+                if confirmed {
+                    map.features[id as usize].baseline_m = 1.0;
+                }
+            }
+            let listed: Vec<(u32, Point)> = map.confirmed_features().map(|f| (f.id, f.at)).collect();
+            let half = 12.5f64.to_radians();
+            let mut scratch = Vec::new();
+            for &(x, y, dir, range_m) in &beams {
+                let origin = Point::new(x, y);
+                let direction = Vec2::new(dir.cos(), dir.sin());
+                // Aimed at a feature now and then, so that some beams are explained.
+                let beam = Beam { origin, direction, range_m };
+                let aimed = features.first().map(|&(fx, fy, _)| {
+                    let v = Point::new(fx, fy) - origin;
+                    Beam { origin, direction: v.normalize(), range_m: v.norm() * (1.0 + 0.02 * dir.sin()) }
+                });
+                for beam in std::iter::once(beam).chain(aimed.filter(|b| b.range_m > 0.05)) {
+                    proptest::prop_assert_eq!(
+                        explaining_feature_among(&listed, &beam, 3.0, half),
+                        explaining_feature(&map, &beam, 3.0, half, &mut scratch)
+                    );
+                }
+            }
+        }
     }
 
     #[test]
