@@ -59,7 +59,8 @@ impl<T: PartialEq> PartialEq for CellTable<T> {
 impl<T> CellTable<T> {
     /// The entries grouped by cell, each cell's in the order given (as pushing them one by one
     /// would), in one pass: a window over the entries' cells when it fits in
-    /// [`MAX_WINDOW_CELLS`], each list sized by a count first; otherwise all in the hash map.
+    /// [`MAX_WINDOW_CELLS`], each list sized by a count first, with an eighth more room (the
+    /// first push into a full list of thousands would copy it); otherwise all in the hash map.
     pub fn from_entries(mut entries: Vec<(Cell, T)>) -> Self {
         let mut table = CellTable::default();
         let Some(&((x, y), _)) = entries.first() else {
@@ -76,7 +77,7 @@ impl<T> CellTable<T> {
                 counts[table.slot(cell).expect("inside the window")] += 1;
             }
             for (list, n) in table.dense.iter_mut().zip(counts) {
-                list.reserve_exact(n);
+                list.reserve_exact(n + n / 8);
             }
             for (cell, entry) in entries {
                 let i = table.slot(cell).expect("inside the window");

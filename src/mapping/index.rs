@@ -147,14 +147,15 @@ impl SegmentGrid {
     /// A grid filing `segments` (ids distinct), built in one pass: the same grid, with each
     /// cell listing its segments in the same order, as inserting them one by one in that order
     /// gives, for a fraction of the cost (a checkpoint's map is indexed this way on restore).
-    /// Room for the filings of ids below `ids_below` is made up front (a hint: larger ids
-    /// still fit).
+    /// Room for the filings of ids below `ids_below` is made up front, and an eighth more (a
+    /// hint: larger ids still fit; a restored checkpoint's map goes on making segments, and
+    /// growing a full list of filings copies all of them).
     pub fn from_segments(
         segments: impl IntoIterator<Item = (SegmentId, IndexedSegment)>,
         ids_below: usize,
     ) -> Self {
         let mut grid = SegmentGrid {
-            filings: Vec::with_capacity(ids_below),
+            filings: Vec::with_capacity(ids_below + ids_below / 8),
             ..SegmentGrid::default()
         };
         let segments = segments.into_iter();
