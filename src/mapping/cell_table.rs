@@ -312,6 +312,56 @@ mod tests {
         assert_eq!(t.iter().count(), cells.len() - 2);
     }
 
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(128))]
+        /// Pushes and removals over cells near and far (the window grows, far cells hash)
+        /// leave the same lists as a plain map from cell to list, and building the table
+        /// from the surviving entries in one pass gives an equal table.
+        #[test]
+        fn the_table_keeps_what_a_map_of_lists_keeps(
+            ops in proptest::collection::vec(
+                (proptest::bool::ANY, -40i64..40, -40i64..40, 0u8..4, 0u32..6),
+                1..300,
+            ),
+        ) {
+            // Cells a few apart, or scaled far off (outside any window), or at the clamp.
+            let place = |x: i64, y: i64, scale: u8| match scale {
+                0 | 1 => (x, y),
+                2 => (x * 100_000, y * 7),
+                _ => (x.signum() * (i64::MAX / 4), y),
+            };
+            let mut table: CellTable<u32> = CellTable::default();
+            let mut model: std::collections::BTreeMap<Cell, Vec<u32>> = Default::default();
+            for &(push, x, y, scale, value) in &ops {
+                let cell = place(x, y, scale);
+                if push {
+                    table.push(cell, value);
+                    model.entry(cell).or_default().push(value);
+                } else {
+                    table.remove_last(cell, |&v| v == value);
+                    if let Some(list) = model.get_mut(&cell) {
+                        if let Some(at) = list.iter().rposition(|&v| v == value) {
+                            list.remove(at);
+                        }
+                    }
+                }
+            }
+            model.retain(|_, list| !list.is_empty());
+            proptest::prop_assert_eq!(table.occupied(), model.len());
+            for &(_, x, y, scale, _) in &ops {
+                let cell = place(x, y, scale);
+                proptest::prop_assert_eq!(table.get(cell), model.get(&cell).map_or(&[][..], |l| &l[..]));
+            }
+            let mut listed: Vec<(Cell, Vec<u32>)> = table.iter().map(|(c, l)| (c, l.clone())).collect();
+            listed.sort();
+            let expected: Vec<(Cell, Vec<u32>)> = model.clone().into_iter().collect();
+            proptest::prop_assert_eq!(&listed, &expected);
+            let entries: Vec<(Cell, u32)> =
+                expected.iter().flat_map(|(c, l)| l.iter().map(move |&v| (*c, v))).collect();
+            proptest::prop_assert!(CellTable::from_entries(entries) == table);
+        }
+    }
+
     #[test]
     fn from_entries_keeps_each_cells_order_dense_or_hashed() {
         for spread in [5i64, 1 << 30] {
