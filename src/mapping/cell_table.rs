@@ -156,11 +156,9 @@ impl<T> CellTable<T> {
 
     /// Every cell with a non-empty list, with its list, in no particular order.
     pub fn iter(&self) -> impl Iterator<Item = (Cell, &Vec<T>)> {
-        let height = self.height.max(1);
-        let dense = self.dense.iter().enumerate().map(move |(i, list)| {
-            let i = i as i64;
-            ((self.x0 + i / height, self.y0 + i % height), list)
-        });
+        let (x0, y0, height) = (self.x0, self.y0, self.height);
+        let dense = (self.dense.iter().enumerate())
+            .map(move |(i, list)| (slot_cell(x0, y0, height, i), list));
         dense
             .chain(self.sparse.iter().map(|(&cell, list)| (cell, list)))
             .filter(|(_, list)| !list.is_empty())
@@ -238,15 +236,20 @@ impl<T> CellTable<T> {
 
     /// Every non-empty list with its cell, moved out.
     fn into_lists(self) -> impl Iterator<Item = (Cell, Vec<T>)> {
-        let (x0, y0, height) = (self.x0, self.y0, self.height.max(1));
-        let dense = self.dense.into_iter().enumerate().map(move |(i, list)| {
-            let i = i as i64;
-            ((x0 + i / height, y0 + i % height), list)
-        });
+        let (x0, y0, height) = (self.x0, self.y0, self.height);
+        let dense = (self.dense.into_iter().enumerate())
+            .map(move |(i, list)| (slot_cell(x0, y0, height, i), list));
         dense
             .chain(self.sparse)
             .filter(|(_, list)| !list.is_empty())
     }
+}
+
+/// The cell at index `i` of a window from column `x0`, row `y0`, `height` rows high (the
+/// inverse of [`CellTable::slot`]).
+fn slot_cell(x0: i64, y0: i64, height: i64, i: usize) -> Cell {
+    let (i, height) = (i as i64, height.max(1));
+    (x0 + i / height, y0 + i % height)
 }
 
 /// Width and height of the window over cells `x0..=x1`, `y0..=y1`, when it spans at most

@@ -77,9 +77,14 @@ pub fn settles(
     end_margin_m: f64,
 ) -> Option<(f64, f64)> {
     let echo = plane_echo(beam, a, b, accuracy_pct, half_beam_rad, cone_edges)?;
-    let length_m = (b - a).norm();
-    let inside_m = (echo.along * length_m).min((1.0 - echo.along) * length_m);
+    let inside_m = inside_ends_m(echo.along, (b - a).norm());
     (inside_m >= end_margin_m).then_some((echo.range_m, inside_m))
+}
+
+/// How far a point at `along` (0 at one end, 1 at the other) of a wall `length_m` long lies
+/// inside its nearer end, metres (negative past it).
+fn inside_ends_m(along: f64, length_m: f64) -> f64 {
+    (along * length_m).min((1.0 - along) * length_m)
 }
 
 /// A confirmed fitted wall near a reading, as [`settling_wall`] gathers them.
@@ -137,9 +142,9 @@ fn chained_inside_m(w: &NearWall, x: f64, walls: &[NearWall], tolerance_m: f64) 
 /// takes to confirm it, §8.7, with the cone's edges when `cone_edges`) and the echo point lies
 /// at least `end_margin_m` inside both ends of the chain of overlapping confirmed walls along
 /// its line ([`chained_inside_m`]): a wall mapped as pieces settles readings near the joints
-/// of its pieces, not at its ends. The walls are
-/// those the grid files in the box of the beam's cone within one tolerance of the range (where
-/// the echo point of a wall that explains it lies), widened by the margin; `near` is scratch.
+/// of its pieces, not at its ends. The walls are those the grid files in the box of the beam's
+/// cone within one tolerance of the range (where the echo point of a wall that explains it
+/// lies), widened by the margin; `near` is scratch.
 pub fn settling_wall(
     map: &Map,
     beam: &Beam,
@@ -170,8 +175,7 @@ pub fn settling_wall(
         let Some(echo) = w.echo else {
             continue;
         };
-        let length_m = (w.b - w.a).norm();
-        let alone_m = (echo.along * length_m).min((1.0 - echo.along) * length_m);
+        let alone_m = inside_ends_m(echo.along, (w.b - w.a).norm());
         let inside_m = if alone_m >= end_margin_m {
             alone_m
         } else {
