@@ -94,17 +94,7 @@ fn corner_diagonal_among(
     let mid = s.mid();
     let mut walls: Vec<Wall> = Vec::new();
     near.visit(&mid, &mid, radius_m + reach_m, |w, ws| {
-        // The turn first: most segments near a wall's piece run along it. Then the junction
-        // lies on the wall's line within `radius_m` of both end-points, so the line passes
-        // that near each (a cheap test that leaves out most walls nearby).
-        if w != id
-            && ws.fitted
-            && !line_angle_at_most(&along, &(ws.b.point - ws.a.point), turn)
-            && distance_to_line(&a, &ws.a.point, &ws.b.point) <= radius_m
-            && distance_to_line(&b, &ws.a.point, &ws.b.point) <= radius_m
-            && distance_to_segment(&a, &ws.a.point, &ws.b.point) <= radius_m + reach_m
-            && distance_to_segment(&b, &ws.a.point, &ws.b.point) <= radius_m + reach_m
-        {
+        if w != id && can_be_wall_of(&a, &b, ws, turn, radius_m, reach_m) {
             walls.push(Wall {
                 id: w,
                 a: ws.a.point,
@@ -152,6 +142,29 @@ fn corner_diagonal_among(
         }
     }
     None
+}
+
+/// Whether `wall` can be one of the two walls of a corner that the segment `a`–`b` is a
+/// diagonal of ([`corner_diagonal`]): it is fitted, turned at least `turn` from the segment,
+/// and its line passes within `radius_m` of both end-points (the junction lies on it within
+/// `radius_m` of both), the wall itself within `radius_m + reach_m` of each.
+fn can_be_wall_of(
+    a: &Point,
+    b: &Point,
+    wall: &IndexedSegment,
+    turn: AngleLimit,
+    radius_m: f64,
+    reach_m: f64,
+) -> bool {
+    let (p, q) = (&wall.a.point, &wall.b.point);
+    // The turn first: most segments near a wall's piece run along it. Then the line tests,
+    // cheaper than the distances to the wall itself.
+    wall.fitted
+        && !line_angle_at_most(&(b - a), &(q - p), turn)
+        && distance_to_line(a, p, q) <= radius_m
+        && distance_to_line(b, p, q) <= radius_m
+        && distance_to_segment(a, p, q) <= radius_m + reach_m
+        && distance_to_segment(b, p, q) <= radius_m + reach_m
 }
 
 /// The corner diagonals ([`corner_diagonal`]) among the segments that can make a corner that
@@ -221,21 +234,23 @@ fn corner_diagonals_listing(
     } else {
         Near::Grid(map)
     };
+    let turn = AngleLimit::new(min_turn_rad);
     let mut candidates: Vec<SegmentId> = Vec::new();
     for (t, s) in &corners {
         if short(s) {
             candidates.push(*t);
         }
-        let (wa, wb) = (&s.a.point, &s.b.point);
-        // A segment whose corner this one is a wall of: the wall's line passes within
-        // `radius_m` of both its end-points (see [`corner_diagonal`]).
-        let beside = |cs: &IndexedSegment| {
-            distance_to_line(&cs.a.point, wa, wb) <= radius_m
-                && distance_to_line(&cs.b.point, wa, wb) <= radius_m
-        };
-        for p in [wa, wb] {
+        // A segment whose corner this one can be a wall of: the only corners that can be new
+        // around it (its other walls did not change, and it was tested when they did). A
+        // confirmed segment is a diagonal only of two confirmed walls.
+        let confirmed = map.is_confirmed(*t);
+        for p in [&s.a.point, &s.b.point] {
             near.visit(p, p, radius_m + reach_m, |c, cs| {
-                if short(cs) && beside(cs) {
+                if c != *t
+                    && short(cs)
+                    && can_be_wall_of(&cs.a.point, &cs.b.point, s, turn, radius_m, reach_m)
+                    && (confirmed || !map.is_confirmed(c))
+                {
                     candidates.push(c);
                 }
             });
@@ -469,5 +484,24 @@ mod tests {
         assert_eq!(both.iter().map(|d| d.segment).collect::<Vec<_>>(), vec![2]);
         // Nothing changed this step: nothing is tested, nothing found.
         assert!(corner_diagonals(&map, &[], 1.0, 1.6, TURN).is_empty());
+    }
+
+    #[test]
+    fn only_the_corners_a_changed_segment_can_be_a_wall_of_are_tested() {
+        // s2 (the chord, confirmed) stands across the corner of s0 and s1, both confirmed.
+        let mut map = room_corner();
+        for id in [0, 1, 2] {
+            confirm(&mut map, id);
+        }
+        // s3 changed: it runs 45° from s2 and its line passes 0.15 and 0.55 m from s2's ends,
+        // so it could be a wall of s2's corner; but it is tentative and s2 confirmed, and a
+        // confirmed chord is a diagonal only of two confirmed walls: s2 is not tested.
+        assert!(corner_diagonals(&map, &[3], 1.0, 1.6, TURN).is_empty());
+        // s4 changed (its line 1.91 m from both of s2's ends): no corner of s2 is new.
+        assert!(corner_diagonals(&map, &[4], 1.0, 1.6, TURN).is_empty());
+        // s0 changed: s2 is tested and found, with its corner of s0 and s1.
+        let found = corner_diagonals(&map, &[0], 1.0, 1.6, TURN);
+        assert_eq!(found.len(), 1);
+        assert_eq!((found[0].segment, found[0].walls), (2, [0, 1]));
     }
 }
