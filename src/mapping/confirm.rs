@@ -251,7 +251,7 @@ pub fn note_plane_support(
     let (sensor, beam, distance_m) = beams.iter().find_map(|(sensor, beam)| {
         supports(beam, &a, &b, accuracy_pct, half_beam_rad, cone_edges).map(|d| (*sensor, *beam, d))
     })?;
-    let support = map.plane_support.entry(id).or_default();
+    let support = map.plane_support.or_default(id);
     if support.snapshots > 0 && support.last_snapshot == snapshot {
         return None;
     }
@@ -423,7 +423,7 @@ pub fn note_baseline_support(
 ) -> Option<PlaneSupportTrace> {
     let s = map.segment(id)?;
     let distance_m = distance_to_line(&later.origin, &s.a.point, &s.b.point);
-    let support = map.plane_support.entry(id).or_default();
+    let support = map.plane_support.or_default(id);
     if support.confirmed() {
         return None;
     }

@@ -1,10 +1,10 @@
 //! The map: line segments with their end-point ranges, faces and objects (paper §3.3).
 //! A `Map` is a plain value; cloning it is how the replay checkpoints.
 
-use super::confirm::PlaneSupport;
 pub use super::features::{FeatureKind, PointFeature};
 pub use super::ids::{FaceId, FeatureId, ObjectId, SegmentId};
 use super::index::{IndexedSegment, SegmentGrid};
+use super::plane_supports::PlaneSupports;
 pub use super::support::{EndPoint, ReadingRef, SupportPoint};
 use super::support_list::SupportList;
 use crate::geometry::{distance_to_segment, Point, Pose};
@@ -134,7 +134,7 @@ pub struct Map {
     pub confirms_segments: bool,
     /// Plane support of the segments that have any (docs/algorithm.md §8.7).
     #[serde(default)]
-    pub plane_support: BTreeMap<SegmentId, PlaneSupport>,
+    pub plane_support: PlaneSupports,
     /// Whether connecting segments are tracked ([`Map::link_ends`]): on when segments can
     /// leave the map (`merge_duplicates` or `free_space`, docs/algorithm.md §8.3).
     #[serde(default)]

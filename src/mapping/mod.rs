@@ -20,6 +20,7 @@ mod mapper;
 pub mod matching;
 pub mod merge;
 pub mod params;
+pub mod plane_supports;
 pub mod point_features;
 pub mod readings;
 pub mod settled_walls;
