@@ -90,60 +90,93 @@ fn within_gap(p: &Point, q: &Point, gap_m: f64) -> bool {
 /// group): every group's indices one group after another, each sorted, the groups in the order
 /// of their first index; and where each group ends. Pairs are found by a sweep along x, so a
 /// memory of `n` readings costs about `n log n`, not `n²`.
+#[cfg(test)]
 fn single_linkage_groups(points: &[Point], gap_m: f64) -> (Vec<usize>, Vec<usize>) {
-    let n = points.len();
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn root(parent: &mut [usize], mut i: usize) -> usize {
-        while parent[i] != i {
-            parent[i] = parent[parent[i]];
-            i = parent[i];
-        }
-        i
-    }
-    let mut by_x: Vec<usize> = (0..n).collect();
-    by_x.sort_unstable_by(|&i, &j| points[i].x.total_cmp(&points[j].x));
-    // `within_gap` refuses pairs further apart than this along x.
-    let slack = gap_m * (1.0 + 1e-9);
-    for (k, &i) in by_x.iter().enumerate() {
-        for &j in &by_x[k + 1..] {
-            // A NaN ends the sweep too (it links nothing).
-            let dx = points[j].x - points[i].x;
-            if dx.is_nan() || dx > slack {
-                break;
+    let mut linkage = Linkage::default();
+    linkage.group(points, gap_m);
+    (linkage.members, linkage.group_ends)
+}
+
+/// [`single_linkage_groups`]'s work, its vectors kept from one step to the next (point memory
+/// links its readings every step).
+#[derive(Clone, Debug, Default)]
+pub struct Linkage {
+    parent: Vec<usize>,
+    by_x: Vec<usize>,
+    group_of_root: Vec<usize>,
+    group_of: Vec<usize>,
+    sizes: Vec<usize>,
+    next: Vec<usize>,
+    /// Every group's indices, one group after another.
+    members: Vec<usize>,
+    /// Where each group ends in `members`.
+    group_ends: Vec<usize>,
+}
+
+impl Linkage {
+    /// Groups `points` into `members` and `group_ends` (see [`single_linkage_groups`]).
+    fn group(&mut self, points: &[Point], gap_m: f64) {
+        let n = points.len();
+        fn root(parent: &mut [usize], mut i: usize) -> usize {
+            while parent[i] != i {
+                parent[i] = parent[parent[i]];
+                i = parent[i];
             }
-            if within_gap(&points[i], &points[j], gap_m) {
-                let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
-                parent[ri.max(rj)] = ri.min(rj);
+            i
+        }
+        let parent = &mut self.parent;
+        parent.clear();
+        parent.extend(0..n);
+        let by_x = &mut self.by_x;
+        by_x.clear();
+        by_x.extend(0..n);
+        by_x.sort_unstable_by(|&i, &j| points[i].x.total_cmp(&points[j].x));
+        // `within_gap` refuses pairs further apart than this along x.
+        let slack = gap_m * (1.0 + 1e-9);
+        for (k, &i) in by_x.iter().enumerate() {
+            for &j in &by_x[k + 1..] {
+                // A NaN ends the sweep too (it links nothing).
+                let dx = points[j].x - points[i].x;
+                if dx.is_nan() || dx > slack {
+                    break;
+                }
+                if within_gap(&points[i], &points[j], gap_m) {
+                    let (ri, rj) = (root(parent, i), root(parent, j));
+                    parent[ri.max(rj)] = ri.min(rj);
+                }
             }
         }
-    }
-    // Group ids in the order of each group's first index; then the indices by group.
-    let mut group_of_root = vec![usize::MAX; n];
-    let mut group_of = vec![0; n];
-    let mut sizes: Vec<usize> = Vec::new();
-    for i in 0..n {
-        let r = root(&mut parent, i);
-        if group_of_root[r] == usize::MAX {
-            group_of_root[r] = sizes.len();
-            sizes.push(0);
+        // Group ids in the order of each group's first index; then the indices by group.
+        self.group_of_root.clear();
+        self.group_of_root.resize(n, usize::MAX);
+        self.group_of.clear();
+        self.group_of.resize(n, 0);
+        self.sizes.clear();
+        for i in 0..n {
+            let r = root(parent, i);
+            if self.group_of_root[r] == usize::MAX {
+                self.group_of_root[r] = self.sizes.len();
+                self.sizes.push(0);
+            }
+            self.group_of[i] = self.group_of_root[r];
+            self.sizes[self.group_of[i]] += 1;
         }
-        group_of[i] = group_of_root[r];
-        sizes[group_of[i]] += 1;
+        self.group_ends.clear();
+        let mut end = 0;
+        for &size in &self.sizes {
+            end += size;
+            self.group_ends.push(end);
+        }
+        self.next.clear();
+        self.next
+            .extend(self.group_ends.iter().zip(&self.sizes).map(|(e, s)| e - s));
+        self.members.clear();
+        self.members.resize(n, 0);
+        for (i, &g) in self.group_of.iter().enumerate() {
+            self.members[self.next[g]] = i;
+            self.next[g] += 1;
+        }
     }
-    let group_ends: Vec<usize> = sizes
-        .iter()
-        .scan(0, |end, &size| {
-            *end += size;
-            Some(*end)
-        })
-        .collect();
-    let mut next: Vec<usize> = group_ends.iter().zip(&sizes).map(|(e, s)| e - s).collect();
-    let mut members = vec![0; n];
-    for (i, &g) in group_of.iter().enumerate() {
-        members[next[g]] = i;
-        next[g] += 1;
-    }
-    (members, group_ends)
 }
 
 /// Point memory for one snapshot (docs/algorithm.md §8): expires readings older than
@@ -158,6 +191,7 @@ pub fn memory_step(
     snapshot: usize,
     params: &Params,
     record: bool,
+    linkage: &mut Linkage,
 ) -> (MemoryTrace, Vec<MemoryPiece>) {
     let mut trace = MemoryTrace::default();
     let horizon = params.memory_snapshots;
@@ -174,7 +208,8 @@ pub fn memory_step(
     }
     let n = memory.len();
     let points: Vec<Point> = memory.iter().map(|m| m.support.point).collect();
-    let (members, group_ends) = single_linkage_groups(&points, params.memory_gap_m);
+    linkage.group(&points, params.memory_gap_m);
+    let (members, group_ends) = (&linkage.members, &linkage.group_ends);
     let mut used = vec![false; n];
     let mut pieces_out = Vec::new();
     let groups = group_ends.iter().scan(0, |start, &end| {
@@ -354,18 +389,46 @@ mod tests {
             ..Params::paper()
         };
         let mut memory = Vec::new();
-        let (t, pieces) = memory_step(&mut memory, &[sp(0, 2, 0.0, 5.0, 50.0)], 0, &p, true);
+        let (t, pieces) = memory_step(
+            &mut memory,
+            &[sp(0, 2, 0.0, 5.0, 50.0)],
+            0,
+            &p,
+            true,
+            &mut Linkage::default(),
+        );
         assert!(pieces.is_empty() && t.held_after == 1);
-        let (_, pieces) = memory_step(&mut memory, &[sp(1, 2, 1.0, 5.0, 50.0)], 1, &p, true);
+        let (_, pieces) = memory_step(
+            &mut memory,
+            &[sp(1, 2, 1.0, 5.0, 50.0)],
+            1,
+            &p,
+            true,
+            &mut Linkage::default(),
+        );
         assert!(pieces.is_empty());
-        let (t, pieces) = memory_step(&mut memory, &[sp(2, 2, 2.0, 5.0, 50.0)], 2, &p, true);
+        let (t, pieces) = memory_step(
+            &mut memory,
+            &[sp(2, 2, 2.0, 5.0, 50.0)],
+            2,
+            &p,
+            true,
+            &mut Linkage::default(),
+        );
         assert_eq!(pieces.len(), 1);
         assert_eq!(pieces[0].points.len(), 3);
         assert_eq!(t.used.len(), 3);
         assert_eq!(t.held_after, 0);
         // A lone reading expires after memory_snapshots.
-        memory_step(&mut memory, &[sp(3, 0, 50.0, 50.0, 50.0)], 3, &p, true);
-        let (t, _) = memory_step(&mut memory, &[], 6, &p, true);
+        memory_step(
+            &mut memory,
+            &[sp(3, 0, 50.0, 50.0, 50.0)],
+            3,
+            &p,
+            true,
+            &mut Linkage::default(),
+        );
+        let (t, _) = memory_step(&mut memory, &[], 6, &p, true, &mut Linkage::default());
         assert_eq!(
             t.expired,
             vec![ReadingRef {

@@ -11,7 +11,7 @@ use super::echo_fit::{
     echo_behind_confirmed_wall, fit_echo_line, order_along_line, place_echoes,
     reflector_beating_line, EchoFitTrace, MIN_ECHO_FIT_READINGS,
 };
-use super::extensions::{memory_step, reduce_constant_depth};
+use super::extensions::{memory_step, reduce_constant_depth, Linkage};
 use super::fast_path::decide;
 use super::fit::{piece_end_points, split_recursive};
 use super::free_space::refuted_segments;
@@ -109,6 +109,8 @@ struct StepBuffers {
     clusters: Clusters,
     /// The confirmed walls near a reading (§8.12, scratch).
     near_walls: Vec<NearWall>,
+    /// Point memory's linkage (§8.1, scratch).
+    linkage: Linkage,
     /// A cluster's points as fitted (untraced).
     fitted: Vec<SupportPoint>,
     /// A cluster's split tests (untraced).
@@ -300,7 +302,12 @@ impl Mapper {
         let mut fitted = self.fit_clusters(&mut trace, &mut buffers);
         buffers.memory_readings.clear();
         if self.params.memory_snapshots > 0 {
-            self.fit_remembered_points(&mut fitted, &mut trace, &mut buffers.memory_readings);
+            self.fit_remembered_points(
+                &mut fitted,
+                &mut trace,
+                &mut buffers.memory_readings,
+                &mut buffers.linkage,
+            );
         }
         let new_faces =
             self.match_and_update(&mut fitted.segments, recorded, &mut trace, &mut buffers);
@@ -1020,6 +1027,7 @@ impl Mapper {
         fitted: &mut FittedStep,
         trace: &mut StepTrace,
         memory_readings: &mut Vec<ReadingRef>,
+        linkage: &mut Linkage,
     ) {
         let (memory_trace, pieces) = memory_step(
             &mut self.map.memory,
@@ -1027,6 +1035,7 @@ impl Mapper {
             trace.snapshot,
             &self.params,
             self.record_trace,
+            linkage,
         );
         for piece in pieces {
             memory_readings.extend(
