@@ -103,9 +103,6 @@ impl RecordedDecision {
 struct StepBuffers {
     /// The kept points.
     kept: Vec<SupportPoint>,
-    /// The points a confirmed wall settled: out of the clusters, still clearing free space
-    /// (docs/algorithm.md §8.12).
-    settled: Vec<SupportPoint>,
     clusters: Clusters,
     /// The confirmed walls near a reading (§8.12, scratch).
     near_walls: Vec<NearWall>,
@@ -530,10 +527,9 @@ impl Mapper {
     fn remove_refuted(&mut self, snapshot: &Snapshot, trace: &mut StepTrace) {
         let (xi, half) = self.accuracy_and_half_beam();
         let mut found = Vec::new();
-        // §8.12: a settled reading clears the space in front of its wall too.
+        // §8.12: a settled reading has left `kept`; the space in front of its wall was swept.
         let kept = std::mem::take(&mut self.buffers.kept);
-        let settled = std::mem::take(&mut self.buffers.settled);
-        for q in kept.iter().chain(&settled) {
+        for q in &kept {
             let beam = self.beam_of(&snapshot.pose, q);
             refuted_segments(&self.map, &beam, xi, half, &mut found);
             // Kept in the slim trace too: the lineage of a segment reads its removal there.
@@ -549,7 +545,6 @@ impl Mapper {
             }
         }
         self.buffers.kept = kept;
-        self.buffers.settled = settled;
     }
 
     /// §8.11: the segments that can make a corner that was not there before (made, grown or
@@ -648,7 +643,6 @@ impl Mapper {
         if self.params.explain_readings {
             self.drop_explained_readings(snapshot, trace, &mut buffers.kept);
         }
-        buffers.settled.clear();
         if self.params.settled_walls {
             self.set_aside_settled_readings(snapshot, trace, buffers);
         }
@@ -735,8 +729,8 @@ impl Mapper {
     }
 
     /// §8.12 settled walls: the kept points a confirmed wall explains well inside its ends (at
-    /// least [`SETTLED_END_MARGIN_GAPS`] memory gaps from either end) move from `buffers.kept`
-    /// to `buffers.settled`.
+    /// least [`SETTLED_END_MARGIN_GAPS`] memory gaps from either end) leave `buffers.kept`:
+    /// they join no cluster, no point memory and no free-space sweep.
     fn set_aside_settled_readings(
         &self,
         snapshot: &Snapshot,
@@ -749,7 +743,7 @@ impl Mapper {
         let (xi, half) = self.accuracy_and_half_beam();
         let cone_edges = self.cone_edges();
         let margin_m = SETTLED_END_MARGIN_GAPS * self.params.memory_gap_m;
-        let (settled, near) = (&mut buffers.settled, &mut buffers.near_walls);
+        let near = &mut buffers.near_walls;
         buffers.kept.retain(|q| {
             let beam = self.beam_of(&snapshot.pose, q);
             let Some((segment, predicted_m, inside_m)) =
@@ -766,7 +760,6 @@ impl Mapper {
                     inside_m,
                 });
             }
-            settled.push(*q);
             false
         });
     }
@@ -1341,4 +1334,69 @@ struct FittedStep {
 struct NewFaces {
     of_source: Vec<(SegmentSource, FaceId)>,
     made: Vec<FaceId>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mapping::confirm::{PlaneSupport, CONFIRMING_SNAPSHOTS};
+    use crate::mapping::map::test_wall;
+    use crate::sonar::SensorMount;
+
+    /// One sensor at the origin facing +y, over a map of the wall s0 along y = 2 (x from -2 to
+    /// 2, confirmed when `wall_confirmed`) and the tentative segment s1 across the beam at
+    /// y = 1 (x from -0.3 to 0.3); the sensor reads 2.0 m. Returns the step's trace and the map.
+    fn read_the_wall(wall_confirmed: bool) -> (StepTrace, Map) {
+        let layout = SensorLayout {
+            mounts: vec![SensorMount {
+                x_m: 0.0,
+                y_m: 0.0,
+                heading_rad: std::f64::consts::FRAC_PI_2,
+            }],
+        };
+        let mut mapper = Mapper::new(Params::extended(), layout, SensorSpec::default());
+        let mut map = Map::from_segments(vec![
+            test_wall(0, (-2.0, 2.0), (2.0, 2.0), 2.0),
+            test_wall(1, (-0.3, 1.0), (0.3, 1.0), 1.0),
+        ]);
+        map.confirms_segments = true;
+        if wall_confirmed {
+            map.plane_support.insert(
+                0,
+                PlaneSupport {
+                    snapshots: CONFIRMING_SNAPSHOTS,
+                    last_snapshot: 0,
+                },
+            );
+        }
+        mapper.restore(&MapperState {
+            map,
+            last_pose: None,
+            next_snapshot: 1,
+        });
+        let trace = mapper.step(&Snapshot {
+            t: 1.0,
+            pose: Pose::new(0.0, 0.0, 0.0),
+            ranges_m: vec![Some(2.0)],
+        });
+        (trace, mapper.map().clone())
+    }
+
+    #[test]
+    fn a_settled_reading_sweeps_no_free_space_and_an_unsettled_one_does() {
+        // s0 confirmed predicts 2.0 m (the foot (0, 2) on the axis, 2 m inside both ends): the
+        // reading is settled. It would see through s1 (p = 1, 1 + 2·0.06 = 1.12 < 2), but the
+        // space in front of a confirmed wall is not swept again: s1 stays.
+        let (trace, map) = read_the_wall(true);
+        assert_eq!(trace.settled.len(), 1);
+        assert_eq!(trace.settled[0].segment, 0);
+        assert!(trace.refuted.is_empty(), "{:?}", trace.refuted);
+        assert!(map.segment(1).is_some());
+        // s0 tentative: nothing settles the reading, which refutes s1 (and not s0: 2 + 0.12 > 2).
+        let (trace, map) = read_the_wall(false);
+        assert!(trace.settled.is_empty());
+        let refuted: Vec<SegmentId> = trace.refuted.iter().map(|r| r.segment).collect();
+        assert_eq!(refuted, vec![1]);
+        assert!(map.segment(1).is_none() && map.segment(0).is_some());
+    }
 }

@@ -119,7 +119,7 @@ pub struct Params {
     /// is a corner's diagonal and leaves the map (docs/algorithm.md §8.11).
     pub corner_diagonals: bool,
     /// A reading a confirmed wall explains as a plane echo, well inside its ends, is settled:
-    /// kept out of the clusters and point memory, still clearing free space (docs/algorithm.md
+    /// kept out of the clusters, point memory and the free-space sweep (docs/algorithm.md
     /// §8.12). Acts only with `confirm_segments`.
     pub settled_walls: bool,
     /// Fewest readings of a fitted piece that becomes a new segment; shorter pieces' readings

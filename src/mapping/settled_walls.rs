@@ -4,9 +4,10 @@
 //! confirmed (§8.7: readings from two snapshots supported it as a plane), a reading it explains
 //! as a plane echo, well inside its ends, adds nothing the map does not hold: the paper would
 //! cluster it, fit it, match it to that wall and fuse it (§3.3.2), moving the wall by a fraction
-//! of the tolerance. Such a reading is *settled*: it is kept out of the clusters and point memory,
-//! as §8.5 keeps out the readings a corner explains, and still clears the space in front of the
-//! wall (§8.6 free space). A reading near either end of the wall, where the wall may go on, is
+//! of the tolerance. Such a reading is *settled*: it is kept out of the clusters, point memory and
+//! the free-space sweep (§8.6), as §8.5 keeps out the readings a corner explains: the space in
+//! front of a confirmed wall was swept by the readings that confirmed it and by every reading
+//! that is not settled. A reading near either end of the wall, where the wall may go on, is
 //! not settled: it must be able to extend the wall. A wall mapped as overlapping pieces counts
 //! as one: the margin is taken from the ends of the chain.
 //!
