@@ -24,7 +24,7 @@ use super::point_features::{
     ArcTrace, Beam,
 };
 use super::readings::convert_readings;
-use super::settled_walls::{settling_wall, NearWall, SETTLED_END_MARGIN_GAPS};
+use super::settled_walls::{any_settling_wall, settling_wall, NearWall, SETTLED_END_MARGIN_GAPS};
 use super::support::ReadingRef;
 use super::trace::{
     CandidateTrace, ClusterTrace, DecisionTrace, ExplainedTrace, NewSegmentTrace, Outcome,
@@ -108,6 +108,8 @@ struct StepBuffers {
     near_walls: Vec<NearWall>,
     /// Point memory's linkage (§8.1, scratch).
     linkage: Linkage,
+    /// The wall that settled each sensor's last settled reading (§8.12), tried first.
+    settled_by: Vec<Option<SegmentId>>,
     /// A cluster's points as fitted (untraced).
     fitted: Vec<SupportPoint>,
     /// A cluster's split tests (untraced).
@@ -743,15 +745,18 @@ impl Mapper {
         let (xi, half) = self.accuracy_and_half_beam();
         let cone_edges = self.cone_edges();
         let margin_m = SETTLED_END_MARGIN_GAPS * self.params.memory_gap_m;
-        let near = &mut buffers.near_walls;
+        let (near, settled_by) = (&mut buffers.near_walls, &mut buffers.settled_by);
+        settled_by.resize(self.layout.len(), None);
         buffers.kept.retain(|q| {
             let beam = self.beam_of(&snapshot.pose, q);
-            let Some((segment, predicted_m, inside_m)) =
-                settling_wall(&self.map, &beam, xi, half, cone_edges, margin_m, near)
-            else {
-                return true;
-            };
-            if self.record_trace {
+            let hint = settled_by.get(q.reading.sensor).copied().flatten();
+            // Traced, the wall that predicts the range best, for the trace; untraced, any.
+            let segment = if self.record_trace {
+                let Some((segment, predicted_m, inside_m)) =
+                    settling_wall(&self.map, &beam, xi, half, cone_edges, margin_m, near)
+                else {
+                    return true;
+                };
                 trace.settled.push(SettledTrace {
                     sensor: q.reading.sensor,
                     range_m: q.range_m,
@@ -759,6 +764,17 @@ impl Mapper {
                     predicted_m,
                     inside_m,
                 });
+                segment
+            } else {
+                let found =
+                    any_settling_wall(&self.map, &beam, xi, half, cone_edges, margin_m, hint, near);
+                let Some(segment) = found else {
+                    return true;
+                };
+                segment
+            };
+            if let Some(slot) = settled_by.get_mut(q.reading.sensor) {
+                *slot = Some(segment);
             }
             false
         });

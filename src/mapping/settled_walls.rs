@@ -16,7 +16,7 @@
 
 use super::confirm::{plane_echo, PlaneEcho};
 use super::free_space::cone_box;
-use super::map::{Map, SegmentId};
+use super::map::{Map, SegmentId, SegmentKind};
 use super::point_features::{feature_tolerance_m, Beam};
 use crate::geometry::{distance_to_line, Point};
 use serde::{Deserialize, Serialize};
@@ -137,6 +137,37 @@ fn chained_inside_m(w: &NearWall, x: f64, walls: &[NearWall], tolerance_m: f64) 
     back_m.min(ahead_m)
 }
 
+/// The confirmed fitted walls the grid files in the box of `beam`'s cone within one tolerance of
+/// the range (where the echo point of a wall that explains it lies), widened by the margin,
+/// with their echoes, into `near`; returns the tolerance.
+fn gather_near_walls(
+    map: &Map,
+    beam: &Beam,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+    cone_edges: bool,
+    end_margin_m: f64,
+    near: &mut Vec<NearWall>,
+) -> f64 {
+    let tolerance_m = feature_tolerance_m(accuracy_pct, beam.range_m);
+    let (low, high, bulge_m) = cone_box(
+        beam,
+        half_beam_rad,
+        (beam.range_m - tolerance_m).max(0.0),
+        beam.range_m + tolerance_m,
+    );
+    near.clear();
+    map.visit_segments_along(&low, &high, bulge_m + end_margin_m, |id, s| {
+        if !s.fitted || !map.is_confirmed(id) {
+            return;
+        }
+        let (a, b) = (s.a.point, s.b.point);
+        let echo = plane_echo(beam, &a, &b, accuracy_pct, half_beam_rad, cone_edges);
+        near.push(NearWall { id, a, b, echo });
+    });
+    tolerance_m
+}
+
 /// The confirmed fitted wall of `map` that settles `beam`'s reading, the one whose prediction is
 /// nearest the range (the lower id on a tie), with its predicted range and how far the echo
 /// point lies inside the ends of the wall and the confirmed pieces that continue it. A wall
@@ -156,22 +187,15 @@ pub fn settling_wall(
     end_margin_m: f64,
     near: &mut Vec<NearWall>,
 ) -> Option<(SegmentId, f64, f64)> {
-    let tolerance_m = feature_tolerance_m(accuracy_pct, beam.range_m);
-    let (low, high, bulge_m) = cone_box(
+    let tolerance_m = gather_near_walls(
+        map,
         beam,
+        accuracy_pct,
         half_beam_rad,
-        (beam.range_m - tolerance_m).max(0.0),
-        beam.range_m + tolerance_m,
+        cone_edges,
+        end_margin_m,
+        near,
     );
-    near.clear();
-    map.visit_segments_along(&low, &high, bulge_m + end_margin_m, |id, s| {
-        if !s.fitted || !map.is_confirmed(id) {
-            return;
-        }
-        let (a, b) = (s.a.point, s.b.point);
-        let echo = plane_echo(beam, &a, &b, accuracy_pct, half_beam_rad, cone_edges);
-        near.push(NearWall { id, a, b, echo });
-    });
     let mut best: Option<(SegmentId, f64, f64)> = None;
     for w in near.iter() {
         let Some(echo) = w.echo else {
@@ -194,6 +218,52 @@ pub fn settling_wall(
         }
     }
     best
+}
+
+/// Whether some confirmed fitted wall of `map` settles `beam`'s reading ([`settling_wall`]
+/// finds one), and which: the first found, not the best. Whether a reading is settled is all a
+/// step needs of it untraced (a settled reading only leaves the step), and the wall that
+/// settled the sensor's previous reading (`hint`) is tried first, by itself: it settles most
+/// readings of a wall read again, without a query of the grid. `near` is scratch.
+#[allow(clippy::too_many_arguments)]
+pub fn any_settling_wall(
+    map: &Map,
+    beam: &Beam,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+    cone_edges: bool,
+    end_margin_m: f64,
+    hint: Option<SegmentId>,
+    near: &mut Vec<NearWall>,
+) -> Option<SegmentId> {
+    // The hint alone: its echo point at least the margin inside its own ends (a chain only
+    // reaches further). Such an echo point lies in the query's box, so the search below would
+    // find the wall too.
+    if let Some(id) = hint.filter(|&id| map.is_confirmed(id)) {
+        if let Some(s) = map.segment(id).filter(|s| s.kind == SegmentKind::Fitted) {
+            let (a, b) = (s.a.point, s.b.point);
+            let echo = plane_echo(beam, &a, &b, accuracy_pct, half_beam_rad, cone_edges);
+            if echo.is_some_and(|e| inside_ends_m(e.along, (b - a).norm()) >= end_margin_m) {
+                return Some(id);
+            }
+        }
+    }
+    let tolerance_m = gather_near_walls(
+        map,
+        beam,
+        accuracy_pct,
+        half_beam_rad,
+        cone_edges,
+        end_margin_m,
+        near,
+    );
+    near.iter().find_map(|w| {
+        let echo = w.echo?;
+        let inside_m = inside_ends_m(echo.along, (w.b - w.a).norm());
+        (inside_m >= end_margin_m
+            || chained_inside_m(w, echo.along, near, tolerance_m) >= end_margin_m)
+            .then_some(w.id)
+    })
 }
 
 #[cfg(test)]
@@ -287,6 +357,48 @@ mod tests {
         confirmed(&mut off, 0);
         confirmed(&mut off, 1);
         assert_eq!(settle(&off, 1.0), None);
+    }
+
+    #[test]
+    fn any_settling_wall_settles_what_the_best_one_settles_whatever_the_hint() {
+        // The chain of the test above (s0 0.2–1.1, s1 1.05–2.0 along y = 2, both confirmed)
+        // and a tentative s2 (2.2–3.0), read every 5 cm from x = 0.025 to 3.175 at 2.03 m (and
+        // at 2.2 m, explained by nothing), with each hint: settled exactly when the best-wall
+        // search settles, and by a wall that settles the reading.
+        let mut map = Map::from_segments(vec![
+            test_wall(0, (0.2, 2.0), (1.1, 2.0), 2.0),
+            test_wall(1, (1.05, 2.0), (2.0, 2.0), 2.0),
+            test_wall(2, (2.2, 2.0), (3.0, 2.0), 2.0),
+        ]);
+        confirmed(&mut map, 0);
+        confirmed(&mut map, 1);
+        let mut settled = 0;
+        for i in 0..64 {
+            for range_m in [2.03, 2.2] {
+                let beam = looking_up_from(0.025 + i as f64 * 0.05, range_m);
+                let best = settling_wall(&map, &beam, 3.0, HALF, false, 0.3, &mut Vec::new());
+                for hint in [None, Some(0), Some(1), Some(2), Some(9)] {
+                    let any = any_settling_wall(
+                        &map,
+                        &beam,
+                        3.0,
+                        HALF,
+                        false,
+                        0.3,
+                        hint,
+                        &mut Vec::new(),
+                    );
+                    assert_eq!(any.is_some(), best.is_some(), "reading {i}, hint {hint:?}");
+                    if let Some(id) = any {
+                        // The wall found settles the reading by itself, or as part of the chain.
+                        assert!(id == 0 || id == 1, "{id}");
+                    }
+                }
+                settled += usize::from(best.is_some());
+            }
+        }
+        // From x = 0.525 to 1.675 (more than 0.3 m inside the chain's ends): 24 of the 128.
+        assert_eq!(settled, 24);
     }
 
     #[test]
