@@ -121,7 +121,9 @@ pub struct HalfCone {
 impl HalfCone {
     /// The half-width `half_beam_rad`, radians. The last one asked for is remembered (one per
     /// thread): a step asks for its sensor's half-width thousands of times, and a sine and
-    /// cosine each time were a tenth of a lap run's instructions.
+    /// cosine each time were a tenth of a lap run's instructions. Never inlined: inlined, the
+    /// compiler computed the sine and cosine ahead of the check, in every caller's loop.
+    #[inline(never)]
     pub fn new(half_beam_rad: f64) -> Self {
         thread_local! {
             static LAST: std::cell::Cell<Option<(u64, HalfCone)>> = const { std::cell::Cell::new(None) };
