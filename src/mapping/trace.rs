@@ -564,8 +564,8 @@ pub struct StepTrace {
     /// §8.5).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub explained: Vec<ExplainedTrace>,
-    /// Readings a confirmed wall explained, kept out of the clusters and point memory
-    /// (docs/algorithm.md §8.12).
+    /// Readings a confirmed wall explained, kept out of the clusters, point memory and the
+    /// free-space sweep (docs/algorithm.md §8.12).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub settled: Vec<SettledTrace>,
     /// Clusters the arc rule filed as point features instead of fitting them

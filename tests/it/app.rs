@@ -1043,9 +1043,11 @@ fn the_inspector_explains_a_settled_reading_with_its_wall() {
     let (h, k, s) = building_extended_at_first(|trace| trace.settled.first().cloned());
     let text = format!("settled: sensor {} read ", s.sensor);
     let wall = format!("confirmed wall s{} predicts", s.segment);
+    let kept_out = "kept out of the clusters, point memory and the free-space sweep";
     assert!(
         h.query_all_by_label_contains(&text).next().is_some()
-            && h.query_all_by_label_contains(&wall).next().is_some(),
-        "snapshot {k}: no settled line with {text:?} and {wall:?}"
+            && h.query_all_by_label_contains(&wall).next().is_some()
+            && h.query_all_by_label_contains(kept_out).next().is_some(),
+        "snapshot {k}: no settled line with {text:?}, {wall:?} and {kept_out:?}"
     );
 }

@@ -60,7 +60,7 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
         ui.label(format!(
             "settled: sensor {} read {}; confirmed wall s{} predicts {} (tolerance {}), its \
              echo {} inside the nearer end (of the wall and the confirmed pieces continuing it): \
-             kept out of the clusters and point memory",
+             kept out of the clusters, point memory and the free-space sweep",
             e.sensor,
             ctx.len(e.range_m),
             e.segment,
