@@ -137,6 +137,24 @@ fn chained_inside_m(w: &NearWall, x: f64, walls: &[NearWall], tolerance_m: f64) 
     back_m.min(ahead_m)
 }
 
+/// How far the echo point at `along` lies inside the ends of wall `w`, metres, or, when that is
+/// less than `end_margin_m`, inside the ends of the chain of the walls of `walls` continuing it
+/// ([`chained_inside_m`]).
+fn inside_wall_or_chain_m(
+    w: &NearWall,
+    along: f64,
+    walls: &[NearWall],
+    tolerance_m: f64,
+    end_margin_m: f64,
+) -> f64 {
+    let alone_m = inside_ends_m(along, (w.b - w.a).norm());
+    if alone_m >= end_margin_m {
+        alone_m
+    } else {
+        chained_inside_m(w, along, walls, tolerance_m)
+    }
+}
+
 /// The confirmed fitted walls the grid files in the box of `beam`'s cone within one tolerance of
 /// the range (where the echo point of a wall that explains it lies), widened by the margin,
 /// with their echoes, into `near`; returns the tolerance.
@@ -201,12 +219,7 @@ pub fn settling_wall(
         let Some(echo) = w.echo else {
             continue;
         };
-        let alone_m = inside_ends_m(echo.along, (w.b - w.a).norm());
-        let inside_m = if alone_m >= end_margin_m {
-            alone_m
-        } else {
-            chained_inside_m(w, echo.along, near, tolerance_m)
-        };
+        let inside_m = inside_wall_or_chain_m(w, echo.along, near, tolerance_m, end_margin_m);
         if inside_m < end_margin_m {
             continue;
         }
@@ -258,10 +271,8 @@ pub fn any_settling_wall(
         near,
     );
     near.iter().find_map(|w| {
-        let echo = w.echo?;
-        let inside_m = inside_ends_m(echo.along, (w.b - w.a).norm());
-        (inside_m >= end_margin_m
-            || chained_inside_m(w, echo.along, near, tolerance_m) >= end_margin_m)
+        let along = w.echo?.along;
+        (inside_wall_or_chain_m(w, along, near, tolerance_m, end_margin_m) >= end_margin_m)
             .then_some(w.id)
     })
 }
