@@ -102,7 +102,7 @@ fn single_linkage_groups(points: &[Point], gap_m: f64) -> (Vec<usize>, Vec<usize
 #[derive(Clone, Debug, Default)]
 pub struct Linkage {
     parent: Vec<usize>,
-    by_x: Vec<usize>,
+    by_x: Vec<(f64, usize)>,
     group_of_root: Vec<usize>,
     group_of: Vec<usize>,
     sizes: Vec<usize>,
@@ -127,16 +127,18 @@ impl Linkage {
         let parent = &mut self.parent;
         parent.clear();
         parent.extend(0..n);
+        // Each index with its x, sorted by x (ties in any order: the groups do not depend on
+        // the order pairs are linked in).
         let by_x = &mut self.by_x;
         by_x.clear();
-        by_x.extend(0..n);
-        by_x.sort_unstable_by(|&i, &j| points[i].x.total_cmp(&points[j].x));
+        by_x.extend(points.iter().enumerate().map(|(i, p)| (p.x, i)));
+        by_x.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
         // `within_gap` refuses pairs further apart than this along x.
         let slack = gap_m * (1.0 + 1e-9);
-        for (k, &i) in by_x.iter().enumerate() {
-            for &j in &by_x[k + 1..] {
+        for (k, &(xi, i)) in by_x.iter().enumerate() {
+            for &(xj, j) in &by_x[k + 1..] {
                 // A NaN ends the sweep too (it links nothing).
-                let dx = points[j].x - points[i].x;
+                let dx = xj - xi;
                 if dx.is_nan() || dx > slack {
                     break;
                 }
