@@ -249,14 +249,22 @@ pub fn any_settling_wall(
     hint: Option<SegmentId>,
     near: &mut Vec<NearWall>,
 ) -> Option<SegmentId> {
-    // The hint alone: its echo point at least the margin inside its own ends (a chain only
-    // reaches further). Such an echo point lies in the query's box, so the search below would
-    // find the wall too.
+    // The hint alone ([`settles`]: its echo point at least the margin inside its own ends; a
+    // chain only reaches further). Such an echo point lies in the query's box, so the search
+    // below would find the wall too.
     if let Some(id) = hint.filter(|&id| map.is_confirmed(id)) {
         if let Some(s) = map.segment(id).filter(|s| s.kind == SegmentKind::Fitted) {
-            let (a, b) = (s.a.point, s.b.point);
-            let echo = plane_echo(beam, &a, &b, accuracy_pct, half_beam_rad, cone_edges);
-            if echo.is_some_and(|e| inside_ends_m(e.along, (b - a).norm()) >= end_margin_m) {
+            let (a, b) = (&s.a.point, &s.b.point);
+            let settled = settles(
+                beam,
+                a,
+                b,
+                accuracy_pct,
+                half_beam_rad,
+                cone_edges,
+                end_margin_m,
+            );
+            if settled.is_some() {
                 return Some(id);
             }
         }
@@ -282,7 +290,7 @@ mod tests {
     use super::*;
     use crate::geometry::Vec2;
     use crate::mapping::confirm::PlaneSupport;
-    use crate::mapping::map::test_wall;
+    use crate::mapping::map::{test_wall, Segment};
 
     const HALF: f64 = 0.218_166_156_499_291_6; // 12.5°
 
@@ -294,6 +302,15 @@ mod tests {
                 last_snapshot: 1,
             },
         );
+    }
+
+    /// A map of `walls`, those with ids in `confirmed_ids` confirmed.
+    fn map_of(walls: Vec<Segment>, confirmed_ids: &[SegmentId]) -> Map {
+        let mut map = Map::from_segments(walls);
+        for &id in confirmed_ids {
+            confirmed(&mut map, id);
+        }
+        map
     }
 
     fn looking_up_from(x: f64, range_m: f64) -> Beam {
@@ -327,12 +344,13 @@ mod tests {
         // A 2.03 m reading from (1, 0) has its foot at x = 1, 0.1 m from s0's end (less than
         // the 0.3 m margin), but s1 carries the wall on to x = 2: the chain reaches 0.8 m back
         // and 1.0 m ahead of the foot. Both pieces predict 2.0 m; the lower id settles it.
-        let mut map = Map::from_segments(vec![
-            test_wall(0, (0.2, 2.0), (1.1, 2.0), 2.0),
-            test_wall(1, (1.05, 2.0), (2.0, 2.0), 2.0),
-        ]);
-        confirmed(&mut map, 0);
-        confirmed(&mut map, 1);
+        let map = map_of(
+            vec![
+                test_wall(0, (0.2, 2.0), (1.1, 2.0), 2.0),
+                test_wall(1, (1.05, 2.0), (2.0, 2.0), 2.0),
+            ],
+            &[0, 1],
+        );
         let settle = |map: &Map, x: f64| {
             settling_wall(
                 map,
@@ -353,20 +371,22 @@ mod tests {
         // With s1 starting 5 cm past s0's end (a gap, perhaps a door), the foot at x = 1 is
         // 0.1 m from the end of s0, which s1 does not continue (nor explain: its foot lies
         // 0.15 m before it, past the 10 % slack).
-        let mut gapped = Map::from_segments(vec![
-            test_wall(0, (0.2, 2.0), (1.1, 2.0), 2.0),
-            test_wall(1, (1.15, 2.0), (2.0, 2.0), 2.0),
-        ]);
-        confirmed(&mut gapped, 0);
-        confirmed(&mut gapped, 1);
+        let gapped = map_of(
+            vec![
+                test_wall(0, (0.2, 2.0), (1.1, 2.0), 2.0),
+                test_wall(1, (1.15, 2.0), (2.0, 2.0), 2.0),
+            ],
+            &[0, 1],
+        );
         assert_eq!(settle(&gapped, 1.0), None);
         // A piece off the line (7 cm, past the 6.09 cm tolerance) does not continue it either.
-        let mut off = Map::from_segments(vec![
-            test_wall(0, (0.2, 2.0), (1.1, 2.0), 2.0),
-            test_wall(1, (1.05, 2.07), (2.0, 2.07), 2.0),
-        ]);
-        confirmed(&mut off, 0);
-        confirmed(&mut off, 1);
+        let off = map_of(
+            vec![
+                test_wall(0, (0.2, 2.0), (1.1, 2.0), 2.0),
+                test_wall(1, (1.05, 2.07), (2.0, 2.07), 2.0),
+            ],
+            &[0, 1],
+        );
         assert_eq!(settle(&off, 1.0), None);
     }
 
@@ -376,13 +396,14 @@ mod tests {
         // and a tentative s2 (2.2–3.0), read every 5 cm from x = 0.025 to 3.175 at 2.03 m (and
         // at 2.2 m, explained by nothing), with each hint: settled exactly when the best-wall
         // search settles, and by a wall that settles the reading.
-        let mut map = Map::from_segments(vec![
-            test_wall(0, (0.2, 2.0), (1.1, 2.0), 2.0),
-            test_wall(1, (1.05, 2.0), (2.0, 2.0), 2.0),
-            test_wall(2, (2.2, 2.0), (3.0, 2.0), 2.0),
-        ]);
-        confirmed(&mut map, 0);
-        confirmed(&mut map, 1);
+        let map = map_of(
+            vec![
+                test_wall(0, (0.2, 2.0), (1.1, 2.0), 2.0),
+                test_wall(1, (1.05, 2.0), (2.0, 2.0), 2.0),
+                test_wall(2, (2.2, 2.0), (3.0, 2.0), 2.0),
+            ],
+            &[0, 1],
+        );
         let mut settled = 0;
         for i in 0..64 {
             for range_m in [2.03, 2.2] {
@@ -416,12 +437,13 @@ mod tests {
     fn of_two_confirmed_walls_the_one_predicting_the_range_best_settles_it() {
         // Two confirmed walls 4 cm apart, both within the tolerance of a 2.03 m reading
         // (0.0609 m): the one at 2.04 m (residual 0.01) wins over the one at 2.00 (0.03).
-        let mut map = Map::from_segments(vec![
-            test_wall(0, (0.0, 2.0), (3.0, 2.0), 2.0),
-            test_wall(1, (0.0, 2.04), (3.0, 2.04), 2.0),
-        ]);
-        confirmed(&mut map, 0);
-        confirmed(&mut map, 1);
+        let map = map_of(
+            vec![
+                test_wall(0, (0.0, 2.0), (3.0, 2.0), 2.0),
+                test_wall(1, (0.0, 2.04), (3.0, 2.04), 2.0),
+            ],
+            &[0, 1],
+        );
         let (id, predicted, _) = settling_wall(
             &map,
             &looking_up_from(1.0, 2.03),
