@@ -104,9 +104,8 @@ fn load(bencher: divan::Bencher) {
 #[divan::bench(sample_count = 20)]
 fn seek(bencher: divan::Bencher) {
     let replay = &*REPLAY;
-    let interval = replay.checkpoint_interval();
     let targets: Vec<usize> = (1..10)
-        .map(|i| (i * SNAPSHOTS / 10) / interval * interval + interval - 1)
+        .map(|i| replay.last_before_next_checkpoint(i * SNAPSHOTS / 10))
         .collect();
     let mut k = 0;
     bencher.bench_local(|| {

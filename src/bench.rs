@@ -68,8 +68,13 @@ pub struct InspectorFigures {
     /// Largest time to show the next snapshot after one is shown (playing, the arrow key):
     /// one traced step from where the last view left the mapper, milliseconds.
     pub step_forward_ms_max: f64,
-    /// Snapshots between checkpoints.
-    pub checkpoint_interval: usize,
+    /// Checkpoints held at the end of the replay.
+    pub checkpoints: usize,
+    /// The shortest spacing between checkpoints (late in a run whose steps grow dearer),
+    /// snapshots.
+    pub checkpoint_spacing_min: usize,
+    /// The longest (early in such a run), snapshots.
+    pub checkpoint_spacing_max: usize,
     /// Heap held by the checkpoints, bytes (0 without the counting allocator).
     pub checkpoint_bytes: usize,
     /// The checkpoints' own estimate of the bytes they keep alive, and their budget.
@@ -285,10 +290,10 @@ fn bench_inspector(
         lineage_ms_max = lineage_ms_max.max(start.elapsed().as_secs_f64() * 1e3);
     }
     let checkpoint_bytes = alloc_count::counted_bytes().max(0) as usize;
-    let interval = replay.checkpoint_interval();
+    let (checkpoints, spacing_min, spacing_max) = replay.checkpoint_spacing();
     // Seek to snapshots spread over the run, each the worst place after a checkpoint.
     let targets: Vec<usize> = (0..20)
-        .map(|i| ((i * n / 20) / interval * interval + interval - 1).min(n - 1))
+        .map(|i| replay.last_before_next_checkpoint(i * n / 20))
         .collect();
     let mut seeks = Vec::new();
     let mut forward_ms_max: f64 = 0.0;
@@ -362,7 +367,9 @@ fn bench_inspector(
         seek_ms_max: seeks.iter().cloned().fold(0.0, f64::max),
         seek_ms_median: median(seeks),
         step_forward_ms_max: forward_ms_max,
-        checkpoint_interval: interval,
+        checkpoints,
+        checkpoint_spacing_min: spacing_min,
+        checkpoint_spacing_max: spacing_max,
         checkpoint_bytes,
         checkpoint_estimated_bytes: replay.checkpoint_bytes().0,
         checkpoint_budget_bytes: replay.checkpoint_bytes().1,

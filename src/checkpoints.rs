@@ -1,13 +1,20 @@
-//! The replay's checkpoints within a memory budget.
+//! The replay's checkpoints within a memory budget, placed so that catching up from any of
+//! them costs about the same.
 //!
 //! A checkpoint is a [`MapperState`]: its map shares every segment and face that did not change
 //! since the previous checkpoint, so what it alone keeps alive is its lists of segments and
 //! faces (a pointer each) and the versions of what changed (of a segment's supporting points,
 //! the chunks that changed). That grows with the map: a `paper` map of a long lap run holds
-//! hundreds of thousands of segments. The store counts those bytes as checkpoints are taken,
-//! and when they pass the budget it drops every other checkpoint and doubles the spacing, so
-//! the checkpoints of any run stay within the budget (give or take one checkpoint) at the price
-//! of longer catch-ups on a seek.
+//! hundreds of thousands of segments. The store counts those bytes as checkpoints are taken.
+//!
+//! A seek restores the checkpoint before its snapshot and steps on from there, so the slowest
+//! seek is the interval whose steps cost most. In a run whose map grows, a late step costs
+//! many times an early one (`paper` on a lap run: ten times and more). So checkpoints are taken
+//! every `min_interval` snapshots, each interval's cost is estimated as the replay runs it
+//! (from what its steps update, by a model measured on seeks), and when the checkpoints pass
+//! their budget the one whose removal makes the cheapest merged seek goes, one at a time:
+//! early intervals grow long and late ones stay short, each seek costing about the same,
+//! within the budget.
 
 use crate::geometry::Pose;
 use crate::mapping::confirm::PlaneSupport;
@@ -23,31 +30,63 @@ use std::sync::Arc;
 /// The checkpoints' memory budget unless told otherwise, bytes.
 pub const DEFAULT_CHECKPOINT_BUDGET_BYTES: usize = 512 << 20;
 
-/// Mapper states every `interval` snapshots, within a byte budget.
+/// What a seek costs, in units of the time a catch-up takes for one supporting point of a
+/// segment a step updated (its merge reads the segment's whole list). Fitted to 20 seeks on
+/// the building asset's lap repeated to 100,000 snapshots in `paper` (docs/performance.md,
+/// stop 31): a catch-up took 5.8 µs a step plus 24.5 ns a point (8.5 µs a step early in the
+/// run, 79 µs late, where lists hold thousands), and a restore about 150 ns a segment of the
+/// checkpoint's map (31 ms for the 170,000 of the last ones).
+const STEP_COST: f64 = 240.0;
+/// A restore's cost for each segment of the map restored, in the same units.
+const RESTORE_COST_PER_SEGMENT: f64 = 6.0;
+
+/// Mapper states at multiples of `min_interval` snapshots, thinned to stay within a byte
+/// budget, keeping the intervals' catch-up costs even.
 #[derive(Clone, Debug)]
 pub struct Checkpoints {
-    interval: usize,
+    min_interval: usize,
     budget_bytes: usize,
     states: Vec<MapperState>,
     /// What each state keeps alive beyond the one before it, bytes.
     bytes: Vec<usize>,
+    /// The cost of restoring each state.
+    restore_costs: Vec<f64>,
+    /// The cost of the steps from each state to the next (the last: to the latest step
+    /// noted).
+    costs: Vec<f64>,
 }
 
 impl Checkpoints {
-    /// An empty store taking a state every `interval` snapshots (at least 1) within
-    /// `budget_bytes`.
-    pub fn new(interval: usize, budget_bytes: usize) -> Self {
+    /// An empty store taking a state at most every `min_interval` snapshots (at least 1)
+    /// within `budget_bytes`.
+    pub fn new(min_interval: usize, budget_bytes: usize) -> Self {
         Self {
-            interval: interval.max(1),
+            min_interval: min_interval.max(1),
             budget_bytes,
             states: Vec::new(),
             bytes: Vec::new(),
+            restore_costs: Vec::new(),
+            costs: Vec::new(),
         }
     }
 
-    /// Snapshots between checkpoints (doubled each time the budget was reached).
-    pub fn interval(&self) -> usize {
-        self.interval
+    /// The shortest spacing: states are taken at multiples of it.
+    pub fn min_interval(&self) -> usize {
+        self.min_interval
+    }
+
+    /// The shortest and the longest spacing between two kept states, snapshots; with one
+    /// state, from it to `len` (the snapshots run so far); (0, 0) with none.
+    pub fn spacing_range(&self, len: usize) -> (usize, usize) {
+        let starts: Vec<usize> = self.states.iter().map(|s| s.next_snapshot).collect();
+        match starts.as_slice() {
+            [] => (0, 0),
+            [only] => (len - only.min(&len), len - only.min(&len)),
+            _ => starts
+                .windows(2)
+                .map(|w| w[1] - w[0])
+                .fold((usize::MAX, 0), |(lo, hi), d| (lo.min(d), hi.max(d))),
+        }
     }
 
     /// The estimated bytes the checkpoints keep alive.
@@ -70,20 +109,51 @@ impl Checkpoints {
         self.states.is_empty()
     }
 
-    /// Whether the state before snapshot `k` is to be kept.
+    /// Whether the state before snapshot `k` is to be kept: `k` is a multiple of the shortest
+    /// spacing past the last state kept (the first at 0).
     pub fn due(&self, k: usize) -> bool {
-        k.is_multiple_of(self.interval) && k / self.interval == self.states.len()
+        k.is_multiple_of(self.min_interval) && (self.states.is_empty() || k > self.last_start())
     }
 
-    /// Keeps `state` (the state before a snapshot [`Checkpoints::due`] named), then thins the
-    /// store while it is over budget and holds more than one state.
+    /// Notes the step after the latest state (or the last step noted): its segments updated
+    /// held `points_updated` supporting points once it ran. A catch-up through it will take
+    /// about [`STEP_COST`] plus that.
+    pub fn note_step(&mut self, points_updated: usize) {
+        if let Some(last) = self.costs.last_mut() {
+            *last += STEP_COST + points_updated as f64;
+        }
+    }
+
+    /// Keeps `state` (the state before a snapshot [`Checkpoints::due`] named), then, while the
+    /// store is over budget and holds more than two states, drops the state (never the first)
+    /// whose interval joined to the one before makes the cheapest seek: the restore of that
+    /// one's state and the catch-up through both intervals.
     pub fn push(&mut self, state: MapperState) {
         self.bytes
             .push(kept_alive_bytes(self.states.last(), &state));
+        self.restore_costs
+            .push(RESTORE_COST_PER_SEGMENT * state.map.segments.len() as f64);
         self.states.push(state);
-        while self.bytes() > self.budget_bytes && self.states.len() > 1 {
-            self.thin();
+        self.costs.push(0.0);
+        while self.bytes() > self.budget_bytes && self.states.len() > 2 {
+            let merged = |i: usize| self.restore_costs[i - 1] + self.costs[i - 1] + self.costs[i];
+            let cheapest = (1..self.states.len())
+                .min_by(|&i, &j| merged(i).total_cmp(&merged(j)).then(i.cmp(&j)))
+                .expect("more than two states");
+            self.drop_state(cheapest);
         }
+    }
+
+    /// The estimated cost of the slowest seek (of the last snapshot of an interval): the
+    /// restore of its state and the catch-up through it, in the units of [`STEP_COST`].
+    pub fn slowest_seek_cost(&self) -> f64 {
+        let seeks = self.restore_costs.iter().zip(&self.costs);
+        seeks.map(|(r, c)| r + c).fold(0.0, f64::max)
+    }
+
+    /// The catch-up cost of each interval, in order (the last: up to the latest step noted).
+    pub fn interval_costs(&self) -> &[f64] {
+        &self.costs
     }
 
     /// The latest state at or before snapshot `k`.
@@ -91,24 +161,40 @@ impl Checkpoints {
         self.states.get(self.index_before(k))
     }
 
-    /// Snapshot of the latest state at or before snapshot `k`.
+    /// Snapshot of the latest state at or before snapshot `k` (0 while there is none).
     pub fn snapshot_before(&self, k: usize) -> usize {
-        self.index_before(k) * self.interval
+        self.before(k).map_or(0, |s| s.next_snapshot)
+    }
+
+    /// Snapshot of the first state after snapshot `k`, when there is one.
+    pub fn snapshot_after(&self, k: usize) -> Option<usize> {
+        self.states
+            .get(self.index_before(k) + 1)
+            .map(|s| s.next_snapshot)
+    }
+
+    fn last_start(&self) -> usize {
+        self.states.last().map_or(0, |s| s.next_snapshot)
     }
 
     /// Index of the latest state at or before snapshot `k` (0 while there is none).
     fn index_before(&self, k: usize) -> usize {
-        (k / self.interval).min(self.states.len().saturating_sub(1))
+        self.states
+            .partition_point(|s| s.next_snapshot <= k)
+            .saturating_sub(1)
     }
 
-    /// Drops every other state (keeping the first) and doubles the spacing.
-    fn thin(&mut self) {
-        let states = std::mem::take(&mut self.states);
-        self.states = states.into_iter().step_by(2).collect();
-        self.interval *= 2;
-        self.bytes = (0..self.states.len())
-            .map(|i| kept_alive_bytes(i.checked_sub(1).map(|p| &self.states[p]), &self.states[i]))
-            .collect();
+    /// Drops state `i` (not the first): its interval joins the one before, and the state after
+    /// it now keeps alive what it shared with it alone.
+    fn drop_state(&mut self, i: usize) {
+        self.states.remove(i);
+        self.bytes.remove(i);
+        self.restore_costs.remove(i);
+        let cost = self.costs.remove(i);
+        self.costs[i - 1] += cost;
+        if i < self.states.len() {
+            self.bytes[i] = kept_alive_bytes(Some(&self.states[i - 1]), &self.states[i]);
+        }
     }
 }
 
@@ -310,7 +396,7 @@ mod tests {
     }
 
     #[test]
-    fn over_budget_every_other_checkpoint_goes_and_the_spacing_doubles() {
+    fn over_budget_the_cheapest_intervals_merge_and_the_costly_ones_stay_short() {
         let big = Map::from_segments((0..100).map(|id| segment(id, 50)).collect());
         let one_state = kept_alive_bytes(None, &state(big.clone()));
         // Room for the first state and a few lists, not for 16 states.
@@ -321,14 +407,60 @@ mod tests {
                 s.next_snapshot = k;
                 store.push(s);
             }
+            // A step updates 100 more points than the one before: late steps cost more.
+            store.note_step(100 * k);
         }
-        assert!(store.interval() > 4, "the spacing grew");
+        assert!(store.len() < 16, "states were dropped");
         assert!(store.bytes() <= store.budget_bytes());
-        // Each kept state sits at a multiple of the spacing, in order.
-        for k in [0, 17, 40, 63] {
+        // Each kept state sits at a multiple of the shortest spacing, in order, and is the
+        // latest at or before any snapshot of its interval.
+        let starts: Vec<usize> = store.states.iter().map(|s| s.next_snapshot).collect();
+        assert_eq!(starts[0], 0);
+        assert!(starts.windows(2).all(|w| w[0] < w[1] && w[1] % 4 == 0));
+        for k in 0..64 {
             let s = store.before(k).unwrap();
             assert_eq!(s.next_snapshot, store.snapshot_before(k));
-            assert!(s.next_snapshot <= k && k - s.next_snapshot < store.interval());
+            assert!(s.next_snapshot <= k);
+            assert!(store.snapshot_after(k).is_none_or(|next| k < next));
         }
+        // The costs noted are all kept, each in the interval it fell in.
+        let step_cost = |k: usize| STEP_COST + (100 * k) as f64;
+        let costs = store.interval_costs();
+        assert_eq!(
+            costs.iter().sum::<f64>(),
+            (0..64).map(step_cost).sum::<f64>()
+        );
+        for (i, &c) in costs.iter().enumerate() {
+            let end = starts.get(i + 1).copied().unwrap_or(64);
+            assert_eq!(
+                c,
+                (starts[i]..end).map(step_cost).sum::<f64>(),
+                "interval {i}"
+            );
+        }
+        // The early (cheap) intervals are the long ones.
+        let (first, last) = (starts[1] - starts[0], 64 - starts[starts.len() - 1]);
+        assert!(first > last, "{starts:?}");
+        // The slowest seek is the restore of a 100-segment map and the dearest interval.
+        let worst = costs.iter().copied().fold(0.0, f64::max);
+        assert_eq!(store.slowest_seek_cost(), 600.0 + worst);
+    }
+
+    #[test]
+    fn two_states_stay_whatever_the_budget() {
+        let big = Map::from_segments((0..100).map(|id| segment(id, 50)).collect());
+        let mut store = Checkpoints::new(1, 0);
+        for k in 0..10 {
+            if store.due(k) {
+                let mut s = state(big.clone());
+                s.next_snapshot = k;
+                store.push(s);
+            }
+            store.note_step(0);
+        }
+        assert_eq!(store.len(), 2);
+        assert_eq!(store.snapshot_before(0), 0);
+        assert_eq!(store.spacing_range(10), (1, 1));
+        assert_eq!(store.interval_costs(), &[STEP_COST, 9.0 * STEP_COST]);
     }
 }

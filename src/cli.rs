@@ -122,7 +122,8 @@ pub struct BenchArgs {
     /// Runs of each measurement (the median is printed).
     #[arg(long, default_value_t = 3)]
     pub repeats: usize,
-    /// Snapshots between the replay's checkpoints (default: the inspector's).
+    /// The shortest spacing of the replay's checkpoints, snapshots (default: the
+    /// inspector's); where steps are cheap they are spaced wider, within the budget.
     #[arg(long, default_value_t = sonarmap::replay::DEFAULT_CHECKPOINT_INTERVAL)]
     pub checkpoint_interval: usize,
     /// Repeat each run's snapshots, lap after lap, to this many snapshots (each lap starts

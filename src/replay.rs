@@ -2,9 +2,9 @@
 //!
 //! The state at snapshot `k` is the mapper's state after steps `0..=k`. Building a replay runs
 //! the whole log once, keeping a [`crate::mapping::MapperState`] every `interval` snapshots
-//! (spaced wider when the checkpoints would pass their memory budget, see
+//! (thinned where steps are cheap when the checkpoints would pass their memory budget, see
 //! [`crate::checkpoints`]) and a small summary of every step (for timeline marks);
-//! [`Replay::view`] then replays at most `interval + 1` steps from the nearest checkpoint, and
+//! [`Replay::view`] then replays the steps from the nearest checkpoint, and
 //! [`Replay::view_from`] steps on from the last view when that is closer.
 
 use crate::checkpoints::{Checkpoints, DEFAULT_CHECKPOINT_BUDGET_BYTES};
@@ -16,8 +16,8 @@ use crate::run::{FloorPlan, Run, Snapshot};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
-/// Snapshots between checkpoints unless told otherwise (the starting spacing: it doubles when
-/// the checkpoints would pass their memory budget). Chosen from `sonarmap bench` on a
+/// Snapshots between checkpoints unless told otherwise (the shortest spacing: where steps are
+/// cheap, checkpoints are dropped when they would pass their memory budget). Chosen from `sonarmap bench` on a
 /// generated 100,000-snapshot building run (2-core machine): every 64 snapshots the slowest
 /// seek took 12 ms (paper) / 6 ms (extended) and the checkpoints 326 / 349 MB; every 256, 21 /
 /// 43 ms and 168 / 251 MB; every 128, 24 / 18 ms and 221 / 285 MB, well inside the 50 ms a jump
@@ -260,7 +260,7 @@ impl Replay {
         mut checkpoints: Checkpoints,
         progress: &mut dyn FnMut(usize) -> bool,
     ) -> Result<Self, Cancelled> {
-        let interval = checkpoints.interval();
+        let interval = checkpoints.min_interval();
         // The summaries need only what the slim trace keeps.
         let mut mapper =
             Mapper::new(params.clone(), run.layout.clone(), run.sensor).with_trace(false);
@@ -276,6 +276,12 @@ impl Replay {
             }
             match mapper.try_step(snapshot) {
                 Ok(trace) => {
+                    // What catching up through this step will cost, for the checkpoints.
+                    let updated = trace
+                        .updates
+                        .iter()
+                        .filter_map(|u| mapper.map().segment(u.segment));
+                    checkpoints.note_step(updated.map(|s| s.points.len()).sum());
                     let mut summary = StepSummary::of(&trace, mapper.map().segments.len());
                     summary.candidates = mapper.last_step_candidates() as u32;
                     if let Some(plan) = &run.floor_plan {
@@ -385,9 +391,17 @@ impl Replay {
         self.id
     }
 
-    /// Snapshots between checkpoints.
-    pub fn checkpoint_interval(&self) -> usize {
-        self.checkpoints.interval()
+    /// The checkpoints held, and the shortest and longest spacing between them, snapshots.
+    pub fn checkpoint_spacing(&self) -> (usize, usize, usize) {
+        let (shortest, longest) = self.checkpoints.spacing_range(self.len());
+        (self.checkpoints.len(), shortest, longest)
+    }
+
+    /// The last snapshot before the checkpoint that follows snapshot `k` (the run's last when
+    /// none does): the seek from the checkpoint before `k` that catches up longest.
+    pub fn last_before_next_checkpoint(&self, k: usize) -> usize {
+        let end = self.checkpoints.snapshot_after(k).unwrap_or(self.len());
+        end.saturating_sub(1).min(self.len().saturating_sub(1))
     }
 
     /// The checkpoints' estimated bytes and their budget.
@@ -523,6 +537,37 @@ mod tests {
             sensor: SensorSpec::default(),
             floor_plan: None,
             snapshots,
+        }
+    }
+
+    #[test]
+    fn over_budget_checkpoints_thin_where_seeking_is_cheap_and_every_view_is_the_same() {
+        // Half the bytes the states every 3 snapshots keep: the store drops states as the run
+        // goes on.
+        let run = Arc::new(wall_run(60));
+        let full = Replay::build(run.clone(), Params::paper(), 3, &mut |_| true).unwrap();
+        let budget = full.checkpoint_bytes().0 / 2;
+        let checkpoints = Checkpoints::new(3, budget);
+        let thin =
+            Replay::build_within(run.clone(), Params::paper(), checkpoints, &mut |_| true).unwrap();
+        let (held, shortest, longest) = thin.checkpoint_spacing();
+        assert!(held < full.checkpoint_spacing().0, "states were dropped");
+        assert!(thin.checkpoint_bytes().0 <= budget);
+        assert!(
+            held > 2 && shortest >= 3 && longest >= shortest,
+            "{shortest}..{longest}"
+        );
+        for k in 0..run.snapshots.len() {
+            let (a, b) = (full.view(k).unwrap(), thin.view(k).unwrap());
+            assert_eq!(a.trace, b.trace, "trace {k}");
+            assert_eq!(a.map_after, b.map_after, "map {k}");
+            // The worst seek of k's interval lies in it, before the next checkpoint.
+            let last = thin.last_before_next_checkpoint(k);
+            assert!(last >= k && last < run.snapshots.len());
+            assert_eq!(
+                thin.checkpoints.snapshot_before(last),
+                thin.checkpoints.snapshot_before(k)
+            );
         }
     }
 
