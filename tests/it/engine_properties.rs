@@ -310,3 +310,44 @@ fn untraced_lap_runs_map_as_traced_ones_in_every_scene_kind() {
         }
     }
 }
+
+#[test]
+fn thinned_checkpoints_show_every_snapshot_as_a_replay_from_zero_does_in_every_scene_kind() {
+    // Checkpoints every 8 snapshots within a third of the bytes they would keep: the store
+    // drops states as each run goes on, and every view must still be the run's own.
+    use sonarmap::checkpoints::Checkpoints;
+    use sonarmap::replay::Replay;
+    use std::sync::Arc;
+    for (i, kind) in sonarmap::sim::SceneKind::ALL.into_iter().enumerate() {
+        let params = if i % 2 == 0 {
+            Params::paper()
+        } else {
+            Params::extended()
+        };
+        let run = Arc::new(sonarmap::soak::family_run(kind, 5, 240));
+        let full = Replay::build(run.clone(), params.clone(), 8, &mut |_| true).unwrap();
+        let budget = full.checkpoint_bytes().0 / 3;
+        let thin = Replay::build_within(
+            run.clone(),
+            params.clone(),
+            Checkpoints::new(8, budget),
+            &mut |_| true,
+        )
+        .unwrap();
+        let (held, shortest, _) = thin.checkpoint_spacing();
+        assert!(
+            held < full.checkpoint_spacing().0,
+            "{kind:?}: states were dropped"
+        );
+        assert!(thin.checkpoint_bytes().0 <= budget, "{kind:?}");
+        assert!(shortest >= 8 && shortest % 8 == 0, "{kind:?}: {shortest}");
+        for k in (0..run.snapshots.len()).step_by(11) {
+            // The snapshot itself, and the last of its interval (the longest catch-up).
+            for k in [k, thin.last_before_next_checkpoint(k)] {
+                let (a, b) = (full.view(k).unwrap(), thin.view(k).unwrap());
+                assert_eq!(a.trace, b.trace, "{kind:?}, trace {k}");
+                assert_eq!(a.map_after, b.map_after, "{kind:?}, map {k}");
+            }
+        }
+    }
+}
