@@ -323,7 +323,8 @@ impl SonarApp {
         }
         self.params = params.clone();
         self.settings.params = (params != Params::paper()).then_some(params);
-        let run = self.loaded.replay.run().clone();
+        // The whole run, even while only its first snapshots are shown.
+        let run = self.loaded.run.clone();
         if let Some(b) = &mut self.baseline {
             b.cancel_job();
             b.diff = None;

@@ -443,6 +443,14 @@ impl SonarApp {
                 self.current(),
                 self.len().saturating_sub(1)
             ));
+            if self.loaded.is_preview() {
+                ui.label(format!("(the first {} while replaying)", self.len()))
+                    .on_hover_text(format!(
+                        "The run has {} snapshots; its first ones are shown while the whole run \
+                         replays, and the rest join the timeline when it is done.",
+                        self.loaded.run.snapshots.len()
+                    ));
+            }
             ui.separator();
             let units = self.run().units;
             match self.map_view.cursor_m {

@@ -1,5 +1,6 @@
-//! Work on threads, so the window stays responsive: replaying a large run being opened or the
-//! open run under new parameters ([`ReplayJob`]), and comparing a pinned baseline with the
+//! Work on threads, so the window stays responsive: replaying the whole of a large run being
+//! opened (its first snapshots shown meanwhile) or the open run under new parameters
+//! ([`ReplayJob`]), and comparing a pinned baseline with the
 //! current parameters ([`DiffJob`]). Each job reports progress and can be cancelled; the app
 //! polls it once a frame and installs the result.
 
@@ -96,8 +97,12 @@ impl<T> Task<T> {
 
 /// What a background replay is for.
 pub(super) enum JobKind {
-    /// A run being opened.
-    Open { source: Source, keep_index: bool },
+    /// The whole of a run being opened, whose first snapshots are shown meanwhile; it goes to
+    /// snapshot `resume_at` when done (a reload), else stays where the preview was left.
+    Complete {
+        source: Source,
+        resume_at: Option<usize>,
+    },
     /// The open run under new parameters.
     Rerun,
 }
@@ -118,7 +123,7 @@ impl ReplayJob {
             Replay::build(run, params, DEFAULT_CHECKPOINT_INTERVAL, report).ok()
         });
         let label = match &kind {
-            JobKind::Open { source, .. } => format!("replaying {}", source.display_name()),
+            JobKind::Complete { source, .. } => format!("replaying {}", source.display_name()),
             JobKind::Rerun => "re-running with new parameters".to_owned(),
         };
         ReplayJob {

@@ -28,9 +28,14 @@ impl Source {
     }
 }
 
+/// Snapshots of a large run shown at once while the whole run replays on a thread.
+pub const PREVIEW_SNAPSHOTS: usize = 256;
+
 /// A run and its replay.
 pub(super) struct Loaded {
     pub(super) source: Source,
+    /// The whole run (the replay's own is only its first snapshots in a preview).
+    pub(super) run: Arc<Run>,
     pub(super) replay: Replay,
     /// The marks of the replay's steps, by kind (A/B differences come from the baseline).
     pub(super) marks: MarksByKind,
@@ -42,13 +47,43 @@ impl Loaded {
         Self::new(Replay::new(Arc::new(run), params.clone()), source)
     }
 
+    /// The first [`PREVIEW_SNAPSHOTS`] of `run` replayed under `params` on the spot: what a
+    /// large run shows while its whole replay runs on a thread.
+    pub(super) fn preview(run: Arc<Run>, source: Source, params: &Params) -> Loaded {
+        let first = Run {
+            name: run.name.clone(),
+            units: run.units,
+            robot_radius_m: run.robot_radius_m,
+            layout: run.layout.clone(),
+            sensor: run.sensor,
+            floor_plan: run.floor_plan.clone(),
+            snapshots: run
+                .snapshots
+                .iter()
+                .take(PREVIEW_SNAPSHOTS)
+                .cloned()
+                .collect(),
+        };
+        let replay = Replay::new(Arc::new(first), params.clone());
+        Loaded {
+            run,
+            ..Self::new(replay, source)
+        }
+    }
+
     /// A finished replay, with its steps' marks.
     pub(super) fn new(replay: Replay, source: Source) -> Loaded {
         let marks = MarksByKind::of(replay.summaries(), None);
         Loaded {
             source,
+            run: replay.run().clone(),
             replay,
             marks,
         }
+    }
+
+    /// Whether the replay holds only the run's first snapshots.
+    pub(super) fn is_preview(&self) -> bool {
+        self.replay.len() < self.run.snapshots.len() && self.replay.failure().is_none()
     }
 }

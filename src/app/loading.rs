@@ -119,7 +119,20 @@ impl SonarApp {
         // (Player logs with geometry and MCAP with /tf_static need no layout).
         match import_any(bytes, &name, options).map(|i| i.run) {
             Ok(run) if run.snapshots.len() >= self.background_min_snapshots => {
-                self.start_background(Arc::new(run), JobKind::Open { source, keep_index });
+                // Its first snapshots at once, the whole run replayed on a thread.
+                let run = Arc::new(run);
+                let resume_at = keep_index.then(|| self.current());
+                let kind = JobKind::Complete {
+                    source: source.clone(),
+                    resume_at,
+                };
+                self.start_background(run.clone(), kind);
+                self.install(Loaded::preview(run, source, &self.params), keep_index);
+                self.message = format!(
+                    "opened {name}: the first {} of {} snapshots while the rest replays",
+                    self.len(),
+                    self.loaded.run.snapshots.len()
+                );
             }
             Ok(run) => {
                 // A replay still running (of the run open before, under new parameters) must not
@@ -195,7 +208,7 @@ impl SonarApp {
         }
     }
 
-    /// Replays a large run on a thread; the current run stays usable meanwhile.
+    /// Replays a large run on a thread; what is shown stays usable meanwhile.
     pub(super) fn start_background(&mut self, run: Arc<Run>, kind: JobKind) {
         self.cancel_background();
         let job = ReplayJob::start(run, self.params.clone(), kind);
@@ -220,8 +233,18 @@ impl SonarApp {
             JobPoll::Done(replay) => {
                 let job = self.background.take().expect("checked above");
                 match job.kind {
-                    JobKind::Open { source, keep_index } => {
-                        self.install(Loaded::new(replay, source), keep_index)
+                    JobKind::Complete { source, resume_at } => {
+                        // Still the run opened (another open cancels the job).
+                        self.install_rerun(replay);
+                        if let Some(k) = resume_at {
+                            self.seek(k);
+                        }
+                        self.message = format!(
+                            "opened {}: {} snapshots, replayed in {:.1} s",
+                            source.display_name(),
+                            self.len(),
+                            job.started.elapsed().as_secs_f64()
+                        );
                     }
                     JobKind::Rerun => {
                         let s = job.started.elapsed().as_secs_f64();

@@ -356,24 +356,43 @@ fn settings_persist_and_corrupt_values_are_ignored() {
 }
 
 #[test]
-fn a_large_run_replays_in_the_background_and_the_old_run_stays_usable() {
+fn a_large_run_shows_its_first_snapshots_at_once_and_the_rest_once_replayed() {
     let mut h = building();
     h.state_mut().set_background_threshold(100);
-    let bytes = std::fs::read(asset("building.log.json")).unwrap();
+    // Stepped on from the old run's first snapshot: the new one opens at its own first.
+    h.key_press(egui::Key::ArrowRight);
+    h.step();
+    assert_eq!(h.state().current(), 1);
+    // The building driven back and forth for 3,000 snapshots: seconds to replay here.
+    let lap = sonarmap::log::load_run(
+        &std::fs::read(asset("building.log.json")).unwrap(),
+        "building.log.json",
+    )
+    .unwrap();
+    let long = sonarmap::bench::back_and_forth(&lap, 3000);
     h.state_mut().push(Command::OpenBytes {
         name: "big.json".to_owned(),
-        bytes,
+        bytes: sonarmap::log::save_run(&long).into_bytes(),
     });
     h.step();
     assert!(h.state().is_loading());
     assert_eq!(
         *h.state().source(),
-        sonarmap::app::Source::File(asset("building.log.json")),
-        "the old run stays while replaying"
+        sonarmap::app::Source::Bytes("big.json".to_owned()),
+        "the new run is shown at once"
     );
+    assert_eq!(
+        h.state().len(),
+        256,
+        "its first snapshots, while the rest replays"
+    );
+    assert_eq!(h.state().current(), 0);
+    h.step();
+    h.get_by_label_contains("(the first 256 while replaying)");
+    h.key_press(egui::Key::ArrowRight);
     h.key_press(egui::Key::ArrowRight);
     h.step();
-    assert_eq!(h.state().current(), 1, "and stays usable");
+    assert_eq!(h.state().current(), 2, "and usable");
     let deadline = std::time::Instant::now() + std::time::Duration::from_secs(300);
     while h.state().is_loading() && std::time::Instant::now() < deadline {
         std::thread::sleep(std::time::Duration::from_millis(20));
@@ -385,7 +404,31 @@ fn a_large_run_replays_in_the_background_and_the_old_run_stays_usable() {
         *h.state().source(),
         sonarmap::app::Source::Bytes("big.json".to_owned())
     );
-    assert_eq!(h.state().len(), 305);
+    assert_eq!(h.state().len(), 3000, "the whole run");
+    assert_eq!(h.state().current(), 2, "where the preview was left");
+    // The same maps as the run opened in one go.
+    let whole = sonarmap::replay::Replay::new(h.state().run().clone(), h.state().params().clone());
+    h.state_mut().push(Command::Seek(2900));
+    h.step();
+    assert_eq!(h.state().step_view().unwrap().map_after, whole.map_at(2900));
+}
+
+#[test]
+fn new_parameters_while_a_large_run_opens_rerun_the_whole_run() {
+    let mut h = building();
+    h.state_mut().set_background_threshold(100);
+    let bytes = std::fs::read(asset("building.log.json")).unwrap();
+    h.state_mut().push(Command::OpenBytes {
+        name: "big.json".to_owned(),
+        bytes,
+    });
+    h.step();
+    assert_eq!(h.state().len(), 256);
+    let extended = sonarmap::mapping::Params::extended();
+    h.state_mut().push(Command::SetParams(extended.clone()));
+    settle(&mut h);
+    assert_eq!(h.state().len(), 305, "the whole run, not the preview");
+    assert_eq!(h.state().params(), &extended);
 }
 
 // ---- Live parameters, A/B comparison, bookmarks (issue 6) ----
