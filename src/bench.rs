@@ -2,7 +2,7 @@
 //! each the median of several runs. Not part of the pure core: it reads the clock.
 
 use crate::alloc_count;
-use crate::app::HeadlessMapView;
+use crate::app::{HeadlessMapView, PREVIEW_SNAPSHOTS};
 use crate::log::{load_run, save_run};
 use crate::mapping::{Mapper, Params};
 use crate::replay::Replay;
@@ -61,6 +61,9 @@ pub struct InspectorFigures {
     pub load_peak_memory_over_file_size: f64,
     /// File size of the run's JSON, bytes.
     pub file_bytes: usize,
+    /// Median time from the run's bytes to its first snapshot ready to draw in the inspector
+    /// (loading, the first snapshots replayed on the spot, the scene), milliseconds.
+    pub first_frame_ms: f64,
     /// Largest time to make any snapshot ready to draw, milliseconds.
     pub seek_ms_max: f64,
     /// Median time to make a snapshot ready to draw, milliseconds.
@@ -269,6 +272,22 @@ fn bench_inspector(
         peak = peak.max(alloc_count::peak_counted_bytes().max(0) as usize);
         drop(loaded);
     }
+    // Opening the run in the inspector: loaded, its first snapshots replayed on the spot, and
+    // the first of them made ready to draw (the whole replay then runs on a thread).
+    let mut first_frames = Vec::new();
+    for _ in 0..repeats.max(1) {
+        let start = Instant::now();
+        let loaded = load_run(json.as_bytes(), "bench").expect("a saved run loads");
+        let preview = Replay::new(
+            Arc::new(loaded.first_snapshots(PREVIEW_SNAPSHOTS)),
+            params.clone(),
+        );
+        if let Some(view) = preview.view(0) {
+            let input = SceneInput::from_view(&loaded, &view);
+            std::hint::black_box(build_scene(&input, &ViewOptions::all()));
+        }
+        first_frames.push(start.elapsed().as_secs_f64() * 1e3);
+    }
     alloc_count::start_counting();
     let start = Instant::now();
     let replay = Replay::build(
@@ -364,6 +383,7 @@ fn bench_inspector(
         load_s: median(loads),
         load_peak_memory_over_file_size: peak as f64 / json.len() as f64,
         file_bytes: json.len(),
+        first_frame_ms: median(first_frames),
         seek_ms_max: seeks.iter().cloned().fold(0.0, f64::max),
         seek_ms_median: median(seeks),
         step_forward_ms_max: forward_ms_max,

@@ -64,3 +64,18 @@ pub struct Run {
     /// The snapshots, in time order.
     pub snapshots: Vec<Snapshot>,
 }
+
+impl Run {
+    /// The same run cut to its first `n` snapshots (all of them when it has fewer).
+    pub fn first_snapshots(&self, n: usize) -> Run {
+        Run {
+            name: self.name.clone(),
+            units: self.units,
+            robot_radius_m: self.robot_radius_m,
+            layout: self.layout.clone(),
+            sensor: self.sensor,
+            floor_plan: self.floor_plan.clone(),
+            snapshots: self.snapshots.iter().take(n).cloned().collect(),
+        }
+    }
+}

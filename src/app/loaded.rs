@@ -50,20 +50,7 @@ impl Loaded {
     /// The first [`PREVIEW_SNAPSHOTS`] of `run` replayed under `params` on the spot: what a
     /// large run shows while its whole replay runs on a thread.
     pub(super) fn preview(run: Arc<Run>, source: Source, params: &Params) -> Loaded {
-        let first = Run {
-            name: run.name.clone(),
-            units: run.units,
-            robot_radius_m: run.robot_radius_m,
-            layout: run.layout.clone(),
-            sensor: run.sensor,
-            floor_plan: run.floor_plan.clone(),
-            snapshots: run
-                .snapshots
-                .iter()
-                .take(PREVIEW_SNAPSHOTS)
-                .cloned()
-                .collect(),
-        };
+        let first = run.first_snapshots(PREVIEW_SNAPSHOTS);
         let replay = Replay::new(Arc::new(first), params.clone());
         Loaded {
             run,

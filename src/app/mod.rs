@@ -54,7 +54,7 @@ pub use headless::{FrameStats, HeadlessMapView, HeadlessRunPlots};
 pub use inspector::{describe_id, outcome_name, CompareState};
 pub use jobs::BACKGROUND_MIN_SNAPSHOTS;
 pub use layout_picker::{LayoutChoice, SHIPPED_LAYOUTS};
-pub use loaded::Source;
+pub use loaded::{Source, PREVIEW_SNAPSHOTS};
 pub use map_view::{MapPlot, MapViewState, ViewRequest};
 pub use marks::MarkKind;
 pub use params_panel::{format_number, ParamsPanelState};

@@ -470,6 +470,10 @@ fn bench_over_several_logs_prints_one_json_line_each() {
         assert_eq!(l["params"]["merge_duplicates"], false, "the paper preset");
         assert!(l["frame_ms_median"].as_f64().unwrap() > 0.0);
         assert!(l["frame_vertices_max"].as_u64().unwrap() > 0);
+        assert!(l["first_frame_ms"].as_f64().unwrap() > 0.0);
+        // Two snapshots: one checkpoint, its spacing the run.
+        assert_eq!(l["checkpoints"], 1);
+        assert_eq!(l["checkpoint_spacing_max"], 2);
     }
 }
 
