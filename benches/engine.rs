@@ -105,7 +105,7 @@ fn load(bencher: divan::Bencher) {
 fn seek(bencher: divan::Bencher) {
     let replay = &*REPLAY;
     let targets: Vec<usize> = (1..10)
-        .map(|i| replay.last_before_next_checkpoint(i * SNAPSHOTS / 10))
+        .map(|i| replay.slowest_view_like(i * SNAPSHOTS / 10))
         .collect();
     let mut k = 0;
     bencher.bench_local(|| {

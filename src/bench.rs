@@ -232,8 +232,8 @@ pub fn bench_engine(run: &Run, params: &Params, repeats: usize) -> EngineFigures
     }
 }
 
-/// Measures everything on `run` (`repeats` runs each; the median is reported), the replay
-/// keeping a checkpoint every `checkpoint_interval` snapshots; with `engine_only`, the engine
+/// Measures everything on `run` (`repeats` runs each; the median is reported), the replay's
+/// checkpoints at least `checkpoint_interval` snapshots apart; with `engine_only`, the engine
 /// alone.
 pub fn bench(
     run: &Run,
@@ -310,10 +310,12 @@ fn bench_inspector(
     }
     let checkpoint_bytes = alloc_count::counted_bytes().max(0) as usize;
     let (checkpoints, spacing_min, spacing_max) = replay.checkpoint_spacing();
-    // Seek to snapshots spread over the run, each the worst place after a checkpoint.
-    let targets: Vec<usize> = (0..20)
-        .map(|i| replay.last_before_next_checkpoint(i * n / 20))
+    // Seek to snapshots spread over the run, each the slowest view from its checkpoint (once
+    // each: a long early interval takes several of the 20 places).
+    let mut targets: Vec<usize> = (0..20)
+        .map(|i| replay.slowest_view_like(i * n / 20))
         .collect();
+    targets.dedup();
     let mut seeks = Vec::new();
     let mut forward_ms_max: f64 = 0.0;
     let mut frames = Vec::new();

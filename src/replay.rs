@@ -16,13 +16,13 @@ use crate::run::{FloorPlan, Run, Snapshot};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
-/// Snapshots between checkpoints unless told otherwise (the shortest spacing: where steps are
-/// cheap, checkpoints are dropped when they would pass their memory budget). Chosen from `sonarmap bench` on a
-/// generated 100,000-snapshot building run (2-core machine): every 64 snapshots the slowest
-/// seek took 12 ms (paper) / 6 ms (extended) and the checkpoints 326 / 349 MB; every 256, 21 /
-/// 43 ms and 168 / 251 MB; every 128, 24 / 18 ms and 221 / 285 MB, well inside the 50 ms a jump
-/// may take. Most of a checkpoint is the supporting points of the segments updated since the
-/// previous one (the rest is shared).
+/// Snapshots between checkpoints unless told otherwise: the shortest spacing (past the memory
+/// budget, checkpoints go where seeking costs least, see [`crate::checkpoints`]). Chosen,
+/// before that placement, from `sonarmap bench` on a generated 100,000-snapshot building run
+/// (2-core machine): every 64 snapshots the slowest seek took 12 ms (paper) / 6 ms (extended)
+/// and the checkpoints 326 / 349 MB; every 256, 21 / 43 ms and 168 / 251 MB; every 128, 24 /
+/// 18 ms and 221 / 285 MB. Most of a checkpoint is the supporting points of the segments
+/// updated since the previous one (the rest is shared).
 pub const DEFAULT_CHECKPOINT_INTERVAL: usize = 128;
 
 /// Counts of what one step did (the timeline's marks and the command line's summary).
@@ -213,7 +213,8 @@ pub struct Replay {
 pub const TRUTH_SAMPLES: usize = 32;
 
 /// The map's figures against the floor plan after one step (`eval`'s spurious fraction and
-/// coverage), sampled at the replay's checkpoints.
+/// coverage), sampled every shortest checkpoint spacing or less often (see
+/// [`Replay::truth_curve`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TruthSample {
     /// The step.
@@ -340,7 +341,7 @@ impl Replay {
         Ok(replay)
     }
 
-    /// The map's spurious fraction and coverage every checkpoint interval, or at most
+    /// The map's spurious fraction and coverage every shortest checkpoint spacing, or at most
     /// [`TRUTH_SAMPLES`] times, and at the last step (with a floor plan; empty without).
     pub fn truth_curve(&self) -> &[TruthSample] {
         &self.truth_curve
@@ -397,11 +398,13 @@ impl Replay {
         (self.checkpoints.len(), shortest, longest)
     }
 
-    /// The last snapshot before the checkpoint that follows snapshot `k` (the run's last when
-    /// none does): the seek from the checkpoint before `k` that catches up longest.
-    pub fn last_before_next_checkpoint(&self, k: usize) -> usize {
-        let end = self.checkpoints.snapshot_after(k).unwrap_or(self.len());
-        end.saturating_sub(1).min(self.len().saturating_sub(1))
+    /// The snapshot whose view catches up longest from the checkpoint the view of `k` starts
+    /// from: the next checkpoint's own (the view of a snapshot `j` restores the checkpoint at
+    /// or before `j − 1` and steps on to `j`), or the run's last when none follows.
+    pub fn slowest_view_like(&self, k: usize) -> usize {
+        let last = self.len().saturating_sub(1);
+        let next = self.checkpoints.snapshot_after(k.saturating_sub(1));
+        next.unwrap_or(last).min(last)
     }
 
     /// The checkpoints' estimated bytes and their budget.
@@ -561,13 +564,15 @@ mod tests {
             let (a, b) = (full.view(k).unwrap(), thin.view(k).unwrap());
             assert_eq!(a.trace, b.trace, "trace {k}");
             assert_eq!(a.map_after, b.map_after, "map {k}");
-            // The worst seek of k's interval lies in it, before the next checkpoint.
-            let last = thin.last_before_next_checkpoint(k);
-            assert!(last >= k && last < run.snapshots.len());
-            assert_eq!(
-                thin.checkpoints.snapshot_before(last),
-                thin.checkpoints.snapshot_before(k)
-            );
+            // The slowest view from the checkpoint k's view starts from: at or after k, and
+            // starting from that very checkpoint (a view of j restores the one before j − 1).
+            let slowest = thin.slowest_view_like(k);
+            assert!(slowest >= k && slowest < run.snapshots.len());
+            let from = |j: usize| thin.checkpoints.snapshot_before(j.saturating_sub(1));
+            assert_eq!(from(slowest), from(k), "{k} -> {slowest}");
+            if slowest + 1 < run.snapshots.len() {
+                assert_ne!(from(slowest + 1), from(k), "{slowest} is the last from it");
+            }
         }
     }
 

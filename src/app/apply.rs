@@ -369,6 +369,13 @@ impl SonarApp {
     }
 
     fn pin_baseline(&mut self) {
+        // A baseline is a whole run's replay: the preview's would compare its first snapshots
+        // only.
+        if self.loaded.is_preview() {
+            self.message =
+                "the whole run is still replaying: pin the baseline once it is in".to_owned();
+            return;
+        }
         self.baseline = Some(Baseline::pin(self.loaded.replay.clone(), self.view.clone()));
         self.start_diff();
         self.message = "pinned the current parameters as the baseline".to_owned();

@@ -128,11 +128,19 @@ impl SonarApp {
                 };
                 self.start_background(run.clone(), kind);
                 self.install(Loaded::preview(run, source, &self.params), keep_index);
-                self.message = format!(
-                    "opened {name}: the first {} of {} snapshots while the rest replays",
-                    self.len(),
-                    self.loaded.run.snapshots.len()
-                );
+                let verb = if keep_index { "reloaded" } else { "opened" };
+                self.message = if self.loaded.is_preview() {
+                    format!(
+                        "{verb} {name}: the first {} of {} snapshots while the rest replays",
+                        self.len(),
+                        self.loaded.run.snapshots.len()
+                    )
+                } else {
+                    // A step failed within the preview (the whole replay would stop there
+                    // too), or the preview is the whole run: nothing is left to replay.
+                    self.cancel_background();
+                    format!("{verb} {name}: {} snapshots", self.len())
+                };
             }
             Ok(run) => {
                 // A replay still running (of the run open before, under new parameters) must not
@@ -234,13 +242,21 @@ impl SonarApp {
                 let job = self.background.take().expect("checked above");
                 match job.kind {
                     JobKind::Complete { source, resume_at } => {
-                        // Still the run opened (another open cancels the job).
+                        // Still the run opened (another open cancels the job). A reload goes
+                        // back to its snapshot unless the user moved in the preview meanwhile.
+                        let unmoved = resume_at
+                            .filter(|&k| self.current() == k.min(self.len().saturating_sub(1)));
                         self.install_rerun(replay);
-                        if let Some(k) = resume_at {
+                        if let Some(k) = unmoved {
                             self.seek(k);
                         }
                         self.message = format!(
-                            "opened {}: {} snapshots, replayed in {:.1} s",
+                            "{} {}: {} snapshots, replayed in {:.1} s",
+                            if resume_at.is_some() {
+                                "reloaded"
+                            } else {
+                                "opened"
+                            },
                             source.display_name(),
                             self.len(),
                             job.started.elapsed().as_secs_f64()
@@ -259,9 +275,21 @@ impl SonarApp {
             }
             JobPoll::Running => ctx.request_repaint(),
             JobPoll::Stopped => {
-                self.background = None;
-                self.banner =
-                    Some("the replay stopped unexpectedly; the previous run stays open".to_owned());
+                let job = self.background.take().expect("checked above");
+                self.banner = Some(match job.kind {
+                    JobKind::Complete { .. } => {
+                        // The preview is all there is: the run shown is its first snapshots.
+                        self.loaded.run = self.loaded.replay.run().clone();
+                        format!(
+                            "replaying the whole run stopped unexpectedly; only its first {} \
+                             snapshots are open",
+                            self.len()
+                        )
+                    }
+                    JobKind::Rerun => {
+                        "the replay stopped unexpectedly; the previous run stays open".to_owned()
+                    }
+                });
             }
         }
     }

@@ -419,6 +419,29 @@ fn a_large_run_shows_its_first_snapshots_at_once_and_the_rest_once_replayed() {
 }
 
 #[test]
+fn a_baseline_is_pinned_on_the_whole_run_not_on_its_preview() {
+    let mut h = building();
+    h.state_mut().set_background_threshold(100);
+    open_long_building(&mut h);
+    assert_eq!(h.state().len(), 256);
+    h.state_mut().push(Command::PinBaseline);
+    h.step();
+    assert!(
+        !h.state().is_pinned(),
+        "refused while the whole run replays"
+    );
+    assert!(
+        h.state().message().contains("still replaying"),
+        "{}",
+        h.state().message()
+    );
+    settle(&mut h);
+    h.state_mut().push(Command::PinBaseline);
+    settle(&mut h);
+    assert!(h.state().is_pinned());
+}
+
+#[test]
 fn new_parameters_while_a_large_run_opens_rerun_the_whole_run() {
     let mut h = building();
     h.state_mut().set_background_threshold(100);

@@ -339,11 +339,12 @@ fn thinned_checkpoints_show_every_snapshot_as_a_replay_from_zero_does_in_every_s
             held < full.checkpoint_spacing().0,
             "{kind:?}: states were dropped"
         );
-        assert!(thin.checkpoint_bytes().0 <= budget, "{kind:?}");
+        // Within the budget, unless down to the two states that always stay.
+        assert!(thin.checkpoint_bytes().0 <= budget || held == 2, "{kind:?}");
         assert!(shortest >= 8 && shortest % 8 == 0, "{kind:?}: {shortest}");
         for k in (0..run.snapshots.len()).step_by(11) {
             // The snapshot itself, and the last of its interval (the longest catch-up).
-            for k in [k, thin.last_before_next_checkpoint(k)] {
+            for k in [k, thin.slowest_view_like(k)] {
                 let (a, b) = (full.view(k).unwrap(), thin.view(k).unwrap());
                 assert_eq!(a.trace, b.trace, "{kind:?}, trace {k}");
                 assert_eq!(a.map_after, b.map_after, "{kind:?}, map {k}");
