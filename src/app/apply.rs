@@ -329,7 +329,9 @@ impl SonarApp {
             b.cancel_job();
             b.diff = None;
         }
-        self.start_background(run, JobKind::Rerun);
+        // A reload's snapshot still to go back to goes on with the re-run.
+        let resume_at = self.background.as_ref().and_then(|j| j.kind.resume_at());
+        self.start_background(run, JobKind::Rerun { resume_at });
     }
 
     fn load_params(&mut self, path: &Path) {

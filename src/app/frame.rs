@@ -193,7 +193,7 @@ impl SonarApp {
             rerun_progress: self
                 .background
                 .as_ref()
-                .and_then(|j| matches!(j.kind, JobKind::Rerun).then(|| j.task.fraction())),
+                .and_then(|j| matches!(j.kind, JobKind::Rerun { .. }).then(|| j.task.fraction())),
             pinned: self.baseline.is_some(),
             diff_progress: self
                 .baseline

@@ -103,8 +103,18 @@ pub(super) enum JobKind {
         source: Source,
         resume_at: Option<usize>,
     },
-    /// The open run under new parameters.
-    Rerun,
+    /// The open run under new parameters; it goes to snapshot `resume_at` when done (set
+    /// during a reload's preview), else stays where the user is.
+    Rerun { resume_at: Option<usize> },
+}
+
+impl JobKind {
+    /// The snapshot the job goes to when done, unless the user moved meanwhile.
+    pub(super) fn resume_at(&self) -> Option<usize> {
+        match self {
+            JobKind::Complete { resume_at, .. } | JobKind::Rerun { resume_at } => *resume_at,
+        }
+    }
 }
 
 /// A replay being built on a thread.
@@ -124,7 +134,7 @@ impl ReplayJob {
         });
         let label = match &kind {
             JobKind::Complete { source, .. } => format!("replaying {}", source.display_name()),
-            JobKind::Rerun => "re-running with new parameters".to_owned(),
+            JobKind::Rerun { .. } => "re-running with new parameters".to_owned(),
         };
         ReplayJob {
             kind,

@@ -121,7 +121,9 @@ impl SonarApp {
             Ok(run) if run.snapshots.len() >= self.background_min_snapshots => {
                 // Its first snapshots at once, the whole run replayed on a thread.
                 let run = Arc::new(run);
-                let resume_at = keep_index.then(|| self.current());
+                // A reload during a reload's preview goes back to the first one's snapshot.
+                let pending = self.background.as_ref().and_then(|j| j.kind.resume_at());
+                let resume_at = keep_index.then(|| pending.unwrap_or(self.current()));
                 let kind = JobKind::Complete {
                     source: source.clone(),
                     resume_at,
@@ -242,14 +244,8 @@ impl SonarApp {
                 let job = self.background.take().expect("checked above");
                 match job.kind {
                     JobKind::Complete { source, resume_at } => {
-                        // Still the run opened (another open cancels the job). A reload goes
-                        // back to its snapshot unless the user moved in the preview meanwhile.
-                        let unmoved = resume_at
-                            .filter(|&k| self.current() == k.min(self.len().saturating_sub(1)));
-                        self.install_rerun(replay);
-                        if let Some(k) = unmoved {
-                            self.seek(k);
-                        }
+                        // Still the run opened (another open cancels the job).
+                        self.install_resuming(replay, resume_at);
                         self.message = format!(
                             "{} {}: {} snapshots, replayed in {:.1} s",
                             if resume_at.is_some() {
@@ -262,10 +258,10 @@ impl SonarApp {
                             job.started.elapsed().as_secs_f64()
                         );
                     }
-                    JobKind::Rerun => {
+                    JobKind::Rerun { resume_at } => {
                         let s = job.started.elapsed().as_secs_f64();
                         self.last_rerun_s = Some(s);
-                        self.install_rerun(replay);
+                        self.install_resuming(replay, resume_at);
                         self.message = format!(
                             "re-ran {} snapshots with the new parameters in {s:.2} s",
                             self.len()
@@ -286,7 +282,7 @@ impl SonarApp {
                             self.len()
                         )
                     }
-                    JobKind::Rerun => {
+                    JobKind::Rerun { .. } => {
                         "the replay stopped unexpectedly; the previous run stays open".to_owned()
                     }
                 });
@@ -336,6 +332,16 @@ impl SonarApp {
             self.len()
         );
         self.report_step_failure();
+    }
+
+    /// [`Self::install_rerun`], then snapshot `resume_at` (a reload's, set while its preview
+    /// was shown) unless the user moved from where the preview put them.
+    fn install_resuming(&mut self, replay: Replay, resume_at: Option<usize>) {
+        let unmoved = resume_at.filter(|&k| self.current() == k.min(self.len().saturating_sub(1)));
+        self.install_rerun(replay);
+        if let Some(k) = unmoved {
+            self.seek(k);
+        }
     }
 
     /// Installs a re-run of the open run: same snapshot, the selection when it still exists.

@@ -442,6 +442,38 @@ fn a_baseline_is_pinned_on_the_whole_run_not_on_its_preview() {
 }
 
 #[test]
+fn a_reload_of_a_large_run_returns_to_its_snapshot_even_through_new_parameters() {
+    let mut h = building();
+    h.state_mut().set_background_threshold(100);
+    let lap = sonarmap::log::load_run(
+        &std::fs::read(asset("building.log.json")).unwrap(),
+        "building.log.json",
+    )
+    .unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("long.log.json");
+    std::fs::write(
+        &path,
+        sonarmap::log::save_run(&sonarmap::bench::back_and_forth(&lap, 3000)),
+    )
+    .unwrap();
+    h.state_mut().push(Command::Open(path));
+    settle(&mut h);
+    h.state_mut().push(Command::Seek(2000));
+    h.step();
+    h.state_mut().push(Command::Reload);
+    h.step();
+    assert_eq!(h.state().len(), 256, "the preview");
+    assert_eq!(h.state().current(), 255, "as far as it goes");
+    // New parameters during the reload's preview: the re-run goes back to 2,000 too.
+    h.state_mut()
+        .push(Command::SetParams(sonarmap::mapping::Params::extended()));
+    settle(&mut h);
+    assert_eq!(h.state().len(), 3000);
+    assert_eq!(h.state().current(), 2000);
+}
+
+#[test]
 fn new_parameters_while_a_large_run_opens_rerun_the_whole_run() {
     let mut h = building();
     h.state_mut().set_background_threshold(100);
