@@ -205,6 +205,40 @@ pub fn settling_wall(
     end_margin_m: f64,
     near: &mut Vec<NearWall>,
 ) -> Option<(SegmentId, f64, f64)> {
+    let settling = settling_walls(
+        map,
+        beam,
+        accuracy_pct,
+        half_beam_rad,
+        cone_edges,
+        end_margin_m,
+        near,
+    );
+    let residual = |p: f64| (p - beam.range_m).abs();
+    settling.fold(None, |best, (id, predicted_m, inside_m)| {
+        let better =
+            best.is_none_or(|(bid, bp, _)| (residual(predicted_m), id) < (residual(bp), bid));
+        if better {
+            Some((id, predicted_m, inside_m))
+        } else {
+            best
+        }
+    })
+}
+
+/// The confirmed fitted walls near `beam` (gathered into `near`, see [`gather_near_walls`])
+/// that settle its reading, in the order gathered, each with its predicted range and how far
+/// its echo point lies inside its ends or its chain's ([`inside_wall_or_chain_m`]), at least
+/// `end_margin_m`. Lazy: a caller that needs one stops at the first.
+fn settling_walls<'a>(
+    map: &Map,
+    beam: &Beam,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+    cone_edges: bool,
+    end_margin_m: f64,
+    near: &'a mut Vec<NearWall>,
+) -> impl Iterator<Item = (SegmentId, f64, f64)> + 'a {
     let tolerance_m = gather_near_walls(
         map,
         beam,
@@ -214,23 +248,12 @@ pub fn settling_wall(
         end_margin_m,
         near,
     );
-    let mut best: Option<(SegmentId, f64, f64)> = None;
-    for w in near.iter() {
-        let Some(echo) = w.echo else {
-            continue;
-        };
+    let near: &'a [NearWall] = near;
+    near.iter().filter_map(move |w| {
+        let echo = w.echo?;
         let inside_m = inside_wall_or_chain_m(w, echo.along, near, tolerance_m, end_margin_m);
-        if inside_m < end_margin_m {
-            continue;
-        }
-        let residual = |p: f64| (p - beam.range_m).abs();
-        let better =
-            best.is_none_or(|(bid, bp, _)| (residual(echo.range_m), w.id) < (residual(bp), bid));
-        if better {
-            best = Some((w.id, echo.range_m, inside_m));
-        }
-    }
-    best
+        (inside_m >= end_margin_m).then_some((w.id, echo.range_m, inside_m))
+    })
 }
 
 /// Whether some confirmed fitted wall of `map` settles `beam`'s reading ([`settling_wall`]
@@ -269,7 +292,7 @@ pub fn any_settling_wall(
             }
         }
     }
-    let tolerance_m = gather_near_walls(
+    settling_walls(
         map,
         beam,
         accuracy_pct,
@@ -277,12 +300,9 @@ pub fn any_settling_wall(
         cone_edges,
         end_margin_m,
         near,
-    );
-    near.iter().find_map(|w| {
-        let along = w.echo?.along;
-        (inside_wall_or_chain_m(w, along, near, tolerance_m, end_margin_m) >= end_margin_m)
-            .then_some(w.id)
-    })
+    )
+    .next()
+    .map(|(id, _, _)| id)
 }
 
 #[cfg(test)]
@@ -311,6 +331,20 @@ mod tests {
             confirmed(&mut map, id);
         }
         map
+    }
+
+    /// A test wall's end-points, (x, y) metres.
+    type Ends = ((f64, f64), (f64, f64));
+
+    /// The pieces' test wall: s0 from x = 0.2 to 1.1 along y = 2, then `rest` (ids 1, 2, …,
+    /// each from and to the points given), all read at 2 m; s0 and s1 confirmed.
+    fn s0_then(rest: &[Ends]) -> Map {
+        let s0 = test_wall(0, (0.2, 2.0), (1.1, 2.0), 2.0);
+        let later = rest
+            .iter()
+            .zip(1..)
+            .map(|(&(a, b), id)| test_wall(id, a, b, 2.0));
+        map_of(std::iter::once(s0).chain(later).collect(), &[0, 1])
     }
 
     fn looking_up_from(x: f64, range_m: f64) -> Beam {
@@ -344,13 +378,7 @@ mod tests {
         // A 2.03 m reading from (1, 0) has its foot at x = 1, 0.1 m from s0's end (less than
         // the 0.3 m margin), but s1 carries the wall on to x = 2: the chain reaches 0.8 m back
         // and 1.0 m ahead of the foot. Both pieces predict 2.0 m; the lower id settles it.
-        let map = map_of(
-            vec![
-                test_wall(0, (0.2, 2.0), (1.1, 2.0), 2.0),
-                test_wall(1, (1.05, 2.0), (2.0, 2.0), 2.0),
-            ],
-            &[0, 1],
-        );
+        let map = s0_then(&[((1.05, 2.0), (2.0, 2.0))]);
         let settle = |map: &Map, x: f64| {
             settling_wall(
                 map,
@@ -371,22 +399,10 @@ mod tests {
         // With s1 starting 5 cm past s0's end (a gap, perhaps a door), the foot at x = 1 is
         // 0.1 m from the end of s0, which s1 does not continue (nor explain: its foot lies
         // 0.15 m before it, past the 10 % slack).
-        let gapped = map_of(
-            vec![
-                test_wall(0, (0.2, 2.0), (1.1, 2.0), 2.0),
-                test_wall(1, (1.15, 2.0), (2.0, 2.0), 2.0),
-            ],
-            &[0, 1],
-        );
+        let gapped = s0_then(&[((1.15, 2.0), (2.0, 2.0))]);
         assert_eq!(settle(&gapped, 1.0), None);
         // A piece off the line (7 cm, past the 6.09 cm tolerance) does not continue it either.
-        let off = map_of(
-            vec![
-                test_wall(0, (0.2, 2.0), (1.1, 2.0), 2.0),
-                test_wall(1, (1.05, 2.07), (2.0, 2.07), 2.0),
-            ],
-            &[0, 1],
-        );
+        let off = s0_then(&[((1.05, 2.07), (2.0, 2.07))]);
         assert_eq!(settle(&off, 1.0), None);
     }
 
@@ -396,14 +412,7 @@ mod tests {
         // and a tentative s2 (2.2–3.0), read every 5 cm from x = 0.025 to 3.175 at 2.03 m (and
         // at 2.2 m, explained by nothing), with each hint: settled exactly when the best-wall
         // search settles, and by a wall that settles the reading.
-        let map = map_of(
-            vec![
-                test_wall(0, (0.2, 2.0), (1.1, 2.0), 2.0),
-                test_wall(1, (1.05, 2.0), (2.0, 2.0), 2.0),
-                test_wall(2, (2.2, 2.0), (3.0, 2.0), 2.0),
-            ],
-            &[0, 1],
-        );
+        let map = s0_then(&[((1.05, 2.0), (2.0, 2.0)), ((2.2, 2.0), (3.0, 2.0))]);
         let mut settled = 0;
         for i in 0..64 {
             for range_m in [2.03, 2.2] {
