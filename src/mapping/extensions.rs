@@ -391,46 +391,21 @@ mod tests {
             ..Params::paper()
         };
         let mut memory = Vec::new();
-        let (t, pieces) = memory_step(
-            &mut memory,
-            &[sp(0, 2, 0.0, 5.0, 50.0)],
-            0,
-            &p,
-            true,
-            &mut Linkage::default(),
-        );
+        let step = |memory: &mut Vec<MemoryPoint>, points: &[SupportPoint], snapshot| {
+            memory_step(memory, points, snapshot, &p, true, &mut Linkage::default())
+        };
+        let (t, pieces) = step(&mut memory, &[sp(0, 2, 0.0, 5.0, 50.0)], 0);
         assert!(pieces.is_empty() && t.held_after == 1);
-        let (_, pieces) = memory_step(
-            &mut memory,
-            &[sp(1, 2, 1.0, 5.0, 50.0)],
-            1,
-            &p,
-            true,
-            &mut Linkage::default(),
-        );
+        let (_, pieces) = step(&mut memory, &[sp(1, 2, 1.0, 5.0, 50.0)], 1);
         assert!(pieces.is_empty());
-        let (t, pieces) = memory_step(
-            &mut memory,
-            &[sp(2, 2, 2.0, 5.0, 50.0)],
-            2,
-            &p,
-            true,
-            &mut Linkage::default(),
-        );
+        let (t, pieces) = step(&mut memory, &[sp(2, 2, 2.0, 5.0, 50.0)], 2);
         assert_eq!(pieces.len(), 1);
         assert_eq!(pieces[0].points.len(), 3);
         assert_eq!(t.used.len(), 3);
         assert_eq!(t.held_after, 0);
         // A lone reading expires after memory_snapshots.
-        memory_step(
-            &mut memory,
-            &[sp(3, 0, 50.0, 50.0, 50.0)],
-            3,
-            &p,
-            true,
-            &mut Linkage::default(),
-        );
-        let (t, _) = memory_step(&mut memory, &[], 6, &p, true, &mut Linkage::default());
+        step(&mut memory, &[sp(3, 0, 50.0, 50.0, 50.0)], 3);
+        let (t, _) = step(&mut memory, &[], 6);
         assert_eq!(
             t.expired,
             vec![ReadingRef {

@@ -355,18 +355,32 @@ fn settings_persist_and_corrupt_values_are_ignored() {
     assert!(app.settings().rate > 0.0);
 }
 
-/// Opens the building driven back and forth for 3,000 snapshots ("big.json", seconds to
-/// replay in a test build: the replay is still running after the next frames), one frame.
-fn open_long_building(h: &mut Harness<'static, SonarApp>) {
+/// The building asset's log driven back and forth for 3,000 snapshots (seconds to replay in
+/// a test build: a replay of it is still running after the next frames).
+fn long_building_log() -> String {
     let lap = sonarmap::log::load_run(
         &std::fs::read(asset("building.log.json")).unwrap(),
         "building.log.json",
     )
     .unwrap();
-    let long = sonarmap::bench::back_and_forth(&lap, 3000);
+    sonarmap::log::save_run(&sonarmap::bench::back_and_forth(&lap, 3000))
+}
+
+/// The building's harness, then [`long_building_log`] opened as a large run: its preview
+/// shown, the whole replay running.
+fn previewing_long_building() -> Harness<'static, SonarApp> {
+    let mut h = building();
+    h.state_mut().set_background_threshold(100);
+    open_long_building(&mut h);
+    assert_eq!(h.state().len(), 256);
+    h
+}
+
+/// Opens [`long_building_log`] as "big.json", one frame.
+fn open_long_building(h: &mut Harness<'static, SonarApp>) {
     h.state_mut().push(Command::OpenBytes {
         name: "big.json".to_owned(),
-        bytes: sonarmap::log::save_run(&long).into_bytes(),
+        bytes: long_building_log().into_bytes(),
     });
     h.step();
 }
@@ -420,10 +434,7 @@ fn a_large_run_shows_its_first_snapshots_at_once_and_the_rest_once_replayed() {
 
 #[test]
 fn a_baseline_is_pinned_on_the_whole_run_not_on_its_preview() {
-    let mut h = building();
-    h.state_mut().set_background_threshold(100);
-    open_long_building(&mut h);
-    assert_eq!(h.state().len(), 256);
+    let mut h = previewing_long_building();
     h.state_mut().push(Command::PinBaseline);
     h.step();
     assert!(
@@ -445,18 +456,9 @@ fn a_baseline_is_pinned_on_the_whole_run_not_on_its_preview() {
 fn a_reload_of_a_large_run_returns_to_its_snapshot_even_through_new_parameters() {
     let mut h = building();
     h.state_mut().set_background_threshold(100);
-    let lap = sonarmap::log::load_run(
-        &std::fs::read(asset("building.log.json")).unwrap(),
-        "building.log.json",
-    )
-    .unwrap();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("long.log.json");
-    std::fs::write(
-        &path,
-        sonarmap::log::save_run(&sonarmap::bench::back_and_forth(&lap, 3000)),
-    )
-    .unwrap();
+    std::fs::write(&path, long_building_log()).unwrap();
     h.state_mut().push(Command::Open(path));
     settle(&mut h);
     h.state_mut().push(Command::Seek(2000));
@@ -475,10 +477,7 @@ fn a_reload_of_a_large_run_returns_to_its_snapshot_even_through_new_parameters()
 
 #[test]
 fn new_parameters_while_a_large_run_opens_rerun_the_whole_run() {
-    let mut h = building();
-    h.state_mut().set_background_threshold(100);
-    open_long_building(&mut h);
-    assert_eq!(h.state().len(), 256);
+    let mut h = previewing_long_building();
     let extended = sonarmap::mapping::Params::extended();
     h.state_mut().push(Command::SetParams(extended.clone()));
     settle(&mut h);
