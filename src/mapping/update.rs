@@ -261,26 +261,88 @@ fn in_place_order<'a>(mut pairs: impl Iterator<Item = (f64, &'a SupportPoint)>) 
 /// Where each new point goes among `old_len` old points in order (`old_place` gives one's
 /// place and reading): the index of the first old point that comes after it, ties
 /// going to the old point (as a stable sort orders them). `new` must be in order too.
+///
+/// Each search starts where the point's place falls between the first and the last old
+/// point's, as if the old points were evenly spread along the line (readings along a wall
+/// nearly are), and gallops out from there: on a `paper` wall of thousands of points, a
+/// bisection fetched a dozen chunks from memory for each new point (docs/performance.md, stop
+/// 32). The result is the bisection's: the first old point that comes after it.
 fn insertion_indices<'a>(
     old_len: usize,
     old_place: impl Fn(usize) -> (f64, ReadingRef) + 'a,
     new: impl Iterator<Item = (f64, &'a SupportPoint)> + 'a,
 ) -> impl Iterator<Item = usize> + 'a {
+    let ends = (old_len > 1).then(|| (old_place(0).0, old_place(old_len - 1).0));
     let mut i = 0;
     new.map(move |(l, r)| {
-        let (mut low, mut high) = (i, old_len);
-        while low < high {
-            let mid = (low + high) / 2;
-            let (k, reading) = old_place(mid);
-            if place_order(k, &reading, l, &r.reading).is_le() {
-                low = mid + 1;
+        let comes_before = |m: usize| {
+            let (k, reading) = old_place(m);
+            place_order(k, &reading, l, &r.reading).is_le()
+        };
+        let guess = match ends {
+            Some((first, last)) if last > first => {
+                let share = (l - first) / (last - first);
+                // NaN (a place not on the line) goes to the start.
+                (share.clamp(0.0, 1.0) * (old_len - 1) as f64) as usize
+            }
+            _ => i,
+        };
+        i = partition_point_near(i, old_len, guess, comes_before);
+        i
+    })
+}
+
+/// The first index in `low..high` at which `comes_before` turns false (`high` when it never
+/// does), for a `comes_before` true up to some index and false after it: probed at `guess`
+/// (clamped into the range) first, then at doubling steps away from it until the turn is
+/// bracketed, then by bisection inside the bracket.
+fn partition_point_near(
+    low: usize,
+    high: usize,
+    guess: usize,
+    comes_before: impl Fn(usize) -> bool,
+) -> usize {
+    if low >= high {
+        return low;
+    }
+    let g = guess.clamp(low, high - 1);
+    // The turn lies in `lo..=hi`: `comes_before` holds below `lo` and fails from `hi` on.
+    let (mut lo, mut hi);
+    if comes_before(g) {
+        (lo, hi) = (g + 1, high);
+        let mut step = 1;
+        while lo + step - 1 < high {
+            let probe = lo + step - 1;
+            if comes_before(probe) {
+                lo = probe + 1;
+                step *= 2;
             } else {
-                high = mid;
+                hi = probe;
+                break;
             }
         }
-        i = low;
-        low
-    })
+    } else {
+        (lo, hi) = (low, g);
+        let mut step = 1;
+        while hi >= low + step {
+            let probe = hi - step;
+            if comes_before(probe) {
+                lo = probe + 1;
+                break;
+            }
+            hi = probe;
+            step *= 2;
+        }
+    }
+    while lo < hi {
+        let mid = lo + (hi - lo) / 2;
+        if comes_before(mid) {
+            lo = mid + 1;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
 }
 
 /// Keeps the `support_cap` most recent of `points` (all when the cap is 0), in their order:
@@ -790,6 +852,18 @@ mod tests {
             // The same points from the chunked list (several chunks past 128 points).
             let chunked = merge_support_list(&SupportList::from_vec(old), &new, &a, &b, cap);
             prop_assert_eq!(chunked.to_vec(), expected);
+        }
+
+        #[test]
+        fn a_search_from_a_guess_finds_the_first_index_past_the_turn(
+            high in 0usize..300,
+            turn in 0usize..300,
+            low in 0usize..300,
+            guess in 0usize..400,
+        ) {
+            let (low, turn) = (low.min(high), turn.min(high));
+            let found = partition_point_near(low, high, guess, |m| m < turn);
+            prop_assert_eq!(found, turn.max(low));
         }
     }
 
