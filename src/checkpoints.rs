@@ -5,7 +5,9 @@
 //! since the previous checkpoint, so what it alone keeps alive is its lists of segments and
 //! faces (a pointer each) and the versions of what changed (of a segment's supporting points,
 //! the chunks that changed). That grows with the map: a `paper` map of a long lap run holds
-//! hundreds of thousands of segments. The store counts those bytes as checkpoints are taken.
+//! hundreds of thousands of segments. So a checkpoint keeps its list of segments in runs of
+//! consecutive ids ([`SegmentRuns`]), each shared with the checkpoint before while none of its
+//! segments changed. The store counts those bytes as checkpoints are taken.
 //!
 //! A seek restores the checkpoint before its snapshot and steps on from there, so the slowest
 //! seek is the interval whose steps cost most. In a run whose map grows, a late step costs
@@ -47,7 +49,7 @@ const RESTORE_COST_PER_SEGMENT: f64 = 6.0;
 pub struct Checkpoints {
     min_interval: usize,
     budget_bytes: usize,
-    states: Vec<MapperState>,
+    states: Vec<Kept>,
     /// What each state keeps alive beyond the one before it, bytes.
     bytes: Vec<usize>,
     /// The cost of restoring each state.
@@ -80,7 +82,7 @@ impl Checkpoints {
     /// after the last state, fewer than the shortest spacing, left out); with one state, from
     /// it to `len` (the snapshots run so far); (0, 0) with none.
     pub fn spacing_range(&self, len: usize) -> (usize, usize) {
-        let starts: Vec<usize> = self.states.iter().map(|s| s.next_snapshot).collect();
+        let starts: Vec<usize> = self.states.iter().map(Kept::next_snapshot).collect();
         match starts.as_slice() {
             [] => (0, 0),
             [only] => (len - only.min(&len), len - only.min(&len)),
@@ -135,11 +137,11 @@ impl Checkpoints {
     /// lap run, worst seek 76–82 ms in five runs of six, 107 ms in the other; never dropping
     /// the newest state, 95 ms in one run). Two states stay whatever the budget.
     pub fn push(&mut self, state: MapperState) {
-        self.bytes
-            .push(kept_alive_bytes(self.states.last(), &state));
+        let kept = Kept::new(state, self.states.last());
+        self.bytes.push(kept_alive_bytes(self.states.last(), &kept));
         self.restore_costs
-            .push(RESTORE_COST_PER_SEGMENT * state.map.segments.len() as f64);
-        self.states.push(state);
+            .push(RESTORE_COST_PER_SEGMENT * kept.segments.len() as f64);
+        self.states.push(kept);
         self.costs.push(0.0);
         while self.bytes() > self.budget_bytes && self.states.len() > 2 {
             let merged = |i: usize| self.restore_costs[i - 1] + self.costs[i - 1] + self.costs[i];
@@ -162,31 +164,34 @@ impl Checkpoints {
         &self.costs
     }
 
-    /// The latest state at or before snapshot `k`.
-    pub fn before(&self, k: usize) -> Option<&MapperState> {
-        self.states.get(self.index_before(k))
+    /// The latest state at or before snapshot `k`, its map made live (its segments listed and
+    /// filed in its spatial index), ready for [`crate::mapping::Mapper::resume`].
+    pub fn live_before(&self, k: usize) -> Option<MapperState> {
+        self.states.get(self.index_before(k)).map(Kept::live)
     }
 
     /// Snapshot of the latest state at or before snapshot `k` (0 while there is none).
     pub fn snapshot_before(&self, k: usize) -> usize {
-        self.before(k).map_or(0, |s| s.next_snapshot)
+        self.states
+            .get(self.index_before(k))
+            .map_or(0, Kept::next_snapshot)
     }
 
     /// Snapshot of the first state after snapshot `k`, when there is one.
     pub fn snapshot_after(&self, k: usize) -> Option<usize> {
         self.states
             .get(self.index_before(k) + 1)
-            .map(|s| s.next_snapshot)
+            .map(Kept::next_snapshot)
     }
 
     fn last_start(&self) -> usize {
-        self.states.last().map_or(0, |s| s.next_snapshot)
+        self.states.last().map_or(0, Kept::next_snapshot)
     }
 
     /// Index of the latest state at or before snapshot `k` (0 while there is none).
     fn index_before(&self, k: usize) -> usize {
         self.states
-            .partition_point(|s| s.next_snapshot <= k)
+            .partition_point(|s| s.next_snapshot() <= k)
             .saturating_sub(1)
     }
 
@@ -204,46 +209,154 @@ impl Checkpoints {
     }
 }
 
-/// Bytes that `state` keeps alive beyond `previous`: its lists of segments, faces and
-/// remembered points, and each segment or face (with its heap) not shared with `previous`.
-fn kept_alive_bytes(previous: Option<&MapperState>, state: &MapperState) -> usize {
-    let map = &state.map;
+/// Consecutive segment ids a run of [`SegmentRuns`] covers. On the `paper` building lap run
+/// (100,000 snapshots), the 1,800 to 3,000 segments a late checkpoint interval changes fall
+/// in about 350 of 2,500 runs of 64 ids, against 190 of 630 of 256.
+const RUN_IDS: usize = 64;
+
+/// A map's segments in runs of [`RUN_IDS`] consecutive ids (run `r` lists those with ids in
+/// `r * RUN_IDS..(r + 1) * RUN_IDS`, in order; none is an empty run), each run shared with the
+/// checkpoint before while none of its segments changed. A late `paper` checkpoint changes about
+/// 1 % of its segments, so its list of 170,000 segment pointers (1.4 MB, a fifth of what each
+/// checkpoint kept alive) becomes a few hundred runs (docs/performance.md, stop 32).
+#[derive(Clone, Debug, Default)]
+pub struct SegmentRuns {
+    runs: Vec<Arc<[Arc<Segment>]>>,
+    len: usize,
+}
+
+impl SegmentRuns {
+    /// `segments` (ordered by id) in runs, each sharing the run `previous` holds for the same
+    /// ids when that lists the very same segments.
+    fn new(segments: &[Arc<Segment>], previous: Option<&SegmentRuns>) -> Self {
+        let count = segments.last().map_or(0, |s| s.id as usize / RUN_IDS + 1);
+        let mut runs = Vec::with_capacity(count);
+        let mut rest = segments;
+        for r in 0..count {
+            let end = rest.partition_point(|s| (s.id as usize) < (r + 1) * RUN_IDS);
+            let (run, after) = rest.split_at(end);
+            let same = |old: &&Arc<[Arc<Segment>]>| {
+                old.len() == run.len() && old.iter().zip(run).all(|(a, b)| Arc::ptr_eq(a, b))
+            };
+            runs.push(match previous.and_then(|p| p.runs.get(r)).filter(same) {
+                Some(old) => Arc::clone(old),
+                None => run.into(),
+            });
+            rest = after;
+        }
+        Self {
+            runs,
+            len: segments.len(),
+        }
+    }
+
+    /// Segments held.
+    fn len(&self) -> usize {
+        self.len
+    }
+
+    /// The segments, ordered by id.
+    fn to_vec(&self) -> Vec<Arc<Segment>> {
+        let mut list = Vec::with_capacity(self.len);
+        for run in &self.runs {
+            list.extend(run.iter().cloned());
+        }
+        list
+    }
+
+    /// Each run with the run `previous` holds for the same ids (empty past its end), when the
+    /// two are not the very same run.
+    fn changed_runs<'a>(
+        &'a self,
+        previous: Option<&'a SegmentRuns>,
+    ) -> impl Iterator<Item = (&'a [Arc<Segment>], &'a [Arc<Segment>])> + 'a {
+        let old_run = move |r: usize| previous.and_then(|p| p.runs.get(r));
+        self.runs
+            .iter()
+            .enumerate()
+            .filter_map(move |(r, run)| match old_run(r) {
+                Some(old) if Arc::ptr_eq(old, run) => None,
+                Some(old) => Some((&old[..], &run[..])),
+                None => Some((&[][..], &run[..])),
+            })
+    }
+}
+
+/// A checkpoint: a mapper state whose map's segments are kept in [`SegmentRuns`].
+#[derive(Clone, Debug)]
+struct Kept {
+    /// The state, its map's list of segments left empty.
+    state: MapperState,
+    segments: SegmentRuns,
+}
+
+impl Kept {
+    /// `state` with its segments in runs, sharing those of `previous` that did not change.
+    fn new(mut state: MapperState, previous: Option<&Kept>) -> Self {
+        let segments = SegmentRuns::new(&state.map.segments, previous.map(|p| &p.segments));
+        state.map.segments = Vec::new();
+        Self { state, segments }
+    }
+
+    fn next_snapshot(&self) -> usize {
+        self.state.next_snapshot
+    }
+
+    /// The state with its map made live: its segments listed and filed in its spatial index.
+    fn live(&self) -> MapperState {
+        MapperState {
+            map: self.state.map.with_segments_indexed(self.segments.to_vec()),
+            last_pose: self.state.last_pose,
+            next_snapshot: self.state.next_snapshot,
+        }
+    }
+}
+
+/// Bytes that `kept` keeps alive beyond `previous`: its lists of segment runs, faces and
+/// remembered points, the runs it does not share with `previous`, and each segment or face
+/// (with its heap) not shared with `previous`.
+fn kept_alive_bytes(previous: Option<&Kept>, kept: &Kept) -> usize {
+    let map = &kept.state.map;
+    let old_runs = previous.map(|p| &p.segments);
+    let changed: Vec<_> = kept.segments.changed_runs(old_runs).collect();
     // The lists, and what the extensions keep whole in every copy (point features, plane
     // support of tentative segments, recent poses; a B-tree entry counted with two words of
     // overhead).
-    let lists = map.segments.len() * size_of::<Arc<Segment>>()
+    let lists = kept.segments.runs.capacity() * size_of::<Arc<[Arc<Segment>]>>()
+        + changed
+            .iter()
+            .map(|(_, run)| 2 * size_of::<usize>() + std::mem::size_of_val(*run))
+            .sum::<usize>()
         + map.faces.len() * size_of::<Arc<Face>>()
         + map.memory.len() * size_of::<MemoryPoint>()
         + map.features.len() * size_of::<PointFeature>()
         + map.plane_support.len() * (size_of::<(SegmentId, PlaneSupport)>() + 16)
         + map.recent_poses.len() * size_of::<(usize, Pose)>();
     let empty = Vec::new();
-    let (old_segments, old_faces) = match previous {
-        Some(p) => (&p.map.segments, &p.map.faces),
-        None => (&empty, &Vec::new()),
-    };
+    let old_faces = previous.map_or(&empty, |p| &p.state.map.faces);
     // The supporting-point chunks `previous` holds in the segments this state changed or
     // dropped: a new version of a segment, or a piece of its refit, may share them. A chunk is
     // counted once, the first time a segment here holds it.
-    let mut known: FxHashSet<*const SupportPoint> = replaced(old_segments, &map.segments, |s| s.id)
+    let mut known: FxHashSet<*const SupportPoint> = changed
+        .iter()
+        .flat_map(|(old, new)| replaced(old, new, |s| s.id))
         .flat_map(|s| s.points.chunks().iter().map(|c| c.as_ptr()))
         .collect();
-    let segments = unshared(
-        old_segments,
-        &map.segments,
-        |s| s.id,
-        |s| {
-            let new_chunks = s
-                .points
-                .chunks()
-                .iter()
-                .filter(|c| known.insert(c.as_ptr()));
-            size_of::<Segment>()
-                + s.updated.capacity() * size_of::<u32>()
-                + s.points.chunk_list_bytes()
-                + new_chunks.map(SupportList::chunk_bytes).sum::<usize>()
-        },
-    );
+    let mut segment_bytes = |s: &Segment| {
+        let new_chunks = s
+            .points
+            .chunks()
+            .iter()
+            .filter(|c| known.insert(c.as_ptr()));
+        size_of::<Segment>()
+            + s.updated.capacity() * size_of::<u32>()
+            + s.points.chunk_list_bytes()
+            + new_chunks.map(SupportList::chunk_bytes).sum::<usize>()
+    };
+    let segments: usize = changed
+        .iter()
+        .map(|(old, new)| unshared(old, new, |s| s.id, &mut segment_bytes))
+        .sum();
     let faces = unshared(
         old_faces,
         &map.faces,
@@ -333,6 +446,11 @@ mod tests {
         }
     }
 
+    /// What a run of `n` segment pointers keeps alive: two counts, then the pointers.
+    fn run(n: usize) -> usize {
+        16 + n * 8
+    }
+
     #[test]
     fn a_checkpoint_counts_its_lists_and_only_what_changed_since_the_previous_one() {
         let first = Map::from_segments((0..4).map(|id| segment(id, 10)).collect());
@@ -344,26 +462,57 @@ mod tests {
         let mut moved = (*second.segments[3]).clone();
         moved.a.point.x += 1.0;
         second.segments[3] = Arc::new(moved);
-        let (a, b) = (state(first), state(second));
+        let a = Kept::new(state(first), None);
+        let b = Kept::new(state(second), Some(&a));
         let one = size_of::<Segment>();
         // A short list: one chunk pointer (with its length, 16 bytes), and the chunk (two
         // counts, then its points).
         let chunk_list = 16;
         let chunk = |n: usize| 16 + n * size_of::<SupportPoint>();
-        // The lists of the first: 4 segment and 4 face pointers.
-        let first_lists = 4 * 8 + 4 * 8;
+        // The lists of the first: one run of segments (a pointer with its length, 16 bytes)
+        // holding 4 segment pointers, and 4 face pointers.
+        let first_lists = 16 + run(4) + 4 * 8;
         assert_eq!(
             kept_alive_bytes(None, &a),
-            first_lists + 4 * (one + chunk_list + chunk(10)) + kept_faces(&a.map)
+            first_lists + 4 * (one + chunk_list + chunk(10)) + kept_faces(&a.state.map)
         );
-        // The lists of the second: 5 segment and 4 face pointers.
-        let second_lists = 5 * 8 + 4 * 8;
+        // The lists of the second: its one run changed (5 segments), and 4 face pointers.
+        let second_lists = 16 + run(5) + 4 * 8;
         assert_eq!(
             kept_alive_bytes(Some(&a), &b),
             second_lists
                 + (one + chunk_list + chunk(3))
                 + (one + chunk_list + chunk(1))
                 + (one + chunk_list)
+        );
+    }
+
+    #[test]
+    fn a_checkpoint_shares_the_runs_of_segments_that_did_not_change() {
+        // Ids 0..200: runs 0..64, 64..128, 128..192 and 192..200.
+        let first = Map::from_segments((0..200).map(|id| segment(id, 1)).collect());
+        let mut second = first.clone();
+        // Segment 70 changes and segment 140 leaves: the second and third runs change.
+        second.segments[70] = Arc::new(segment(70, 2));
+        second.remove_segment(140);
+        let a = Kept::new(state(first.clone()), None);
+        let b = Kept::new(state(second.clone()), Some(&a));
+        let shared: Vec<bool> = (0..4)
+            .map(|r| Arc::ptr_eq(&a.segments.runs[r], &b.segments.runs[r]))
+            .collect();
+        assert_eq!(shared, [true, false, false, true]);
+        // Each state made live lists its segments, filed in its index.
+        let live = b.live();
+        assert_eq!(live.map.segments, second.segments);
+        assert_eq!(live.map, second);
+        assert_eq!(live.map.check_invariants(0), Ok(()));
+        assert_eq!(a.live().map, first);
+        // What the second keeps alive: its list of 4 runs, the 2 changed runs, the new version
+        // of segment 70 (its one chunk of 2 points), and 199 face pointers (face 140 left).
+        let one = size_of::<Segment>();
+        assert_eq!(
+            kept_alive_bytes(Some(&a), &b),
+            4 * 16 + run(64) + run(63) + 199 * 8 + one + 16 + (16 + 2 * size_of::<SupportPoint>())
         );
     }
 
@@ -382,15 +531,16 @@ mod tests {
         let mut tail = segment(1, 0);
         tail.points = whole.slice(88..128);
         second.segments.push(Arc::new(tail));
-        let (a, b) = (state(first), state(second));
+        let a = Kept::new(state(first), None);
+        let b = Kept::new(state(second), Some(&a));
         let one = size_of::<Segment>();
         let chunk = |n: usize| 16 + n * size_of::<SupportPoint>();
-        // Lists: two segment pointers and one face pointer. A slice's list of chunk pointers
-        // has room for the chunks the range meets and one more, 16 bytes each: 6 for the head,
-        // 4 for the tail.
+        // Lists: one run of two segment pointers and one face pointer. A slice's list of chunk
+        // pointers has room for the chunks the range meets and one more, 16 bytes each: 6 for
+        // the head, 4 for the tail.
         assert_eq!(
             kept_alive_bytes(Some(&a), &b),
-            (2 * 8 + 8) + (one + 6 * 16) + (one + 4 * 16 + chunk(24))
+            (16 + run(2) + 8) + (one + 6 * 16) + (one + 4 * 16 + chunk(24))
         );
     }
 
@@ -404,7 +554,7 @@ mod tests {
     #[test]
     fn over_budget_the_cheapest_intervals_merge_and_the_costly_ones_stay_short() {
         let big = Map::from_segments((0..100).map(|id| segment(id, 50)).collect());
-        let one_state = kept_alive_bytes(None, &state(big.clone()));
+        let one_state = kept_alive_bytes(None, &Kept::new(state(big.clone()), None));
         // Room for the first state and a few lists, not for 16 states.
         let mut store = Checkpoints::new(4, one_state + 8 * 1000);
         for k in 0..64 {
@@ -420,11 +570,11 @@ mod tests {
         assert!(store.bytes() <= store.budget_bytes());
         // Each kept state sits at a multiple of the shortest spacing, in order, and is the
         // latest at or before any snapshot of its interval.
-        let starts: Vec<usize> = store.states.iter().map(|s| s.next_snapshot).collect();
+        let starts: Vec<usize> = store.states.iter().map(Kept::next_snapshot).collect();
         assert_eq!(starts[0], 0);
         assert!(starts.windows(2).all(|w| w[0] < w[1] && w[1] % 4 == 0));
         for k in 0..64 {
-            let s = store.before(k).unwrap();
+            let s = store.live_before(k).unwrap();
             assert_eq!(s.next_snapshot, store.snapshot_before(k));
             assert!(s.next_snapshot <= k);
             assert!(store.snapshot_after(k).is_none_or(|next| k < next));

@@ -437,8 +437,8 @@ impl Replay {
             self.run.layout.clone(),
             self.run.sensor,
         );
-        if let Some(state) = self.checkpoints.before(k) {
-            mapper.restore(state);
+        if let Some(state) = self.checkpoints.live_before(k) {
+            mapper.resume(state);
         }
         self.catch_up(&mut mapper, k);
         mapper
@@ -484,7 +484,12 @@ impl Replay {
                 self.catch_up(&mut m, k.saturating_sub(1));
                 m
             }
-            _ => self.mapper_before(k.saturating_sub(1)),
+            other => {
+                if let Some(far) = other {
+                    drop_in_background(far);
+                }
+                self.mapper_before(k.saturating_sub(1))
+            }
         };
         let view = StepView::by_stepping(&mut m, &self.run.snapshots, k);
         cursor.at = Some((self.id, m));
@@ -507,6 +512,13 @@ impl Replay {
         }
         mapper.map().without_index()
     }
+}
+
+/// Drops `value` on a thread of its own: a mapper of a long `paper` run holds hundreds of
+/// thousands of shared segments, and letting go of each took a few milliseconds of a seek.
+fn drop_in_background<T: Send + 'static>(value: T) {
+    // Without a thread to spare, the failed spawn drops it here.
+    let _ = std::thread::Builder::new().spawn(move || drop(value));
 }
 
 #[cfg(test)]

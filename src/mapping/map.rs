@@ -692,6 +692,14 @@ impl Map {
     pub fn without_index(&self) -> Map {
         Map {
             segments: self.segments.clone(),
+            ..self.without_index_or_segments()
+        }
+    }
+
+    /// A copy of everything but its segments and its index.
+    fn without_index_or_segments(&self) -> Map {
+        Map {
+            segments: Vec::new(),
             faces: self.faces.clone(),
             memory: self.memory.clone(),
             recent_poses: self.recent_poses.clone(),
@@ -727,6 +735,19 @@ impl Map {
     pub fn with_index(&self) -> Map {
         let kept = self.indexed_segments();
         let mut map = self.clone();
+        map.file_all(kept);
+        map
+    }
+
+    /// A copy holding `segments` (ordered by id) instead of its own, with its spatial index
+    /// built: a checkpoint's map made live, where the checkpoint keeps its segments apart
+    /// (see [`crate::checkpoints`]).
+    pub fn with_segments_indexed(&self, segments: Vec<Arc<Segment>>) -> Map {
+        let mut map = Map {
+            segments,
+            ..self.without_index_or_segments()
+        };
+        let kept = map.indexed_segments();
         map.file_all(kept);
         map
     }

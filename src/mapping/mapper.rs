@@ -251,6 +251,14 @@ impl Mapper {
         }
     }
 
+    /// Resumes from `state`, whose map has its spatial index built (a checkpoint made live:
+    /// [`crate::checkpoints::Checkpoints::live_before`]).
+    pub fn resume(&mut self, state: MapperState) {
+        self.map = state.map;
+        self.last_pose = state.last_pose;
+        self.next_snapshot = state.next_snapshot;
+    }
+
     /// Resumes from a checkpoint (its map shared, not moved: see [`Map::with_index`]).
     pub fn restore(&mut self, state: &MapperState) {
         self.map = state.map.with_index();
