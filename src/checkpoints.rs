@@ -136,8 +136,16 @@ impl Checkpoints {
     /// the last interval then grows until it costs as much as they do (on the 100,000-snapshot
     /// lap run, worst seek 76–82 ms in five runs of six, 107 ms in the other; never dropping
     /// the newest state, 95 ms in one run). Two states stay whatever the budget.
-    pub fn push(&mut self, state: MapperState) {
-        let kept = Kept::new(state, self.states.last());
+    pub fn push(&mut self, mut state: MapperState) {
+        let segments = std::mem::take(&mut state.map.segments);
+        self.push_apart(state, &segments);
+    }
+
+    /// [`Checkpoints::push`] for a state whose map's segments are given apart (`segments`,
+    /// ordered by id; its own list is ignored): a live mapper's, without copying its list of
+    /// segments first ([`crate::mapping::Mapper::state_apart`]).
+    pub fn push_apart(&mut self, state: MapperState, segments: &[Arc<Segment>]) {
+        let kept = Kept::new(state, segments, self.states.last());
         self.bytes.push(kept_alive_bytes(self.states.last(), &kept));
         self.restore_costs
             .push(RESTORE_COST_PER_SEGMENT * kept.segments.len() as f64);
@@ -291,9 +299,10 @@ struct Kept {
 }
 
 impl Kept {
-    /// `state` with its segments in runs, sharing those of `previous` that did not change.
-    fn new(mut state: MapperState, previous: Option<&Kept>) -> Self {
-        let segments = SegmentRuns::new(&state.map.segments, previous.map(|p| &p.segments));
+    /// `state` with `segments` (its map's, ordered by id) in runs, sharing those of `previous`
+    /// that did not change.
+    fn new(mut state: MapperState, segments: &[Arc<Segment>], previous: Option<&Kept>) -> Self {
+        let segments = SegmentRuns::new(segments, previous.map(|p| &p.segments));
         state.map.segments = Vec::new();
         Self { state, segments }
     }
@@ -357,13 +366,26 @@ fn kept_alive_bytes(previous: Option<&Kept>, kept: &Kept) -> usize {
         .iter()
         .map(|(old, new)| unshared(old, new, |s| s.id, &mut segment_bytes))
         .sum();
-    let faces = unshared(
-        old_faces,
-        &map.faces,
-        |f| f.id,
-        |f| size_of::<Face>() + f.segments.capacity() * size_of::<u32>(),
-    );
+    let faces = changed_faces(old_faces, &map.faces);
     lists + segments + faces
+}
+
+/// The bytes of each face of `new` (both lists ordered by id) that is not the very face `old`
+/// holds under its id: the face, and its list of segments beyond what the old version of it
+/// shares.
+fn changed_faces(old: &[Arc<Face>], new: &[Arc<Face>]) -> usize {
+    let mut j = 0;
+    let mut total = 0;
+    for face in new {
+        while j < old.len() && old[j].id < face.id {
+            j += 1;
+        }
+        let previous = old.get(j).filter(|o| o.id == face.id);
+        if !previous.is_some_and(|o| Arc::ptr_eq(o, face)) {
+            total += size_of::<Face>() + face.segments.bytes_beyond(previous.map(|o| &o.segments));
+        }
+    }
+    total
 }
 
 /// The sum of `size` over the items of `new` (both lists ordered by id) that are not the very
@@ -438,6 +460,11 @@ mod tests {
         }
     }
 
+    fn kept(map: Map, previous: Option<&Kept>) -> Kept {
+        let segments = map.segments.clone();
+        Kept::new(state(map), &segments, previous)
+    }
+
     fn state(map: Map) -> MapperState {
         MapperState {
             map,
@@ -462,8 +489,8 @@ mod tests {
         let mut moved = (*second.segments[3]).clone();
         moved.a.point.x += 1.0;
         second.segments[3] = Arc::new(moved);
-        let a = Kept::new(state(first), None);
-        let b = Kept::new(state(second), Some(&a));
+        let a = kept(first, None);
+        let b = kept(second, Some(&a));
         let one = size_of::<Segment>();
         // A short list: one chunk pointer (with its length, 16 bytes), and the chunk (two
         // counts, then its points).
@@ -495,8 +522,8 @@ mod tests {
         // Segment 70 changes and segment 140 leaves: the second and third runs change.
         second.segments[70] = Arc::new(segment(70, 2));
         second.remove_segment(140);
-        let a = Kept::new(state(first.clone()), None);
-        let b = Kept::new(state(second.clone()), Some(&a));
+        let a = kept(first.clone(), None);
+        let b = kept(second.clone(), Some(&a));
         let shared: Vec<bool> = (0..4)
             .map(|r| Arc::ptr_eq(&a.segments.runs[r], &b.segments.runs[r]))
             .collect();
@@ -531,8 +558,8 @@ mod tests {
         let mut tail = segment(1, 0);
         tail.points = whole.slice(88..128);
         second.segments.push(Arc::new(tail));
-        let a = Kept::new(state(first), None);
-        let b = Kept::new(state(second), Some(&a));
+        let a = kept(first, None);
+        let b = kept(second, Some(&a));
         let one = size_of::<Segment>();
         let chunk = |n: usize| 16 + n * size_of::<SupportPoint>();
         // Lists: one run of two segment pointers and one face pointer. A slice's list of chunk
@@ -547,14 +574,14 @@ mod tests {
     fn kept_faces(map: &Map) -> usize {
         map.faces
             .iter()
-            .map(|f| size_of::<Face>() + f.segments.capacity() * 4)
+            .map(|f| size_of::<Face>() + f.segments.bytes_beyond(None))
             .sum()
     }
 
     #[test]
     fn over_budget_the_cheapest_intervals_merge_and_the_costly_ones_stay_short() {
         let big = Map::from_segments((0..100).map(|id| segment(id, 50)).collect());
-        let one_state = kept_alive_bytes(None, &Kept::new(state(big.clone()), None));
+        let one_state = kept_alive_bytes(None, &kept(big.clone(), None));
         // Room for the first state and a few lists, not for 16 states.
         let mut store = Checkpoints::new(4, one_state + 8 * 1000);
         for k in 0..64 {

@@ -273,7 +273,8 @@ impl Replay {
         let truth_every = interval.max(run.snapshots.len().div_ceil(TRUTH_SAMPLES));
         for (k, snapshot) in run.snapshots.iter().enumerate() {
             if checkpoints.due(k) {
-                checkpoints.push(mapper.state());
+                let (state, segments) = mapper.state_apart();
+                checkpoints.push_apart(state, segments);
             }
             match mapper.try_step(snapshot) {
                 Ok(trace) => {

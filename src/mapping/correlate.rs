@@ -62,7 +62,7 @@ pub fn correlate_face(
     };
     let new_ids: Vec<_> = map
         .face(face)
-        .map(|f| f.segments.clone())
+        .map(|f| f.segments.to_vec())
         .unwrap_or_default();
     let Some(closest) = closest_pair(map, face, &new_ids, params.t_gap_m) else {
         return trace;

@@ -2,6 +2,7 @@
 //! A `Map` is a plain value; cloning it is how the replay checkpoints.
 
 pub use super::features::{FeatureKind, PointFeature};
+use super::id_list::IdList;
 pub use super::ids::{FaceId, FeatureId, ObjectId, SegmentId};
 use super::index::{IndexedSegment, SegmentGrid};
 use super::plane_supports::PlaneSupports;
@@ -98,8 +99,9 @@ impl Segment {
 pub struct Face {
     /// Face id.
     pub id: FaceId,
-    /// Segment ids in chain order; the first and last hold the face's outermost end-points.
-    pub segments: Vec<SegmentId>,
+    /// Segment ids in chain order; the first and last hold the face's outermost end-points
+    /// (in shared chunks: a change copies one).
+    pub segments: IdList,
 }
 
 /// A reading kept by point memory (docs/algorithm.md §8).
@@ -232,7 +234,7 @@ impl Map {
                     i,
                     Arc::new(Face {
                         id: s.face,
-                        segments: vec![s.id],
+                        segments: IdList::from_slice(&[s.id]),
                     }),
                 ),
             }
@@ -324,7 +326,7 @@ impl Map {
             .find(|f| f.id == face)
             .map(|f| &**f);
         match before.or_else(|| self.face(face)) {
-            Some(f) => f.segments.first() == Some(&id) || f.segments.last() == Some(&id),
+            Some(f) => f.segments.first() == Some(id) || f.segments.last() == Some(id),
             None => true,
         }
     }
@@ -339,7 +341,7 @@ impl Map {
     pub fn is_outermost_segment(&self, seg: &Segment) -> bool {
         match self.face(seg.face) {
             Some(face) => {
-                face.segments.first() == Some(&seg.id) || face.segments.last() == Some(&seg.id)
+                face.segments.first() == Some(seg.id) || face.segments.last() == Some(seg.id)
             }
             None => true,
         }
@@ -358,7 +360,7 @@ impl Map {
         self.next_face_id += 1;
         self.faces.push(Arc::new(Face {
             id,
-            segments: Vec::new(),
+            segments: IdList::default(),
         }));
         id
     }
@@ -414,9 +416,7 @@ impl Map {
         }
         if let Some(f) = self.face_position(face) {
             self.journal_face(f);
-            Arc::make_mut(&mut self.faces[f])
-                .segments
-                .retain(|&s| s != id);
+            Arc::make_mut(&mut self.faces[f]).segments.remove_id(id);
             if self.faces[f].segments.is_empty() && self.face_journal.is_none() {
                 self.faces.remove(f);
             }
@@ -540,7 +540,7 @@ impl Map {
             if f.segments.is_empty() {
                 return Err(format!("face {} is empty", f.id));
             }
-            for &id in &f.segments {
+            for id in f.segments.iter() {
                 match self.segment(id) {
                     None => return Err(format!("face {} names missing segment {id}", f.id)),
                     Some(s) if s.face != f.id => {
@@ -697,7 +697,7 @@ impl Map {
     }
 
     /// A copy of everything but its segments and its index.
-    fn without_index_or_segments(&self) -> Map {
+    pub fn without_index_or_segments(&self) -> Map {
         Map {
             segments: Vec::new(),
             faces: self.faces.clone(),

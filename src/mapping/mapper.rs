@@ -251,6 +251,18 @@ impl Mapper {
         }
     }
 
+    /// [`Mapper::state`] with its map's list of segments left empty, and that list: a
+    /// checkpoint keeps the segments its own way ([`crate::checkpoints::Checkpoints::push_apart`])
+    /// and needs no copy of the list.
+    pub fn state_apart(&self) -> (MapperState, &[std::sync::Arc<Segment>]) {
+        let state = MapperState {
+            map: self.map.without_index_or_segments(),
+            last_pose: self.last_pose,
+            next_snapshot: self.next_snapshot,
+        };
+        (state, &self.map.segments)
+    }
+
     /// Resumes from `state`, whose map has its spatial index built (a checkpoint made live:
     /// [`crate::checkpoints::Checkpoints::live_before`]).
     pub fn resume(&mut self, state: MapperState) {
@@ -1253,7 +1265,7 @@ impl Mapper {
             .map
             .face(face)
             .and_then(|f| f.segments.first())
-            .and_then(|&id| self.map.segment(id))
+            .and_then(|id| self.map.segment(id))
         {
             Some(s) => s.object,
             None => self.map.allocate_object_id(),

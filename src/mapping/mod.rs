@@ -13,6 +13,7 @@ pub mod fit;
 pub mod flip;
 pub mod free_space;
 mod guard;
+pub mod id_list;
 pub mod ids;
 pub mod index;
 pub mod map;

@@ -777,10 +777,9 @@ fn refit_segment(
     if let Some(f) = map.face_mut(face) {
         let at = f
             .segments
-            .iter()
-            .position(|&s| s == target)
+            .position(target)
             .map_or(f.segments.len(), |p| p + 1);
-        f.segments.splice(at..at, piece_ids[1..].iter().copied());
+        f.segments.insert_at(at, &piece_ids[1..]);
     }
     (splits, piece_ids)
 }
