@@ -442,10 +442,7 @@ mod tests {
         let q = SupportPoint {
             point: end.point,
             range_m: 1.0,
-            reading: ReadingRef {
-                snapshot: 0,
-                sensor: 0,
-            },
+            reading: ReadingRef::new(0, 0),
         };
         Segment {
             id,

@@ -48,7 +48,7 @@ impl Clusters {
 /// let q = |sensor: usize, x: f64, y: f64, range_m: f64| SupportPoint {
 ///     point: Point::new(x, y),
 ///     range_m,
-///     reading: ReadingRef { snapshot: 0, sensor },
+///     reading: ReadingRef::new(0, sensor),
 /// };
 /// use sonarmap::mapping::cluster::{cluster_points, sensor_ranks, Clusters};
 /// // Sensors 0..4 in bearing order, not wrapping; t_gap = 1 m. Gaps: 0.5, 1.5 (a break), 1.0
@@ -84,10 +84,10 @@ pub fn cluster_points(
     members.sort_by_key(|&i| {
         (
             rank_of_sensor
-                .get(kept[i].reading.sensor)
+                .get(kept[i].reading.sensor())
                 .copied()
                 .unwrap_or(usize::MAX),
-            kept[i].reading.sensor,
+            kept[i].reading.sensor(),
         )
     });
     let chain = &members[..];
@@ -96,8 +96,8 @@ pub fn cluster_points(
         let (a, b) = (&kept[chain[i]], &kept[chain[(i + 1) % n]]);
         let distance_m = (a.point - b.point).norm();
         GapTrace {
-            from_sensor: a.reading.sensor,
-            to_sensor: b.reading.sensor,
+            from_sensor: a.reading.sensor(),
+            to_sensor: b.reading.sensor(),
             distance_m,
             t_gap_m,
             is_break: distance_m > t_gap_m,
@@ -141,10 +141,7 @@ mod tests {
         SupportPoint {
             point: Point::new(x, y),
             range_m: 1.0,
-            reading: ReadingRef {
-                snapshot: 0,
-                sensor,
-            },
+            reading: ReadingRef::new(0, sensor),
         }
     }
 

@@ -350,7 +350,7 @@ pub fn refit_moved_off(
 /// // A side sensor looking along +y at the wall y = 1 from x = 0 and x = 0.4 (snapshots 3, 5).
 /// let at = |x: f64, snapshot: usize| {
 ///     let beam = Beam { origin: Point::new(x, 0.0), direction: Vec2::new(0.0, 1.0), range_m: 1.0 };
-///     (ReadingRef { snapshot, sensor: 2 }, beam)
+///     (ReadingRef::new(snapshot, 2), beam)
 /// };
 /// let (a, b) = (Point::new(0.0, 1.0), Point::new(0.4, 1.0));
 /// let half = 12.5f64.to_radians();
@@ -431,7 +431,7 @@ pub fn note_baseline_support(
     support.last_snapshot = snapshot;
     Some(PlaneSupportTrace {
         segment: id,
-        sensor: pair.readings[1].sensor,
+        sensor: pair.readings[1].sensor(),
         range_m: later.range_m,
         distance_m,
         snapshots: support.snapshots,
@@ -455,7 +455,7 @@ mod tests {
             direction: Vec2::new(0.0, 1.0),
             range_m,
         };
-        (ReadingRef { snapshot, sensor }, beam)
+        (ReadingRef::new(snapshot, sensor), beam)
     }
 
     /// The wall y = 1 from x = −0.2 to 0.8.

@@ -523,10 +523,7 @@ mod tests {
             .map(|(i, point)| SupportPoint {
                 point,
                 range_m: beams[i].range_m,
-                reading: ReadingRef {
-                    snapshot: i,
-                    sensor: 0,
-                },
+                reading: ReadingRef::new(i, 0),
             })
             .collect()
     }

@@ -23,14 +23,14 @@ fn same_depth(accuracy_pct: f64, d1: f64, d2: f64) -> bool {
 /// let q = |sensor: usize, x: f64, y: f64, range_m: f64| SupportPoint {
 ///     point: Point::new(x, y),
 ///     range_m,
-///     reading: ReadingRef { snapshot: 0, sensor },
+///     reading: ReadingRef::new(0, sensor),
 /// };
 /// use sonarmap::mapping::extensions::reduce_constant_depth;
 /// // Ranges 2.00, 2.05, 2.10, 3.00 at ξ = 3: |2.00 − 2.10| = 0.10 ≤ 0.03·4.10 = 0.123, so the
 /// // first three pass pairwise and become their middle reading (sensor 1); 3.00 fails with all.
 /// let chain = [q(0, 0.0, 2.0, 2.0), q(1, 1.0, 2.05, 2.05), q(2, 2.0, 2.1, 2.1), q(3, 3.0, 3.0, 3.0)];
 /// let (reduced, groups) = reduce_constant_depth(&chain, 3.0);
-/// let sensors: Vec<usize> = reduced.iter().map(|p| p.reading.sensor).collect();
+/// let sensors: Vec<usize> = reduced.iter().map(|p| p.reading.sensor()).collect();
 /// assert_eq!(sensors, vec![1, 3]);
 /// assert_eq!(groups[0].sensors, vec![0, 1, 2]);
 /// assert_eq!(groups[0].kept_sensor, 1);
@@ -55,8 +55,8 @@ pub fn reduce_constant_depth(
             let middle = points[i + (j - i - 1) / 2];
             out.push(middle);
             traces.push(ConstantDepthTrace {
-                sensors: points[i..j].iter().map(|q| q.reading.sensor).collect(),
-                kept_sensor: middle.reading.sensor,
+                sensors: points[i..j].iter().map(|q| q.reading.sensor()).collect(),
+                kept_sensor: middle.reading.sensor(),
             });
             i = j;
         } else {
@@ -198,7 +198,7 @@ pub fn memory_step(
     let mut trace = MemoryTrace::default();
     let horizon = params.memory_snapshots;
     memory.retain(|m| {
-        let keep = snapshot - m.support.reading.snapshot.min(snapshot) < horizon;
+        let keep = snapshot - m.support.reading.snapshot().min(snapshot) < horizon;
         if !keep && record {
             trace.expired.push(m.support.reading);
         }
@@ -350,7 +350,7 @@ mod tests {
         SupportPoint {
             point: Point::new(x, y),
             range_m: d,
-            reading: ReadingRef { snapshot, sensor },
+            reading: ReadingRef::new(snapshot, sensor),
         }
     }
 
@@ -366,7 +366,7 @@ mod tests {
         ];
         let (out, traces) = reduce_constant_depth(&pts, 3.0);
         assert_eq!(
-            out.iter().map(|q| q.reading.sensor).collect::<Vec<_>>(),
+            out.iter().map(|q| q.reading.sensor()).collect::<Vec<_>>(),
             vec![1, 4]
         );
         assert_eq!(
@@ -406,12 +406,6 @@ mod tests {
         // A lone reading expires after memory_snapshots.
         step(&mut memory, &[sp(3, 0, 50.0, 50.0, 50.0)], 3);
         let (t, _) = step(&mut memory, &[], 6);
-        assert_eq!(
-            t.expired,
-            vec![ReadingRef {
-                snapshot: 3,
-                sensor: 0
-            }]
-        );
+        assert_eq!(t.expired, vec![ReadingRef::new(3, 0)]);
     }
 }

@@ -30,7 +30,7 @@ pub fn split_tolerance(params: &Params, range_m: f64) -> f64 {
 /// let q = |sensor: usize, x: f64, y: f64, range_m: f64| SupportPoint {
 ///     point: Point::new(x, y),
 ///     range_m,
-///     reading: ReadingRef { snapshot: 0, sensor },
+///     reading: ReadingRef::new(0, sensor),
 /// };
 /// use sonarmap::mapping::fit::split_recursive;
 /// use sonarmap::mapping::Params;
@@ -145,10 +145,7 @@ mod tests {
             .map(|(i, &(x, y, d))| SupportPoint {
                 point: Point::new(x, y),
                 range_m: d,
-                reading: ReadingRef {
-                    snapshot: 0,
-                    sensor: i,
-                },
+                reading: ReadingRef::new(0, i),
             })
             .collect()
     }

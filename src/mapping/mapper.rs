@@ -373,8 +373,8 @@ impl Mapper {
             .filter_map(|d| d.result.map(|r| (d.new_segment, r)))
             .collect();
         for (ni, target) in targets {
-            let now = |q: &&SupportPoint| q.reading.snapshot == trace.snapshot;
-            let beam = |q: &SupportPoint| (q.reading.sensor, self.beam_of(&snapshot.pose, q));
+            let now = |q: &&SupportPoint| q.reading.snapshot() == trace.snapshot;
+            let beam = |q: &SupportPoint| (q.reading.sensor(), self.beam_of(&snapshot.pose, q));
             let beams: Vec<(usize, Beam)> = match new_segments.get(ni) {
                 Some(n) if !n.points.is_empty() => n.points.iter().filter(now).map(beam).collect(),
                 // Untraced, a new face's points moved into the map segment.
@@ -461,7 +461,7 @@ impl Mapper {
                 .points
                 .iter()
                 .filter_map(|q| {
-                    let beam = if q.reading.snapshot == trace.snapshot {
+                    let beam = if q.reading.snapshot() == trace.snapshot {
                         self.beam_of(&snapshot.pose, q)
                     } else if memory_readings.contains(&q.reading) {
                         self.recent_beam_of(q)?
@@ -559,7 +559,7 @@ impl Mapper {
                 self.map.remove_segment(segment);
                 trace.refuted.push(RefutedTrace {
                     segment,
-                    sensor: q.reading.sensor,
+                    sensor: q.reading.sensor(),
                     range_m: q.range_m,
                     distance_m,
                     off_axis_rad,
@@ -683,7 +683,7 @@ impl Mapper {
     /// The world beam of reading `q`, from the pose of its snapshot when that is among the
     /// recent ones the map keeps (docs/algorithm.md §8.7, §8.10).
     fn recent_beam_of(&self, q: &SupportPoint) -> Option<Beam> {
-        let pose = self.map.recent_pose(q.reading.snapshot)?;
+        let pose = self.map.recent_pose(q.reading.snapshot())?;
         Some(self.beam_of(&pose, q))
     }
 
@@ -695,7 +695,7 @@ impl Mapper {
             Some((step_pose, frame)) if step_pose == *pose => frame,
             _ => pose.robot_frame(),
         };
-        let axis = &self.beam_axes[q.reading.sensor];
+        let axis = &self.beam_axes[q.reading.sensor()];
         Beam {
             origin: frame.to_world(&axis.origin_in_robot),
             direction: frame.direction_to_world(&axis.direction_in_robot),
@@ -737,7 +737,7 @@ impl Mapper {
                 let at = self.map.feature(id).map_or(beam.origin, |f| f.at);
                 let v = at - beam.origin;
                 trace.explained.push(ExplainedTrace {
-                    sensor: q.reading.sensor,
+                    sensor: q.reading.sensor(),
                     range_m: q.range_m,
                     feature: id,
                     feature_distance_m: v.norm(),
@@ -769,7 +769,7 @@ impl Mapper {
         settled_by.resize(self.layout.len(), None);
         buffers.kept.retain(|q| {
             let beam = self.beam_of(&snapshot.pose, q);
-            let hint = settled_by.get(q.reading.sensor).copied().flatten();
+            let hint = settled_by.get(q.reading.sensor()).copied().flatten();
             // Traced, the wall that predicts the range best, for the trace; untraced, any.
             let segment = if self.record_trace {
                 let Some((segment, predicted_m, inside_m)) =
@@ -778,7 +778,7 @@ impl Mapper {
                     return true;
                 };
                 trace.settled.push(SettledTrace {
-                    sensor: q.reading.sensor,
+                    sensor: q.reading.sensor(),
                     range_m: q.range_m,
                     segment,
                     predicted_m,
@@ -793,7 +793,7 @@ impl Mapper {
                 };
                 segment
             };
-            if let Some(slot) = settled_by.get_mut(q.reading.sensor) {
+            if let Some(slot) = settled_by.get_mut(q.reading.sensor()) {
                 *slot = Some(segment);
             }
             false
@@ -808,7 +808,7 @@ impl Mapper {
             return false;
         };
         let beams: Vec<Beam> = chain.iter().map(|q| self.beam_of(&pose, q)).collect();
-        let sensors: Vec<usize> = chain.iter().map(|q| q.reading.sensor).collect();
+        let sensors: Vec<usize> = chain.iter().map(|q| q.reading.sensor()).collect();
         let Some((at, range_m)) = arc_point(&beams, &sensors, self.params.accuracy_pct) else {
             return false;
         };
@@ -883,13 +883,13 @@ impl Mapper {
             let mut chain = self.fresh_or_reused(fitted_buffer, members.len() + 1);
             chain.extend(members.iter().map(|&i| kept[i]));
             for q in &chain {
-                trace.readings[q.reading.sensor].cluster = Some(ci);
+                trace.readings[q.reading.sensor()].cluster = Some(ci);
             }
             let chain_len = chain.len();
             if params.arc_features && self.file_if_arc(ci, &chain, trace) {
                 if self.record_trace {
                     trace.clusters.push(ClusterTrace {
-                        sensors: chain.iter().map(|q| q.reading.sensor).collect(),
+                        sensors: chain.iter().map(|q| q.reading.sensor()).collect(),
                         constant_depth: Vec::new(),
                         fitted: chain,
                         splits: Vec::new(),
@@ -901,7 +901,7 @@ impl Mapper {
                 continue;
             }
             let sensors: Vec<usize> = if self.record_trace {
-                chain.iter().map(|q| q.reading.sensor).collect()
+                chain.iter().map(|q| q.reading.sensor()).collect()
             } else {
                 Vec::new()
             };
@@ -1072,7 +1072,7 @@ impl Mapper {
                     .points
                     .iter()
                     .map(|q| q.reading)
-                    .filter(|r| r.snapshot != trace.snapshot),
+                    .filter(|r| r.snapshot() != trace.snapshot),
             );
             let last = piece.points.len() - 1;
             let (a, b) = piece_end_points(&piece.points, 0, last, self.params.fit);

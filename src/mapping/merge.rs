@@ -124,10 +124,7 @@ mod tests {
         let support = |(x, y): (f64, f64), sensor| SupportPoint {
             point: Point::new(x, y),
             range_m,
-            reading: ReadingRef {
-                snapshot: id as usize,
-                sensor,
-            },
+            reading: ReadingRef::new(id as usize, sensor),
         };
         Segment {
             id,

@@ -44,7 +44,7 @@ pub fn discard_reason(
 /// assert_eq!(traces.len(), 4);
 /// assert_eq!(kept.len(), 1);
 /// assert!((kept[0].point.x + 1.0).abs() < 1e-12 && kept[0].point.y.abs() < 1e-12);
-/// assert_eq!((kept[0].reading.snapshot, kept[0].reading.sensor), (3, 1));
+/// assert_eq!((kept[0].reading.snapshot(), kept[0].reading.sensor()), (3, 1));
 /// assert_eq!(traces.iter().filter(|t| t.discarded.is_some()).count(), 3);
 /// ```
 pub fn convert_readings(
@@ -69,7 +69,7 @@ pub fn convert_readings(
             kept.push(SupportPoint {
                 point,
                 range_m,
-                reading: ReadingRef { snapshot, sensor },
+                reading: ReadingRef::new(snapshot, sensor),
             });
         }
         traces.push(ReadingTrace {
@@ -126,10 +126,7 @@ mod tests {
         let mut kept = vec![SupportPoint {
             point: Point::new(1.0, 2.0),
             range_m: 1.0,
-            reading: ReadingRef {
-                snapshot: 6,
-                sensor: 3,
-            },
+            reading: ReadingRef::new(6, 3),
         }];
         let traces = convert_readings(
             7,
@@ -145,12 +142,6 @@ mod tests {
         assert!((kept[0].point.x - inches(109.0)).abs() < 1e-12);
         assert!((traces[0].ball_radius_m - inches(3.0)).abs() < 1e-12);
         assert_eq!(traces[4].discarded, Some(DiscardReason::BelowMinRange));
-        assert_eq!(
-            kept[0].reading,
-            ReadingRef {
-                snapshot: 7,
-                sensor: 0
-            }
-        );
+        assert_eq!(kept[0].reading, ReadingRef::new(7, 0));
     }
 }

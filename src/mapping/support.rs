@@ -4,13 +4,36 @@
 use crate::geometry::Point;
 use serde::{Deserialize, Serialize};
 
-/// A reading of a run: snapshot index and sensor index.
+/// A reading of a run: snapshot index and sensor index, 32 bits each (every supporting point
+/// holds one, and a `paper` map of a long run holds millions of points: docs/performance.md,
+/// stop 32); [`ReadingRef::new`] and [`ReadingRef::snapshot`] convert.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub struct ReadingRef {
     /// Snapshot index.
-    pub snapshot: usize,
+    pub snapshot: u32,
     /// Sensor index.
-    pub sensor: usize,
+    pub sensor: u32,
+}
+
+impl ReadingRef {
+    /// The reading of sensor `sensor` in snapshot `snapshot`.
+    pub fn new(snapshot: usize, sensor: usize) -> Self {
+        let fit = |i: usize| u32::try_from(i).expect("snapshot and sensor indices fit in 32 bits");
+        Self {
+            snapshot: fit(snapshot),
+            sensor: fit(sensor),
+        }
+    }
+
+    /// Snapshot index.
+    pub fn snapshot(&self) -> usize {
+        self.snapshot as usize
+    }
+
+    /// Sensor index.
+    pub fn sensor(&self) -> usize {
+        self.sensor as usize
+    }
 }
 
 /// A point that supports a segment, with the range that produced it.

@@ -287,15 +287,12 @@ mod tests {
         SupportPoint {
             point: Point::new(i as f64, 0.0),
             range_m: 1.0,
-            reading: ReadingRef {
-                snapshot: i,
-                sensor: 0,
-            },
+            reading: ReadingRef::new(i, 0),
         }
     }
 
     fn xs(list: &SupportList) -> Vec<usize> {
-        list.iter().map(|q| q.reading.snapshot).collect()
+        list.iter().map(|q| q.reading.snapshot()).collect()
     }
 
     #[test]

@@ -34,7 +34,7 @@ const COINCIDENT_M: f64 = 1e-6;
 /// let at = |x: f64, snapshot: usize, sensor: usize| SupportPoint {
 ///     point: Point::new(x, 0.0),
 ///     range_m: 1.0,
-///     reading: ReadingRef { snapshot, sensor },
+///     reading: ReadingRef::new(snapshot, sensor),
 /// };
 /// let (a, b) = (
 ///     EndPoint { point: Point::new(0.0, 0.0), range_m: 1.0 },
@@ -44,7 +44,7 @@ const COINCIDENT_M: f64 = 1e-6;
 /// let old = [at(0.0, 5, 0), at(1.0, 5, 1)];
 /// let new = [at(1.0, 3, 2), at(2.0, 6, 0)];
 /// let merged = merge_support_points(&old, &new, &a, &b, 0);
-/// let order: Vec<_> = merged.iter().map(|q| (q.point.x, q.reading.snapshot)).collect();
+/// let order: Vec<_> = merged.iter().map(|q| (q.point.x, q.reading.snapshot())).collect();
 /// assert_eq!(order, [(0.0, 5), (1.0, 3), (1.0, 5), (2.0, 6)]);
 /// // A cap of 3 drops the oldest reading (snapshot 3).
 /// assert_eq!(merge_support_points(&old, &new, &a, &b, 3).len(), 3);
@@ -370,10 +370,7 @@ fn oldest_reading_kept(
     let readings = old.iter().chain(new).map(|q| q.reading);
     // The oldest kept is the one with `dropped` older than it: the (dropped + 1)-th oldest.
     if dropped < SMALL {
-        let mut oldest = [ReadingRef {
-            snapshot: 0,
-            sensor: 0,
-        }; SMALL];
+        let mut oldest = [ReadingRef::new(0, 0); SMALL];
         let mut len = 0;
         for r in readings {
             if len <= dropped {
@@ -816,10 +813,7 @@ mod tests {
                 // Few positions and readings, so that ties are common.
                 point: Point::new(f64::from(x) / 8.0, 0.01 * f64::from(sensor)),
                 range_m: 1.0,
-                reading: ReadingRef {
-                    snapshot: first_snapshot + i / 8,
-                    sensor: usize::from(sensor % 3),
-                },
+                reading: ReadingRef::new(first_snapshot + i / 8, usize::from(sensor % 3)),
             })
             .collect()
     }

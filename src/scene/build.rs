@@ -575,8 +575,8 @@ impl Builder<'_, '_> {
         };
         for q in seg.points.iter() {
             let reading = SceneId::Reading {
-                snapshot: q.reading.snapshot,
-                sensor: q.reading.sensor,
+                snapshot: q.reading.snapshot(),
+                sensor: q.reading.sensor(),
             };
             let shape = Shape::Marker {
                 at: q.point,

@@ -831,8 +831,8 @@ fn a_segments_lineage_leads_to_the_decision_that_made_it() {
         assert_eq!(
             p.id,
             SceneId::Reading {
-                snapshot: q.reading.snapshot,
-                sensor: q.reading.sensor
+                snapshot: q.reading.snapshot(),
+                sensor: q.reading.sensor()
             }
         );
     }

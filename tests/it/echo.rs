@@ -203,7 +203,7 @@ mod fit_properties {
                 .map(|(i, b)| SupportPoint {
                     point: b.origin + b.direction * b.range_m,
                     range_m: b.range_m,
-                    reading: ReadingRef { snapshot: i, sensor: 0 },
+                    reading: ReadingRef::new(i, 0),
                 })
                 .collect();
             let axis: Vec<Point> = points.iter().map(|q| q.point).collect();

@@ -70,7 +70,7 @@ fn a_failed_update_whose_fresh_fit_is_one_piece_takes_that_pieces_end_points() {
     let order: Vec<(f64, usize)> = s
         .points
         .iter()
-        .map(|q| (q.point.x.round(), q.reading.snapshot))
+        .map(|q| (q.point.x.round(), q.reading.snapshot()))
         .collect();
     assert_eq!(order, [(0.0, 1), (1.0, 0), (1.0, 1), (2.0, 0), (2.0, 1)]);
 }
@@ -188,7 +188,7 @@ fn a_wall_seen_square_on_by_three_sonars_is_fitted_too_and_its_middle_reading_go
         .expect("point memory is on")
         .added
         .iter()
-        .map(|r| r.sensor)
+        .map(|r| r.sensor())
         .collect();
     assert_eq!(added, vec![6]);
 

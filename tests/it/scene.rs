@@ -210,10 +210,7 @@ fn perceive(run: &Run, k: usize) -> StepTrace {
             .map(|&s| SupportPoint {
                 point: trace.readings[s].point.unwrap(),
                 range_m: trace.readings[s].range_m.unwrap(),
-                reading: ReadingRef {
-                    snapshot: k,
-                    sensor: s,
-                },
+                reading: ReadingRef::new(k, s),
             })
             .collect();
         for &s in &sensors {

@@ -88,7 +88,7 @@ fn details_ui(ui: &mut egui::Ui, ctx: &InspectCtx, seg: &Segment) {
                 "face / object",
                 format!("{} / {}", seg.face, seg.object),
             );
-            let snapshots = seg.points.iter().map(|q| q.reading.snapshot);
+            let snapshots = seg.points.iter().map(|q| q.reading.snapshot());
             let span = match (snapshots.clone().min(), snapshots.max()) {
                 (Some(a), Some(b)) if a != b => format!(" from snapshots {a}–{b}"),
                 (Some(a), _) => format!(" from snapshot {a}"),

@@ -76,11 +76,11 @@ pub(super) fn new_segment_ui(
             ui.horizontal_wrapped(|ui| {
                 ui.label(RichText::new("readings (sensor: D)").weak());
                 for p in &seg.points {
-                    let text = format!("s{}: {}", p.reading.sensor, ctx.len(p.range_m));
+                    let text = format!("s{}: {}", p.reading.sensor(), ctx.len(p.range_m));
                     if ui.small_button(text).clicked() {
                         commands.push(Command::Select(SceneId::Reading {
-                            snapshot: p.reading.snapshot,
-                            sensor: p.reading.sensor,
+                            snapshot: p.reading.snapshot(),
+                            sensor: p.reading.sensor(),
                         }));
                     }
                 }
