@@ -99,3 +99,26 @@ pub fn counted_bytes() -> isize {
 pub fn peak_counted_bytes() -> isize {
     PEAK.load(Ordering::Relaxed)
 }
+
+/// mimalloc's option `purge_delay` (its index in mimalloc 2's `mi_option_t`, the version
+/// `libmimalloc-sys` builds without its `v3` feature).
+const MI_OPTION_PURGE_DELAY: std::ffi::c_int = 15;
+
+unsafe extern "C" {
+    /// mimalloc's own setter of its runtime options.
+    fn mi_option_set(option: std::ffi::c_int, value: std::ffi::c_long);
+}
+
+/// Keeps the memory the process frees for its own reuse instead of handing it back to the OS
+/// (mimalloc's purging off). A seek makes a checkpoint's map live: a grid of tens of MB,
+/// allocated afresh; when the pages freed by the seek before had gone back to the OS, faulting
+/// them in again made the worst seek on the 100,000-snapshot `paper` lap run 52–57 ms instead of
+/// 40–42 ms (docs/performance.md, stop 32). The process then keeps the memory of its peak.
+/// `MIMALLOC_PURGE_DELAY` set in the environment wins.
+pub fn keep_freed_memory() {
+    if std::env::var_os("MIMALLOC_PURGE_DELAY").is_some() {
+        return;
+    }
+    // SAFETY: a plain setter of a process-wide option, valid before or after allocating.
+    unsafe { mi_option_set(MI_OPTION_PURGE_DELAY, -1) }
+}

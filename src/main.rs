@@ -75,6 +75,8 @@ fn open_app(log: Option<PathBuf>) -> anyhow::Result<()> {
 fn main() -> ExitCode {
     // A guarded engine step reports its own failure (naming the snapshot): no panic trace.
     sonarmap::mapping::install_quiet_step_hook();
+    // Seeks allocate big grids again and again: freed memory stays for them.
+    sonarmap::alloc_count::keep_freed_memory();
     let cli = match cli::Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {
