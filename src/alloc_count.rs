@@ -100,8 +100,8 @@ pub fn peak_counted_bytes() -> isize {
     PEAK.load(Ordering::Relaxed)
 }
 
-/// mimalloc's option `purge_delay` (its index in mimalloc 2's `mi_option_t`, the version
-/// `libmimalloc-sys` builds without its `v3` feature).
+/// mimalloc's option `purge_delay`: its index in `mi_option_t`, the same in mimalloc 3 (which
+/// `libmimalloc-sys` 0.1.49 builds without its `v2` feature) and mimalloc 2.
 const MI_OPTION_PURGE_DELAY: std::ffi::c_int = 15;
 
 unsafe extern "C" {
@@ -110,13 +110,15 @@ unsafe extern "C" {
 }
 
 /// Keeps the memory the process frees for its own reuse instead of handing it back to the OS
-/// (mimalloc's purging off). A seek makes a checkpoint's map live: a grid of tens of MB,
-/// allocated afresh; when the pages freed by the seek before had gone back to the OS, faulting
-/// them in again made the worst seek on the 100,000-snapshot `paper` lap run 52–57 ms instead of
-/// 40–42 ms (docs/performance.md, stop 32). The process then keeps the memory of its peak.
-/// `MIMALLOC_PURGE_DELAY` set in the environment wins.
+/// (mimalloc's purging off; by default mimalloc 3 hands freed pages back a second after they
+/// are freed). A seek makes a checkpoint's map live: a grid of tens of MB, allocated afresh;
+/// when the pages freed before had gone back to the OS, faulting them in again made the worst
+/// seek on the 100,000-snapshot `paper` lap run 52–57 ms instead of 40–43 ms
+/// (docs/performance.md, stop 32). The process then keeps the memory of its peak. A purge delay
+/// set in the environment (`MIMALLOC_PURGE_DELAY`, or its old name `MIMALLOC_RESET_DELAY`) wins.
 pub fn keep_freed_memory() {
-    if std::env::var_os("MIMALLOC_PURGE_DELAY").is_some() {
+    let set = |name: &str| std::env::var_os(name).is_some();
+    if set("MIMALLOC_PURGE_DELAY") || set("MIMALLOC_RESET_DELAY") {
         return;
     }
     // SAFETY: a plain setter of a process-wide option, valid before or after allocating.

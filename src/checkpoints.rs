@@ -223,7 +223,8 @@ impl Checkpoints {
 const RUN_IDS: usize = 64;
 
 /// A map's segments in runs of [`RUN_IDS`] consecutive ids (run `r` lists those with ids in
-/// `r * RUN_IDS..(r + 1) * RUN_IDS`, in order; none is an empty run), each run shared with the
+/// `r * RUN_IDS..(r + 1) * RUN_IDS`, in order; a run of ids none of which is in the map is
+/// empty), each run shared with the
 /// checkpoint before while none of its segments changed. A late `paper` checkpoint changes about
 /// 1 % of its segments, so its list of 170,000 segment pointers (1.4 MB, a fifth of what each
 /// checkpoint kept alive) becomes a few hundred runs (docs/performance.md, stop 32).
@@ -237,6 +238,10 @@ impl SegmentRuns {
     /// `segments` (ordered by id) in runs, each sharing the run `previous` holds for the same
     /// ids when that lists the very same segments.
     fn new(segments: &[Arc<Segment>], previous: Option<&SegmentRuns>) -> Self {
+        debug_assert!(
+            segments.windows(2).all(|w| w[0].id < w[1].id),
+            "segments ordered by id"
+        );
         let count = segments.last().map_or(0, |s| s.id as usize / RUN_IDS + 1);
         let mut runs = Vec::with_capacity(count);
         let mut rest = segments;

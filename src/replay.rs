@@ -515,11 +515,25 @@ impl Replay {
     }
 }
 
-/// Drops `value` on a thread of its own: a mapper of a long `paper` run holds hundreds of
-/// thousands of shared segments, and letting go of each took a few milliseconds of a seek.
+/// Drops `value` on a thread kept for that: a mapper of a long `paper` run holds hundreds of
+/// thousands of shared segments, and letting go of each took a few milliseconds of a seek. One
+/// thread takes them in turn (a dragged slider seeks far many times a second); without it, the
+/// value is dropped here.
 fn drop_in_background<T: Send + 'static>(value: T) {
-    // Without a thread to spare, the failed spawn drops it here.
-    let _ = std::thread::Builder::new().spawn(move || drop(value));
+    type Garbage = Box<dyn Send>;
+    static DROPPER: std::sync::OnceLock<Option<std::sync::mpsc::Sender<Garbage>>> =
+        std::sync::OnceLock::new();
+    let dropper = DROPPER.get_or_init(|| {
+        let (send, receive) = std::sync::mpsc::channel::<Garbage>();
+        let thread = std::thread::Builder::new()
+            .name("sonarmap-drop".into())
+            .spawn(move || receive.into_iter().for_each(drop));
+        thread.ok().map(|_| send)
+    });
+    let garbage: Garbage = Box::new(value);
+    if let Some(Err(failed)) = dropper.as_ref().map(|d| d.send(garbage)) {
+        drop(failed.0);
+    }
 }
 
 #[cfg(test)]
@@ -664,6 +678,19 @@ mod tests {
                 }
             }
             assert!(refits > 0, "the run refits");
+        }
+    }
+
+    #[test]
+    fn a_value_dropped_in_the_background_is_dropped_soon() {
+        let held = Arc::new(());
+        for _ in 0..3 {
+            drop_in_background(Arc::clone(&held));
+        }
+        let start = std::time::Instant::now();
+        while Arc::strong_count(&held) > 1 {
+            assert!(start.elapsed().as_secs() < 10, "still held after 10 s");
+            std::thread::sleep(std::time::Duration::from_millis(1));
         }
     }
 

@@ -11,8 +11,8 @@ use super::ids::SegmentId;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::sync::Arc;
 
-/// Ids a chunk holds at least when a list is built whole; a chunk grown past twice this is
-/// split.
+/// Ids a chunk holds about, when a list is built whole (a list of at most twice this is one
+/// chunk); a chunk grown past twice this is split, and removals leave chunks as they are.
 pub const CHUNK_IDS: usize = 64;
 
 /// Segment ids in order, in shared chunks (cheap to clone; see the module docs).

@@ -1,5 +1,6 @@
 //! The map: line segments with their end-point ranges, faces and objects (paper §3.3).
-//! A `Map` is a plain value; cloning it is how the replay checkpoints.
+//! A `Map` is a plain value, cheap to clone: its segments and faces are shared until changed
+//! (the replay's checkpoints keep them apart: `crate::checkpoints`).
 
 pub use super::features::{FeatureKind, PointFeature};
 use super::id_list::IdList;
@@ -728,7 +729,7 @@ impl Map {
         self.file_all(kept);
     }
 
-    /// A copy with its spatial index built: a checkpoint's map made live. The same as
+    /// A copy with its spatial index built: a saved state's map made live. The same as
     /// cloning and [`Map::rebuild_index`], with fewer waits on memory: the pass that reads
     /// the segments for the index goes first, so the copy's reference counts are found in
     /// the cache.

@@ -271,7 +271,8 @@ impl Mapper {
         self.next_snapshot = state.next_snapshot;
     }
 
-    /// Resumes from a checkpoint (its map shared, not moved: see [`Map::with_index`]).
+    /// Resumes from a state taken by [`Mapper::state`] (its map shared, not moved: see
+    /// [`Map::with_index`]); the replay's checkpoints resume through [`Mapper::resume`].
     pub fn restore(&mut self, state: &MapperState) {
         self.map = state.map.with_index();
         self.last_pose = state.last_pose;

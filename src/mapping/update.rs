@@ -72,7 +72,7 @@ pub fn merge_support_points(
     if put_in_order(old_keys, &mut old_run) && put_in_order(new_keys, &mut new_run) {
         // The usual case (old points in order along a nearby line, new ones along the chain):
         // each new point goes after every old one that does not come after it (ties: old
-        // first, as a stable sort orders them), found by binary search.
+        // first, as a stable sort orders them), found by a search (`insertion_indices`).
         // Sized exactly (points that share a reading, as split pieces share their corner, can
         // keep a few over the cap): the list lives on in the map and its checkpoints.
         let kept_count = match oldest_kept {
@@ -176,7 +176,7 @@ pub fn merge_support_list_as_recorded(
                     Some(s)
                 })
                 .collect();
-            // Places are computed where the binary searches look, not for every point.
+            // Places are computed where the searches look, not for every point.
             let old_place = |k: usize| {
                 let c = starts.partition_point(|&s| s <= k) - 1;
                 let q = &old.chunks()[c][k - starts[c]];
