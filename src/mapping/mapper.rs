@@ -24,7 +24,9 @@ use super::point_features::{
     ArcTrace, Beam,
 };
 use super::readings::convert_readings;
-use super::settled_walls::{any_settling_wall, settling_wall, NearWall, SETTLED_END_MARGIN_GAPS};
+use super::settled_walls::{
+    any_settling_wall, settling_wall, NearWall, SettleRule, SETTLED_END_MARGIN_GAPS,
+};
 use super::support::ReadingRef;
 use super::trace::{
     CandidateTrace, ClusterTrace, DecisionTrace, ExplainedTrace, NewSegmentTrace, Outcome,
@@ -763,9 +765,13 @@ impl Mapper {
         if self.map.plane_support.is_empty() {
             return;
         }
-        let (xi, half) = self.accuracy_and_half_beam();
-        let cone_edges = self.cone_edges();
-        let margin_m = SETTLED_END_MARGIN_GAPS * self.params.memory_gap_m;
+        let (accuracy_pct, half_beam_rad) = self.accuracy_and_half_beam();
+        let rule = SettleRule {
+            accuracy_pct,
+            half_beam_rad,
+            cone_edges: self.cone_edges(),
+            end_margin_m: SETTLED_END_MARGIN_GAPS * self.params.memory_gap_m,
+        };
         let (near, settled_by) = (&mut buffers.near_walls, &mut buffers.settled_by);
         settled_by.resize(self.layout.len(), None);
         buffers.kept.retain(|q| {
@@ -774,7 +780,7 @@ impl Mapper {
             // Traced, the wall that predicts the range best, for the trace; untraced, any.
             let segment = if self.record_trace {
                 let Some((segment, predicted_m, inside_m)) =
-                    settling_wall(&self.map, &beam, xi, half, cone_edges, margin_m, near)
+                    settling_wall(&self.map, &beam, &rule, near)
                 else {
                     return true;
                 };
@@ -787,8 +793,7 @@ impl Mapper {
                 });
                 segment
             } else {
-                let found =
-                    any_settling_wall(&self.map, &beam, xi, half, cone_edges, margin_m, hint, near);
+                let found = any_settling_wall(&self.map, &beam, &rule, hint, near);
                 let Some(segment) = found else {
                     return true;
                 };

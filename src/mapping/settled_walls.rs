@@ -45,42 +45,66 @@ pub struct SettledTrace {
     pub inside_m: f64,
 }
 
+/// What a settling test takes besides the reading, the same for every reading of a step: the
+/// sonar's accuracy and beam, whether the cone's edges echo, and the margin.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SettleRule {
+    /// The sonar's accuracy ξ, percent.
+    pub accuracy_pct: f64,
+    /// Half the beam's opening, radians.
+    pub half_beam_rad: f64,
+    /// Whether the plane test takes the cone's edges (§8.7).
+    pub cone_edges: bool,
+    /// How far inside the ends of a wall (or of its chain) its echo point must lie, metres.
+    pub end_margin_m: f64,
+}
+
 /// Whether the confirmed wall `a`–`b` settles `beam`'s reading: the wall explains it as a plane
-/// echo (the test a reading takes to confirm it, §8.7, with the cone's edges when `cone_edges`)
-/// and the echo point lies at least `end_margin_m` inside both ends. Returns the predicted range
-/// and the echo point's distance from the nearer end.
+/// echo (the test a reading takes to confirm it, §8.7, with the cone's edges when
+/// `rule.cone_edges`) and the echo point lies at least `rule.end_margin_m` inside both ends.
+/// Returns the predicted range and the echo point's distance from the nearer end.
 ///
 /// ```
 /// use sonarmap::geometry::{Point, Vec2};
 /// use sonarmap::mapping::point_features::Beam;
-/// use sonarmap::mapping::settled_walls::settles;
+/// use sonarmap::mapping::settled_walls::{settles, SettleRule};
 /// // A sensor at (1, 0) looking along +y reads 2.03 m; the wall runs from (0, 2) to (3, 2):
 /// // the foot (1, 2) is on the axis, |2 − 2.03| = 0.03 ≤ 0.0609 (3 % of 2.03), and it lies 1 m
 /// // from the nearer end (a), more than the 0.3048 m margin (one memory gap): settled.
 /// let beam = Beam { origin: Point::new(1.0, 0.0), direction: Vec2::new(0.0, 1.0), range_m: 2.03 };
-/// let half = 12.5f64.to_radians();
-/// let (predicted, inside) =
-///     settles(&beam, &Point::new(0.0, 2.0), &Point::new(3.0, 2.0), 3.0, half, false, 0.3048).unwrap();
+/// let rule = SettleRule {
+///     accuracy_pct: 3.0,
+///     half_beam_rad: 12.5f64.to_radians(),
+///     cone_edges: false,
+///     end_margin_m: 0.3048,
+/// };
+/// let (predicted, inside) = settles(&beam, &Point::new(0.0, 2.0), &Point::new(3.0, 2.0), &rule).unwrap();
 /// assert!((predicted - 2.0).abs() < 1e-12 && (inside - 1.0).abs() < 1e-12);
 /// // The same reading with the wall ending at x = 1.2: the foot is 0.2 m from that end, where
 /// // the wall may go on: not settled.
-/// assert!(settles(&beam, &Point::new(-2.0, 2.0), &Point::new(1.2, 2.0), 3.0, half, false, 0.3048).is_none());
+/// assert!(settles(&beam, &Point::new(-2.0, 2.0), &Point::new(1.2, 2.0), &rule).is_none());
 /// // Read at 2.2 m (something behind the wall's line): not explained, not settled.
 /// let far = Beam { range_m: 2.2, ..beam };
-/// assert!(settles(&far, &Point::new(0.0, 2.0), &Point::new(3.0, 2.0), 3.0, half, false, 0.3048).is_none());
+/// assert!(settles(&far, &Point::new(0.0, 2.0), &Point::new(3.0, 2.0), &rule).is_none());
 /// ```
-pub fn settles(
-    beam: &Beam,
-    a: &Point,
-    b: &Point,
-    accuracy_pct: f64,
-    half_beam_rad: f64,
-    cone_edges: bool,
-    end_margin_m: f64,
-) -> Option<(f64, f64)> {
-    let echo = plane_echo(beam, a, b, accuracy_pct, half_beam_rad, cone_edges)?;
+pub fn settles(beam: &Beam, a: &Point, b: &Point, rule: &SettleRule) -> Option<(f64, f64)> {
+    let echo = rule.plane_echo(beam, a, b)?;
     let inside_m = inside_ends_m(echo.along, (b - a).norm());
-    (inside_m >= end_margin_m).then_some((echo.range_m, inside_m))
+    (inside_m >= rule.end_margin_m).then_some((echo.range_m, inside_m))
+}
+
+impl SettleRule {
+    /// [`plane_echo`] of `beam` off the wall `a`–`b` under this rule.
+    fn plane_echo(&self, beam: &Beam, a: &Point, b: &Point) -> Option<PlaneEcho> {
+        plane_echo(
+            beam,
+            a,
+            b,
+            self.accuracy_pct,
+            self.half_beam_rad,
+            self.cone_edges,
+        )
+    }
 }
 
 /// How far a point at `along` (0 at one end, 1 at the other) of a wall `length_m` long lies
@@ -158,29 +182,21 @@ fn inside_wall_or_chain_m(
 /// The confirmed fitted walls the grid files in the box of `beam`'s cone within one tolerance of
 /// the range (where the echo point of a wall that explains it lies), widened by the margin,
 /// with their echoes, into `near`; returns the tolerance.
-fn gather_near_walls(
-    map: &Map,
-    beam: &Beam,
-    accuracy_pct: f64,
-    half_beam_rad: f64,
-    cone_edges: bool,
-    end_margin_m: f64,
-    near: &mut Vec<NearWall>,
-) -> f64 {
-    let tolerance_m = feature_tolerance_m(accuracy_pct, beam.range_m);
+fn gather_near_walls(map: &Map, beam: &Beam, rule: &SettleRule, near: &mut Vec<NearWall>) -> f64 {
+    let tolerance_m = feature_tolerance_m(rule.accuracy_pct, beam.range_m);
     let (low, high, bulge_m) = cone_box(
         beam,
-        half_beam_rad,
+        rule.half_beam_rad,
         (beam.range_m - tolerance_m).max(0.0),
         beam.range_m + tolerance_m,
     );
     near.clear();
-    map.visit_segments_along(&low, &high, bulge_m + end_margin_m, |id, s| {
+    map.visit_segments_along(&low, &high, bulge_m + rule.end_margin_m, |id, s| {
         if !s.fitted || !map.is_confirmed(id) {
             return;
         }
         let (a, b) = (s.a.point, s.b.point);
-        let echo = plane_echo(beam, &a, &b, accuracy_pct, half_beam_rad, cone_edges);
+        let echo = rule.plane_echo(beam, &a, &b);
         near.push(NearWall { id, a, b, echo });
     });
     tolerance_m
@@ -190,8 +206,8 @@ fn gather_near_walls(
 /// nearest the range (the lower id on a tie), with its predicted range and how far the echo
 /// point lies inside the ends of the wall and the confirmed pieces that continue it. A wall
 /// settles the reading when it explains it as a plane echo ([`plane_echo`], the test a reading
-/// takes to confirm it, §8.7, with the cone's edges when `cone_edges`) and the echo point lies
-/// at least `end_margin_m` inside both ends of the chain of overlapping confirmed walls along
+/// takes to confirm it, §8.7, with the cone's edges when `rule.cone_edges`) and the echo point
+/// lies at least `rule.end_margin_m` inside both ends of the chain of overlapping confirmed walls along
 /// its line ([`chained_inside_m`]): a wall mapped as pieces settles readings near the joints
 /// of its pieces, not at its ends. The walls are those the grid files in the box of the beam's
 /// cone within one tolerance of the range (where the echo point of a wall that explains it
@@ -199,21 +215,10 @@ fn gather_near_walls(
 pub fn settling_wall(
     map: &Map,
     beam: &Beam,
-    accuracy_pct: f64,
-    half_beam_rad: f64,
-    cone_edges: bool,
-    end_margin_m: f64,
+    rule: &SettleRule,
     near: &mut Vec<NearWall>,
 ) -> Option<(SegmentId, f64, f64)> {
-    let settling = settling_walls(
-        map,
-        beam,
-        accuracy_pct,
-        half_beam_rad,
-        cone_edges,
-        end_margin_m,
-        near,
-    );
+    let settling = settling_walls(map, beam, rule, near);
     let residual = |p: f64| (p - beam.range_m).abs();
     settling.fold(None, |best, (id, predicted_m, inside_m)| {
         let better =
@@ -229,26 +234,16 @@ pub fn settling_wall(
 /// The confirmed fitted walls near `beam` (gathered into `near`, see [`gather_near_walls`])
 /// that settle its reading, in the order gathered, each with its predicted range and how far
 /// its echo point lies inside its ends or its chain's ([`inside_wall_or_chain_m`]), at least
-/// `end_margin_m`. Lazy: a caller that needs one stops at the first.
+/// `rule.end_margin_m`. Lazy: a caller that needs one stops at the first.
 fn settling_walls<'a>(
     map: &Map,
     beam: &Beam,
-    accuracy_pct: f64,
-    half_beam_rad: f64,
-    cone_edges: bool,
-    end_margin_m: f64,
+    rule: &SettleRule,
     near: &'a mut Vec<NearWall>,
 ) -> impl Iterator<Item = (SegmentId, f64, f64)> + 'a {
-    let tolerance_m = gather_near_walls(
-        map,
-        beam,
-        accuracy_pct,
-        half_beam_rad,
-        cone_edges,
-        end_margin_m,
-        near,
-    );
+    let tolerance_m = gather_near_walls(map, beam, rule, near);
     let near: &'a [NearWall] = near;
+    let end_margin_m = rule.end_margin_m;
     near.iter().filter_map(move |w| {
         let echo = w.echo?;
         let inside_m = inside_wall_or_chain_m(w, echo.along, near, tolerance_m, end_margin_m);
@@ -261,14 +256,10 @@ fn settling_walls<'a>(
 /// step needs of it untraced (a settled reading only leaves the step), and the wall that
 /// settled the sensor's previous reading (`hint`) is tried first, by itself: it settles most
 /// readings of a wall read again, without a query of the grid. `near` is scratch.
-#[allow(clippy::too_many_arguments)]
 pub fn any_settling_wall(
     map: &Map,
     beam: &Beam,
-    accuracy_pct: f64,
-    half_beam_rad: f64,
-    cone_edges: bool,
-    end_margin_m: f64,
+    rule: &SettleRule,
     hint: Option<SegmentId>,
     near: &mut Vec<NearWall>,
 ) -> Option<SegmentId> {
@@ -278,31 +269,14 @@ pub fn any_settling_wall(
     if let Some(id) = hint.filter(|&id| map.is_confirmed(id)) {
         if let Some(s) = map.segment(id).filter(|s| s.kind == SegmentKind::Fitted) {
             let (a, b) = (&s.a.point, &s.b.point);
-            let settled = settles(
-                beam,
-                a,
-                b,
-                accuracy_pct,
-                half_beam_rad,
-                cone_edges,
-                end_margin_m,
-            );
-            if settled.is_some() {
+            if settles(beam, a, b, rule).is_some() {
                 return Some(id);
             }
         }
     }
-    settling_walls(
-        map,
-        beam,
-        accuracy_pct,
-        half_beam_rad,
-        cone_edges,
-        end_margin_m,
-        near,
-    )
-    .next()
-    .map(|(id, _, _)| id)
+    settling_walls(map, beam, rule, near)
+        .next()
+        .map(|(id, _, _)| id)
 }
 
 #[cfg(test)]
@@ -313,6 +287,18 @@ mod tests {
     use crate::mapping::map::{test_wall, Segment};
 
     const HALF: f64 = 0.218_166_156_499_291_6; // 12.5°
+    /// ξ 3 %, that half beam, no cone edges, a 0.3 m margin.
+    const RULE: SettleRule = SettleRule {
+        accuracy_pct: 3.0,
+        half_beam_rad: HALF,
+        cone_edges: false,
+        end_margin_m: 0.3,
+    };
+    /// [`RULE`] with the cone's edges.
+    const EDGES: SettleRule = SettleRule {
+        cone_edges: true,
+        ..RULE
+    };
 
     fn confirmed(map: &mut Map, id: SegmentId) {
         map.plane_support.insert(
@@ -359,13 +345,9 @@ mod tests {
     fn only_a_confirmed_wall_settles_a_reading() {
         let mut map = Map::from_segments(vec![test_wall(0, (0.0, 2.0), (3.0, 2.0), 2.0)]);
         let beam = looking_up_from(1.5, 2.03);
-        assert_eq!(
-            settling_wall(&map, &beam, 3.0, HALF, false, 0.3, &mut Vec::new()),
-            None
-        );
+        assert_eq!(settling_wall(&map, &beam, &RULE, &mut Vec::new()), None);
         confirmed(&mut map, 0);
-        let (id, predicted, inside) =
-            settling_wall(&map, &beam, 3.0, HALF, false, 0.3, &mut Vec::new()).unwrap();
+        let (id, predicted, inside) = settling_wall(&map, &beam, &RULE, &mut Vec::new()).unwrap();
         assert_eq!(id, 0);
         assert!((predicted - 2.0).abs() < 1e-12);
         // The foot (1.5, 2) is 1.5 m from either end.
@@ -380,15 +362,7 @@ mod tests {
         // and 1.0 m ahead of the foot. Both pieces predict 2.0 m; the lower id settles it.
         let map = s0_then(&[((1.05, 2.0), (2.0, 2.0))]);
         let settle = |map: &Map, x: f64| {
-            settling_wall(
-                map,
-                &looking_up_from(x, 2.03),
-                3.0,
-                HALF,
-                false,
-                0.3,
-                &mut Vec::new(),
-            )
+            settling_wall(map, &looking_up_from(x, 2.03), &RULE, &mut Vec::new())
         };
         let (id, predicted, inside) = settle(&map, 1.0).unwrap();
         assert_eq!(id, 0);
@@ -417,18 +391,9 @@ mod tests {
         for i in 0..64 {
             for range_m in [2.03, 2.2] {
                 let beam = looking_up_from(0.025 + i as f64 * 0.05, range_m);
-                let best = settling_wall(&map, &beam, 3.0, HALF, false, 0.3, &mut Vec::new());
+                let best = settling_wall(&map, &beam, &RULE, &mut Vec::new());
                 for hint in [None, Some(0), Some(1), Some(2), Some(9)] {
-                    let any = any_settling_wall(
-                        &map,
-                        &beam,
-                        3.0,
-                        HALF,
-                        false,
-                        0.3,
-                        hint,
-                        &mut Vec::new(),
-                    );
+                    let any = any_settling_wall(&map, &beam, &RULE, hint, &mut Vec::new());
                     assert_eq!(any.is_some(), best.is_some(), "reading {i}, hint {hint:?}");
                     if let Some(id) = any {
                         // The wall found settles the reading by itself, or as part of the chain.
@@ -453,16 +418,8 @@ mod tests {
             ],
             &[0, 1],
         );
-        let (id, predicted, _) = settling_wall(
-            &map,
-            &looking_up_from(1.0, 2.03),
-            3.0,
-            HALF,
-            false,
-            0.3,
-            &mut Vec::new(),
-        )
-        .unwrap();
+        let (id, predicted, _) =
+            settling_wall(&map, &looking_up_from(1.0, 2.03), &RULE, &mut Vec::new()).unwrap();
         assert_eq!(id, 1);
         assert!((predicted - 2.04).abs() < 1e-12);
     }
@@ -479,12 +436,8 @@ mod tests {
             direction: dir,
             range_m: 2.10,
         };
-        assert_eq!(
-            settling_wall(&map, &beam, 3.0, HALF, false, 0.3, &mut Vec::new()),
-            None
-        );
-        let (_, predicted, inside) =
-            settling_wall(&map, &beam, 3.0, HALF, true, 0.3, &mut Vec::new()).unwrap();
+        assert_eq!(settling_wall(&map, &beam, &RULE, &mut Vec::new()), None);
+        let (_, predicted, inside) = settling_wall(&map, &beam, &EDGES, &mut Vec::new()).unwrap();
         assert!((predicted - 2.0971).abs() < 1e-4);
         // 1.6306 m from the end at x = -1.
         assert!((inside - 1.6306).abs() < 1e-4);
