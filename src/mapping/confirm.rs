@@ -251,12 +251,14 @@ pub fn note_plane_support(
     let (sensor, beam, distance_m) = beams.iter().find_map(|(sensor, beam)| {
         supports(beam, &a, &b, accuracy_pct, half_beam_rad, cone_edges).map(|d| (*sensor, *beam, d))
     })?;
-    let support = map.plane_support.or_default(id);
-    if support.snapshots > 0 && support.last_snapshot == snapshot {
-        return None;
-    }
-    support.snapshots += 1;
-    support.last_snapshot = snapshot;
+    let support = map.plane_support.update(id, |support| {
+        if support.snapshots > 0 && support.last_snapshot == snapshot {
+            return None;
+        }
+        support.snapshots += 1;
+        support.last_snapshot = snapshot;
+        Some(*support)
+    })?;
     Some(PlaneSupportTrace {
         segment: id,
         sensor,
@@ -423,18 +425,23 @@ pub fn note_baseline_support(
 ) -> Option<PlaneSupportTrace> {
     let s = map.segment(id)?;
     let distance_m = distance_to_line(&later.origin, &s.a.point, &s.b.point);
-    let support = map.plane_support.or_default(id);
-    if support.confirmed() {
+    let newly_confirmed = map.plane_support.update(id, |support| {
+        if support.confirmed() {
+            return false;
+        }
+        support.snapshots = CONFIRMING_SNAPSHOTS;
+        support.last_snapshot = snapshot;
+        true
+    });
+    if !newly_confirmed {
         return None;
     }
-    support.snapshots = CONFIRMING_SNAPSHOTS;
-    support.last_snapshot = snapshot;
     Some(PlaneSupportTrace {
         segment: id,
         sensor: pair.readings[1].sensor(),
         range_m: later.range_m,
         distance_m,
-        snapshots: support.snapshots,
+        snapshots: CONFIRMING_SNAPSHOTS,
         confirmed: true,
         baseline: Some(pair),
     })

@@ -89,11 +89,13 @@ pub fn refuted_segments(
     out.clear();
     let (low, high, bulge_m) = cone_box(beam, half_beam_rad, 0.0, beam.range_m);
     map.visit_segments_along(&low, &high, bulge_m, |id, s| {
+        if map.is_confirmed(id) {
+            return;
+        }
         if let Some((p, off)) = refutes(beam, &s.a.point, &s.b.point, accuracy_pct, half_beam_rad) {
             out.push((id, p, off));
         }
     });
-    out.retain(|&(id, _, _)| !map.is_confirmed(id));
     out.sort_unstable_by_key(|&(id, _, _)| id);
 }
 

@@ -838,7 +838,7 @@ impl Map {
     /// Whether readings from two snapshots supported segment `id` as a plane (docs/algorithm.md
     /// §8.7; never while confirmation is off, which records no support).
     pub fn is_confirmed(&self, id: SegmentId) -> bool {
-        self.plane_support.get(&id).is_some_and(|p| p.confirmed())
+        self.plane_support.is_confirmed(id)
     }
 
     /// The confirmed point features ([`PointFeature::is_confirmed`]), by id.

@@ -3,8 +3,10 @@
 //! Looked up for every segment a reading's query meets (is it confirmed?) and listed once a
 //! step (the confirmed walls, §8.12), so it is a vector ordered by id: a lookup is a binary
 //! search over contiguous entries, a listing one pass. An entry is added when a segment first
-//! gains support and removed when it leaves, far less often. It reads and writes as a map from
-//! id to support, as the map file always had it.
+//! gains support and removed when it leaves, far less often. Whether a segment is confirmed is
+//! asked far more often still (every segment a query meets, §8.6 and §8.12), so a bit set by id
+//! answers it without a search. It reads and writes as a map from id to support, as the map
+//! file always had it.
 
 use super::confirm::PlaneSupport;
 use super::map::SegmentId;
@@ -12,10 +14,21 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::collections::BTreeMap;
 
 /// Plane support by segment id, ordered by id.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default)]
 pub struct PlaneSupports {
     entries: Vec<(SegmentId, PlaneSupport)>,
+    /// Bit `id` set when segment `id` is confirmed ([`PlaneSupport::confirmed`]).
+    confirmed_bits: Vec<u64>,
 }
+
+impl PartialEq for PlaneSupports {
+    /// The same supports (the bit set follows from them).
+    fn eq(&self, other: &Self) -> bool {
+        self.entries == other.entries
+    }
+}
+
+impl Eq for PlaneSupports {}
 
 impl PlaneSupports {
     /// The support of segment `id`.
@@ -23,8 +36,17 @@ impl PlaneSupports {
         self.position(*id).ok().map(|i| &self.entries[i].1)
     }
 
-    /// The support of segment `id`, added (empty) if it had none.
-    pub fn or_default(&mut self, id: SegmentId) -> &mut PlaneSupport {
+    /// Whether segment `id` is confirmed ([`PlaneSupport::confirmed`]): one bit read.
+    pub fn is_confirmed(&self, id: SegmentId) -> bool {
+        let (word, bit) = bit_of(id);
+        self.confirmed_bits
+            .get(word)
+            .is_some_and(|w| w & (1 << bit) != 0)
+    }
+
+    /// Changes the support of segment `id` (added empty if it had none) with `change`, and
+    /// returns what `change` returns.
+    pub fn update<R>(&mut self, id: SegmentId, change: impl FnOnce(&mut PlaneSupport) -> R) -> R {
         let i = match self.position(id) {
             Ok(i) => i,
             Err(i) => {
@@ -32,11 +54,15 @@ impl PlaneSupports {
                 i
             }
         };
-        &mut self.entries[i].1
+        let result = change(&mut self.entries[i].1);
+        let confirmed = self.entries[i].1.confirmed();
+        self.set_confirmed(id, confirmed);
+        result
     }
 
     /// Sets the support of segment `id`; returns what it had.
     pub fn insert(&mut self, id: SegmentId, support: PlaneSupport) -> Option<PlaneSupport> {
+        self.set_confirmed(id, support.confirmed());
         match self.position(id) {
             Ok(i) => Some(std::mem::replace(&mut self.entries[i].1, support)),
             Err(i) => {
@@ -49,7 +75,20 @@ impl PlaneSupports {
     /// Removes the support of segment `id`; returns what it had.
     pub fn remove(&mut self, id: &SegmentId) -> Option<PlaneSupport> {
         let i = self.position(*id).ok()?;
+        self.set_confirmed(*id, false);
         Some(self.entries.remove(i).1)
+    }
+
+    fn set_confirmed(&mut self, id: SegmentId, confirmed: bool) {
+        let (word, bit) = bit_of(id);
+        if confirmed {
+            if self.confirmed_bits.len() <= word {
+                self.confirmed_bits.resize(word + 1, 0);
+            }
+            self.confirmed_bits[word] |= 1 << bit;
+        } else if let Some(w) = self.confirmed_bits.get_mut(word) {
+            *w &= !(1 << bit);
+        }
     }
 
     /// Segments with support.
@@ -77,6 +116,11 @@ impl PlaneSupports {
     }
 }
 
+/// The word and the bit of segment `id` in the confirmed bit set.
+fn bit_of(id: SegmentId) -> (usize, u32) {
+    ((id / 64) as usize, id % 64)
+}
+
 impl Serialize for PlaneSupports {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         serializer.collect_map(self.iter())
@@ -86,9 +130,11 @@ impl Serialize for PlaneSupports {
 impl<'de> Deserialize<'de> for PlaneSupports {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
         let by_id = BTreeMap::<SegmentId, PlaneSupport>::deserialize(deserializer)?;
-        Ok(Self {
-            entries: by_id.into_iter().collect(),
-        })
+        let mut supports = Self::default();
+        for (id, support) in by_id {
+            supports.insert(id, support);
+        }
+        Ok(supports)
     }
 }
 
@@ -108,14 +154,14 @@ mod tests {
         /// in order, and reads back the same from JSON.
         #[test]
         fn it_holds_what_a_btree_map_holds(
-            ops in proptest::collection::vec((0u8..3, 0u32..40, 0u32..4), 0..120),
+            ops in proptest::collection::vec((0u8..3, 0u32..150, 0u32..4), 0..200),
         ) {
             let (mut ours, mut theirs) = (PlaneSupports::default(), BTreeMap::new());
             for (op, id, n) in ops {
                 match op {
                     0 => proptest::prop_assert_eq!(ours.insert(id, support(n)), theirs.insert(id, support(n))),
                     1 => {
-                        ours.or_default(id).snapshots += n;
+                        ours.update(id, |s| s.snapshots += n);
                         theirs.entry(id).or_insert_with(PlaneSupport::default).snapshots += n;
                     }
                     _ => proptest::prop_assert_eq!(ours.remove(&id), theirs.remove(&id)),
@@ -125,12 +171,17 @@ mod tests {
             let listed: Vec<_> = ours.iter().map(|(k, v)| (*k, *v)).collect();
             let expected: Vec<_> = theirs.iter().map(|(k, v)| (*k, *v)).collect();
             proptest::prop_assert_eq!(&listed, &expected);
-            for id in 0..40 {
+            for id in 0..150 {
                 proptest::prop_assert_eq!(ours.get(&id), theirs.get(&id));
+                let confirmed = theirs.get(&id).is_some_and(PlaneSupport::confirmed);
+                proptest::prop_assert_eq!(ours.is_confirmed(id), confirmed);
             }
             let json = serde_json::to_string(&ours).unwrap();
             proptest::prop_assert_eq!(&json, &serde_json::to_string(&theirs).unwrap());
             let back: PlaneSupports = serde_json::from_str(&json).unwrap();
+            for id in 0..150 {
+                proptest::prop_assert_eq!(back.is_confirmed(id), ours.is_confirmed(id));
+            }
             proptest::prop_assert_eq!(back, ours);
         }
     }
