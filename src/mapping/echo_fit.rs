@@ -201,21 +201,23 @@ fn residual_over_tolerance(
 /// The best offset for the normal `normal` and its cost (sum of squared residuals over
 /// squared tolerances), or `None` when some reading could not have come from such a line
 /// (its incidence beyond [`MAX_INCIDENCE_RAD`], or the line behind its sensor).
+///
+/// `weights` holds each beam's weight, its tolerance to the power −2 ([`range_weights`]):
+/// the fit asks for the cost of some thirty normals, and the weights are the same for all.
 fn offset_and_cost(
     beams: &[Beam],
+    weights: &[f64],
     normal: &Vec2,
-    accuracy_pct: f64,
     half: HalfCone,
 ) -> Option<(f64, f64)> {
     // Each predicted range is k·(c − n·o), linear in the offset c: with the weighted sums
     // below, the best c is sum_kt / sum_kk and the cost sum_tt − sum_kt² / sum_kk.
     let (mut sum_kk, mut sum_kt, mut sum_tt) = (0.0, 0.0, 0.0);
     let mut farthest_sensor = f64::NEG_INFINITY;
-    for b in beams {
+    for (b, &w) in beams.iter().zip(weights) {
         let k = edge_factor(b, normal, half)?;
         let along_normal = normal.dot(&b.origin.coords);
         farthest_sensor = farthest_sensor.max(along_normal);
-        let w = feature_tolerance_m(accuracy_pct, b.range_m).powi(-2);
         let target = k * along_normal + b.range_m;
         sum_kk += w * k * k;
         sum_kt += w * k * target;
@@ -223,6 +225,14 @@ fn offset_and_cost(
     }
     let offset_m = sum_kt / sum_kk;
     (offset_m > farthest_sensor).then(|| (offset_m, (sum_tt - sum_kt * sum_kt / sum_kk).max(0.0)))
+}
+
+/// Each beam's weight in [`offset_and_cost`]: its range's tolerance to the power −2.
+fn range_weights(beams: &[Beam], accuracy_pct: f64) -> Vec<f64> {
+    beams
+        .iter()
+        .map(|b| feature_tolerance_m(accuracy_pct, b.range_m).powi(-2))
+        .collect()
 }
 
 /// The line that best explains the ranges of `beams` (at least [`MIN_ECHO_FIT_READINGS`]) as
@@ -268,8 +278,9 @@ pub fn fit_echo_line(
     }
     let angle0 = normal0.y.atan2(normal0.x);
     let half = HalfCone::new(half_beam_rad);
+    let weights = range_weights(beams, accuracy_pct);
     let cost_of = |normal: &Vec2| {
-        offset_and_cost(beams, normal, accuracy_pct, half).map_or(f64::INFINITY, |(_, c)| c)
+        offset_and_cost(beams, &weights, normal, half).map_or(f64::INFINITY, |(_, c)| c)
     };
     let cost_or_inf = |angle: f64| cost_of(&unit(angle));
     // Coarse search, nearest to the paper's line first so that equal costs keep it; the
@@ -320,7 +331,7 @@ pub fn fit_echo_line(
         coarse
     };
     let normal = unit(angle);
-    let (offset_m, _) = offset_and_cost(beams, &normal, accuracy_pct, half)?;
+    let (offset_m, _) = offset_and_cost(beams, &weights, &normal, half)?;
     let worst = beams
         .iter()
         .map(|b| residual_over_tolerance(b, &normal, offset_m, accuracy_pct, half))

@@ -119,8 +119,6 @@ pub struct NearWall {
     id: SegmentId,
     a: Point,
     b: Point,
-    /// Its echo of the reading, when it explains it as a plane.
-    echo: Option<PlaneEcho>,
 }
 
 /// How far the wall `w` (which explains the reading, its echo point at `x` along it) and the
@@ -181,7 +179,7 @@ fn inside_wall_or_chain_m(
 
 /// The confirmed fitted walls the grid files in the box of `beam`'s cone within one tolerance of
 /// the range (where the echo point of a wall that explains it lies), widened by the margin,
-/// with their echoes, into `near`; returns the tolerance.
+/// into `near`; returns the tolerance.
 fn gather_near_walls(map: &Map, beam: &Beam, rule: &SettleRule, near: &mut Vec<NearWall>) -> f64 {
     let tolerance_m = feature_tolerance_m(rule.accuracy_pct, beam.range_m);
     let (low, high, bulge_m) = cone_box(
@@ -196,8 +194,7 @@ fn gather_near_walls(map: &Map, beam: &Beam, rule: &SettleRule, near: &mut Vec<N
             return;
         }
         let (a, b) = (s.a.point, s.b.point);
-        let echo = rule.plane_echo(beam, &a, &b);
-        near.push(NearWall { id, a, b, echo });
+        near.push(NearWall { id, a, b });
     });
     tolerance_m
 }
@@ -234,18 +231,19 @@ pub fn settling_wall(
 /// The confirmed fitted walls near `beam` (gathered into `near`, see [`gather_near_walls`])
 /// that settle its reading, in the order gathered, each with its predicted range and how far
 /// its echo point lies inside its ends or its chain's ([`inside_wall_or_chain_m`]), at least
-/// `rule.end_margin_m`. Lazy: a caller that needs one stops at the first.
+/// `rule.end_margin_m`. Lazy: a caller that needs one stops at the first, and a wall's echo is
+/// found only when the search comes to it.
 fn settling_walls<'a>(
     map: &Map,
-    beam: &Beam,
-    rule: &SettleRule,
+    beam: &'a Beam,
+    rule: &'a SettleRule,
     near: &'a mut Vec<NearWall>,
 ) -> impl Iterator<Item = (SegmentId, f64, f64)> + 'a {
     let tolerance_m = gather_near_walls(map, beam, rule, near);
     let near: &'a [NearWall] = near;
     let end_margin_m = rule.end_margin_m;
     near.iter().filter_map(move |w| {
-        let echo = w.echo?;
+        let echo = rule.plane_echo(beam, &w.a, &w.b)?;
         let inside_m = inside_wall_or_chain_m(w, echo.along, near, tolerance_m, end_margin_m);
         (inside_m >= end_margin_m).then_some((w.id, echo.range_m, inside_m))
     })
