@@ -103,7 +103,7 @@ pub fn supports_as_plane(
     accuracy_pct: f64,
     half_beam_rad: f64,
 ) -> Option<f64> {
-    foot_echo(beam, a, b, accuracy_pct, half_beam_rad).map(|e| e.range_m)
+    foot_echo(beam, a, b, accuracy_pct, HalfCone::new(half_beam_rad)).map(|e| e.range_m)
 }
 
 /// Where a plane along `a`–`b` echoes `beam` from: the range it predicts, metres, and the echo
@@ -122,7 +122,7 @@ fn foot_echo(
     a: &Point,
     b: &Point,
     accuracy_pct: f64,
-    half_beam_rad: f64,
+    half: HalfCone,
 ) -> Option<PlaneEcho> {
     let t = projection_param(&beam.origin, a, b);
     if !(-0.1..=1.1).contains(&t) {
@@ -134,7 +134,7 @@ fn foot_echo(
     if d <= 0.0 || (d - beam.range_m).abs() > feature_tolerance_m(accuracy_pct, beam.range_m) {
         return None;
     }
-    (v.dot(&beam.direction) / d >= HalfCone::new(half_beam_rad).cos).then_some(PlaneEcho {
+    (v.dot(&beam.direction) / d >= half.cos).then_some(PlaneEcho {
         range_m: d,
         along: t,
     })
@@ -167,7 +167,7 @@ pub fn supports_as_echo(
     accuracy_pct: f64,
     half_beam_rad: f64,
 ) -> Option<f64> {
-    cone_echo(beam, a, b, accuracy_pct, half_beam_rad).map(|e| e.range_m)
+    cone_echo(beam, a, b, accuracy_pct, HalfCone::new(half_beam_rad)).map(|e| e.range_m)
 }
 
 /// [`supports_as_echo`], with where the echo comes from.
@@ -176,7 +176,7 @@ fn cone_echo(
     a: &Point,
     b: &Point,
     accuracy_pct: f64,
-    half_beam_rad: f64,
+    half: HalfCone,
 ) -> Option<PlaneEcho> {
     let along = b - a;
     let length = along.norm();
@@ -189,7 +189,6 @@ fn cone_echo(
         normal = -normal;
         perpendicular_m = -perpendicular_m;
     }
-    let half = HalfCone::new(half_beam_rad);
     if perpendicular_m <= 0.0 {
         return None;
     }
@@ -227,10 +226,29 @@ pub fn plane_echo(
     half_beam_rad: f64,
     cone_edges: bool,
 ) -> Option<PlaneEcho> {
+    plane_echo_in(
+        beam,
+        a,
+        b,
+        accuracy_pct,
+        HalfCone::new(half_beam_rad),
+        cone_edges,
+    )
+}
+
+/// [`plane_echo`], the beam's half-width given as its [`HalfCone`].
+pub fn plane_echo_in(
+    beam: &Beam,
+    a: &Point,
+    b: &Point,
+    accuracy_pct: f64,
+    half: HalfCone,
+    cone_edges: bool,
+) -> Option<PlaneEcho> {
     if cone_edges {
-        cone_echo(beam, a, b, accuracy_pct, half_beam_rad)
+        cone_echo(beam, a, b, accuracy_pct, half)
     } else {
-        foot_echo(beam, a, b, accuracy_pct, half_beam_rad)
+        foot_echo(beam, a, b, accuracy_pct, half)
     }
 }
 

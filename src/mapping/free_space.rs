@@ -105,11 +105,16 @@ pub fn refuted_segments(
 /// those distances lies within that distance of the box. With `near_m` 0 it is the whole
 /// sector up to `far_m`.
 pub fn cone_box(beam: &Beam, half_beam_rad: f64, near_m: f64, far_m: f64) -> (Point, Point, f64) {
+    cone_box_in(beam, HalfCone::new(half_beam_rad), near_m, far_m)
+}
+
+/// [`cone_box`], the beam's half-width given as its [`HalfCone`].
+pub fn cone_box_in(beam: &Beam, half: HalfCone, near_m: f64, far_m: f64) -> (Point, Point, f64) {
     let HalfCone {
         cos: cos_half,
         sin: sin_half,
         cos_half: cos_quarter,
-    } = HalfCone::new(half_beam_rad);
+    } = half;
     let d = beam.direction;
     let edges = [
         Vec2::new(

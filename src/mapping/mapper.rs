@@ -766,12 +766,12 @@ impl Mapper {
             return;
         }
         let (accuracy_pct, half_beam_rad) = self.accuracy_and_half_beam();
-        let rule = SettleRule {
+        let rule = SettleRule::new(
             accuracy_pct,
             half_beam_rad,
-            cone_edges: self.cone_edges(),
-            end_margin_m: SETTLED_END_MARGIN_GAPS * self.params.memory_gap_m,
-        };
+            self.cone_edges(),
+            SETTLED_END_MARGIN_GAPS * self.params.memory_gap_m,
+        );
         let (near, settled_by) = (&mut buffers.near_walls, &mut buffers.settled_by);
         settled_by.resize(self.layout.len(), None);
         buffers.kept.retain(|q| {

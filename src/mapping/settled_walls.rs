@@ -14,8 +14,9 @@
 //! This is data association gating, as a feature-based map does it (Leonard and Durrant-Whyte):
 //! a measurement the map predicts is consumed by the feature that predicted it.
 
-use super::confirm::{plane_echo, PlaneEcho};
-use super::free_space::cone_box;
+use super::confirm::{plane_echo_in, PlaneEcho};
+use super::echo_fit::HalfCone;
+use super::free_space::cone_box_in;
 use super::map::{Map, SegmentId, SegmentKind};
 use super::point_features::{feature_tolerance_m, Beam};
 use crate::geometry::{distance_to_line, Point};
@@ -51,8 +52,8 @@ pub struct SettledTrace {
 pub struct SettleRule {
     /// The sonar's accuracy ξ, percent.
     pub accuracy_pct: f64,
-    /// Half the beam's opening, radians.
-    pub half_beam_rad: f64,
+    /// Half the beam's opening, as its cosine and sine (computed once for the step).
+    pub half: HalfCone,
     /// Whether the plane test takes the cone's edges (§8.7).
     pub cone_edges: bool,
     /// How far inside the ends of a wall (or of its chain) its echo point must lie, metres.
@@ -72,12 +73,7 @@ pub struct SettleRule {
 /// // the foot (1, 2) is on the axis, |2 − 2.03| = 0.03 ≤ 0.0609 (3 % of 2.03), and it lies 1 m
 /// // from the nearer end (a), more than the 0.3048 m margin (one memory gap): settled.
 /// let beam = Beam { origin: Point::new(1.0, 0.0), direction: Vec2::new(0.0, 1.0), range_m: 2.03 };
-/// let rule = SettleRule {
-///     accuracy_pct: 3.0,
-///     half_beam_rad: 12.5f64.to_radians(),
-///     cone_edges: false,
-///     end_margin_m: 0.3048,
-/// };
+/// let rule = SettleRule::new(3.0, 12.5f64.to_radians(), false, 0.3048);
 /// let (predicted, inside) = settles(&beam, &Point::new(0.0, 2.0), &Point::new(3.0, 2.0), &rule).unwrap();
 /// assert!((predicted - 2.0).abs() < 1e-12 && (inside - 1.0).abs() < 1e-12);
 /// // The same reading with the wall ending at x = 1.2: the foot is 0.2 m from that end, where
@@ -94,16 +90,21 @@ pub fn settles(beam: &Beam, a: &Point, b: &Point, rule: &SettleRule) -> Option<(
 }
 
 impl SettleRule {
-    /// [`plane_echo`] of `beam` off the wall `a`–`b` under this rule.
+    /// The rule for a sonar of accuracy `accuracy_pct` (ξ, percent) whose beam opens
+    /// `2·half_beam_rad`, the cone's edges echoing when `cone_edges`, with the margin
+    /// `end_margin_m`.
+    pub fn new(accuracy_pct: f64, half_beam_rad: f64, cone_edges: bool, end_margin_m: f64) -> Self {
+        Self {
+            accuracy_pct,
+            half: HalfCone::new(half_beam_rad),
+            cone_edges,
+            end_margin_m,
+        }
+    }
+
+    /// [`plane_echo`](super::confirm::plane_echo) of `beam` off the wall `a`–`b` under this rule.
     fn plane_echo(&self, beam: &Beam, a: &Point, b: &Point) -> Option<PlaneEcho> {
-        plane_echo(
-            beam,
-            a,
-            b,
-            self.accuracy_pct,
-            self.half_beam_rad,
-            self.cone_edges,
-        )
+        plane_echo_in(beam, a, b, self.accuracy_pct, self.half, self.cone_edges)
     }
 }
 
@@ -182,9 +183,9 @@ fn inside_wall_or_chain_m(
 /// into `near`; returns the tolerance.
 fn gather_near_walls(map: &Map, beam: &Beam, rule: &SettleRule, near: &mut Vec<NearWall>) -> f64 {
     let tolerance_m = feature_tolerance_m(rule.accuracy_pct, beam.range_m);
-    let (low, high, bulge_m) = cone_box(
+    let (low, high, bulge_m) = cone_box_in(
         beam,
-        rule.half_beam_rad,
+        rule.half,
         (beam.range_m - tolerance_m).max(0.0),
         beam.range_m + tolerance_m,
     );
@@ -286,17 +287,17 @@ mod tests {
 
     const HALF: f64 = 0.218_166_156_499_291_6; // 12.5°
     /// ξ 3 %, that half beam, no cone edges, a 0.3 m margin.
-    const RULE: SettleRule = SettleRule {
-        accuracy_pct: 3.0,
-        half_beam_rad: HALF,
-        cone_edges: false,
-        end_margin_m: 0.3,
-    };
-    /// [`RULE`] with the cone's edges.
-    const EDGES: SettleRule = SettleRule {
-        cone_edges: true,
-        ..RULE
-    };
+    fn rule() -> SettleRule {
+        SettleRule::new(3.0, HALF, false, 0.3)
+    }
+
+    /// [`rule`] with the cone's edges.
+    fn edges() -> SettleRule {
+        SettleRule {
+            cone_edges: true,
+            ..rule()
+        }
+    }
 
     fn confirmed(map: &mut Map, id: SegmentId) {
         map.plane_support.insert(
@@ -343,9 +344,9 @@ mod tests {
     fn only_a_confirmed_wall_settles_a_reading() {
         let mut map = Map::from_segments(vec![test_wall(0, (0.0, 2.0), (3.0, 2.0), 2.0)]);
         let beam = looking_up_from(1.5, 2.03);
-        assert_eq!(settling_wall(&map, &beam, &RULE, &mut Vec::new()), None);
+        assert_eq!(settling_wall(&map, &beam, &rule(), &mut Vec::new()), None);
         confirmed(&mut map, 0);
-        let (id, predicted, inside) = settling_wall(&map, &beam, &RULE, &mut Vec::new()).unwrap();
+        let (id, predicted, inside) = settling_wall(&map, &beam, &rule(), &mut Vec::new()).unwrap();
         assert_eq!(id, 0);
         assert!((predicted - 2.0).abs() < 1e-12);
         // The foot (1.5, 2) is 1.5 m from either end.
@@ -360,7 +361,7 @@ mod tests {
         // and 1.0 m ahead of the foot. Both pieces predict 2.0 m; the lower id settles it.
         let map = s0_then(&[((1.05, 2.0), (2.0, 2.0))]);
         let settle = |map: &Map, x: f64| {
-            settling_wall(map, &looking_up_from(x, 2.03), &RULE, &mut Vec::new())
+            settling_wall(map, &looking_up_from(x, 2.03), &rule(), &mut Vec::new())
         };
         let (id, predicted, inside) = settle(&map, 1.0).unwrap();
         assert_eq!(id, 0);
@@ -389,9 +390,9 @@ mod tests {
         for i in 0..64 {
             for range_m in [2.03, 2.2] {
                 let beam = looking_up_from(0.025 + i as f64 * 0.05, range_m);
-                let best = settling_wall(&map, &beam, &RULE, &mut Vec::new());
+                let best = settling_wall(&map, &beam, &rule(), &mut Vec::new());
                 for hint in [None, Some(0), Some(1), Some(2), Some(9)] {
-                    let any = any_settling_wall(&map, &beam, &RULE, hint, &mut Vec::new());
+                    let any = any_settling_wall(&map, &beam, &rule(), hint, &mut Vec::new());
                     assert_eq!(any.is_some(), best.is_some(), "reading {i}, hint {hint:?}");
                     if let Some(id) = any {
                         // The wall found settles the reading by itself, or as part of the chain.
@@ -417,7 +418,7 @@ mod tests {
             &[0, 1],
         );
         let (id, predicted, _) =
-            settling_wall(&map, &looking_up_from(1.0, 2.03), &RULE, &mut Vec::new()).unwrap();
+            settling_wall(&map, &looking_up_from(1.0, 2.03), &rule(), &mut Vec::new()).unwrap();
         assert_eq!(id, 1);
         assert!((predicted - 2.04).abs() < 1e-12);
     }
@@ -434,8 +435,8 @@ mod tests {
             direction: dir,
             range_m: 2.10,
         };
-        assert_eq!(settling_wall(&map, &beam, &RULE, &mut Vec::new()), None);
-        let (_, predicted, inside) = settling_wall(&map, &beam, &EDGES, &mut Vec::new()).unwrap();
+        assert_eq!(settling_wall(&map, &beam, &rule(), &mut Vec::new()), None);
+        let (_, predicted, inside) = settling_wall(&map, &beam, &edges(), &mut Vec::new()).unwrap();
         assert!((predicted - 2.0971).abs() < 1e-4);
         // 1.6306 m from the end at x = -1.
         assert!((inside - 1.6306).abs() < 1e-4);
