@@ -387,11 +387,18 @@ pub fn confirmed_map(map: &Map) -> Option<Map> {
 }
 
 /// Confirmed point features of `map` that lie on a wall junction or end: within the tolerance
-/// of their range (`ξ·D/100`, at least 1 in), doubled, of a wall's end-point.
+/// of their range (`ξ·D/100`, at least 1 in), doubled, of a wall's end-point; and rounded ones
+/// (docs/algorithm.md §8.14) that are a pillar: centre and radius each within that tolerance
+/// of the pillar's.
 pub fn true_point_features(map: &Map, floor_plan: &FloorPlan, params: &Params) -> usize {
     map.confirmed_features()
         .filter(|f| {
             let tol = 2.0 * (params.accuracy_pct * f.range_m / 100.0).max(inches(1.0));
+            if f.radius_m > 0.0 {
+                return floor_plan.circles.iter().any(|c| {
+                    (c.centre - f.at).norm() <= tol && (c.radius_m - f.radius_m).abs() <= tol
+                });
+            }
             floor_plan
                 .walls
                 .iter()

@@ -119,6 +119,7 @@ pub fn soak_variants() -> Vec<(&'static str, Params)> {
             Params {
                 confirm_segments: true,
                 corner_diagonals: true,
+                round_reflectors: true,
                 ..paper.clone()
             },
         ),

@@ -510,6 +510,12 @@ pub fn params_panel_ui(
                     paper.corner_diagonals,
                 ),
                 (
+                    "round_reflectors",
+                    params.round_reflectors,
+                    |p: &mut Params, v| p.round_reflectors = v,
+                    paper.round_reflectors,
+                ),
+                (
                     "settled_walls",
                     params.settled_walls,
                     |p: &mut Params, v| p.settled_walls = v,

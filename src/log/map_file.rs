@@ -36,8 +36,11 @@ pub struct MapFeatureFile {
     pub id: u32,
     /// `"corner"` or `"edge"`.
     pub kind: FeatureKind,
-    /// Where it is, `[x, y]`.
+    /// Where it is, `[x, y]` (a rounded reflector's centre).
     pub at: [f64; 2],
+    /// A rounded reflector's radius (docs/algorithm.md §8.14); absent for a point.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
     /// The smallest range it was seen from.
     pub range: f64,
     /// Snapshot that created it.
@@ -112,6 +115,7 @@ pub fn map_to_file(map: &Map, units: Units, snapshot: usize) -> MapFile {
                 id: f.id,
                 kind: f.kind,
                 at: [l(f.at.x), l(f.at.y)],
+                radius: (f.radius_m > 0.0).then(|| l(f.radius_m)),
                 range: l(f.range_m),
                 created: f.created,
                 updated: f.updated.clone(),

@@ -441,6 +441,94 @@ pub fn reflector_beating_line(
         .map(|(at, _)| at)
 }
 
+/// Smallest radius of a rounded reflector, metres (2 in): below it the ranges are those of a
+/// point (a corner or a sharp edge).
+pub const MIN_ROUND_RADIUS_M: f64 = 0.0508;
+
+/// Largest radius of a rounded reflector, metres (20 in, a building's column).
+pub const MAX_ROUND_RADIUS_M: f64 = 0.508;
+
+/// The rounded reflector (a pillar, a column, a table leg: a cylinder, docs/algorithm.md
+/// §8.14) that best explains the ranges of `beams`: its centre `c` and radius `r`, each reading
+/// its sensor's distance from the surface, `|c − o| − r`, along the ray through the centre (the
+/// surface's normal). Found by Gauss-Newton from a centre one start radius behind `start` (away
+/// from the sensors), with its cost (the sum of squared range residuals over squared
+/// tolerances). `None` unless the fit converges to a radius within
+/// [`MIN_ROUND_RADIUS_M`]..=[`MAX_ROUND_RADIUS_M`], every sensor outside the cylinder, its
+/// centre inside every beam's cone, and every range explained within its tolerance. The
+/// sensors must stand apart: from one place only the centre's distance less the radius is
+/// seen.
+///
+/// ```
+/// use sonarmap::geometry::{Point, Vec2};
+/// use sonarmap::mapping::echo_fit::fit_round_reflector;
+/// use sonarmap::mapping::point_features::Beam;
+/// // A pillar of radius 0.2 m at (1, 2) heard from x = 0.4, 1.0, 1.6 on y = 0, each sensor
+/// // looking at its centre: from (0.4, 0) the centre is √(0.36 + 4) = 2.088 m away, the
+/// // surface 1.888 m; from (1, 0) 2 − 0.2 = 1.8 m.
+/// let centre = Point::new(1.0, 2.0);
+/// let beams: Vec<Beam> = [0.4, 1.0, 1.6]
+///     .iter()
+///     .map(|&x| {
+///         let v: Vec2 = centre - Point::new(x, 0.0);
+///         Beam { origin: Point::new(x, 0.0), direction: v / v.norm(), range_m: v.norm() - 0.2 }
+///     })
+///     .collect();
+/// assert!((beams[0].range_m - 1.8881).abs() < 1e-4);
+/// let (c, r, cost) =
+///     fit_round_reflector(&beams, Point::new(1.0, 1.8), 1.0, 12.5f64.to_radians()).unwrap();
+/// assert!((c - centre).norm() < 1e-6 && (r - 0.2).abs() < 1e-6 && cost < 1e-9);
+/// ```
+pub fn fit_round_reflector(
+    beams: &[Beam],
+    start: Point,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+) -> Option<(Point, f64, f64)> {
+    if beams.len() < MIN_REFLECTOR_READINGS {
+        return None;
+    }
+    const START_RADIUS_M: f64 = 0.1;
+    let away = start - mean_origin(beams);
+    let away = away / away.norm().max(1e-9);
+    let (mut c, mut r) = (start + away * START_RADIUS_M, START_RADIUS_M);
+    let weights = range_weights(beams, accuracy_pct);
+    for _ in 0..12 {
+        // Normal equations of the linearised residuals |c − o_i| − r − D_i in (c_x, c_y, r).
+        let mut a = nalgebra::Matrix3::<f64>::zeros();
+        let mut g = nalgebra::Vector3::<f64>::zeros();
+        for (b, &w) in beams.iter().zip(&weights) {
+            let v = c - b.origin;
+            let d = v.norm().max(1e-9);
+            let j = nalgebra::Vector3::new(v.x / d, v.y / d, -1.0);
+            a += w * j * j.transpose();
+            g += w * j * (d - r - b.range_m);
+        }
+        // Sensors standing together cannot tell the radius from the distance.
+        let step = a.lu().solve(&g)?;
+        if !step.iter().all(|x| x.is_finite()) {
+            return None;
+        }
+        c -= Vec2::new(step.x, step.y);
+        r -= step.z;
+    }
+    if !(MIN_ROUND_RADIUS_M..=MAX_ROUND_RADIUS_M).contains(&r) {
+        return None;
+    }
+    let cos_half = HalfCone::new(half_beam_rad).cos;
+    let mut cost = 0.0;
+    for b in beams {
+        let v = c - b.origin;
+        let d = v.norm();
+        let tol = feature_tolerance_m(accuracy_pct, b.range_m);
+        if d <= r || (d - r - b.range_m).abs() > tol || v.dot(&b.direction) / d < cos_half {
+            return None;
+        }
+        cost += ((d - r - b.range_m) / tol).powi(2);
+    }
+    Some((c, r, cost))
+}
+
 /// Readings moved to their echo points ([`place_echoes`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Placement {

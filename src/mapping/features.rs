@@ -22,8 +22,12 @@ pub struct PointFeature {
     pub id: FeatureId,
     /// Corner or edge.
     pub kind: FeatureKind,
-    /// Where it is, world frame, metres.
+    /// Where it is, world frame, metres (a rounded reflector's centre).
     pub at: Point,
+    /// A rounded reflector's radius (a pillar, docs/algorithm.md §8.14), metres; 0 for a point
+    /// reflector.
+    #[serde(default, skip_serializing_if = "is_point")]
+    pub radius_m: f64,
     /// The smallest range it was seen from, metres (its confidence, as an end-point's).
     pub range_m: f64,
     /// Arcs that placed it (each a cluster of one snapshot).
@@ -49,6 +53,10 @@ pub const CONFIRMING_BASELINE_M: f64 = 0.2032;
 
 fn origin() -> Point {
     Point::origin()
+}
+
+fn is_point(radius_m: &f64) -> bool {
+    *radius_m == 0.0
 }
 
 impl PointFeature {

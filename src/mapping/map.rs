@@ -7,6 +7,7 @@ use super::id_list::IdList;
 pub use super::ids::{FaceId, FeatureId, ObjectId, SegmentId};
 use super::index::{IndexedSegment, SegmentGrid};
 use super::plane_supports::PlaneSupports;
+use super::round_reflectors::RoundEvidence;
 pub use super::support::{EndPoint, ReadingRef, SupportPoint};
 use super::support_list::SupportList;
 use crate::geometry::{distance_to_segment, Point, Pose};
@@ -128,6 +129,10 @@ pub struct Map {
     /// Point features (corners and edges, docs/algorithm.md §8.5), ordered by id.
     #[serde(default)]
     pub features: Vec<PointFeature>,
+    /// Readings of removed corner diagonals, kept as evidence of round pillars
+    /// (docs/algorithm.md §8.14), the most recent last.
+    #[serde(default)]
+    pub round_evidence: Vec<RoundEvidence>,
     /// Next unused feature id.
     #[serde(default)]
     pub next_feature_id: FeatureId,
@@ -705,6 +710,7 @@ impl Map {
             memory: self.memory.clone(),
             recent_poses: self.recent_poses.clone(),
             features: self.features.clone(),
+            round_evidence: self.round_evidence.clone(),
             next_feature_id: self.next_feature_id,
             confirms_segments: self.confirms_segments,
             plane_support: self.plane_support.clone(),
@@ -889,6 +895,7 @@ impl Map {
             id,
             kind,
             at,
+            radius_m: 0.0,
             range_m,
             observations: 1,
             first_seen_from: seen_from,

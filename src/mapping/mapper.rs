@@ -24,6 +24,7 @@ use super::point_features::{
     ArcTrace, Beam,
 };
 use super::readings::convert_readings;
+use super::round_reflectors::note_removed_echoes;
 use super::settled_walls::{
     any_settling_wall, settling_wall, NearWall, SettleRule, SETTLED_END_MARGIN_GAPS,
 };
@@ -604,10 +605,23 @@ impl Mapper {
             CORNER_WALL_REACH_M,
             self.params.orientation_rad,
         );
+        let (xi, half) = self.accuracy_and_half_beam();
         for d in found {
+            // §8.14: the diagonal's readings, with their sensors' poses, are evidence of a pillar.
+            let echoes: Vec<Beam> = match self.map.segment(d.segment) {
+                Some(s) if self.params.round_reflectors && self.sensor.echo != EchoModel::Axis => s
+                    .points
+                    .iter()
+                    .filter_map(|q| self.recent_beam_of(q))
+                    .collect(),
+                _ => Vec::new(),
+            };
             self.map.remove_segment(d.segment);
             // Kept in the slim trace too: the lineage of a segment reads its removal there.
             trace.diagonals.push(d);
+            if let Some(t) = note_removed_echoes(&mut self.map, &echoes, snapshot, xi, half) {
+                trace.round_reflectors.push(t);
+            }
         }
     }
 
@@ -716,10 +730,10 @@ impl Mapper {
     ) {
         // Only a confirmed feature explains a reading. A few are searched through directly,
         // many through the grid.
-        let confirmed: Vec<(FeatureId, Point)> = self
+        let confirmed: Vec<(FeatureId, Point, f64)> = self
             .map
             .confirmed_features()
-            .map(|f| (f.id, f.at))
+            .map(|f| (f.id, f.at, f.radius_m))
             .collect();
         if confirmed.is_empty() {
             return;

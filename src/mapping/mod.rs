@@ -24,6 +24,7 @@ pub mod params;
 pub mod plane_supports;
 pub mod point_features;
 pub mod readings;
+pub mod round_reflectors;
 pub mod settled_walls;
 pub mod support;
 pub mod support_list;

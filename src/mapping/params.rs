@@ -118,6 +118,10 @@ pub struct Params {
     /// A segment lying wholly near the junction of two confirmed walls and turned from both
     /// is a corner's diagonal and leaves the map (docs/algorithm.md §8.11).
     pub corner_diagonals: bool,
+    /// The readings of removed diagonals are kept as evidence; a round pillar that explains
+    /// enough of them, seen from apart, is filed as a rounded feature and explains its echoes
+    /// (docs/algorithm.md §8.14). Acts only with `corner_diagonals`.
+    pub round_reflectors: bool,
     /// A reading a confirmed wall explains as a plane echo, well inside its ends, is settled:
     /// kept out of the clusters, point memory and the free-space sweep (docs/algorithm.md
     /// §8.12). Acts only with `confirm_segments`.
@@ -162,6 +166,7 @@ impl Params {
             plane_gate: false,
             echo_fit: false,
             corner_diagonals: false,
+            round_reflectors: false,
             settled_walls: false,
             min_piece_points: 0,
         }
@@ -188,6 +193,7 @@ impl Params {
             plane_gate: true,
             echo_fit: true,
             corner_diagonals: true,
+            round_reflectors: true,
             settled_walls: true,
             min_piece_points: 3,
             ..Self::paper()
@@ -345,6 +351,9 @@ impl Params {
         if let Some(v) = file.corner_diagonals {
             p.corner_diagonals = v;
         }
+        if let Some(v) = file.round_reflectors {
+            p.round_reflectors = v;
+        }
         if let Some(v) = file.settled_walls {
             p.settled_walls = v;
         }
@@ -389,6 +398,7 @@ impl Params {
             plane_gate: Some(self.plane_gate),
             echo_fit: Some(self.echo_fit),
             corner_diagonals: Some(self.corner_diagonals),
+            round_reflectors: Some(self.round_reflectors),
             settled_walls: Some(self.settled_walls),
             min_piece_points: Some(self.min_piece_points),
         }
@@ -499,6 +509,8 @@ pub struct ParamsFile {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub corner_diagonals: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub round_reflectors: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub settled_walls: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub min_piece_points: Option<usize>,
@@ -521,7 +533,7 @@ mod tests {
         assert!(!p.corner_guard);
         assert!(!p.arc_features && !p.explain_readings && !p.free_space && !p.confirm_segments);
         assert!(!p.plane_gate && !p.echo_fit && p.min_piece_points == 0);
-        assert!(!p.corner_diagonals && !p.settled_walls);
+        assert!(!p.corner_diagonals && !p.settled_walls && !p.round_reflectors);
         assert!(!p.baseline_confirm && !p.refit_unconfirms);
         let e = Params::extended();
         assert_eq!(e.support_cap, 64);
@@ -535,7 +547,7 @@ mod tests {
         assert!(e.merge_duplicates);
         assert!(e.arc_features && e.explain_readings && e.free_space && e.confirm_segments);
         assert!(e.plane_gate && e.echo_fit && e.min_piece_points == 3);
-        assert!(e.corner_diagonals && e.settled_walls);
+        assert!(e.corner_diagonals && e.settled_walls && e.round_reflectors);
         assert!(e.baseline_confirm && e.refit_unconfirms);
         assert!(p.validate().is_ok() && e.validate().is_ok());
     }

@@ -15,7 +15,7 @@
 //!
 //! Both look only at the cluster's readings and at the features the grid index files near them.
 
-use super::echo_fit::HalfCone;
+use super::echo_fit::{HalfCone, MAX_ROUND_RADIUS_M};
 use super::map::{FeatureKind, Map, PointFeature};
 use crate::geometry::{Point, Vec2};
 use crate::units::inches;
@@ -139,9 +139,37 @@ pub fn arc_point(beams: &[Beam], sensors: &[usize], accuracy_pct: f64) -> Option
 /// assert!(!explains(&Point::new(1.80, 0.0), &beam, 3.0, half));
 /// ```
 pub fn explains(at: &Point, beam: &Beam, accuracy_pct: f64, half_beam_rad: f64) -> bool {
+    explains_round(at, 0.0, beam, accuracy_pct, half_beam_rad)
+}
+
+/// Whether the confirmed rounded reflector of centre `at` and radius `radius_m` (a pillar,
+/// docs/algorithm.md §8.14; 0 for a point, [`explains`]) explains `beam`: the sensor's distance
+/// from its surface along the ray through its centre, `|at − o| − radius_m`, is the range within
+/// the tolerance, and the centre lies within `half_beam_rad` of the axis (a specular surface
+/// echoes only along its normal, which passes through the centre).
+///
+/// ```
+/// use sonarmap::geometry::{Point, Vec2};
+/// use sonarmap::mapping::point_features::{explains_round, Beam};
+/// // A sensor at the origin looking along +x reads 1.80 m. A pillar of radius 0.2 m centred at
+/// // (2, 0): its surface is 2 − 0.2 = 1.8 m away: explained.
+/// let beam = Beam { origin: Point::origin(), direction: Vec2::new(1.0, 0.0), range_m: 1.8 };
+/// let half = 12.5f64.to_radians();
+/// assert!(explains_round(&Point::new(2.0, 0.0), 0.2, &beam, 3.0, half));
+/// // A point at its centre, 2 m away: |2 − 1.8| = 0.2 > 0.054 (3 % of 1.8), not explained.
+/// assert!(!explains_round(&Point::new(2.0, 0.0), 0.0, &beam, 3.0, half));
+/// ```
+pub fn explains_round(
+    at: &Point,
+    radius_m: f64,
+    beam: &Beam,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+) -> bool {
     let v = at - beam.origin;
     let d = v.norm();
-    if (d - beam.range_m).abs() > feature_tolerance_m(accuracy_pct, beam.range_m) || d <= 0.0 {
+    let tolerance_m = feature_tolerance_m(accuracy_pct, beam.range_m);
+    if (d - radius_m - beam.range_m).abs() > tolerance_m || d <= radius_m {
         return false;
     }
     v.dot(&beam.direction) / d >= HalfCone::new(half_beam_rad).cos
@@ -262,15 +290,15 @@ pub fn explaining_feature(
         .iter()
         .filter_map(|&id| map.feature(id))
         .filter(|f| f.is_confirmed())
-        .map(|f| (f.id, f.at));
+        .map(|f| (f.id, f.at, f.radius_m));
     nearest_explaining(near, beam, accuracy_pct, half_beam_rad)
 }
 
-/// [`explaining_feature`] among `confirmed`, the map's confirmed features (id and place, in
-/// any order), each tested against the box the grid would search: the same feature, without
-/// the grid, for a map with few confirmed features.
+/// [`explaining_feature`] among `confirmed`, the map's confirmed features (id, place and
+/// radius, in any order), each tested against the box the grid would search: the same feature,
+/// without the grid, for a map with few confirmed features.
 pub fn explaining_feature_among(
-    confirmed: &[(u32, Point)],
+    confirmed: &[(u32, Point, f64)],
     beam: &Beam,
     accuracy_pct: f64,
     half_beam_rad: f64,
@@ -281,33 +309,38 @@ pub fn explaining_feature_among(
     let in_box = |at: &Point| {
         !reach.is_finite() || (low.x <= at.x && at.x <= high.x && low.y <= at.y && at.y <= high.y)
     };
-    let near = confirmed.iter().filter(|(_, at)| in_box(at)).copied();
+    let near = confirmed.iter().filter(|(_, at, _)| in_box(at)).copied();
     nearest_explaining(near, beam, accuracy_pct, half_beam_rad)
 }
 
 /// The point a beam's reading puts on its axis, and how far from it a feature that explains the
-/// reading can lie (the cone's half-width at the range, and the tolerance), metres.
+/// reading can lie (the cone's half-width at the range, the tolerance, and the radius of the
+/// largest rounded reflector, whose centre lies behind its surface), metres.
 fn feature_reach(beam: &Beam, accuracy_pct: f64, half_beam_rad: f64) -> (Point, f64) {
     let tip = beam.origin + beam.direction * beam.range_m;
-    let reach = beam.range_m * half_beam_rad + feature_tolerance_m(accuracy_pct, beam.range_m);
+    let reach = beam.range_m * half_beam_rad
+        + feature_tolerance_m(accuracy_pct, beam.range_m)
+        + MAX_ROUND_RADIUS_M;
     (tip, reach)
 }
 
-/// Of the features `near` (id and place), the one that explains `beam` nearest to its range
-/// (the lower id on a tie).
+/// Of the features `near` (id, place and radius), the one that explains `beam` nearest to its
+/// range (the lower id on a tie).
 fn nearest_explaining(
-    near: impl Iterator<Item = (u32, Point)>,
+    near: impl Iterator<Item = (u32, Point, f64)>,
     beam: &Beam,
     accuracy_pct: f64,
     half_beam_rad: f64,
 ) -> Option<u32> {
-    near.filter(|(_, at)| explains(at, beam, accuracy_pct, half_beam_rad))
-        .min_by(|(ia, a), (ib, b)| {
-            let da = ((a - beam.origin).norm() - beam.range_m).abs();
-            let db = ((b - beam.origin).norm() - beam.range_m).abs();
-            da.total_cmp(&db).then(ia.cmp(ib))
+    let residual =
+        |at: &Point, radius_m: f64| ((at - beam.origin).norm() - radius_m - beam.range_m).abs();
+    near.filter(|(_, at, r)| explains_round(at, *r, beam, accuracy_pct, half_beam_rad))
+        .min_by(|(ia, a, ra), (ib, b, rb)| {
+            residual(a, *ra)
+                .total_cmp(&residual(b, *rb))
+                .then(ia.cmp(ib))
         })
-        .map(|(id, _)| id)
+        .map(|(id, _, _)| id)
 }
 
 #[cfg(test)]
@@ -382,8 +415,13 @@ mod tests {
                 if confirmed {
                     map.features[id as usize].baseline_m = 1.0;
                 }
+                // Some of them rounded (a pillar's centre behind its surface, §8.14).
+                if x > 2.0 {
+                    map.features[id as usize].radius_m = 0.3;
+                }
             }
-            let listed: Vec<(u32, Point)> = map.confirmed_features().map(|f| (f.id, f.at)).collect();
+            let listed: Vec<(u32, Point, f64)> =
+                map.confirmed_features().map(|f| (f.id, f.at, f.radius_m)).collect();
             let half = 12.5f64.to_radians();
             let mut scratch = Vec::new();
             for &(x, y, dir, range_m) in &beams {
@@ -393,7 +431,8 @@ mod tests {
                 let beam = Beam { origin, direction, range_m };
                 let aimed = features.first().map(|&(fx, fy, _)| {
                     let v = Point::new(fx, fy) - origin;
-                    Beam { origin, direction: v.normalize(), range_m: v.norm() * (1.0 + 0.02 * dir.sin()) }
+                    let surface_m = v.norm() - map.features[0].radius_m;
+                    Beam { origin, direction: v.normalize(), range_m: surface_m * (1.0 + 0.02 * dir.sin()) }
                 });
                 for beam in std::iter::once(beam).chain(aimed.filter(|b| b.range_m > 0.05)) {
                     proptest::prop_assert_eq!(

@@ -595,6 +595,10 @@ pub struct StepTrace {
     /// (docs/algorithm.md §8.11).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub diagonals: Vec<DiagonalTrace>,
+    /// Round pillars filed or moved from the readings of removed diagonals (docs/algorithm.md
+    /// §8.14).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub round_reflectors: Vec<RoundTrace>,
     /// Confirmed segments a refit moved off their line, tentative again (docs/algorithm.md
     /// §8.7, `refit_unconfirms`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -606,6 +610,7 @@ pub use super::corner_diagonals::DiagonalTrace;
 pub use super::echo_fit::EchoFitTrace;
 pub use super::free_space::RefutedTrace;
 pub use super::point_features::ArcTrace;
+pub use super::round_reflectors::RoundTrace;
 pub use super::settled_walls::SettledTrace;
 
 /// A reading explained by a confirmed point feature (docs/algorithm.md §8.5).

@@ -487,9 +487,21 @@ impl Builder<'_, '_> {
     }
 
     /// The map's point features (docs/algorithm.md §8.5): a triangle a corner, a diamond an
-    /// edge.
+    /// edge, a circle at its radius a pillar (§8.14).
     fn features(&mut self) {
         for f in self.input.map_after.confirmed_features() {
+            if f.radius_m > 0.0 {
+                self.push(
+                    Layer::Features,
+                    Role::FeaturePillar,
+                    SceneId::None,
+                    Shape::Circle {
+                        centre: f.at,
+                        radius_m: f.radius_m,
+                    },
+                );
+                continue;
+            }
             let (role, shape) = match f.kind {
                 FeatureKind::Corner => (Role::FeatureCorner, MarkerShape::Triangle),
                 FeatureKind::Edge => (Role::FeatureEdge, MarkerShape::Diamond),

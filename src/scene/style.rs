@@ -162,6 +162,8 @@ pub enum Role {
     FeatureCorner,
     /// A point feature judged an edge (docs/algorithm.md §8.5).
     FeatureEdge,
+    /// A rounded feature, a pillar, drawn at its radius (docs/algorithm.md §8.14).
+    FeaturePillar,
     /// An interpolated (connecting) map segment after the step.
     MapInterpolated,
     /// A map segment's end-point.
@@ -225,7 +227,7 @@ impl Role {
             | Role::MapInterpolated
             | Role::MapEndPoint
             | Role::SupportPoint => Layer::Map,
-            Role::FeatureCorner | Role::FeatureEdge => Layer::Features,
+            Role::FeatureCorner | Role::FeatureEdge | Role::FeaturePillar => Layer::Features,
             Role::TruthTrue | Role::TruthSpurious => Layer::Truth,
             Role::NewSegment => Layer::NewSegments,
             Role::PreviousPoint | Role::PreviousSegment => Layer::PreviousSnapshot,
@@ -264,6 +266,7 @@ impl Role {
                 .filled(REDDISH_PURPLE)
                 .sized(9.0),
             Role::FeatureEdge => Style::line(ORANGE, 1.5).filled(ORANGE).sized(9.0),
+            Role::FeaturePillar => Style::line(ORANGE, 2.0),
             Role::MapInterpolated => Style::line(BLUISH_GREEN, 2.0).dashed(DASH),
             Role::MapEndPoint => Style::line(BLUISH_GREEN, 1.0)
                 .filled(BLUISH_GREEN)
@@ -319,6 +322,7 @@ impl Role {
             Role::MapTentative => "tentative segment (unconfirmed)",
             Role::FeatureCorner => "corner (point feature)",
             Role::FeatureEdge => "edge (point feature)",
+            Role::FeaturePillar => "pillar (rounded feature)",
             Role::MapInterpolated => "interpolated link",
             Role::MapEndPoint => return None,
             Role::SupportPoint => "supporting reading (selected segment)",

@@ -622,6 +622,9 @@ fn pinning_a_baseline_then_changing_theta_marks_the_differing_decisions() {
     // "First difference" seeks to the first direct difference.
     let k = diff.direct_snapshots[0];
     assert_eq!(diff.first_difference, Some(k));
+    // The button sits low in the parameters panel: scrolled into view before the click.
+    h.get_by_label("First difference").scroll_to_me();
+    h.run();
     h.get_by_label("First difference").click();
     h.run();
     assert_eq!(h.state().current(), k);

@@ -1,7 +1,8 @@
 //! What the flagged extensions of docs/algorithm.md §8.5–§8.8 did in this step, with their
 //! numbers: arcs filed as corners or edges, readings explained by a feature, segments a reading
-//! saw past, plane support, the plane gate, echo placement (§8.10), corner diagonals (§8.11)
-//! and readings a confirmed wall settled (§8.12).
+//! saw past, plane support, the plane gate, echo placement (§8.10), corner diagonals (§8.11),
+//! readings a confirmed wall settled (§8.12) and pillars found among the diagonals' echoes
+//! (§8.14).
 
 use super::context::InspectCtx;
 use super::widgets::heading;
@@ -19,6 +20,7 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
         && t.gated.is_empty()
         && t.echo_fits.is_empty()
         && t.diagonals.is_empty()
+        && t.round_reflectors.is_empty()
         && t.settled.is_empty()
         && t.unconfirmed.is_empty()
     {
@@ -175,6 +177,16 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             d.angles_rad[0].to_degrees(),
             d.angles_rad[1].to_degrees(),
             ctx.params.orientation_rad.to_degrees()
+        ));
+    }
+    for r in &t.round_reflectors {
+        ui.label(format!(
+            "pillar: one cylinder, centre {} radius {}, explains {} readings of removed              diagonals (each |c - o| - r within its tolerance), heard from sensors {} apart:              feature f{}",
+            ctx.point(&r.centre),
+            ctx.len(r.radius_m),
+            r.readings,
+            ctx.len(r.baseline_m),
+            r.feature
         ));
     }
     for n in &t.gated {

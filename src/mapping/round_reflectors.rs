@@ -1,0 +1,332 @@
+//! Rounded reflectors: pillars from the echoes of removed corner diagonals (docs/algorithm.md
+//! §8.14; beyond the paper).
+//!
+//! A round pillar echoes a specular sonar along its normal, the ray through its centre, so a
+//! reading of it is the sensor's distance from the centre less the radius (Leonard and
+//! Durrant-Whyte's cylinder, beside planes, corners and edges). Placed on the beam axes, a few
+//! such readings of nearby snapshots fit a short line as well as they fit the pillar: a piece of
+//! three to five readings cannot tell them apart. Beside other pillars and short confirmed
+//! pieces those lines stand across "corners" and leave the map at once as diagonals (§8.11),
+//! every time the robot passes: the map never holds the pillar, so its echoes are never
+//! explained (§8.5) and make pieces again on every lap.
+//!
+//! The readings of the removed diagonals are kept as evidence, each with its sensor's pose.
+//! When the evidence gathered near a new diagonal holds readings enough, from sensors standing
+//! apart, and one cylinder explains every one of them within its tolerance, the pillar is filed
+//! as a rounded feature (an edge with a radius), confirmed by that baseline; from then on it
+//! explains its echoes before they are clustered.
+
+use super::echo_fit::{fit_round_reflector, MAX_ROUND_RADIUS_M};
+use super::features::{FeatureKind, CONFIRMING_BASELINE_M};
+use super::map::Map;
+use super::point_features::{explains_round, merge_radius_m, Beam};
+use crate::geometry::{Point, Vec2};
+use serde::{Deserialize, Serialize};
+
+/// Readings of removed diagonals kept as evidence (the most recent ones).
+pub const ROUND_EVIDENCE_KEPT: usize = 64;
+
+/// Fewest readings of evidence before a pillar is fitted to them: twice the unknowns of a
+/// cylinder (its centre and radius).
+pub const MIN_ROUND_EVIDENCE: usize = 6;
+
+/// A reading of a removed diagonal: its beam in the world frame, as its snapshot's pose put it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RoundEvidence {
+    /// The sensor's position, world frame, metres.
+    pub origin: Point,
+    /// Unit vector along the beam axis, world frame.
+    pub direction: Vec2,
+    /// The range, metres.
+    pub range_m: f64,
+}
+
+impl RoundEvidence {
+    fn beam(&self) -> Beam {
+        Beam {
+            origin: self.origin,
+            direction: self.direction,
+            range_m: self.range_m,
+        }
+    }
+
+    /// The point the reading puts on its beam axis.
+    fn tip(&self) -> Point {
+        self.origin + self.direction * self.range_m
+    }
+}
+
+/// A pillar filed (or moved) from the evidence, for the trace.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RoundTrace {
+    /// The feature.
+    pub feature: u32,
+    /// The fitted centre, world frame, metres.
+    pub centre: Point,
+    /// The fitted radius, metres.
+    pub radius_m: f64,
+    /// Readings of evidence it explained.
+    pub readings: usize,
+    /// How far apart their sensors stood, metres (at most).
+    pub baseline_m: f64,
+}
+
+/// Keeps `beams` (the readings of a diagonal just removed) as evidence, then fits a pillar to
+/// the evidence whose axis points lie within a pillar's reach of theirs
+/// ([`fit_round_reflector`]); when one explains at least [`MIN_ROUND_EVIDENCE`] of them, from
+/// sensors at least [`CONFIRMING_BASELINE_M`] apart, it is filed (or moves the rounded feature
+/// within [`merge_radius_m`] of its centre) and that evidence is spent.
+pub fn note_removed_echoes(
+    map: &mut Map,
+    beams: &[Beam],
+    snapshot: usize,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+) -> Option<RoundTrace> {
+    if beams.is_empty() {
+        return None;
+    }
+    map.round_evidence
+        .extend(beams.iter().map(|b| RoundEvidence {
+            origin: b.origin,
+            direction: b.direction,
+            range_m: b.range_m,
+        }));
+    let excess = map.round_evidence.len().saturating_sub(ROUND_EVIDENCE_KEPT);
+    map.round_evidence.drain(..excess);
+    let here = Point::from(
+        beams
+            .iter()
+            .map(|b| (b.origin + b.direction * b.range_m).coords)
+            .sum::<Vec2>()
+            / beams.len() as f64,
+    );
+    // A pillar's echoes lie on its near side, within its radius of the middle of them; pillars
+    // stand closer than their reach to each other, so the fit starts from the evidence nearest
+    // the diagonal and then takes in what the pillar found explains.
+    let mut near: Vec<(f64, usize)> = (0..map.round_evidence.len())
+        .map(|i| ((map.round_evidence[i].tip() - here).norm(), i))
+        .filter(|&(d, _)| d <= MAX_ROUND_RADIUS_M)
+        .collect();
+    if near.len() < MIN_ROUND_EVIDENCE {
+        return None;
+    }
+    near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let beam_of = |i: usize| map.round_evidence[i].beam();
+    let seed: Vec<Beam> = near[..MIN_ROUND_EVIDENCE]
+        .iter()
+        .map(|&(_, i)| beam_of(i))
+        .collect();
+    let (centre, radius_m, _) = fit_round_reflector(&seed, here, accuracy_pct, half_beam_rad)?;
+    let mut inliers: Vec<usize> = near
+        .iter()
+        .map(|&(_, i)| i)
+        .filter(|&i| explains_round(&centre, radius_m, &beam_of(i), accuracy_pct, half_beam_rad))
+        .collect();
+    inliers.sort_unstable();
+    let evidence: Vec<Beam> = inliers.iter().map(|&i| beam_of(i)).collect();
+    if evidence.len() < MIN_ROUND_EVIDENCE {
+        return None;
+    }
+    let baseline_m = widest_apart_m(&evidence);
+    if baseline_m < CONFIRMING_BASELINE_M {
+        return None;
+    }
+    let (centre, radius_m, _) = fit_round_reflector(&evidence, here, accuracy_pct, half_beam_rad)?;
+    let range_m = evidence
+        .iter()
+        .map(|b| b.range_m)
+        .fold(f64::INFINITY, f64::min);
+    let seen_from = evidence[0].origin;
+    let feature = file_round(
+        map,
+        centre,
+        radius_m,
+        range_m,
+        seen_from,
+        baseline_m,
+        snapshot,
+        accuracy_pct,
+    );
+    let mut k = 0;
+    map.round_evidence.retain(|_| {
+        let keep = inliers.binary_search(&k).is_err();
+        k += 1;
+        keep
+    });
+    Some(RoundTrace {
+        feature,
+        centre,
+        radius_m,
+        readings: evidence.len(),
+        baseline_m,
+    })
+}
+
+/// The largest distance between two of the sensors of `beams`, metres.
+fn widest_apart_m(beams: &[Beam]) -> f64 {
+    let mut widest: f64 = 0.0;
+    for (i, a) in beams.iter().enumerate() {
+        for b in &beams[i + 1..] {
+            widest = widest.max((a.origin - b.origin).norm());
+        }
+    }
+    widest
+}
+
+/// Files the pillar of centre `centre` and radius `radius_m`: it moves the rounded feature
+/// within [`merge_radius_m`] of the centre to the observations' mean (centre and radius), or
+/// makes a new one, confirmed by `baseline_m`. Returns its id.
+#[allow(clippy::too_many_arguments)]
+fn file_round(
+    map: &mut Map,
+    centre: Point,
+    radius_m: f64,
+    range_m: f64,
+    seen_from: Point,
+    baseline_m: f64,
+    snapshot: usize,
+    accuracy_pct: f64,
+) -> u32 {
+    let merge_m = merge_radius_m(accuracy_pct, range_m);
+    let nearest = map
+        .features_near(&centre, merge_m)
+        .into_iter()
+        .filter_map(|id| map.feature(id))
+        .filter(|f| f.radius_m > 0.0 && (f.at - centre).norm() <= merge_m)
+        .min_by(|a, b| {
+            (a.at - centre)
+                .norm()
+                .total_cmp(&(b.at - centre).norm())
+                .then(a.id.cmp(&b.id))
+        })
+        .cloned();
+    match nearest {
+        Some(f) => {
+            let n = f.observations as f64;
+            let id = f.id;
+            let moved = super::features::PointFeature {
+                at: Point::from((f.at.coords * n + centre.coords) / (n + 1.0)),
+                radius_m: (f.radius_m * n + radius_m) / (n + 1.0),
+                range_m: f.range_m.min(range_m),
+                observations: f.observations + 1,
+                baseline_m: f.baseline_m.max(baseline_m),
+                ..f
+            };
+            map.replace_feature(moved, snapshot);
+            id
+        }
+        None => {
+            let id = map.push_feature(FeatureKind::Edge, centre, range_m, seen_from, snapshot);
+            if let Some(f) = map.feature(id).cloned() {
+                let rounded = super::features::PointFeature {
+                    radius_m,
+                    baseline_m,
+                    ..f
+                };
+                map.replace_feature(rounded, snapshot);
+            }
+            id
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const HALF: f64 = 12.5 * std::f64::consts::PI / 180.0;
+
+    /// Readings of a pillar of radius 0.2 m at (2, 3) from sensors along y = 0 at `xs`, each
+    /// looking at its centre.
+    fn pillar_beams(xs: &[f64]) -> Vec<Beam> {
+        let centre = Point::new(2.0, 3.0);
+        xs.iter()
+            .map(|&x| {
+                let v: Vec2 = centre - Point::new(x, 0.0);
+                Beam {
+                    origin: Point::new(x, 0.0),
+                    direction: v / v.norm(),
+                    range_m: v.norm() - 0.2,
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_echoes_of_removed_diagonals_file_a_pillar_once_they_are_enough_and_spread() {
+        let mut map = Map::default();
+        // Two diagonals of three readings each, from x = 1.4–1.6 and 2.4–2.6: the first alone is
+        // too little evidence; with the second there are six, from sensors 1.2 m apart.
+        let first = pillar_beams(&[1.4, 1.5, 1.6]);
+        assert_eq!(note_removed_echoes(&mut map, &first, 7, 1.0, HALF), None);
+        assert_eq!(map.round_evidence.len(), 3);
+        let second = pillar_beams(&[2.4, 2.5, 2.6]);
+        let t = note_removed_echoes(&mut map, &second, 9, 1.0, HALF).unwrap();
+        assert!(
+            (t.centre - Point::new(2.0, 3.0)).norm() < 1e-6,
+            "{:?}",
+            t.centre
+        );
+        assert!((t.radius_m - 0.2).abs() < 1e-6);
+        assert_eq!(t.readings, 6);
+        assert!((t.baseline_m - 1.2).abs() < 1e-9);
+        // The evidence is spent, and the pillar, confirmed, explains a reading of it from
+        // (2, 0): 3 − 0.2 = 2.8 m.
+        assert!(map.round_evidence.is_empty());
+        let f = map.feature(t.feature).unwrap();
+        assert!(f.is_confirmed() && f.kind == FeatureKind::Edge);
+        let beam = Beam {
+            origin: Point::new(2.0, 0.0),
+            direction: Vec2::new(0.0, 1.0),
+            range_m: 2.8,
+        };
+        assert!(explains_round(&f.at, f.radius_m, &beam, 1.0, HALF));
+    }
+
+    #[test]
+    fn the_echoes_of_a_corner_file_no_pillar() {
+        // A corner at (2, 3): every reading its distance from the vertex, a radius of 0.
+        let corner = Point::new(2.0, 3.0);
+        let beams: Vec<Beam> = [1.4, 1.5, 1.6, 2.4, 2.5, 2.6]
+            .iter()
+            .map(|&x| {
+                let v: Vec2 = corner - Point::new(x, 0.0);
+                Beam {
+                    origin: Point::new(x, 0.0),
+                    direction: v / v.norm(),
+                    range_m: v.norm(),
+                }
+            })
+            .collect();
+        let mut map = Map::default();
+        assert_eq!(note_removed_echoes(&mut map, &beams, 3, 1.0, HALF), None);
+        assert!(map.features.is_empty());
+        assert_eq!(map.round_evidence.len(), 6);
+    }
+
+    #[test]
+    fn evidence_from_one_place_files_no_pillar() {
+        // Six readings from sensors within 5 cm: the radius cannot be told from the distance.
+        let mut map = Map::default();
+        let beams = pillar_beams(&[1.98, 1.99, 2.0, 2.01, 2.02, 2.03]);
+        assert_eq!(note_removed_echoes(&mut map, &beams, 3, 1.0, HALF), None);
+        assert!(map.features.is_empty());
+    }
+
+    #[test]
+    fn only_the_most_recent_evidence_is_kept() {
+        let mut map = Map::default();
+        for k in 0..30 {
+            // Corner-like readings far apart from each other (no pillar).
+            let b = Beam {
+                origin: Point::new(k as f64 * 5.0, 0.0),
+                direction: Vec2::new(0.0, 1.0),
+                range_m: 2.0,
+            };
+            note_removed_echoes(&mut map, &[b, b, b], k, 1.0, HALF);
+        }
+        assert_eq!(map.round_evidence.len(), ROUND_EVIDENCE_KEPT);
+        assert_eq!(map.round_evidence[ROUND_EVIDENCE_KEPT - 1].origin.x, 145.0);
+    }
+}
