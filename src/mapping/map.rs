@@ -2,12 +2,13 @@
 //! A `Map` is a plain value, cheap to clone: its segments and faces are shared until changed
 //! (the replay's checkpoints keep them apart: `crate::checkpoints`).
 
+use super::echo_fit::{MAX_ROUND_RADIUS_M, MIN_ROUND_RADIUS_M};
 pub use super::features::{FeatureKind, PointFeature};
 use super::id_list::IdList;
 pub use super::ids::{FaceId, FeatureId, ObjectId, SegmentId};
 use super::index::{IndexedSegment, SegmentGrid};
 use super::plane_supports::PlaneSupports;
-use super::round_reflectors::RoundEvidence;
+use super::round_reflectors::{RoundEvidence, ROUND_EVIDENCE_KEPT};
 pub use super::support::{EndPoint, ReadingRef, SupportPoint};
 use super::support_list::SupportList;
 use crate::geometry::{distance_to_segment, Point, Pose};
@@ -518,8 +519,9 @@ impl Map {
     /// every face non-empty, naming existing segments that name it back, every segment in its
     /// face once; the spatial index (when built) filing exactly the segments with their boxes;
     /// every coordinate and range finite; support lists within `support_cap` readings (0:
-    /// unbounded); update histories in order and within [`MAX_UPDATES_KEPT`]. The first broken
-    /// invariant is returned.
+    /// unbounded); update histories in order and within [`MAX_UPDATES_KEPT`]; a feature's radius
+    /// 0 or a pillar's, the pillar evidence within its bound. The first broken invariant is
+    /// returned.
     pub fn check_invariants(&self, support_cap: usize) -> Result<(), String> {
         let finite = |p: &Point| p.x.is_finite() && p.y.is_finite();
         for pair in self.segments.windows(2) {
@@ -654,6 +656,13 @@ impl Map {
                 ));
             }
         }
+        if self.round_evidence.len() > ROUND_EVIDENCE_KEPT
+            || self.round_evidence.iter().any(|e| {
+                !finite(&e.origin) || !e.range_m.is_finite() || !e.direction.norm().is_finite()
+            })
+        {
+            return Err("pillar evidence over its bound or not finite".to_string());
+        }
         for f in &self.features {
             if f.id >= self.next_feature_id {
                 return Err(format!("feature {} is not below the next id", f.id));
@@ -669,6 +678,14 @@ impl Map {
             }
             if f.observations == 0 {
                 return Err(format!("feature {} has no observation", f.id));
+            }
+            if !(f.radius_m == 0.0
+                || (MIN_ROUND_RADIUS_M..=MAX_ROUND_RADIUS_M).contains(&f.radius_m))
+            {
+                return Err(format!(
+                    "feature {} has a radius {} neither 0 nor a pillar's",
+                    f.id, f.radius_m
+                ));
             }
             if f.updated.len() > MAX_UPDATES_KEPT
                 || f.updated.windows(2).any(|w| w[0] >= w[1])

@@ -234,6 +234,7 @@ fn file_round(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mapping::echo_fit::MIN_ROUND_RADIUS_M;
 
     const HALF: f64 = 12.5 * std::f64::consts::PI / 180.0;
 
@@ -312,6 +313,49 @@ mod tests {
         let beams = pillar_beams(&[1.98, 1.99, 2.0, 2.01, 2.02, 2.03]);
         assert_eq!(note_removed_echoes(&mut map, &beams, 3, 1.0, HALF), None);
         assert!(map.features.is_empty());
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+        /// Whatever the diagonals' readings (some a pillar's, some anything), the evidence stays
+        /// within its bound, the map within its invariants, and every pillar filed has a
+        /// pillar's radius, at least the evidence it needs, and is confirmed.
+        #[test]
+        fn any_evidence_keeps_the_map_sound(
+            pillar in (0.0..4.0f64, 2.0..5.0f64, 0.06..0.5f64),
+            batches in proptest::collection::vec(
+                proptest::collection::vec((-2.0..6.0f64, -1.0..1.0f64, 0.0..std::f64::consts::TAU, 0.2..5.0f64, proptest::bool::ANY), 1..6),
+                1..30,
+            ),
+        ) {
+            let (px, py, pr) = pillar;
+            let centre = Point::new(px, py);
+            let mut map = Map::default();
+            for (k, batch) in batches.iter().enumerate() {
+                let beams: Vec<Beam> = batch
+                    .iter()
+                    .map(|&(x, y, dir, range_m, aimed)| {
+                        let origin = Point::new(x, y);
+                        let v = centre - origin;
+                        if aimed && v.norm() > pr + 0.1 {
+                            Beam { origin, direction: v / v.norm(), range_m: v.norm() - pr }
+                        } else {
+                            Beam { origin, direction: Vec2::new(dir.cos(), dir.sin()), range_m }
+                        }
+                    })
+                    .collect();
+                let filed = note_removed_echoes(&mut map, &beams, k, 1.0, HALF);
+                proptest::prop_assert!(map.round_evidence.len() <= ROUND_EVIDENCE_KEPT);
+                proptest::prop_assert_eq!(map.check_invariants(0), Ok(()));
+                if let Some(t) = filed {
+                    proptest::prop_assert!((MIN_ROUND_RADIUS_M..=MAX_ROUND_RADIUS_M).contains(&t.radius_m));
+                    proptest::prop_assert!(t.readings >= MIN_ROUND_EVIDENCE);
+                    proptest::prop_assert!(t.baseline_m >= CONFIRMING_BASELINE_M);
+                    let f = map.feature(t.feature).unwrap();
+                    proptest::prop_assert!(f.is_confirmed() && f.radius_m > 0.0);
+                }
+            }
+        }
     }
 
     #[test]
