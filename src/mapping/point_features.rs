@@ -285,7 +285,7 @@ pub fn explaining_feature(
         return None;
     }
     let (tip, reach) = feature_reach(beam, accuracy_pct, half_beam_rad);
-    map.features_near_into(&tip, reach, scratch);
+    map.features_near_into(&tip, reach + MAX_ROUND_RADIUS_M, scratch);
     let near = scratch
         .iter()
         .filter_map(|&id| map.feature(id))
@@ -295,8 +295,8 @@ pub fn explaining_feature(
 }
 
 /// [`explaining_feature`] among `confirmed`, the map's confirmed features (id, place and
-/// radius, in any order), each tested against the box the grid would search: the same feature,
-/// without the grid, for a map with few confirmed features.
+/// radius, in any order), each tested within the box where a feature of its radius can explain
+/// the reading: the same feature, without the grid, for a map with few confirmed features.
 pub fn explaining_feature_among(
     confirmed: &[(u32, Point, f64)],
     beam: &Beam,
@@ -304,23 +304,24 @@ pub fn explaining_feature_among(
     half_beam_rad: f64,
 ) -> Option<u32> {
     let (tip, reach) = feature_reach(beam, accuracy_pct, half_beam_rad);
-    let r = Vec2::new(reach, reach);
-    let (low, high) = (tip - r, tip + r);
-    let in_box = |at: &Point| {
-        !reach.is_finite() || (low.x <= at.x && at.x <= high.x && low.y <= at.y && at.y <= high.y)
+    // A pillar's centre lies its radius further out than a point would.
+    let in_box = |at: &Point, radius_m: f64| {
+        let r = reach + radius_m;
+        !r.is_finite() || ((at.x - tip.x).abs() <= r && (at.y - tip.y).abs() <= r)
     };
-    let near = confirmed.iter().filter(|(_, at, _)| in_box(at)).copied();
+    let near = confirmed
+        .iter()
+        .filter(|(_, at, r)| in_box(at, *r))
+        .copied();
     nearest_explaining(near, beam, accuracy_pct, half_beam_rad)
 }
 
-/// The point a beam's reading puts on its axis, and how far from it a feature that explains the
-/// reading can lie (the cone's half-width at the range, the tolerance, and the radius of the
-/// largest rounded reflector, whose centre lies behind its surface), metres.
+/// The point a beam's reading puts on its axis, and how far from it a point feature that
+/// explains the reading can lie (the cone's half-width at the range, and the tolerance), metres;
+/// a pillar's centre lies its radius further.
 fn feature_reach(beam: &Beam, accuracy_pct: f64, half_beam_rad: f64) -> (Point, f64) {
     let tip = beam.origin + beam.direction * beam.range_m;
-    let reach = beam.range_m * half_beam_rad
-        + feature_tolerance_m(accuracy_pct, beam.range_m)
-        + MAX_ROUND_RADIUS_M;
+    let reach = beam.range_m * half_beam_rad + feature_tolerance_m(accuracy_pct, beam.range_m);
     (tip, reach)
 }
 
