@@ -48,13 +48,29 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
         ));
     }
     for e in &t.explained {
+        // A pillar (§8.14) echoes from its surface, its radius short of its centre.
+        let radius_m = ctx
+            .view
+            .map_before
+            .feature(e.feature)
+            .map_or(0.0, |f| f.radius_m);
+        let surface = if radius_m > 0.0 {
+            format!(
+                " (a pillar of radius {}: its surface {} away)",
+                ctx.len(radius_m),
+                ctx.len(e.feature_distance_m - radius_m)
+            )
+        } else {
+            String::new()
+        };
         ui.label(format!(
-            "explained: sensor {} read {}; confirmed feature f{} lies {} away, {:.1}° off the \
-             axis: its echo, kept out of the clusters",
+            "explained: sensor {} read {}; confirmed feature f{} lies {} away{}, {:.1}° off \
+             the axis: its echo, kept out of the clusters",
             e.sensor,
             ctx.len(e.range_m),
             e.feature,
             ctx.len(e.feature_distance_m),
+            surface,
             e.off_axis_rad.to_degrees()
         ));
     }
