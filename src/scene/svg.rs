@@ -21,7 +21,7 @@ pub const INK: Rgba = Rgba::rgb(0x33, 0x33, 0x33);
 const TITLE_BAND_PX: f64 = 30.0;
 const BOTTOM_BAND_PX: f64 = 30.0;
 const MARGIN_PX: f64 = 8.0;
-const LEGEND_WIDTH_PX: f64 = 190.0;
+const LEGEND_WIDTH_PX: f64 = 240.0;
 const LEGEND_ROW_PX: f64 = 17.0;
 const FONT: &str = "DejaVu Sans, Verdana, Arial, sans-serif";
 
