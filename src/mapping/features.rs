@@ -60,8 +60,8 @@ fn is_point(radius_m: &f64) -> bool {
 }
 
 impl PointFeature {
-    /// Placed by arcs seen from [`CONFIRMING_BASELINE_M`] apart: drawn, written, counted and
-    /// explaining readings. Before, it is the engine's own state.
+    /// Placed by arcs (a pillar: by evidence, §8.14) seen from [`CONFIRMING_BASELINE_M`] apart:
+    /// drawn, written, counted and explaining readings. Before, it is the engine's own state.
     pub fn is_confirmed(&self) -> bool {
         self.baseline_m >= CONFIRMING_BASELINE_M
     }

@@ -127,7 +127,8 @@ pub struct Map {
     /// test of a remembered reading needs its sensor's place; docs/algorithm.md §8.7).
     #[serde(default)]
     pub recent_poses: Vec<(usize, Pose)>,
-    /// Point features (corners and edges, docs/algorithm.md §8.5), ordered by id.
+    /// Point features (corners and edges, docs/algorithm.md §8.5, and pillars, §8.14), ordered
+    /// by id.
     #[serde(default)]
     pub features: Vec<PointFeature>,
     /// Readings of removed corner diagonals, kept as evidence of round pillars
@@ -193,6 +194,7 @@ impl PartialEq for Map {
             && self.memory == other.memory
             && self.recent_poses == other.recent_poses
             && self.features == other.features
+            && self.round_evidence == other.round_evidence
             && self.next_feature_id == other.next_feature_id
             && self.confirms_segments == other.confirms_segments
             && self.plane_support == other.plane_support

@@ -228,8 +228,8 @@ pub fn classify(map: &Map, at: &Point, sensor: &Point, radius_m: f64) -> Feature
 }
 
 /// Files an arc's point `at` (range `range_m`, seen by `snapshot` from `sensor`): it moves the
-/// nearest feature within [`merge_radius_m`] to the observations' mean, or makes a new one.
-/// Returns the feature's id and whether it is new.
+/// nearest point feature (not a pillar, §8.14) within [`merge_radius_m`] to the observations'
+/// mean, or makes a new one. Returns the feature's id and whether it is new.
 pub fn file_arc(
     map: &mut Map,
     at: Point,
@@ -242,7 +242,9 @@ pub fn file_arc(
     let nearest = map
         .features_near(&at, radius)
         .into_iter()
-        .filter_map(|id| map.feature(id).map(|f| (id, (f.at - at).norm())))
+        // A point joins a point: a pillar's place is its centre, its radius behind its echoes.
+        .filter_map(|id| map.feature(id).filter(|f| f.radius_m == 0.0))
+        .map(|f| (f.id, (f.at - at).norm()))
         .filter(|(_, d)| *d <= radius)
         .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
     let kind = classify(map, &at, sensor, radius);
@@ -273,7 +275,8 @@ pub fn file_arc(
 }
 
 /// The confirmed feature (seen by two snapshots or more) that explains `beam`, if any: the
-/// nearest to the range among those the grid files within reach of the beam's point.
+/// nearest to the range among those the grid files within reach of the beam's point (widened
+/// by the largest radius a pillar may have, §8.14).
 pub fn explaining_feature(
     map: &Map,
     beam: &Beam,

@@ -197,7 +197,9 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
     }
     for r in &t.round_reflectors {
         ui.label(format!(
-            "pillar: one cylinder, centre {} radius {}, explains {} readings of removed              diagonals (each |c - o| - r within its tolerance), heard from sensors {} apart:              feature f{}",
+            "pillar: one cylinder, centre {} radius {}, explains {} readings of removed \
+             diagonals (each |c - o| - r within its tolerance), heard from sensors {} apart: \
+             feature f{}",
             ctx.point(&r.centre),
             ctx.len(r.radius_m),
             r.readings,
