@@ -595,6 +595,7 @@ pub fn order_along_line(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mapping::point_features::beams_at_reflector;
     use crate::mapping::support::ReadingRef;
 
     const HALF: f64 = 12.5 * std::f64::consts::PI / 180.0;
@@ -713,18 +714,7 @@ mod tests {
     fn ranges_no_plane_explains_are_left_on_their_axes() {
         // A corner at (1, 2) read from three places along y = 0 with a sensor looking at it:
         // ranges √5, 2, √5 are too far apart for one plane within 3 %.
-        let corner = Point::new(1.0, 2.0);
-        let beams: Vec<Beam> = [0.0, 1.0, 2.0]
-            .iter()
-            .map(|&x| {
-                let v: Vec2 = corner - Point::new(x, 0.0);
-                Beam {
-                    origin: Point::new(x, 0.0),
-                    direction: v / v.norm(),
-                    range_m: v.norm(),
-                }
-            })
-            .collect();
+        let beams = beams_at_reflector(Point::new(1.0, 2.0), 0.0, &[0.0, 1.0, 2.0]);
         assert!(fit_echo_line(&beams, &axis_points(&beams), 3.0, HALF, TURN).is_none());
     }
 

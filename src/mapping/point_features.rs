@@ -347,6 +347,23 @@ fn nearest_explaining(
         .map(|(id, _, _)| id)
 }
 
+/// Readings of a reflector of radius `radius_m` (0: a point) centred at `centre`, from
+/// sensors on y = 0 at `xs`, each looking at the centre: the tests' echoes of a corner or a
+/// pillar.
+#[cfg(test)]
+pub(crate) fn beams_at_reflector(centre: Point, radius_m: f64, xs: &[f64]) -> Vec<Beam> {
+    xs.iter()
+        .map(|&x| {
+            let v: Vec2 = centre - Point::new(x, 0.0);
+            Beam {
+                origin: Point::new(x, 0.0),
+                direction: v / v.norm(),
+                range_m: v.norm() - radius_m,
+            }
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -235,23 +235,14 @@ fn file_round(
 mod tests {
     use super::*;
     use crate::mapping::echo_fit::MIN_ROUND_RADIUS_M;
+    use crate::mapping::point_features::beams_at_reflector;
 
     const HALF: f64 = 12.5 * std::f64::consts::PI / 180.0;
 
     /// Readings of a pillar of radius 0.2 m at (2, 3) from sensors along y = 0 at `xs`, each
     /// looking at its centre.
     fn pillar_beams(xs: &[f64]) -> Vec<Beam> {
-        let centre = Point::new(2.0, 3.0);
-        xs.iter()
-            .map(|&x| {
-                let v: Vec2 = centre - Point::new(x, 0.0);
-                Beam {
-                    origin: Point::new(x, 0.0),
-                    direction: v / v.norm(),
-                    range_m: v.norm() - 0.2,
-                }
-            })
-            .collect()
+        beams_at_reflector(Point::new(2.0, 3.0), 0.2, xs)
     }
 
     #[test]
@@ -288,18 +279,7 @@ mod tests {
     #[test]
     fn the_echoes_of_a_corner_file_no_pillar() {
         // A corner at (2, 3): every reading its distance from the vertex, a radius of 0.
-        let corner = Point::new(2.0, 3.0);
-        let beams: Vec<Beam> = [1.4, 1.5, 1.6, 2.4, 2.5, 2.6]
-            .iter()
-            .map(|&x| {
-                let v: Vec2 = corner - Point::new(x, 0.0);
-                Beam {
-                    origin: Point::new(x, 0.0),
-                    direction: v / v.norm(),
-                    range_m: v.norm(),
-                }
-            })
-            .collect();
+        let beams = beams_at_reflector(Point::new(2.0, 3.0), 0.0, &[1.4, 1.5, 1.6, 2.4, 2.5, 2.6]);
         let mut map = Map::default();
         assert_eq!(note_removed_echoes(&mut map, &beams, 3, 1.0, HALF), None);
         assert!(map.features.is_empty());
