@@ -22,7 +22,7 @@ use crate::geometry::Pose;
 use crate::mapping::confirm::PlaneSupport;
 use crate::mapping::features::PointFeature;
 use crate::mapping::map::{Face, MemoryPoint, Segment, SupportPoint};
-use crate::mapping::round_reflectors::RoundEvidence;
+use crate::mapping::point_features::Beam;
 use crate::mapping::support_list::SupportList;
 use crate::mapping::MapperState;
 use crate::mapping::SegmentId;
@@ -345,7 +345,7 @@ fn kept_alive_bytes(previous: Option<&Kept>, kept: &Kept) -> usize {
         + map.faces.len() * size_of::<Arc<Face>>()
         + map.memory.len() * size_of::<MemoryPoint>()
         + map.features.len() * size_of::<PointFeature>()
-        + map.round_evidence.len() * size_of::<RoundEvidence>()
+        + map.round_evidence.len() * size_of::<Beam>()
         + map.plane_support.len() * (size_of::<(SegmentId, PlaneSupport)>() + 16)
         + map.recent_poses.len() * size_of::<(usize, Pose)>();
     let empty = Vec::new();

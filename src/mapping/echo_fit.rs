@@ -453,7 +453,7 @@ pub const MAX_ROUND_RADIUS_M: f64 = 0.508;
 /// its sensor's distance from the surface, `|c − o| − r`, along the ray through the centre (the
 /// surface's normal). Found by Gauss-Newton from a centre one start radius behind `start` (away
 /// from the sensors), with its cost (the sum of squared range residuals over squared
-/// tolerances). `None` unless the fit converges to a radius within
+/// tolerances). `None` unless, after twelve Gauss-Newton steps, the radius lies within
 /// [`MIN_ROUND_RADIUS_M`]..=[`MAX_ROUND_RADIUS_M`], every sensor outside the cylinder, its
 /// centre inside every beam's cone, and every range explained within its tolerance. The
 /// sensors must stand apart: from one place only the centre's distance less the radius is
@@ -610,10 +610,7 @@ mod tests {
     }
 
     fn axis_points(beams: &[Beam]) -> Vec<Point> {
-        beams
-            .iter()
-            .map(|b| b.origin + b.direction * b.range_m)
-            .collect()
+        beams.iter().map(Beam::axis_point).collect()
     }
 
     fn support(beams: &[Beam]) -> Vec<SupportPoint> {

@@ -60,6 +60,29 @@ fn is_point(radius_m: &f64) -> bool {
 }
 
 impl PointFeature {
+    /// A point feature of `kind` at `at`, seen once from `seen_from` by `snapshot` at range
+    /// `range_m` (its id is given when the map files it).
+    pub fn seen_once(
+        kind: FeatureKind,
+        at: Point,
+        range_m: f64,
+        seen_from: Point,
+        snapshot: usize,
+    ) -> Self {
+        Self {
+            id: 0,
+            kind,
+            at,
+            radius_m: 0.0,
+            range_m,
+            observations: 1,
+            first_seen_from: seen_from,
+            baseline_m: 0.0,
+            created: snapshot,
+            updated: Vec::new(),
+        }
+    }
+
     /// Placed by arcs (a pillar: by evidence, §8.14) seen from [`CONFIRMING_BASELINE_M`] apart:
     /// drawn, written, counted and explaining readings. Before, it is the engine's own state.
     pub fn is_confirmed(&self) -> bool {

@@ -8,7 +8,8 @@ use super::id_list::IdList;
 pub use super::ids::{FaceId, FeatureId, ObjectId, SegmentId};
 use super::index::{IndexedSegment, SegmentGrid};
 use super::plane_supports::PlaneSupports;
-use super::round_reflectors::{RoundEvidence, ROUND_EVIDENCE_KEPT};
+use super::point_features::Beam;
+use super::round_reflectors::ROUND_EVIDENCE_KEPT;
 pub use super::support::{EndPoint, ReadingRef, SupportPoint};
 use super::support_list::SupportList;
 use crate::geometry::{distance_to_segment, Point, Pose};
@@ -134,7 +135,7 @@ pub struct Map {
     /// Readings of removed corner diagonals, kept as evidence of round pillars
     /// (docs/algorithm.md §8.14), the most recent last.
     #[serde(default)]
-    pub round_evidence: Vec<RoundEvidence>,
+    pub round_evidence: Vec<Beam>,
     /// Next unused feature id.
     #[serde(default)]
     pub next_feature_id: FeatureId,
@@ -899,29 +900,11 @@ impl Map {
         self.feature_index.query_into(&(p - r), &(p + r), out);
     }
 
-    /// Adds a point feature with the next free id, seen once by `snapshot`; returns its id.
-    pub(crate) fn push_feature(
-        &mut self,
-        kind: FeatureKind,
-        at: Point,
-        range_m: f64,
-        seen_from: Point,
-        snapshot: usize,
-    ) -> FeatureId {
+    /// Adds feature `f` with the next free id (its own is replaced); returns that id.
+    pub(crate) fn push_feature(&mut self, mut f: PointFeature) -> FeatureId {
         let id = self.next_feature_id;
         self.next_feature_id += 1;
-        let f = PointFeature {
-            id,
-            kind,
-            at,
-            radius_m: 0.0,
-            range_m,
-            observations: 1,
-            first_seen_from: seen_from,
-            baseline_m: 0.0,
-            created: snapshot,
-            updated: Vec::new(),
-        };
+        f.id = id;
         self.feature_index.insert(id, feature_filing(&f));
         self.features.push(f);
         id

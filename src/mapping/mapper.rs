@@ -605,11 +605,13 @@ impl Mapper {
             CORNER_WALL_REACH_M,
             self.params.orientation_rad,
         );
+        // §8.14: a removed diagonal's readings, with their sensors' poses, are evidence of a
+        // pillar (a specular sonar's: the axis model places echoes on the axes).
+        let pillars = self.params.round_reflectors && self.sensor.echo != EchoModel::Axis;
         let (xi, half) = self.accuracy_and_half_beam();
         for d in found {
-            // §8.14: the diagonal's readings, with their sensors' poses, are evidence of a pillar.
             let echoes: Vec<Beam> = match self.map.segment(d.segment) {
-                Some(s) if self.params.round_reflectors && self.sensor.echo != EchoModel::Axis => s
+                Some(s) if pillars => s
                     .points
                     .iter()
                     .filter_map(|q| self.recent_beam_of(q))

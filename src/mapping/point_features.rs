@@ -22,7 +22,7 @@ use crate::units::inches;
 use serde::{Deserialize, Serialize};
 
 /// A kept reading with its sensor in the world frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Beam {
     /// The sensor's position, world frame.
     pub origin: Point,
@@ -30,6 +30,13 @@ pub struct Beam {
     pub direction: Vec2,
     /// The range, metres.
     pub range_m: f64,
+}
+
+impl Beam {
+    /// The point the reading puts on its beam axis (paper §2).
+    pub fn axis_point(&self) -> Point {
+        self.origin + self.direction * self.range_m
+    }
 }
 
 /// The mean position of the sensors of `beams` (not empty).
@@ -239,17 +246,11 @@ pub fn file_arc(
     accuracy_pct: f64,
 ) -> (u32, bool) {
     let radius = merge_radius_m(accuracy_pct, range_m);
-    let nearest = map
-        .features_near(&at, radius)
-        .into_iter()
-        // A point joins a point: a pillar's place is its centre, its radius behind its echoes.
-        .filter_map(|id| map.feature(id).filter(|f| f.radius_m == 0.0))
-        .map(|f| (f.id, (f.at - at).norm()))
-        .filter(|(_, d)| *d <= radius)
-        .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+    // A point joins a point: a pillar's place is its centre, its radius behind its echoes.
+    let nearest = nearest_feature_within(map, &at, radius, false);
     let kind = classify(map, &at, sensor, radius);
     match nearest {
-        Some((id, _)) => {
+        Some(id) => {
             let f = map.feature(id).expect("filed features exist").clone();
             let n = f.observations as f64;
             let moved = PointFeature {
@@ -268,10 +269,31 @@ pub fn file_arc(
             (id, false)
         }
         None => {
-            let id = map.push_feature(kind, at, range_m, *sensor, snapshot);
+            let id = map.push_feature(PointFeature::seen_once(
+                kind, at, range_m, *sensor, snapshot,
+            ));
             (id, true)
         }
     }
+}
+
+/// The feature nearest `at` within `radius_m` of it (the lower id on a tie), among the
+/// pillars (§8.14) when `rounded`, else among the points: what an observation of either
+/// joins.
+pub(crate) fn nearest_feature_within(
+    map: &Map,
+    at: &Point,
+    radius_m: f64,
+    rounded: bool,
+) -> Option<u32> {
+    map.features_near(at, radius_m)
+        .into_iter()
+        .filter_map(|id| map.feature(id))
+        .filter(|f| (f.radius_m > 0.0) == rounded)
+        .map(|f| (f.id, (f.at - at).norm()))
+        .filter(|(_, d)| *d <= radius_m)
+        .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
+        .map(|(id, _)| id)
 }
 
 /// The confirmed feature (seen by two snapshots or more) that explains `beam`, if any: the
@@ -323,7 +345,7 @@ pub fn explaining_feature_among(
 /// explains the reading can lie (the cone's half-width at the range, and the tolerance), metres;
 /// a pillar's centre lies its radius further.
 fn feature_reach(beam: &Beam, accuracy_pct: f64, half_beam_rad: f64) -> (Point, f64) {
-    let tip = beam.origin + beam.direction * beam.range_m;
+    let tip = beam.axis_point();
     let reach = beam.range_m * half_beam_rad + feature_tolerance_m(accuracy_pct, beam.range_m);
     (tip, reach)
 }
@@ -432,7 +454,7 @@ mod tests {
         ) {
             let mut map = Map::default();
             for &(x, y, confirmed) in &features {
-                let id = map.push_feature(FeatureKind::Corner, Point::new(x, y), 1.0, Point::origin(), 0);
+                let id = map.push_feature(PointFeature::seen_once(FeatureKind::Corner, Point::new(x, y), 1.0, Point::origin(), 0));
                 if confirmed {
                     map.features[id as usize].baseline_m = 1.0;
                 }

@@ -17,9 +17,9 @@
 //! explains its echoes before they are clustered.
 
 use super::echo_fit::{fit_round_reflector, MAX_ROUND_RADIUS_M};
-use super::features::{FeatureKind, CONFIRMING_BASELINE_M};
+use super::features::{FeatureKind, PointFeature, CONFIRMING_BASELINE_M};
 use super::map::Map;
-use super::point_features::{explains_round, merge_radius_m, Beam};
+use super::point_features::{explains_round, merge_radius_m, nearest_feature_within, Beam};
 use crate::geometry::{Point, Vec2};
 use serde::{Deserialize, Serialize};
 
@@ -29,32 +29,6 @@ pub const ROUND_EVIDENCE_KEPT: usize = 64;
 /// Fewest readings of evidence before a pillar is fitted to them: twice the unknowns of a
 /// cylinder (its centre and radius).
 pub const MIN_ROUND_EVIDENCE: usize = 6;
-
-/// A reading of a removed diagonal: its beam in the world frame, as its snapshot's pose put it.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct RoundEvidence {
-    /// The sensor's position, world frame, metres.
-    pub origin: Point,
-    /// Unit vector along the beam axis, world frame.
-    pub direction: Vec2,
-    /// The range, metres.
-    pub range_m: f64,
-}
-
-impl RoundEvidence {
-    fn beam(&self) -> Beam {
-        Beam {
-            origin: self.origin,
-            direction: self.direction,
-            range_m: self.range_m,
-        }
-    }
-
-    /// The point the reading puts on its beam axis.
-    fn tip(&self) -> Point {
-        self.origin + self.direction * self.range_m
-    }
-}
 
 /// A pillar filed (or moved) from the evidence, for the trace.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -86,33 +60,23 @@ pub fn note_removed_echoes(
     if beams.is_empty() {
         return None;
     }
-    map.round_evidence
-        .extend(beams.iter().map(|b| RoundEvidence {
-            origin: b.origin,
-            direction: b.direction,
-            range_m: b.range_m,
-        }));
+    map.round_evidence.extend_from_slice(beams);
     let excess = map.round_evidence.len().saturating_sub(ROUND_EVIDENCE_KEPT);
     map.round_evidence.drain(..excess);
-    let here = Point::from(
-        beams
-            .iter()
-            .map(|b| (b.origin + b.direction * b.range_m).coords)
-            .sum::<Vec2>()
-            / beams.len() as f64,
-    );
+    let here =
+        Point::from(beams.iter().map(|b| b.axis_point().coords).sum::<Vec2>() / beams.len() as f64);
     // A pillar's echoes lie on its near side, within its radius of the middle of them; pillars
     // stand closer than their reach to each other, so the fit starts from the evidence nearest
     // the diagonal and then takes in what the pillar found explains.
     let mut near: Vec<(f64, usize)> = (0..map.round_evidence.len())
-        .map(|i| ((map.round_evidence[i].tip() - here).norm(), i))
+        .map(|i| ((map.round_evidence[i].axis_point() - here).norm(), i))
         .filter(|&(d, _)| d <= MAX_ROUND_RADIUS_M)
         .collect();
     if near.len() < MIN_ROUND_EVIDENCE {
         return None;
     }
     near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    let beam_of = |i: usize| map.round_evidence[i].beam();
+    let beam_of = |i: usize| map.round_evidence[i];
     let seed: Vec<Beam> = near[..MIN_ROUND_EVIDENCE]
         .iter()
         .map(|&(_, i)| beam_of(i))
@@ -189,23 +153,14 @@ fn file_round(
     accuracy_pct: f64,
 ) -> u32 {
     let merge_m = merge_radius_m(accuracy_pct, range_m);
-    let nearest = map
-        .features_near(&centre, merge_m)
-        .into_iter()
-        .filter_map(|id| map.feature(id))
-        .filter(|f| f.radius_m > 0.0 && (f.at - centre).norm() <= merge_m)
-        .min_by(|a, b| {
-            (a.at - centre)
-                .norm()
-                .total_cmp(&(b.at - centre).norm())
-                .then(a.id.cmp(&b.id))
-        })
+    let nearest = nearest_feature_within(map, &centre, merge_m, true)
+        .and_then(|id| map.feature(id))
         .cloned();
     match nearest {
         Some(f) => {
             let n = f.observations as f64;
             let id = f.id;
-            let moved = super::features::PointFeature {
+            let moved = PointFeature {
                 at: Point::from((f.at.coords * n + centre.coords) / (n + 1.0)),
                 radius_m: (f.radius_m * n + radius_m) / (n + 1.0),
                 range_m: f.range_m.min(range_m),
@@ -216,18 +171,11 @@ fn file_round(
             map.replace_feature(moved, snapshot);
             id
         }
-        None => {
-            let id = map.push_feature(FeatureKind::Edge, centre, range_m, seen_from, snapshot);
-            if let Some(f) = map.feature(id).cloned() {
-                let rounded = super::features::PointFeature {
-                    radius_m,
-                    baseline_m,
-                    ..f
-                };
-                map.replace_feature(rounded, snapshot);
-            }
-            id
-        }
+        None => map.push_feature(PointFeature {
+            radius_m,
+            baseline_m,
+            ..PointFeature::seen_once(FeatureKind::Edge, centre, range_m, seen_from, snapshot)
+        }),
     }
 }
 

@@ -205,10 +205,10 @@ fn gather_near_walls(map: &Map, beam: &Beam, rule: &SettleRule, near: &mut Vec<N
 /// point lies inside the ends of the wall and the confirmed pieces that continue it. A wall
 /// settles the reading when it explains it as a plane echo
 /// ([`plane_echo`](super::confirm::plane_echo), the test a reading takes to confirm it, §8.7,
-/// with the cone's edges when `rule.cone_edges`) and the echo point
-/// lies at least `rule.end_margin_m` inside both ends of the chain of overlapping confirmed walls along
-/// its line ([`chained_inside_m`]): a wall mapped as pieces settles readings near the joints
-/// of its pieces, not at its ends. The walls are those the grid files in the box of the beam's
+/// with the cone's edges when `rule.cone_edges`) and the echo point lies at least
+/// `rule.end_margin_m` inside both ends of the chain of overlapping confirmed walls along its
+/// line ([`chained_inside_m`]): a wall mapped as pieces settles readings near the joints of its
+/// pieces, not at its ends. The walls are those the grid files in the box of the beam's
 /// cone within one tolerance of the range (where the echo point of a wall that explains it
 /// lies), widened by the margin; `near` is scratch.
 pub fn settling_wall(
