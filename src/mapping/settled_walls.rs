@@ -8,8 +8,9 @@
 //! the free-space sweep (§8.6), as §8.5 keeps out the readings a corner explains: the space in
 //! front of a confirmed wall was swept by the readings that confirmed it and by every reading
 //! that is not settled. A reading near either end of the wall, where the wall may go on, is
-//! not settled: it must be able to extend the wall. A wall mapped as overlapping pieces counts
-//! as one: the margin is taken from the ends of the chain.
+//! not settled: it must be able to extend the wall. A wall mapped as pieces that overlap, or
+//! leave gaps within a reading's tolerance, counts as one: the margin is taken from the ends of
+//! the chain.
 //!
 //! This is data association gating, as a feature-based map does it (Leonard and Durrant-Whyte):
 //! a measurement the map predicts is consumed by the feature that predicted it.
@@ -125,9 +126,10 @@ pub struct NearWall {
 /// How far the wall `w` (which explains the reading, its echo point at `x` along it) and the
 /// confirmed walls that continue it reach past the echo point on either side, metres (the
 /// smaller of the two). A wall continues the chain when both its ends lie within `tolerance_m`
-/// of `w`'s line and it overlaps or touches the chain so far: walls are mapped as chains of
-/// overlapping pieces (§8.13), and a piece that leaves a gap, however small, may stand across
-/// a door or past a true end.
+/// of `w`'s line and it overlaps the chain so far or ends within `tolerance_m` of it: walls are
+/// mapped as chains of overlapping pieces (§8.13), and end-points are placed within the
+/// tolerance, so a gap inside it is no gap the readings resolve; a wider gap may stand across a
+/// door or past a true end.
 fn chained_inside_m(w: &NearWall, x: f64, walls: &[NearWall], tolerance_m: f64) -> f64 {
     let length_m = (w.b - w.a).norm();
     let u = (w.b - w.a) / length_m;
@@ -144,11 +146,11 @@ fn chained_inside_m(w: &NearWall, x: f64, walls: &[NearWall], tolerance_m: f64) 
         for c in walls.iter().filter(|c| c.id != w.id && on_line(c)) {
             let (p, q) = ((c.a - origin).dot(&u), (c.b - origin).dot(&u));
             let (low, high) = (p.min(q), p.max(q));
-            if low <= ahead_m && high > ahead_m {
+            if low <= ahead_m + tolerance_m && high > ahead_m {
                 ahead_m = high;
                 grew = true;
             }
-            if high >= -back_m && -low > back_m {
+            if high >= -back_m - tolerance_m && -low > back_m {
                 back_m = -low;
                 grew = true;
             }
@@ -206,8 +208,8 @@ fn gather_near_walls(map: &Map, beam: &Beam, rule: &SettleRule, near: &mut Vec<N
 /// settles the reading when it explains it as a plane echo
 /// ([`plane_echo`](super::confirm::plane_echo), the test a reading takes to confirm it, §8.7,
 /// with the cone's edges when `rule.cone_edges`) and the echo point lies at least
-/// `rule.end_margin_m` inside both ends of the chain of overlapping confirmed walls along its
-/// line ([`chained_inside_m`]): a wall mapped as pieces settles readings near the joints of its
+/// `rule.end_margin_m` inside both ends of the chain of confirmed walls along its line that
+/// overlap or leave gaps within the tolerance ([`chained_inside_m`]): a wall mapped as pieces settles readings near the joints of its
 /// pieces, not at its ends. The walls are those the grid files in the box of the beam's
 /// cone within one tolerance of the range (where the echo point of a wall that explains it
 /// lies), widened by the margin; `near` is scratch.
@@ -370,10 +372,16 @@ mod tests {
         assert!((inside - 0.8).abs() < 1e-12, "{inside}");
         // At x = 1.9 the foot is 0.1 m from the chain's end: it may go on, not settled.
         assert_eq!(settle(&map, 1.9), None);
-        // With s1 starting 5 cm past s0's end (a gap, perhaps a door), the foot at x = 1 is
-        // 0.1 m from the end of s0, which s1 does not continue (nor explain: its foot lies
-        // 0.15 m before it, past the 10 % slack).
-        let gapped = s0_then(&[((1.15, 2.0), (2.0, 2.0))]);
+        // With s1 starting 5 cm past s0's end, a gap within the reading's 6.09 cm tolerance
+        // (3 % of 2.03 m), the chain goes on across it: the foot at x = 1 is settled, 0.8 m
+        // from the chain's nearer end.
+        let within = s0_then(&[((1.15, 2.0), (2.0, 2.0))]);
+        let (_, _, inside) = settle(&within, 1.0).unwrap();
+        assert!((inside - 0.8).abs() < 1e-12, "{inside}");
+        // Starting 7 cm past it (a gap wider than the tolerance, perhaps a door), s1 does not
+        // continue s0 (nor explain the reading: its foot lies 0.17 m before it, past the 10 %
+        // slack), and the foot is 0.1 m from the end of s0: not settled.
+        let gapped = s0_then(&[((1.17, 2.0), (2.0, 2.0))]);
         assert_eq!(settle(&gapped, 1.0), None);
         // A piece off the line (7 cm, past the 6.09 cm tolerance) does not continue it either.
         let off = s0_then(&[((1.05, 2.07), (2.0, 2.07))]);
