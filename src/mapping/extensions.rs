@@ -111,6 +111,10 @@ pub struct Linkage {
     members: Vec<usize>,
     /// Where each group ends in `members`.
     group_ends: Vec<usize>,
+    /// The points grouped (point memory's, scratch).
+    points: Vec<Point>,
+    /// Which of them a piece took (point memory's, scratch).
+    used: Vec<bool>,
 }
 
 impl Linkage {
@@ -209,10 +213,15 @@ pub fn memory_step(
         trace.added.extend(singles.iter().map(|s| s.reading));
     }
     let n = memory.len();
-    let points: Vec<Point> = memory.iter().map(|m| m.support.point).collect();
+    let mut points = std::mem::take(&mut linkage.points);
+    points.clear();
+    points.extend(memory.iter().map(|m| m.support.point));
     linkage.group(&points, params.memory_gap_m);
+    linkage.points = points;
     let (members, group_ends) = (&linkage.members, &linkage.group_ends);
-    let mut used = vec![false; n];
+    let used = &mut linkage.used;
+    used.clear();
+    used.resize(n, false);
     let mut pieces_out = Vec::new();
     let groups = group_ends.iter().scan(0, |start, &end| {
         Some(&members[std::mem::replace(start, end)..end])

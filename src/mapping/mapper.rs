@@ -127,6 +127,8 @@ struct StepBuffers {
     mpc_stage: Vec<CandidateTrace>,
     /// The readings of earlier snapshots point memory's pieces brought to this step.
     memory_readings: Vec<ReadingRef>,
+    /// The confirmed point features, with where they stand and their radius (§8.5, scratch).
+    confirmed_features: Vec<(FeatureId, Point, f64)>,
 }
 
 /// The mutable state a checkpoint needs to resume a [`Mapper`].
@@ -682,7 +684,12 @@ impl Mapper {
         );
         let (ranks, wraps) = (&self.bearing_ranks.0, self.bearing_ranks.1);
         if self.params.explain_readings {
-            self.drop_explained_readings(snapshot, trace, &mut buffers.kept);
+            self.drop_explained_readings(
+                snapshot,
+                trace,
+                &mut buffers.kept,
+                &mut buffers.confirmed_features,
+            );
         }
         if self.params.settled_walls {
             self.set_aside_settled_readings(snapshot, trace, buffers);
@@ -729,14 +736,16 @@ impl Mapper {
         snapshot: &Snapshot,
         trace: &mut StepTrace,
         kept: &mut Vec<SupportPoint>,
+        confirmed: &mut Vec<(FeatureId, Point, f64)>,
     ) {
         // Only a confirmed feature explains a reading. A few are searched through directly,
         // many through the grid.
-        let confirmed: Vec<(FeatureId, Point, f64)> = self
-            .map
-            .confirmed_features()
-            .map(|f| (f.id, f.at, f.radius_m))
-            .collect();
+        confirmed.clear();
+        confirmed.extend(
+            self.map
+                .confirmed_features()
+                .map(|f| (f.id, f.at, f.radius_m)),
+        );
         if confirmed.is_empty() {
             return;
         }
@@ -745,7 +754,7 @@ impl Mapper {
         kept.retain(|q| {
             let beam = self.beam_of(&snapshot.pose, q);
             let id = if confirmed.len() <= MAX_FEATURES_SEARCHED_DIRECTLY {
-                explaining_feature_among(&confirmed, &beam, xi, half)
+                explaining_feature_among(confirmed, &beam, xi, half)
             } else {
                 explaining_feature(&self.map, &beam, xi, half, &mut scratch)
             };
@@ -829,6 +838,10 @@ impl Mapper {
         let Some(pose) = trace.pose else {
             return false;
         };
+        // An arc takes two readings at least (`arc_point`); most clusters are one.
+        if chain.len() < 2 {
+            return false;
+        }
         let beams: Vec<Beam> = chain.iter().map(|q| self.beam_of(&pose, q)).collect();
         let sensors: Vec<usize> = chain.iter().map(|q| q.reading.sensor()).collect();
         let Some((at, range_m)) = arc_point(&beams, &sensors, self.params.accuracy_pct) else {
@@ -898,7 +911,7 @@ impl Mapper {
         let wraps = self.bearing_ranks.1;
         let chain_has_break = clusters.gaps.iter().any(|g| g.is_break);
         let mut out = FittedStep {
-            segments: Vec::with_capacity(kept.len()),
+            segments: Vec::new(),
             singles: Vec::new(),
         };
         for (ci, members) in clusters.iter().enumerate() {
@@ -927,7 +940,8 @@ impl Mapper {
             } else {
                 Vec::new()
             };
-            let (mut fitted, constant_depth) = if params.constant_depth {
+            // A constant-depth run takes three readings at least.
+            let (mut fitted, constant_depth) = if params.constant_depth && chain.len() >= 3 {
                 reduce_constant_depth(&chain, params.accuracy_pct)
             } else {
                 (chain, Vec::new())
