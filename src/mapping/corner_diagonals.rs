@@ -9,7 +9,9 @@
 //! holds the two walls that make the corner (one of them confirmed), a segment that lies wholly
 //! within [`CORNER_DIAGONAL_RADIUS_M`] of their junction and is turned at least `θ_o` from both
 //! is such a diagonal, not a third wall: the vertex's echoes, not a plane, explain its
-//! readings.
+//! readings. A new face is tested as soon as it is filed ([`corner_diagonal`], "at birth"),
+//! before the step correlates or confirms it; the other segments that can make a new corner
+//! when the step ends ([`corner_diagonals`]).
 
 use super::index::IndexedSegment;
 use super::map::{Map, SegmentId, SegmentKind};

@@ -5,7 +5,9 @@ use super::confirm::{
     baseline_pair, note_baseline_support, note_plane_support, refit_moved_off, supports,
     UnconfirmedTrace, CONFIRMING_BASELINE_M, CONFIRMING_BASELINE_TURN_RAD, CONFIRMING_SNAPSHOTS,
 };
-use super::corner_diagonals::{corner_diagonals, CORNER_DIAGONAL_RADIUS_M, CORNER_WALL_REACH_M};
+use super::corner_diagonals::{
+    corner_diagonal, corner_diagonals, DiagonalTrace, CORNER_DIAGONAL_RADIUS_M, CORNER_WALL_REACH_M,
+};
 use super::correlate::correlate_face;
 use super::echo_fit::{
     echo_behind_confirmed_wall, fit_echo_line, order_along_line, place_echoes,
@@ -607,25 +609,46 @@ impl Mapper {
             CORNER_WALL_REACH_M,
             self.params.orientation_rad,
         );
-        // §8.14: a removed diagonal's readings, with their sensors' poses, are evidence of a
-        // pillar (a specular sonar's: the axis model places echoes on the axes).
-        let pillars = self.params.round_reflectors && self.sensor.echo != EchoModel::Axis;
-        let (xi, half) = self.accuracy_and_half_beam();
         for d in found {
-            let echoes: Vec<Beam> = match self.map.segment(d.segment) {
-                Some(s) if pillars => s
-                    .points
-                    .iter()
-                    .filter_map(|q| self.recent_beam_of(q))
-                    .collect(),
-                _ => Vec::new(),
-            };
-            self.map.remove_segment(d.segment);
-            // Kept in the slim trace too: the lineage of a segment reads its removal there.
-            trace.diagonals.push(d);
-            if let Some(t) = note_removed_echoes(&mut self.map, &echoes, snapshot, xi, half) {
-                trace.round_reflectors.push(t);
-            }
+            self.remove_diagonal(d, trace);
+        }
+    }
+
+    /// §8.11 at birth: new face `id`, just filed, leaves the map at once when it stands across
+    /// a corner of the map as it is; what the step does next (correlation, plane support, free
+    /// space) would be undone when the step's end found it (docs/algorithm.md §8.11).
+    fn remove_if_diagonal_at_birth(&mut self, id: SegmentId, trace: &mut StepTrace) {
+        let found = corner_diagonal(
+            &self.map,
+            id,
+            CORNER_DIAGONAL_RADIUS_M,
+            CORNER_WALL_REACH_M,
+            self.params.orientation_rad,
+        );
+        if let Some(d) = found {
+            self.remove_diagonal(d, trace);
+        }
+    }
+
+    /// Removes the corner diagonal `d` from the map and records it; its readings, with their
+    /// sensors' poses, are evidence of a pillar (§8.14; a specular sonar's: the axis model
+    /// places echoes on the axes).
+    fn remove_diagonal(&mut self, d: DiagonalTrace, trace: &mut StepTrace) {
+        let pillars = self.params.round_reflectors && self.sensor.echo != EchoModel::Axis;
+        let echoes: Vec<Beam> = match self.map.segment(d.segment) {
+            Some(s) if pillars => s
+                .points
+                .iter()
+                .filter_map(|q| self.recent_beam_of(q))
+                .collect(),
+            _ => Vec::new(),
+        };
+        self.map.remove_segment(d.segment);
+        // Kept in the slim trace too: the lineage of a segment reads its removal there.
+        trace.diagonals.push(d);
+        let (xi, half) = self.accuracy_and_half_beam();
+        if let Some(t) = note_removed_echoes(&mut self.map, &echoes, trace.snapshot, xi, half) {
+            trace.round_reflectors.push(t);
         }
     }
 
@@ -1221,11 +1244,17 @@ impl Mapper {
                     trace.gated.push(ni);
                     None
                 }
-                Outcome::NewFace => Some(self.add_new_face_segment(
-                    &mut new_segments[ni],
-                    &mut faces,
-                    trace.snapshot,
-                )),
+                Outcome::NewFace => {
+                    let id = self.add_new_face_segment(
+                        &mut new_segments[ni],
+                        &mut faces,
+                        trace.snapshot,
+                    );
+                    if self.params.corner_diagonals {
+                        self.remove_if_diagonal_at_birth(id, trace);
+                    }
+                    Some(id)
+                }
             };
             if !self.record_trace {
                 *mpc_stage = std::mem::take(&mut decision.mpc_stage);

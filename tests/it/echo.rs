@@ -219,3 +219,47 @@ mod fit_properties {
         }
     }
 }
+
+#[test]
+fn a_new_face_across_a_corner_leaves_before_the_step_correlates_or_confirms_it() {
+    // Pillars, one lap repeated to 1,000 snapshots in `extended`: a new face that stands across
+    // a corner of the map when it is filed leaves at once (docs/algorithm.md §8.11, at birth):
+    // no correlation of its step joins it to anything, and no reading of the step confirms it.
+    let (_, seed, plan) = suite_plans(6, 1)
+        .into_iter()
+        .find(|(kind, _, _)| kind.name() == "pillars")
+        .expect("a pillars scene");
+    let run = repeat_laps(&simulate(&plan, Model::Specular, seed), 1000);
+    let mut mapper = Mapper::new(Params::extended(), run.layout.clone(), run.sensor);
+    let mut at_birth = 0;
+    for snapshot in &run.snapshots {
+        let trace = mapper.step(snapshot);
+        let made: Vec<_> = trace
+            .decisions
+            .iter()
+            .filter(|d| d.outcome == sonarmap::mapping::trace::Outcome::NewFace)
+            .filter_map(|d| d.result)
+            .collect();
+        for d in trace.diagonals.iter().filter(|d| made.contains(&d.segment)) {
+            at_birth += 1;
+            let named = |s: Option<(u32, usize)>| s.is_some_and(|(id, _)| id == d.segment);
+            assert!(
+                !trace
+                    .correlations
+                    .iter()
+                    .any(|c| named(c.new_segment) || named(c.existing_segment)),
+                "snapshot {}: s{} was correlated before it left",
+                trace.snapshot,
+                d.segment
+            );
+            assert!(
+                !trace.plane_support.iter().any(|p| p.segment == d.segment),
+                "snapshot {}: s{} was supported before it left",
+                trace.snapshot,
+                d.segment
+            );
+            assert!(mapper.map().segment(d.segment).is_none());
+        }
+    }
+    assert!(at_birth > 0, "no new face left as a diagonal");
+}
