@@ -130,16 +130,22 @@ fn a_logs_echo_model_round_trips_and_an_unknown_one_is_refused_with_its_place() 
     );
 }
 
+/// The suite's scene of family `kind` (seed 1), simulated with the specular model, its lap
+/// repeated to `snapshots`.
+fn suite_lap_run(kind: &str, snapshots: usize) -> sonarmap::run::Run {
+    let (_, seed, plan) = suite_plans(6, 1)
+        .into_iter()
+        .find(|(k, _, _)| k.name() == kind)
+        .expect("a scene of the family");
+    repeat_laps(&simulate(&plan, Model::Specular, seed), snapshots)
+}
+
 #[test]
 fn no_connecting_segment_outlives_a_segment_it_joined_on_a_lap_run() {
     // Desks, one lap repeated to 3,000 snapshots in `extended`: duplicates fused away and
     // refuted lines take their connecting segments with them (before, the links piled up:
     // 137 at 2,000 snapshots, 336 at 6,000, while the fitted segments stayed at 113–116).
-    let (_, seed, plan) = suite_plans(6, 1)
-        .into_iter()
-        .find(|(kind, _, _)| kind.name() == "desks")
-        .expect("a desks scene");
-    let run = repeat_laps(&simulate(&plan, Model::Specular, seed), 3000);
+    let run = suite_lap_run("desks", 3000);
     let mut mapper =
         Mapper::new(Params::extended(), run.layout.clone(), run.sensor).with_trace(false);
     let mut dropped = 0;
@@ -225,11 +231,7 @@ fn a_new_face_across_a_corner_leaves_before_the_step_correlates_or_confirms_it()
     // Pillars, one lap repeated to 1,000 snapshots in `extended`: a new face that stands across
     // a corner of the map when it is filed leaves at once (docs/algorithm.md §8.11, at birth):
     // no correlation of its step joins it to anything, and no reading of the step confirms it.
-    let (_, seed, plan) = suite_plans(6, 1)
-        .into_iter()
-        .find(|(kind, _, _)| kind.name() == "pillars")
-        .expect("a pillars scene");
-    let run = repeat_laps(&simulate(&plan, Model::Specular, seed), 1000);
+    let run = suite_lap_run("pillars", 1000);
     let mut mapper = Mapper::new(Params::extended(), run.layout.clone(), run.sensor);
     let mut at_birth = 0;
     for snapshot in &run.snapshots {
