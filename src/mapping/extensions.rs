@@ -39,8 +39,21 @@ pub fn reduce_constant_depth(
     points: &[SupportPoint],
     accuracy_pct: f64,
 ) -> (Vec<SupportPoint>, Vec<ConstantDepthTrace>) {
-    let mut out = Vec::with_capacity(points.len());
+    let mut out = points.to_vec();
+    let traces = reduce_constant_depth_in_place(&mut out, accuracy_pct);
+    (out, traces)
+}
+
+/// [`reduce_constant_depth`] on `points` itself: each run becomes its middle reading where the
+/// run began (a cluster with no run of three keeps its points, and nothing is allocated).
+/// Returns what was replaced.
+pub fn reduce_constant_depth_in_place(
+    points: &mut Vec<SupportPoint>,
+    accuracy_pct: f64,
+) -> Vec<ConstantDepthTrace> {
     let mut traces = Vec::new();
+    // Points are written at `kept`, never past the reading at `i`: every later read is ahead.
+    let mut kept = 0;
     let mut i = 0;
     while i < points.len() {
         let mut j = i + 1;
@@ -53,18 +66,20 @@ pub fn reduce_constant_depth(
         }
         if j - i >= 3 {
             let middle = points[i + (j - i - 1) / 2];
-            out.push(middle);
             traces.push(ConstantDepthTrace {
                 sensors: points[i..j].iter().map(|q| q.reading.sensor()).collect(),
                 kept_sensor: middle.reading.sensor(),
             });
+            points[kept] = middle;
             i = j;
         } else {
-            out.push(points[i]);
+            points[kept] = points[i];
             i += 1;
         }
+        kept += 1;
     }
-    (out, traces)
+    points.truncate(kept);
+    traces
 }
 
 /// One fitted memory piece that became a new segment.

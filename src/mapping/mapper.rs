@@ -13,7 +13,7 @@ use super::echo_fit::{
     echo_behind_confirmed_wall, fit_echo_line, order_along_line, place_echoes,
     reflector_beating_line, EchoFitTrace, MIN_ECHO_FIT_READINGS,
 };
-use super::extensions::{memory_step, reduce_constant_depth, Linkage};
+use super::extensions::{memory_step, reduce_constant_depth_in_place, Linkage};
 use super::fast_path::decide;
 use super::fit::{piece_end_points, split_recursive};
 use super::free_space::refuted_segments;
@@ -963,11 +963,11 @@ impl Mapper {
             } else {
                 Vec::new()
             };
-            // A constant-depth run takes three readings at least.
-            let (mut fitted, constant_depth) = if params.constant_depth && chain.len() >= 3 {
-                reduce_constant_depth(&chain, params.accuracy_pct)
+            let mut fitted = chain;
+            let constant_depth = if params.constant_depth {
+                reduce_constant_depth_in_place(&mut fitted, params.accuracy_pct)
             } else {
-                (chain, Vec::new())
+                Vec::new()
             };
             // docs/algorithm.md §2: a chain that wraps all round without a break is a closed
             // loop (its last point neighbours its first), so the fit closes it by repeating the
