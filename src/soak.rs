@@ -133,6 +133,15 @@ pub fn soak_variants() -> Vec<(&'static str, Params)> {
             },
         ),
         (
+            // Stacks are point memory's pieces: memory comes along.
+            "paper+memory_stacks",
+            Params {
+                memory_snapshots: extended.memory_snapshots,
+                memory_stacks: true,
+                ..paper.clone()
+            },
+        ),
+        (
             "paper+min_piece_points",
             Params {
                 min_piece_points: extended.min_piece_points,

@@ -107,20 +107,87 @@ pub fn changed_fields(params: &Params, preset: Preset) -> Vec<&'static str> {
     let flags = [
         ("split", params.split != base.split),
         ("fit", params.fit != base.fit),
-        ("correlation", params.correlate != base.correlate),
-        (
-            "constant_depth",
-            params.constant_depth != base.constant_depth,
-        ),
-        (
-            "merge_duplicates",
-            params.merge_duplicates != base.merge_duplicates,
-        ),
-        ("corner_guard", params.corner_guard != base.corner_guard),
     ];
     changed.extend(flags.into_iter().filter(|(_, c)| *c).map(|(n, _)| n));
+    changed.extend(
+        SWITCHES
+            .iter()
+            .filter(|(_, get, _)| get(params) != get(&base))
+            .map(|(name, _, _)| *name),
+    );
     changed
 }
+
+/// A parameter switched on or off: its name in the panel, its getter and its setter.
+type Switch = (&'static str, fn(&Params) -> bool, fn(&mut Params, bool));
+
+/// The parameters switched on or off, in the panel's order.
+const SWITCHES: &[Switch] = &[
+    ("correlation", |p| p.correlate, |p, v| p.correlate = v),
+    (
+        "constant_depth",
+        |p| p.constant_depth,
+        |p, v| p.constant_depth = v,
+    ),
+    (
+        "merge_duplicates",
+        |p| p.merge_duplicates,
+        |p, v| p.merge_duplicates = v,
+    ),
+    (
+        "corner_guard",
+        |p| p.corner_guard,
+        |p, v| p.corner_guard = v,
+    ),
+    (
+        "arc_features",
+        |p| p.arc_features,
+        |p, v| p.arc_features = v,
+    ),
+    (
+        "explain_readings",
+        |p| p.explain_readings,
+        |p, v| p.explain_readings = v,
+    ),
+    ("free_space", |p| p.free_space, |p, v| p.free_space = v),
+    (
+        "confirm_segments",
+        |p| p.confirm_segments,
+        |p, v| p.confirm_segments = v,
+    ),
+    (
+        "baseline_confirm",
+        |p| p.baseline_confirm,
+        |p, v| p.baseline_confirm = v,
+    ),
+    (
+        "refit_unconfirms",
+        |p| p.refit_unconfirms,
+        |p, v| p.refit_unconfirms = v,
+    ),
+    ("plane_gate", |p| p.plane_gate, |p, v| p.plane_gate = v),
+    ("echo_fit", |p| p.echo_fit, |p, v| p.echo_fit = v),
+    (
+        "corner_diagonals",
+        |p| p.corner_diagonals,
+        |p, v| p.corner_diagonals = v,
+    ),
+    (
+        "round_reflectors",
+        |p| p.round_reflectors,
+        |p, v| p.round_reflectors = v,
+    ),
+    (
+        "settled_walls",
+        |p| p.settled_walls,
+        |p, v| p.settled_walls = v,
+    ),
+    (
+        "memory_stacks",
+        |p| p.memory_stacks,
+        |p, v| p.memory_stacks = v,
+    ),
+];
 
 /// Colour of a field's name when its value differs from the preset's.
 const CHANGED: Color32 = Color32::from_rgb(0xe0, 0x90, 0x30);
@@ -430,106 +497,16 @@ pub fn params_panel_ui(
                 });
             preset_value_label(ui, fit_name(paper.fit), is_changed("fit"));
             ui.end_row();
-            for (name, get, set, paper_value) in [
-                (
-                    "correlation",
-                    params.correlate,
-                    (|p: &mut Params, v| p.correlate = v) as fn(&mut Params, bool),
-                    paper.correlate,
-                ),
-                (
-                    "constant_depth",
-                    params.constant_depth,
-                    |p: &mut Params, v| p.constant_depth = v,
-                    paper.constant_depth,
-                ),
-                (
-                    "merge_duplicates",
-                    params.merge_duplicates,
-                    |p: &mut Params, v| p.merge_duplicates = v,
-                    paper.merge_duplicates,
-                ),
-                (
-                    "corner_guard",
-                    params.corner_guard,
-                    |p: &mut Params, v| p.corner_guard = v,
-                    paper.corner_guard,
-                ),
-                (
-                    "arc_features",
-                    params.arc_features,
-                    |p: &mut Params, v| p.arc_features = v,
-                    paper.arc_features,
-                ),
-                (
-                    "explain_readings",
-                    params.explain_readings,
-                    |p: &mut Params, v| p.explain_readings = v,
-                    paper.explain_readings,
-                ),
-                (
-                    "free_space",
-                    params.free_space,
-                    |p: &mut Params, v| p.free_space = v,
-                    paper.free_space,
-                ),
-                (
-                    "confirm_segments",
-                    params.confirm_segments,
-                    |p: &mut Params, v| p.confirm_segments = v,
-                    paper.confirm_segments,
-                ),
-                (
-                    "baseline_confirm",
-                    params.baseline_confirm,
-                    |p: &mut Params, v| p.baseline_confirm = v,
-                    paper.baseline_confirm,
-                ),
-                (
-                    "refit_unconfirms",
-                    params.refit_unconfirms,
-                    |p: &mut Params, v| p.refit_unconfirms = v,
-                    paper.refit_unconfirms,
-                ),
-                (
-                    "plane_gate",
-                    params.plane_gate,
-                    |p: &mut Params, v| p.plane_gate = v,
-                    paper.plane_gate,
-                ),
-                (
-                    "echo_fit",
-                    params.echo_fit,
-                    |p: &mut Params, v| p.echo_fit = v,
-                    paper.echo_fit,
-                ),
-                (
-                    "corner_diagonals",
-                    params.corner_diagonals,
-                    |p: &mut Params, v| p.corner_diagonals = v,
-                    paper.corner_diagonals,
-                ),
-                (
-                    "round_reflectors",
-                    params.round_reflectors,
-                    |p: &mut Params, v| p.round_reflectors = v,
-                    paper.round_reflectors,
-                ),
-                (
-                    "settled_walls",
-                    params.settled_walls,
-                    |p: &mut Params, v| p.settled_walls = v,
-                    paper.settled_walls,
-                ),
-            ] {
+            for &(name, get, set) in SWITCHES {
                 field_label(ui, name, is_changed(name));
-                let mut on = get;
+                let mut on = get(params);
                 if ui.checkbox(&mut on, "").changed() {
                     let mut p = params.clone();
                     set(&mut p, on);
                     let _ = submit(p, &mut commands);
                 }
-                preset_value_label(ui, if paper_value { "on" } else { "off" }, is_changed(name));
+                let preset_text = if get(&paper) { "on" } else { "off" };
+                preset_value_label(ui, preset_text, is_changed(name));
                 ui.end_row();
             }
         });

@@ -5,6 +5,7 @@ use super::map::{MemoryPoint, SupportPoint};
 use super::params::Params;
 use super::trace::{ConstantDepthTrace, MemoryGroupTrace, MemoryTrace};
 use crate::geometry::{fit_line_tls, AlongLine, Point};
+use crate::sonar::balls_intersect;
 
 /// True when two ranges pass the ball test of §1 as ranges: `|D1 − D2| ≤ ξ·(D1 + D2)/100`.
 fn same_depth(accuracy_pct: f64, d1: f64, d2: f64) -> bool {
@@ -200,11 +201,29 @@ impl Linkage {
     }
 }
 
+/// Whether `readings` are a stack (docs/algorithm.md §8.15): one place read at changing
+/// ranges. Every two pass the ball test of §1 as points, `|p1 − p2| ≤ ξ·(D1 + D2)/100`, but the
+/// nearest and farthest ranges do not pass it as ranges (§8.2): the sensor moved towards or
+/// away from the place, as a sonar does that the robot drives square-on to a wall. Such a
+/// piece's line joins noise: its direction is none the readings resolve.
+fn is_stack(readings: &[SupportPoint], accuracy_pct: f64) -> bool {
+    let (nearest_m, farthest_m) = readings.iter().fold((f64::INFINITY, 0.0f64), |(l, h), q| {
+        (l.min(q.range_m), h.max(q.range_m))
+    });
+    !same_depth(accuracy_pct, nearest_m, farthest_m)
+        && readings.iter().enumerate().all(|(i, p)| {
+            readings[i + 1..]
+                .iter()
+                .all(|q| balls_intersect(accuracy_pct, &p.point, p.range_m, &q.point, q.range_m))
+        })
+}
+
 /// Point memory for one snapshot (docs/algorithm.md §8): expires readings older than
 /// `memory_snapshots`, adds this snapshot's one-point clusters, links readings within
 /// `memory_gap` into groups (single linkage), orders each group along its principal axis, fits
 /// it by §3, and returns the pieces of at least `memory_min_points` points (their readings leave
-/// the memory). With `record` false (an untraced step) the trace only says how many readings
+/// the memory); with `memory_stacks`, a piece that is a stack ([`is_stack`], §8.15) leaves the
+/// memory too but is not returned. With `record` false (an untraced step) the trace only says how many readings
 /// are held; the memory and the pieces are the same either way.
 pub fn memory_step(
     memory: &mut Vec<MemoryPoint>,
@@ -261,24 +280,34 @@ pub fn memory_step(
         let mut pieces = Vec::new();
         split_recursive(&points, params, &mut splits, &mut pieces);
         let mut piece_segments = Vec::with_capacity(pieces.len());
-        for &[first, last] in &pieces {
-            if last + 1 - first >= params.memory_min_points {
+        let mut stacks = Vec::new();
+        for (k, &[first, last]) in pieces.iter().enumerate() {
+            let piece = &points[first..=last];
+            if piece.len() < params.memory_min_points {
+                piece_segments.push(None);
+                continue;
+            }
+            for q in piece {
+                if let Some(i) = group
+                    .iter()
+                    .copied()
+                    .find(|&i| memory[i].support.reading == q.reading)
+                {
+                    used[i] = true;
+                }
+            }
+            if params.memory_stacks && is_stack(piece, params.accuracy_pct) {
+                piece_segments.push(None);
+                stacks.push(k);
+                if record {
+                    trace.stacked.extend(piece.iter().map(|q| q.reading));
+                }
+            } else {
                 piece_segments.push(Some(pieces_out.len()));
                 pieces_out.push(MemoryPiece {
                     group: group_index,
-                    points: points[first..=last].to_vec(),
+                    points: piece.to_vec(),
                 });
-                for q in &points[first..=last] {
-                    if let Some(i) = group
-                        .iter()
-                        .copied()
-                        .find(|&i| memory[i].support.reading == q.reading)
-                    {
-                        used[i] = true;
-                    }
-                }
-            } else {
-                piece_segments.push(None);
             }
         }
         if record {
@@ -287,13 +316,14 @@ pub fn memory_step(
                 splits,
                 pieces,
                 piece_segments,
+                stacks,
             });
         }
     }
     let mut i = 0;
     memory.retain(|m| {
         let keep = !used[i];
-        if !keep && record {
+        if !keep && record && !trace.stacked.contains(&m.support.reading) {
             trace.used.push(m.support.reading);
         }
         i += 1;
@@ -404,6 +434,67 @@ mod tests {
         let (out, traces) = reduce_constant_depth(&pts[3..], 3.0);
         assert_eq!(out.len(), 2);
         assert!(traces.is_empty());
+    }
+
+    #[test]
+    fn a_stack_is_one_place_read_at_ranges_the_ball_test_tells_apart() {
+        // ξ = 3. Ranges 2.0 and 2.2 at points 0.10 apart: the places pass the ball test
+        // (0.10 ≤ 0.03·4.2 = 0.126) and the ranges fail it (0.2 > 0.126): a stack.
+        let near = sp(0, 0, 0.0, 2.0, 2.0);
+        assert!(is_stack(&[near, sp(1, 0, 0.10, 2.0, 2.2)], 3.0));
+        // 0.13 apart, the places fail too: two places.
+        assert!(!is_stack(&[near, sp(1, 0, 0.13, 2.0, 2.2)], 3.0));
+        // Ranges 2.0 and 2.1 pass (0.1 ≤ 0.123): one depth, as a sensor standing still or
+        // moving along a wall reads it; not a stack.
+        assert!(!is_stack(&[near, sp(1, 0, 0.10, 2.0, 2.1)], 3.0));
+        // Every two readings must share the place: 0.0, 0.1, 0.2 at 2.0, 2.2, 2.4 pass
+        // pairwise neighbour to neighbour (0.1 ≤ 0.126, 0.1 ≤ 0.138) but not end to end
+        // (0.2 > 0.03·4.4 = 0.132).
+        let spread = [near, sp(1, 0, 0.1, 2.0, 2.2), sp(2, 0, 0.2, 2.0, 2.4)];
+        assert!(!is_stack(&spread, 3.0));
+    }
+
+    #[test]
+    fn a_sonar_driven_square_on_to_a_wall_leaves_a_stack_not_a_segment() {
+        // One sonar reads the same foot (0, 5) from 4.0, 3.8 and 3.6 m as the robot drives
+        // towards the wall: the third snapshot groups the three (0 apart, within 12 in).
+        let stacks_on = Params {
+            memory_snapshots: 10,
+            memory_gap_m: 0.3048,
+            memory_min_points: 3,
+            memory_stacks: true,
+            ..Params::paper()
+        };
+        let readings = [
+            sp(0, 0, 0.0, 5.0, 4.0),
+            sp(1, 0, 0.0, 5.0, 3.8),
+            sp(2, 0, 0.0, 5.0, 3.6),
+        ];
+        let run = |p: &Params| {
+            let (mut memory, mut linkage) = (Vec::new(), Linkage::default());
+            let mut last = None;
+            for (k, q) in readings.iter().enumerate() {
+                last = Some(memory_step(&mut memory, &[*q], k, p, true, &mut linkage));
+            }
+            (last.expect("three steps"), memory.len())
+        };
+        let ((t, pieces), held) = run(&stacks_on);
+        assert!(pieces.is_empty(), "a stack makes no segment");
+        assert_eq!(held, 0, "its readings leave the memory");
+        assert_eq!(t.stacked.len(), 3);
+        assert!(t.used.is_empty());
+        assert_eq!(t.groups[0].stacks, vec![0]);
+        assert_eq!(t.groups[0].piece_segments, vec![None]);
+        // Without the rule, the paper's memory fits the three into a piece (a line through
+        // one place, whichever way the noise turns it).
+        let stacks_off = Params {
+            memory_stacks: false,
+            ..stacks_on
+        };
+        let ((t, pieces), held) = run(&stacks_off);
+        assert_eq!(pieces.len(), 1);
+        assert_eq!((held, t.used.len()), (0, 3));
+        assert!(t.stacked.is_empty());
     }
 
     #[test]

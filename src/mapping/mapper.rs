@@ -981,6 +981,9 @@ impl Mapper {
             pieces.clear();
             split_recursive(&fitted, params, &mut splits, pieces);
             let first_new = out.segments.len();
+            // The last reading sent to point memory: consecutive pieces share their corner
+            // reading, which goes there once.
+            let mut sent_until: Option<usize> = None;
             for &[first, last] in pieces.iter() {
                 // §8.8: a piece too short to be trusted as a line; its readings go to point
                 // memory (when on) as one-point clusters do.
@@ -1002,8 +1005,10 @@ impl Mapper {
                     } else {
                         last
                     };
+                    let start = sent_until.map_or(first, |sent| first.max(sent + 1));
                     out.singles
-                        .extend(fitted.iter().take(end + 1).skip(first).copied());
+                        .extend(fitted.iter().take(end + 1).skip(start).copied());
+                    sent_until = Some(end);
                     continue;
                 }
                 let mut new = NewSegmentTrace {

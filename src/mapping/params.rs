@@ -126,6 +126,10 @@ pub struct Params {
     /// kept out of the clusters, point memory and the free-space sweep (docs/algorithm.md
     /// §8.12). Acts only with `confirm_segments`.
     pub settled_walls: bool,
+    /// A point-memory piece whose readings are one place read at changing ranges (a stack:
+    /// a wall square-on to a sonar the robot drives towards or away from) makes no segment;
+    /// its readings leave the memory (docs/algorithm.md §8.15). Acts only with point memory.
+    pub memory_stacks: bool,
     /// Fewest readings of a fitted piece that becomes a new segment; shorter pieces' readings
     /// go to point memory. 0 is off (the paper fits any piece; docs/algorithm.md §8.8).
     pub min_piece_points: usize,
@@ -168,6 +172,7 @@ impl Params {
             corner_diagonals: false,
             round_reflectors: false,
             settled_walls: false,
+            memory_stacks: false,
             min_piece_points: 0,
         }
     }
@@ -195,6 +200,7 @@ impl Params {
             corner_diagonals: true,
             round_reflectors: true,
             settled_walls: true,
+            memory_stacks: true,
             min_piece_points: 3,
             ..Self::paper()
         }
@@ -357,6 +363,9 @@ impl Params {
         if let Some(v) = file.settled_walls {
             p.settled_walls = v;
         }
+        if let Some(v) = file.memory_stacks {
+            p.memory_stacks = v;
+        }
         if let Some(v) = file.min_piece_points {
             p.min_piece_points = v;
         }
@@ -400,6 +409,7 @@ impl Params {
             corner_diagonals: Some(self.corner_diagonals),
             round_reflectors: Some(self.round_reflectors),
             settled_walls: Some(self.settled_walls),
+            memory_stacks: Some(self.memory_stacks),
             min_piece_points: Some(self.min_piece_points),
         }
     }
@@ -513,6 +523,8 @@ pub struct ParamsFile {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub settled_walls: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub memory_stacks: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub min_piece_points: Option<usize>,
 }
 
@@ -534,6 +546,7 @@ mod tests {
         assert!(!p.arc_features && !p.explain_readings && !p.free_space && !p.confirm_segments);
         assert!(!p.plane_gate && !p.echo_fit && p.min_piece_points == 0);
         assert!(!p.corner_diagonals && !p.settled_walls && !p.round_reflectors);
+        assert!(!p.memory_stacks);
         assert!(!p.baseline_confirm && !p.refit_unconfirms);
         let e = Params::extended();
         assert_eq!(e.support_cap, 64);
@@ -548,6 +561,7 @@ mod tests {
         assert!(e.arc_features && e.explain_readings && e.free_space && e.confirm_segments);
         assert!(e.plane_gate && e.echo_fit && e.min_piece_points == 3);
         assert!(e.corner_diagonals && e.settled_walls && e.round_reflectors);
+        assert!(e.memory_stacks);
         assert!(e.baseline_confirm && e.refit_unconfirms);
         assert!(p.validate().is_ok() && e.validate().is_ok());
     }

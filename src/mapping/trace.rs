@@ -104,8 +104,13 @@ pub struct MemoryGroupTrace {
     pub splits: Vec<SplitTrace>,
     /// Pieces as `[first, last]` indices into `points`.
     pub pieces: Vec<[usize; 2]>,
-    /// For each piece, the new segment it became (pieces with too few points stay in memory).
+    /// For each piece, the new segment it became (pieces with too few points stay in memory;
+    /// stacks leave it without a segment).
     pub piece_segments: Vec<Option<usize>>,
+    /// The pieces (indices into `pieces`) that were stacks: one place read at changing ranges,
+    /// no line (docs/algorithm.md §8.15).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub stacks: Vec<usize>,
 }
 
 /// What point memory did in this step.
@@ -119,6 +124,9 @@ pub struct MemoryTrace {
     pub groups: Vec<MemoryGroupTrace>,
     /// Readings that left memory because they became part of a segment.
     pub used: Vec<ReadingRef>,
+    /// Readings that left memory in a stack (docs/algorithm.md §8.15), making no segment.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub stacked: Vec<ReadingRef>,
     /// Readings held after this step.
     pub held_after: usize,
 }

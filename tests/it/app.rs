@@ -1151,3 +1151,18 @@ fn the_inspector_explains_a_settled_reading_with_its_wall() {
         "snapshot {k}: no settled line with {text:?}, {wall:?} and {kept_out:?}"
     );
 }
+
+#[test]
+fn the_inspector_explains_a_stack_with_its_readings_and_ranges() {
+    // The first snapshot whose step let a stack go from point memory (§8.15) names its
+    // readings and says why they make no segment.
+    let (h, k, first) =
+        building_extended_at_first(|trace| trace.memory.as_ref()?.stacked.first().copied());
+    let text = format!("stack: readings {}/{}", first.snapshot(), first.sensor());
+    let why = "the sonar moved along its beam, so their line has no direction";
+    assert!(
+        h.query_all_by_label_contains(&text).next().is_some()
+            && h.query_all_by_label_contains(why).next().is_some(),
+        "snapshot {k}: no stack line with {text:?} and {why:?}"
+    );
+}

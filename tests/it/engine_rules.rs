@@ -3,7 +3,7 @@
 //! `(x_k, D_k)`, so every point, range and confidence is chosen.
 
 use sonarmap::geometry::{Point, Pose};
-use sonarmap::mapping::trace::Outcome;
+use sonarmap::mapping::trace::{Outcome, SegmentSource};
 use sonarmap::mapping::{Mapper, Params};
 use sonarmap::run::Snapshot;
 use sonarmap::sonar::{SensorLayout, SensorMount, SensorSpec};
@@ -205,4 +205,62 @@ fn a_wall_seen_square_on_by_three_sonars_is_fitted_too_and_its_middle_reading_go
     assert!(!trace.arcs[0].also_fitted);
     assert!(trace.clusters.iter().all(|c| c.constant_depth.is_empty()));
     assert!(trace.memory.as_ref().is_none_or(|m| m.added.is_empty()));
+}
+
+#[test]
+fn a_sonar_driven_square_on_to_a_wall_stacks_its_readings_instead_of_fitting_them() {
+    // One sonar facing +y on a robot driving up x = 0 towards the wall y = 5: it reads the same
+    // foot (0, 5) from 4.0, 3.8, 3.6, 3.4 and 3.2 m. Point memory (§8.1) groups them; every
+    // two pass the ball test as points (0 apart) but 4.0 and 3.6 fail it as ranges
+    // (0.4 > 0.03·7.6 = 0.228): a stack (§8.15), which leaves the memory without a segment.
+    let run = |params: Params| {
+        let mut mapper = Mapper::new(params, row(&[0.0]), SensorSpec::default());
+        (0..5)
+            .map(|k| {
+                let y = 1.0 + 0.2 * k as f64;
+                mapper.step(&Snapshot {
+                    t: k as f64,
+                    pose: Pose::new(0.0, y, 0.0),
+                    ranges_m: vec![Some(5.0 - y)],
+                })
+            })
+            .collect::<Vec<_>>()
+    };
+    let traces = run(Params::extended());
+    let memory = traces[2].memory.as_ref().expect("point memory is on");
+    assert_eq!(memory.stacked.len(), 3, "the first three readings stack");
+    assert!(traces.iter().all(|t| t.new_segments.is_empty()));
+    // Without the rule the memory fits the three readings of one place into a new segment.
+    let traces = run(Params {
+        memory_stacks: false,
+        ..Params::extended()
+    });
+    assert!(matches!(
+        traces[2].new_segments.first().map(|s| &s.source),
+        Some(SegmentSource::Memory(_))
+    ));
+}
+
+#[test]
+fn a_corner_reading_shared_by_two_short_pieces_goes_to_point_memory_once() {
+    // Sensors at x = 0, 0.5, 1 read 2.0, 2.5, 2.0: points (0, 2), (0.5, 2.5), (1, 2), one
+    // cluster (0.71 m apart, under t_gap = 42 in). The middle point lies 0.5 m off the line
+    // through the ends, over its ball radius 0.075: split into (0, 2)–(0.5, 2.5) and
+    // (0.5, 2.5)–(1, 2), which share the middle reading. Both are under `min_piece_points`
+    // (3, §8.8), so their readings go to point memory: each once.
+    let mut mapper = Mapper::new(
+        Params::extended(),
+        row(&[0.0, 0.5, 1.0]),
+        SensorSpec::default(),
+    );
+    let trace = mapper.step(&snapshot(0.0, &[Some(2.0), Some(2.5), Some(2.0)]));
+    assert_eq!(trace.clusters.len(), 1);
+    let added: Vec<usize> = trace
+        .memory
+        .expect("point memory is on")
+        .added
+        .iter()
+        .map(|r| r.sensor())
+        .collect();
+    assert_eq!(added, vec![0, 1, 2]);
 }

@@ -1,14 +1,50 @@
 //! What the flagged extensions of docs/algorithm.md §8.5–§8.8 did in this step, with their
 //! numbers: arcs filed as corners or edges, readings explained by a feature, segments a reading
 //! saw past, plane support, the plane gate, echo placement (§8.10), corner diagonals (§8.11),
-//! readings a confirmed wall settled (§8.12) and pillars found among the diagonals' echoes
-//! (§8.14).
+//! readings a confirmed wall settled (§8.12), pillars found among the diagonals' echoes
+//! (§8.14) and the stacks point memory let go (§8.15).
 
 use super::context::InspectCtx;
 use super::widgets::heading;
 use crate::mapping::corner_diagonals::CORNER_WALL_REACH_M;
 use crate::mapping::point_features::feature_tolerance_m;
 use egui::RichText;
+
+/// One line for each stack point memory let go this step (§8.15).
+fn stacks_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
+    let Some(memory) = &ctx.view.trace.memory else {
+        return;
+    };
+    let xi = ctx.params.accuracy_pct;
+    for group in &memory.groups {
+        for &k in &group.stacks {
+            let [first, last] = group.pieces[k];
+            let readings = &group.points[first..=last];
+            let centre = readings
+                .iter()
+                .map(|q| q.point.coords)
+                .sum::<nalgebra::Vector2<f64>>()
+                / readings.len() as f64;
+            let (near_m, far_m) = readings.iter().fold((f64::INFINITY, 0.0f64), |(n, f), q| {
+                (n.min(q.range_m), f.max(q.range_m))
+            });
+            let names: Vec<String> = readings
+                .iter()
+                .map(|q| format!("{}/{}", q.reading.snapshot(), q.reading.sensor()))
+                .collect();
+            ui.label(format!(
+                "stack: readings {} (snapshot/sensor) lie at one place, {}, pairwise within \
+                 ξ·(D1+D2)/100 = {} %, but read from {} to {}: the sonar moved along its beam, \
+                 so their line has no direction; they leave point memory without a segment",
+                names.join(", "),
+                ctx.point(&nalgebra::Point2::from(centre)),
+                2.0 * xi,
+                ctx.len(near_m),
+                ctx.len(far_m),
+            ));
+        }
+    }
+}
 
 /// The step's extension records; nothing when none acted.
 pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
@@ -23,6 +59,7 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
         && t.round_reflectors.is_empty()
         && t.settled.is_empty()
         && t.unconfirmed.is_empty()
+        && t.memory.as_ref().is_none_or(|m| m.stacked.is_empty())
     {
         return;
     }
@@ -87,6 +124,7 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             ctx.len(e.inside_m)
         ));
     }
+    stacks_ui(ui, ctx);
     for r in &t.refuted {
         ui.label(format!(
             "free space: sensor {} read {} but s{} lies {} away, {:.1}° off the axis (a plane \
