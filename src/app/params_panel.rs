@@ -576,6 +576,22 @@ mod tests {
     }
 
     #[test]
+    fn every_switch_that_differs_from_the_preset_is_named_as_changed() {
+        // Each switch flipped alone on each preset is reported, by its panel name, and nothing
+        // else is (before, the switches added after the long-run bounds were never named).
+        for preset in [Preset::Paper, Preset::Extended] {
+            let base = Params::preset(preset);
+            assert!(changed_fields(&base, preset).is_empty());
+            for &(name, get, set) in SWITCHES {
+                let mut p = base.clone();
+                set(&mut p, !get(&base));
+                assert_eq!(changed_fields(&p, preset), vec![name], "{name}");
+            }
+        }
+        assert!(SWITCHES.iter().any(|(name, ..)| *name == "memory_stacks"));
+    }
+
+    #[test]
     fn fields_round_trip_through_the_panel_units() {
         let p = Params::paper();
         for (name, _, _) in FIELDS {
