@@ -25,7 +25,7 @@ enum Kind {
 }
 
 /// The numeric fields: file name, label, kind.
-const FIELDS: [(&str, &str, Kind); 11] = [
+const FIELDS: [(&str, &str, Kind); 12] = [
     ("accuracy_pct", "ξ accuracy (%)", Kind::Plain),
     ("d_max", "d_max", Kind::Length),
     ("min_range", "min_range", Kind::Length),
@@ -37,6 +37,7 @@ const FIELDS: [(&str, &str, Kind); 11] = [
     ("memory_gap", "memory_gap", Kind::Length),
     ("memory_min_points", "memory_min_points", Kind::Count),
     ("support_cap", "support_cap", Kind::Count),
+    ("min_piece_points", "min_piece_points", Kind::Count),
 ];
 
 /// The value of field `name` of `p` in the units the panel shows (run units, degrees).
@@ -56,6 +57,7 @@ fn value_of(p: &Params, name: &str, units: Units) -> f64 {
         "memory_gap" => units.from_m(p.memory_gap_m),
         "memory_min_points" => p.memory_min_points as f64,
         "support_cap" => p.support_cap as f64,
+        "min_piece_points" => p.min_piece_points as f64,
         _ => f64::NAN,
     }
 }
@@ -76,6 +78,7 @@ fn with_value(p: &Params, name: &str, v: f64, units: Units) -> Params {
         "memory_gap" => p.memory_gap_m = units.to_m(v),
         "memory_min_points" => p.memory_min_points = count(v),
         "support_cap" => p.support_cap = count(v),
+        "min_piece_points" => p.min_piece_points = count(v),
         _ => {}
     }
     p
@@ -315,6 +318,61 @@ pub struct ParamsPanelInfo<'a> {
     pub preset: Preset,
 }
 
+/// The baseline's buttons and, while one is pinned, how the current parameters' decisions differ
+/// from its: at the top of the panel, above the fields, so that they stay in view.
+fn baseline_ui(ui: &mut egui::Ui, info: &ParamsPanelInfo, commands: &mut Vec<Command>) {
+    ui.horizontal_wrapped(|ui| {
+        if info.pinned {
+            if ui
+                .button("Unpin baseline")
+                .on_hover_text("Stop comparing with the baseline")
+                .clicked()
+            {
+                commands.push(Command::Unpin);
+            }
+            if let Some(f) = info.diff_progress {
+                ui.add(
+                    egui::ProgressBar::new(f)
+                        .desired_width(100.0)
+                        .text("comparing…"),
+                );
+            } else if let Some(d) = info.differing {
+                ui.label(
+                    RichText::new(format!(
+                        "{} snapshots differ from the baseline: {} direct, {} consequential \
+                         decisions",
+                        d.snapshots, d.direct, d.consequential
+                    ))
+                    .color(super::timeline::BASELINE_COLOUR),
+                )
+                .on_hover_text(
+                    "Direct: the same new segment met the same map and was decided otherwise \
+                     (the parameter change itself). Consequential: what it met differs because \
+                     an earlier decision differed. The timeline marks the direct ones.",
+                );
+                if let Some(k) = d.first {
+                    if ui
+                        .button("First difference")
+                        .on_hover_text(
+                            "Go to the first snapshot where the parameter change itself makes a \
+                             decision differ (a direct difference)",
+                        )
+                        .clicked()
+                    {
+                        commands.push(Command::Seek(k));
+                    }
+                }
+            }
+        } else if ui
+            .button("Pin as baseline")
+            .on_hover_text("Keep these parameters and their results to compare later changes with")
+            .clicked()
+        {
+            commands.push(Command::PinBaseline);
+        }
+    });
+}
+
 /// Draws the panel.
 pub fn params_panel_ui(
     ui: &mut egui::Ui,
@@ -369,6 +427,8 @@ pub fn params_panel_ui(
     {
         commands.push(Command::SetPreset(info.preset));
     }
+    baseline_ui(ui, info, &mut commands);
+    ui.separator();
     if !changed.is_empty() {
         ui.label(
             RichText::new(format!(
@@ -510,57 +570,6 @@ pub fn params_panel_ui(
                 ui.end_row();
             }
         });
-    ui.separator();
-    ui.horizontal_wrapped(|ui| {
-        if info.pinned {
-            if ui
-                .button("Unpin baseline")
-                .on_hover_text("Stop comparing with the baseline")
-                .clicked()
-            {
-                commands.push(Command::Unpin);
-            }
-            if let Some(f) = info.diff_progress {
-                ui.add(
-                    egui::ProgressBar::new(f)
-                        .desired_width(100.0)
-                        .text("comparing…"),
-                );
-            } else if let Some(d) = info.differing {
-                ui.label(
-                    RichText::new(format!(
-                        "{} snapshots differ from the baseline: {} direct, {} consequential \
-                         decisions",
-                        d.snapshots, d.direct, d.consequential
-                    ))
-                    .color(super::timeline::BASELINE_COLOUR),
-                )
-                .on_hover_text(
-                    "Direct: the same new segment met the same map and was decided otherwise \
-                     (the parameter change itself). Consequential: what it met differs because \
-                     an earlier decision differed. The timeline marks the direct ones.",
-                );
-                if let Some(k) = d.first {
-                    if ui
-                        .button("First difference")
-                        .on_hover_text(
-                            "Go to the first snapshot where the parameter change itself makes a \
-                             decision differ (a direct difference)",
-                        )
-                        .clicked()
-                    {
-                        commands.push(Command::Seek(k));
-                    }
-                }
-            }
-        } else if ui
-            .button("Pin as baseline")
-            .on_hover_text("Keep these parameters and their results to compare later changes with")
-            .clicked()
-        {
-            commands.push(Command::PinBaseline);
-        }
-    });
     commands
 }
 
@@ -589,6 +598,15 @@ mod tests {
             }
         }
         assert!(SWITCHES.iter().any(|(name, ..)| *name == "memory_stacks"));
+        // The counts too: `min_piece_points` was missing from the panel.
+        let p = Params {
+            min_piece_points: 5,
+            ..Params::extended()
+        };
+        assert_eq!(
+            changed_fields(&p, Preset::Extended),
+            vec!["min_piece_points"]
+        );
     }
 
     #[test]

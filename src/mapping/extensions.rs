@@ -257,6 +257,9 @@ pub fn memory_step(
     used.clear();
     used.resize(n, false);
     let mut pieces_out = Vec::new();
+    // Traced: which leaving readings a segment took (the rest left in stacks). Pieces share
+    // their corner readings, so this is told apart per reading, not per piece.
+    let mut in_segment = if record { vec![false; n] } else { Vec::new() };
     let groups = group_ends.iter().scan(0, |start, &end| {
         Some(&members[std::mem::replace(start, end)..end])
     });
@@ -287,22 +290,25 @@ pub fn memory_step(
                 piece_segments.push(None);
                 continue;
             }
-            for q in piece {
-                if let Some(i) = group
+            // Each reading's place in the memory.
+            let index_of = |q: &SupportPoint| {
+                group
                     .iter()
                     .copied()
                     .find(|&i| memory[i].support.reading == q.reading)
-                {
-                    used[i] = true;
-                }
+            };
+            for i in piece.iter().filter_map(index_of) {
+                used[i] = true;
             }
             if params.memory_stacks && is_stack(piece, params.accuracy_pct) {
                 piece_segments.push(None);
                 stacks.push(k);
-                if record {
-                    trace.stacked.extend(piece.iter().map(|q| q.reading));
-                }
             } else {
+                if record {
+                    for i in piece.iter().filter_map(index_of) {
+                        in_segment[i] = true;
+                    }
+                }
                 piece_segments.push(Some(pieces_out.len()));
                 pieces_out.push(MemoryPiece {
                     group: group_index,
@@ -323,8 +329,12 @@ pub fn memory_step(
     let mut i = 0;
     memory.retain(|m| {
         let keep = !used[i];
-        if !keep && record && !trace.stacked.contains(&m.support.reading) {
-            trace.used.push(m.support.reading);
+        if !keep && record {
+            if in_segment[i] {
+                trace.used.push(m.support.reading);
+            } else {
+                trace.stacked.push(m.support.reading);
+            }
         }
         i += 1;
         keep

@@ -943,7 +943,6 @@ impl Mapper {
             for q in &chain {
                 trace.readings[q.reading.sensor()].cluster = Some(ci);
             }
-            let chain_len = chain.len();
             if params.arc_features && self.file_if_arc(ci, &chain, trace) {
                 if self.record_trace {
                     trace.clusters.push(ClusterTrace {
@@ -974,7 +973,8 @@ impl Mapper {
             // first point at the end; the reading itself is still traced once. Two points make
             // no polygon: they are fitted as an open chain.
             let closed_loop = wraps && clusters.len() == 1 && !chain_has_break;
-            if closed_loop && fitted.len() >= 3 {
+            let repeats_first = closed_loop && fitted.len() >= 3;
+            if repeats_first {
                 fitted.push(fitted[0]);
             }
             let mut splits = self.fresh_or_reused(splits_buffer, 0);
@@ -999,9 +999,10 @@ impl Mapper {
                             )
                         }))
                 {
-                    // A closed loop's last point repeats its first.
-                    let end = if closed_loop {
-                        last.min(chain_len - 1)
+                    // A closed loop's last point repeats its first (after the constant-depth
+                    // reduction, which may have shortened the chain).
+                    let end = if repeats_first {
+                        last.min(fitted.len() - 2)
                     } else {
                         last
                     };
