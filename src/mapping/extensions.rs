@@ -201,15 +201,22 @@ impl Linkage {
     }
 }
 
+/// The nearest and the farthest range of `readings`, metres.
+pub fn range_span_m(readings: &[SupportPoint]) -> (f64, f64) {
+    readings
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(near, far), q| {
+            (near.min(q.range_m), far.max(q.range_m))
+        })
+}
+
 /// Whether `readings` are a stack (docs/algorithm.md §8.15): one place read at changing
 /// ranges. Every two pass the ball test of §1 as points, `|p1 − p2| ≤ ξ·(D1 + D2)/100`, but the
 /// nearest and farthest ranges do not pass it as ranges (§8.2): the sensor moved towards or
 /// away from the place, as a sonar does that the robot drives square-on to a wall. Such a
 /// piece's line joins noise: its direction is none the readings resolve.
 fn is_stack(readings: &[SupportPoint], accuracy_pct: f64) -> bool {
-    let (nearest_m, farthest_m) = readings.iter().fold((f64::INFINITY, 0.0f64), |(l, h), q| {
-        (l.min(q.range_m), h.max(q.range_m))
-    });
+    let (nearest_m, farthest_m) = range_span_m(readings);
     !same_depth(accuracy_pct, nearest_m, farthest_m)
         && readings.iter().enumerate().all(|(i, p)| {
             readings[i + 1..]
@@ -223,8 +230,8 @@ fn is_stack(readings: &[SupportPoint], accuracy_pct: f64) -> bool {
 /// `memory_gap` into groups (single linkage), orders each group along its principal axis, fits
 /// it by §3, and returns the pieces of at least `memory_min_points` points (their readings leave
 /// the memory); with `memory_stacks`, a piece that is a stack ([`is_stack`], §8.15) leaves the
-/// memory too but is not returned. With `record` false (an untraced step) the trace only says how many readings
-/// are held; the memory and the pieces are the same either way.
+/// memory too but is not returned. With `record` false (an untraced step) the trace only says
+/// how many readings are held; the memory and the pieces are the same either way.
 pub fn memory_step(
     memory: &mut Vec<MemoryPoint>,
     singles: &[SupportPoint],
@@ -297,18 +304,17 @@ pub fn memory_step(
                     .copied()
                     .find(|&i| memory[i].support.reading == q.reading)
             };
+            let stack = params.memory_stacks && is_stack(piece, params.accuracy_pct);
             for i in piece.iter().filter_map(index_of) {
                 used[i] = true;
+                if record && !stack {
+                    in_segment[i] = true;
+                }
             }
-            if params.memory_stacks && is_stack(piece, params.accuracy_pct) {
+            if stack {
                 piece_segments.push(None);
                 stacks.push(k);
             } else {
-                if record {
-                    for i in piece.iter().filter_map(index_of) {
-                        in_segment[i] = true;
-                    }
-                }
                 piece_segments.push(Some(pieces_out.len()));
                 pieces_out.push(MemoryPiece {
                     group: group_index,

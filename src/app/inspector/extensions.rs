@@ -7,6 +7,7 @@
 use super::context::InspectCtx;
 use super::widgets::heading;
 use crate::mapping::corner_diagonals::CORNER_WALL_REACH_M;
+use crate::mapping::extensions::range_span_m;
 use crate::mapping::point_features::feature_tolerance_m;
 use egui::RichText;
 
@@ -25,9 +26,7 @@ fn stacks_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
                 .map(|q| q.point.coords)
                 .sum::<nalgebra::Vector2<f64>>()
                 / readings.len() as f64;
-            let (near_m, far_m) = readings.iter().fold((f64::INFINITY, 0.0f64), |(n, f), q| {
-                (n.min(q.range_m), f.max(q.range_m))
-            });
+            let (near_m, far_m) = range_span_m(readings);
             let names: Vec<String> = readings
                 .iter()
                 .map(|q| format!("{}/{}", q.reading.snapshot(), q.reading.sensor()))
