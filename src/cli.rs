@@ -72,7 +72,7 @@ pub struct SoakArgs {
     /// paper+corner_guard, paper+arc_features, paper+explain_readings, paper+free_space,
     /// paper+confirm_segments, paper+baseline_confirm, paper+refit_unconfirms, paper+plane_gate,
     /// paper+echo_fit, paper+corner_diagonals, paper+settled_walls, paper+memory_stacks,
-    /// paper+min_piece_points);
+    /// paper+memory_joints, paper+min_piece_points);
     /// default all.
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,

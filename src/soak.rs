@@ -142,6 +142,15 @@ pub fn soak_variants() -> Vec<(&'static str, Params)> {
             },
         ),
         (
+            // Joints are point memory's readings: memory comes along.
+            "paper+memory_joints",
+            Params {
+                memory_snapshots: extended.memory_snapshots,
+                memory_joints: true,
+                ..paper.clone()
+            },
+        ),
+        (
             "paper+min_piece_points",
             Params {
                 min_piece_points: extended.min_piece_points,

@@ -190,6 +190,11 @@ const SWITCHES: &[Switch] = &[
         |p| p.memory_stacks,
         |p, v| p.memory_stacks = v,
     ),
+    (
+        "memory_joints",
+        |p| p.memory_joints,
+        |p, v| p.memory_joints = v,
+    ),
 ];
 
 /// Colour of a field's name when its value differs from the preset's.

@@ -267,25 +267,22 @@ pub fn memory_step(
     // Traced: which leaving readings a segment took (the rest left in stacks). Pieces share
     // their corner readings, so this is told apart per reading, not per piece.
     let mut in_segment = if record { vec![false; n] } else { Vec::new() };
+    // The joints kept this step (§8.16).
+    let mut joints = Vec::new();
     let groups = group_ends.iter().scan(0, |start, &end| {
         Some(&members[std::mem::replace(start, end)..end])
     });
     let fitted = groups.filter(|m| m.len() >= params.memory_min_points);
     for (group_index, group) in fitted.enumerate() {
         let mut points: Vec<SupportPoint> = group.iter().map(|&i| memory[i].support).collect();
-        let coords: Vec<Point> = points.iter().map(|q| q.point).collect();
-        if let Some((centre, dir)) = fit_line_tls(&coords) {
-            let axis = AlongLine::new(&centre, &(centre + dir));
-            // Each point's place along the axis computed once (a sort asks for it many times).
-            let mut keyed: Vec<(f64, SupportPoint)> =
-                points.iter().map(|q| (axis.param(&q.point), *q)).collect();
-            keyed.sort_by(|x, y| {
-                x.0.total_cmp(&y.0)
-                    .then_with(|| x.1.reading.cmp(&y.1.reading))
-            });
-            points.clear();
-            points.extend(keyed.into_iter().map(|(_, q)| q));
-        }
+        order_along_principal_axis(&mut points);
+        // Each reading's place in the memory.
+        let index_of = |q: &SupportPoint| {
+            group
+                .iter()
+                .copied()
+                .find(|&i| memory[i].support.reading == q.reading)
+        };
         let mut splits = Vec::new();
         let mut pieces = Vec::new();
         split_recursive(&points, params, &mut splits, &mut pieces);
@@ -297,15 +294,16 @@ pub fn memory_step(
                 piece_segments.push(None);
                 continue;
             }
-            // Each reading's place in the memory.
-            let index_of = |q: &SupportPoint| {
-                group
-                    .iter()
-                    .copied()
-                    .find(|&i| memory[i].support.reading == q.reading)
-            };
             let stack = params.memory_stacks && is_stack(piece, params.accuracy_pct);
-            for i in piece.iter().filter_map(index_of) {
+            let joint = (params.memory_joints && !stack)
+                .then(|| joint_end(piece))
+                .flatten();
+            for (at, q) in piece.iter().enumerate() {
+                let Some(i) = index_of(q) else { continue };
+                if joint == Some(at) {
+                    joints.push(i);
+                    continue;
+                }
                 used[i] = true;
                 if record && !stack {
                     in_segment[i] = true;
@@ -332,6 +330,13 @@ pub fn memory_step(
             });
         }
     }
+    if record {
+        // A joint a later piece of the group took left with it.
+        let kept = joints.iter().filter(|&&i| !used[i]);
+        trace
+            .joints
+            .extend(kept.map(|&i| memory[i].support.reading));
+    }
     let mut i = 0;
     memory.retain(|m| {
         let keep = !used[i];
@@ -347,6 +352,41 @@ pub fn memory_step(
     });
     trace.held_after = memory.len();
     (trace, pieces_out)
+}
+
+/// Orders `points` along their principal (total-least-squares) axis, equal places by reading
+/// (snapshot, then sensor); leaves them as they are when no axis is defined.
+fn order_along_principal_axis(points: &mut Vec<SupportPoint>) {
+    let coords: Vec<Point> = points.iter().map(|q| q.point).collect();
+    if let Some((centre, dir)) = fit_line_tls(&coords) {
+        let axis = AlongLine::new(&centre, &(centre + dir));
+        // Each point's place along the axis computed once (a sort asks for it many times).
+        let mut keyed: Vec<(f64, SupportPoint)> =
+            points.iter().map(|q| (axis.param(&q.point), *q)).collect();
+        keyed.sort_by(|x, y| {
+            x.0.total_cmp(&y.0)
+                .then_with(|| x.1.reading.cmp(&y.1.reading))
+        });
+        points.clear();
+        points.extend(keyed.into_iter().map(|(_, q)| q));
+    }
+}
+
+/// The end of `piece` (0 or its last index) that point memory keeps as the piece's joint
+/// (docs/algorithm.md §8.16): the end whose reading is the piece's newest (latest snapshot)
+/// and newer than the other end's. None when the newest reading lies inside the piece or
+/// both ends are of the same snapshot: the chain is not growing from one end.
+fn joint_end(piece: &[SupportPoint]) -> Option<usize> {
+    let last = piece.len().checked_sub(1)?;
+    let newest = piece.iter().map(|q| q.reading.snapshot()).max()?;
+    let (first_s, last_s) = (piece[0].reading.snapshot(), piece[last].reading.snapshot());
+    if last_s == newest && first_s < newest {
+        Some(last)
+    } else if first_s == newest && last_s < newest {
+        Some(0)
+    } else {
+        None
+    }
 }
 
 #[cfg(test)]
@@ -511,6 +551,66 @@ mod tests {
         assert_eq!(pieces.len(), 1);
         assert_eq!((held, t.used.len()), (0, 3));
         assert!(t.stacked.is_empty());
+    }
+
+    #[test]
+    fn a_joint_is_the_newest_end_reading_of_a_growing_piece() {
+        let piece = |snapshots: [usize; 3]| {
+            [
+                sp(snapshots[0], 0, 0.0, 5.0, 2.0),
+                sp(snapshots[1], 0, 0.2, 5.0, 2.0),
+                sp(snapshots[2], 0, 0.4, 5.0, 2.0),
+            ]
+        };
+        assert_eq!(joint_end(&piece([3, 4, 5])), Some(2));
+        assert_eq!(joint_end(&piece([5, 4, 3])), Some(0));
+        // The newest reading inside the piece, or both ends of one snapshot: no joint.
+        assert_eq!(joint_end(&piece([3, 5, 4])), None);
+        assert_eq!(joint_end(&piece([5, 4, 5])), None);
+        assert_eq!(joint_end(&[]), None);
+    }
+
+    #[test]
+    fn pieces_of_a_chain_read_one_step_at_a_time_share_their_joints() {
+        // One sonar reads the wall y = 5 at x = 0, 0.2, …, one reading a snapshot. The first
+        // three make a piece; its newest end (x = 0.4, snapshot 2) stays as its joint, so the
+        // next piece is x = 0.4, 0.6, 0.8: the two overlap at the joint. Without joints the next
+        // piece starts at x = 0.6, a reading spacing past the first.
+        let run = |joints: bool| {
+            let p = Params {
+                memory_snapshots: 10,
+                memory_gap_m: 0.3048,
+                memory_min_points: 3,
+                memory_joints: joints,
+                ..Params::paper()
+            };
+            let (mut memory, mut linkage) = (Vec::new(), Linkage::default());
+            let mut pieces = Vec::new();
+            let mut traces = Vec::new();
+            for k in 0..5 {
+                let q = sp(k, 0, 0.2 * k as f64, 5.0, 2.0);
+                let (t, out) = memory_step(&mut memory, &[q], k, &p, true, &mut linkage);
+                pieces.extend(out.into_iter().map(|piece| {
+                    piece
+                        .points
+                        .iter()
+                        .map(|q| q.reading.snapshot())
+                        .collect::<Vec<_>>()
+                }));
+                traces.push(t);
+            }
+            (pieces, traces, memory)
+        };
+        let (pieces, traces, memory) = run(true);
+        assert_eq!(pieces, vec![vec![0, 1, 2], vec![2, 3, 4]]);
+        assert_eq!(traces[2].joints, vec![ReadingRef::new(2, 0)]);
+        assert_eq!(traces[2].used.len(), 2, "the other two readings left");
+        // The second piece's joint (snapshot 4) is held.
+        assert_eq!(memory.len(), 1);
+        assert_eq!(memory[0].support.reading, ReadingRef::new(4, 0));
+        let (pieces, _, memory) = run(false);
+        assert_eq!(pieces, vec![vec![0, 1, 2]]);
+        assert_eq!(memory.len(), 2, "snapshots 3 and 4 wait for a third");
     }
 
     #[test]

@@ -130,6 +130,11 @@ pub struct Params {
     /// a wall square-on to a sonar the robot drives towards or away from) makes no segment;
     /// its readings leave the memory (docs/algorithm.md §8.15). Acts only with point memory.
     pub memory_stacks: bool,
+    /// A point-memory piece that becomes a segment keeps its newest end reading in the memory
+    /// as its joint, so that the next piece along the same line shares it and overlaps this
+    /// one; a joint leaves a later piece that turns off its line (docs/algorithm.md §8.16).
+    /// Acts only with point memory.
+    pub memory_joints: bool,
     /// Fewest readings of a fitted piece that becomes a new segment; shorter pieces' readings
     /// go to point memory. 0 is off (the paper fits any piece; docs/algorithm.md §8.8).
     pub min_piece_points: usize,
@@ -173,6 +178,7 @@ impl Params {
             round_reflectors: false,
             settled_walls: false,
             memory_stacks: false,
+            memory_joints: false,
             min_piece_points: 0,
         }
     }
@@ -201,6 +207,7 @@ impl Params {
             round_reflectors: true,
             settled_walls: true,
             memory_stacks: true,
+            memory_joints: true,
             min_piece_points: 3,
             ..Self::paper()
         }
@@ -366,6 +373,9 @@ impl Params {
         if let Some(v) = file.memory_stacks {
             p.memory_stacks = v;
         }
+        if let Some(v) = file.memory_joints {
+            p.memory_joints = v;
+        }
         if let Some(v) = file.min_piece_points {
             p.min_piece_points = v;
         }
@@ -410,6 +420,7 @@ impl Params {
             round_reflectors: Some(self.round_reflectors),
             settled_walls: Some(self.settled_walls),
             memory_stacks: Some(self.memory_stacks),
+            memory_joints: Some(self.memory_joints),
             min_piece_points: Some(self.min_piece_points),
         }
     }
@@ -525,6 +536,8 @@ pub struct ParamsFile {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub memory_stacks: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub memory_joints: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub min_piece_points: Option<usize>,
 }
 
@@ -546,7 +559,7 @@ mod tests {
         assert!(!p.arc_features && !p.explain_readings && !p.free_space && !p.confirm_segments);
         assert!(!p.plane_gate && !p.echo_fit && p.min_piece_points == 0);
         assert!(!p.corner_diagonals && !p.settled_walls && !p.round_reflectors);
-        assert!(!p.memory_stacks);
+        assert!(!p.memory_stacks && !p.memory_joints);
         assert!(!p.baseline_confirm && !p.refit_unconfirms);
         let e = Params::extended();
         assert_eq!(e.support_cap, 64);
@@ -561,7 +574,7 @@ mod tests {
         assert!(e.arc_features && e.explain_readings && e.free_space && e.confirm_segments);
         assert!(e.plane_gate && e.echo_fit && e.min_piece_points == 3);
         assert!(e.corner_diagonals && e.settled_walls && e.round_reflectors);
-        assert!(e.memory_stacks);
+        assert!(e.memory_stacks && e.memory_joints);
         assert!(e.baseline_confirm && e.refit_unconfirms);
         assert!(p.validate().is_ok() && e.validate().is_ok());
     }

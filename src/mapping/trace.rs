@@ -127,6 +127,9 @@ pub struct MemoryTrace {
     /// Readings that left memory in a stack (docs/algorithm.md §8.15), making no segment.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub stacked: Vec<ReadingRef>,
+    /// Readings kept in memory as the joints of this step's pieces (docs/algorithm.md §8.16).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub joints: Vec<ReadingRef>,
     /// Readings held after this step.
     pub held_after: usize,
 }

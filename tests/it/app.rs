@@ -1166,3 +1166,18 @@ fn the_inspector_explains_a_stack_with_its_readings_and_ranges() {
         "snapshot {k}: no stack line with {text:?} and {why:?}"
     );
 }
+
+#[test]
+fn the_inspector_explains_a_joint_kept_in_point_memory() {
+    // The first snapshot whose step kept a piece's newest end in point memory as its joint
+    // (§8.16) names the reading and says what it is kept for.
+    let (h, k, joint) =
+        building_extended_at_first(|trace| trace.memory.as_ref()?.joints.first().copied());
+    let text = format!("joint: reading {}/{}", joint.snapshot(), joint.sensor());
+    let why = "the next piece along the chain shares it";
+    assert!(
+        h.query_all_by_label_contains(&text).next().is_some()
+            && h.query_all_by_label_contains(why).next().is_some(),
+        "snapshot {k}: no joint line with {text:?} and {why:?}"
+    );
+}

@@ -3,6 +3,7 @@
 //! `(x_k, D_k)`, so every point, range and confidence is chosen.
 
 use sonarmap::geometry::{Point, Pose};
+use sonarmap::mapping::map::SegmentKind;
 use sonarmap::mapping::trace::{Outcome, SegmentSource};
 use sonarmap::mapping::{Mapper, Params};
 use sonarmap::run::Snapshot;
@@ -263,4 +264,62 @@ fn a_corner_reading_shared_by_two_short_pieces_goes_to_point_memory_once() {
         .map(|r| r.sensor())
         .collect();
     assert_eq!(added, vec![0, 1, 2]);
+}
+
+#[test]
+fn a_wall_read_once_a_step_by_one_sonar_is_one_segment_with_joints_and_pieces_without() {
+    // One sonar facing +y on a robot driving along x, 0.19 m a step, reads the wall y = 2 at
+    // 2.0 m: one reading a snapshot, each a one-point cluster for point memory (§8.1). With
+    // joints (§8.16) each piece shares its newest reading with the next, which overlaps it and
+    // extends it: the wall is one segment. Without them the pieces lie a reading's spacing
+    // (more than the tolerance) apart: each is a new face, and correlation (§6) links them
+    // across the gaps.
+    let run = |memory_joints: bool| {
+        let params = Params {
+            memory_joints,
+            ..Params::extended()
+        };
+        let mut mapper = Mapper::new(params, row(&[0.0]), SensorSpec::default());
+        let traces: Vec<_> = (0..13)
+            .map(|k| {
+                mapper.step(&Snapshot {
+                    t: k as f64,
+                    pose: Pose::new(0.19 * k as f64, 0.0, 0.0),
+                    ranges_m: vec![Some(2.0)],
+                })
+            })
+            .collect();
+        let new_faces = traces
+            .iter()
+            .flat_map(|t| &t.decisions)
+            .filter(|d| d.outcome == Outcome::NewFace)
+            .count();
+        let spans: Vec<(f64, f64)> = mapper
+            .map()
+            .segments
+            .iter()
+            .filter(|s| s.kind == SegmentKind::Fitted)
+            .map(|s| (s.a.point.x.min(s.b.point.x), s.a.point.x.max(s.b.point.x)))
+            .collect();
+        (new_faces, spans)
+    };
+    let (new_faces, spans) = run(true);
+    assert_eq!(new_faces, 1, "{spans:?}");
+    assert_eq!(spans.len(), 1);
+    let (from, to) = spans[0];
+    assert!(
+        from.abs() < 1e-9 && (to - 0.19 * 12.0).abs() < 1e-9,
+        "{spans:?}"
+    );
+    let (new_faces, spans) = run(false);
+    assert_eq!(new_faces, 4, "{spans:?}");
+    // Pieces of three readings, x = 0–0.38, 0.57–0.95, …: 0.19 m between each and the next.
+    assert_eq!(spans.len(), 4);
+    for (k, &(from, to)) in spans.iter().enumerate() {
+        let start = 0.57 * k as f64;
+        assert!(
+            (from - start).abs() < 1e-9 && (to - start - 0.38).abs() < 1e-9,
+            "{spans:?}"
+        );
+    }
 }

@@ -2,12 +2,13 @@
 //! numbers: arcs filed as corners or edges, readings explained by a feature, segments a reading
 //! saw past, plane support, the plane gate, echo placement (§8.10), corner diagonals (§8.11),
 //! readings a confirmed wall settled (§8.12), pillars found among the diagonals' echoes
-//! (§8.14) and the stacks point memory let go (§8.15).
+//! (§8.14), the stacks point memory let go (§8.15) and the joints it kept (§8.16).
 
 use super::context::InspectCtx;
 use super::widgets::heading;
 use crate::mapping::corner_diagonals::CORNER_WALL_REACH_M;
 use crate::mapping::extensions::range_span_m;
+use crate::mapping::map::ReadingRef;
 use crate::mapping::point_features::feature_tolerance_m;
 use egui::RichText;
 
@@ -45,6 +46,31 @@ fn stacks_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
     }
 }
 
+/// One line for each joint point memory kept this step (§8.16).
+fn joints_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
+    let Some(memory) = &ctx.view.trace.memory else {
+        return;
+    };
+    let place = |reading: ReadingRef| {
+        memory
+            .groups
+            .iter()
+            .flat_map(|g| &g.points)
+            .find(|q| q.reading == reading)
+            .map_or_else(String::new, |q| format!(" at {}", ctx.point(&q.point)))
+    };
+    let name = |r: ReadingRef| format!("{}/{}", r.snapshot(), r.sensor());
+    for &r in &memory.joints {
+        ui.label(format!(
+            "joint: reading {} (snapshot/sensor){}, the newest end of a piece that became a \
+             segment, stays in point memory: the next piece along the chain shares it, so the \
+             two overlap and match instead of leaving a reading's spacing between them",
+            name(r),
+            place(r),
+        ));
+    }
+}
+
 /// The step's extension records; nothing when none acted.
 pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
     let t = &ctx.view.trace;
@@ -58,7 +84,9 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
         && t.round_reflectors.is_empty()
         && t.settled.is_empty()
         && t.unconfirmed.is_empty()
-        && t.memory.as_ref().is_none_or(|m| m.stacked.is_empty())
+        && t.memory
+            .as_ref()
+            .is_none_or(|m| m.stacked.is_empty() && m.joints.is_empty())
     {
         return;
     }
@@ -124,6 +152,7 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
         ));
     }
     stacks_ui(ui, ctx);
+    joints_ui(ui, ctx);
     for r in &t.refuted {
         ui.label(format!(
             "free space: sensor {} read {} but s{} lies {} away, {:.1}° off the axis (a plane \
