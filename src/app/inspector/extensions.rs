@@ -59,13 +59,13 @@ fn joints_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             .find(|q| q.reading == reading)
             .map_or_else(String::new, |q| format!(" at {}", ctx.point(&q.point)))
     };
-    let name = |r: ReadingRef| format!("{}/{}", r.snapshot(), r.sensor());
     for &r in &memory.joints {
         ui.label(format!(
-            "joint: reading {} (snapshot/sensor){}, the newest end of a piece that became a \
+            "joint: reading {}/{} (snapshot/sensor){}, the newest end of a piece that became a \
              segment, stays in point memory: the next piece along the chain shares it, so the \
              two overlap and match instead of leaving a reading's spacing between them",
-            name(r),
+            r.snapshot(),
+            r.sensor(),
             place(r),
         ));
     }
