@@ -603,6 +603,7 @@ mod tests {
             }
         }
         assert!(SWITCHES.iter().any(|(name, ..)| *name == "memory_stacks"));
+        assert!(SWITCHES.iter().any(|(name, ..)| *name == "memory_joints"));
         // The counts too: `min_piece_points` was missing from the panel.
         let p = Params {
             min_piece_points: 5,

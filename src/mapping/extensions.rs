@@ -229,8 +229,9 @@ fn is_stack(readings: &[SupportPoint], accuracy_pct: f64) -> bool {
 /// `memory_snapshots`, adds this snapshot's one-point clusters, links readings within
 /// `memory_gap` into groups (single linkage), orders each group along its principal axis, fits
 /// it by §3, and returns the pieces of at least `memory_min_points` points (their readings leave
-/// the memory); with `memory_stacks`, a piece that is a stack ([`is_stack`], §8.15) leaves the
-/// memory too but is not returned. With `record` false (an untraced step) the trace only says
+/// the memory but, with `memory_joints`, a piece's joint, [`joint_end`], §8.16); with
+/// `memory_stacks`, a piece that is a stack ([`is_stack`], §8.15) leaves the memory too but is
+/// not returned. With `record` false (an untraced step) the trace only says
 /// how many readings are held; the memory and the pieces are the same either way.
 pub fn memory_step(
     memory: &mut Vec<MemoryPoint>,
@@ -302,6 +303,10 @@ pub fn memory_step(
                 let Some(i) = index_of(q) else { continue };
                 if joint == Some(at) {
                     joints.push(i);
+                    // Should another piece take it too, it leaves as this segment's reading.
+                    if record {
+                        in_segment[i] = true;
+                    }
                     continue;
                 }
                 used[i] = true;
@@ -331,7 +336,10 @@ pub fn memory_step(
         }
     }
     if record {
-        // A joint a later piece of the group took left with it.
+        // A joint another piece of its group took left with that piece; a corner two pieces
+        // both keep as their joint is one reading held.
+        joints.sort_unstable();
+        joints.dedup();
         let kept = joints.iter().filter(|&&i| !used[i]);
         trace
             .joints
@@ -373,9 +381,9 @@ fn order_along_principal_axis(points: &mut Vec<SupportPoint>) {
 }
 
 /// The end of `piece` (0 or its last index) that point memory keeps as the piece's joint
-/// (docs/algorithm.md §8.16): the end whose reading is the piece's newest (latest snapshot)
-/// and newer than the other end's. None when the newest reading lies inside the piece or
-/// both ends are of the same snapshot: the chain is not growing from one end.
+/// (docs/algorithm.md §8.16): the end whose reading is of the piece's latest snapshot, the
+/// other end's of an earlier one (readings inside may share the latest snapshot). None when
+/// neither end is of the latest snapshot, or both are: the chain is not growing from one end.
 fn joint_end(piece: &[SupportPoint]) -> Option<usize> {
     let last = piece.len().checked_sub(1)?;
     let newest = piece.iter().map(|q| q.reading.snapshot()).max()?;
@@ -492,6 +500,16 @@ mod tests {
         assert!(traces.is_empty());
     }
 
+    /// `paper` with `extended`'s point memory: 10 snapshots, a 12 in gap, three readings.
+    fn paper_with_memory() -> Params {
+        Params {
+            memory_snapshots: 10,
+            memory_gap_m: 0.3048,
+            memory_min_points: 3,
+            ..Params::paper()
+        }
+    }
+
     #[test]
     fn a_stack_is_one_place_read_at_ranges_the_ball_test_tells_apart() {
         // ξ = 3. Ranges 2.0 and 2.2 at points 0.10 apart: the places pass the ball test
@@ -515,11 +533,8 @@ mod tests {
         // One sonar reads the same foot (0, 5) from 4.0, 3.8 and 3.6 m as the robot drives
         // towards the wall: the third snapshot groups the three (0 apart, within 12 in).
         let stacks_on = Params {
-            memory_snapshots: 10,
-            memory_gap_m: 0.3048,
-            memory_min_points: 3,
             memory_stacks: true,
-            ..Params::paper()
+            ..paper_with_memory()
         };
         let readings = [
             sp(0, 0, 0.0, 5.0, 4.0),
@@ -567,6 +582,8 @@ mod tests {
         // The newest reading inside the piece, or both ends of one snapshot: no joint.
         assert_eq!(joint_end(&piece([3, 5, 4])), None);
         assert_eq!(joint_end(&piece([5, 4, 5])), None);
+        // A reading inside of the same snapshot as the newer end: that end is the joint.
+        assert_eq!(joint_end(&piece([3, 5, 5])), Some(2));
         assert_eq!(joint_end(&[]), None);
     }
 
@@ -578,11 +595,8 @@ mod tests {
         // piece starts at x = 0.6, a reading spacing past the first.
         let run = |joints: bool| {
             let p = Params {
-                memory_snapshots: 10,
-                memory_gap_m: 0.3048,
-                memory_min_points: 3,
                 memory_joints: joints,
-                ..Params::paper()
+                ..paper_with_memory()
             };
             let (mut memory, mut linkage) = (Vec::new(), Linkage::default());
             let mut pieces = Vec::new();
@@ -605,12 +619,48 @@ mod tests {
         assert_eq!(pieces, vec![vec![0, 1, 2], vec![2, 3, 4]]);
         assert_eq!(traces[2].joints, vec![ReadingRef::new(2, 0)]);
         assert_eq!(traces[2].used.len(), 2, "the other two readings left");
-        // The second piece's joint (snapshot 4) is held.
+        // The second piece took the first's joint, which left with it; its own (snapshot 4)
+        // is held.
+        let snapshots = |rs: &[ReadingRef]| rs.iter().map(|r| r.snapshot()).collect::<Vec<_>>();
+        assert_eq!(snapshots(&traces[4].used), vec![2, 3]);
+        assert_eq!(traces[4].joints, vec![ReadingRef::new(4, 0)]);
         assert_eq!(memory.len(), 1);
         assert_eq!(memory[0].support.reading, ReadingRef::new(4, 0));
         let (pieces, _, memory) = run(false);
         assert_eq!(pieces, vec![vec![0, 1, 2]]);
         assert_eq!(memory.len(), 2, "snapshots 3 and 4 wait for a third");
+    }
+
+    #[test]
+    fn a_corner_two_pieces_keep_as_their_joint_is_held_once() {
+        // An L: (−0.4, 0) and (−0.2, 0) of snapshots 0 and 1, (0, 0.2) and (0, 0.4) of 2 and
+        // 3, linked at 0.2 m (the 0.25 m gap keeps the arms apart, 0.283 m) until the corner
+        // (0, 0) of snapshot 4 joins them. The fit splits at the corner into two pieces of
+        // three; the corner is the newest end of both, so both keep it as their joint.
+        let p = Params {
+            memory_gap_m: 0.25,
+            memory_joints: true,
+            ..paper_with_memory()
+        };
+        let (mut memory, mut linkage) = (Vec::new(), Linkage::default());
+        let readings = [
+            sp(0, 0, -0.4, 0.0, 2.0),
+            sp(1, 0, -0.2, 0.0, 2.0),
+            sp(2, 0, 0.0, 0.2, 2.0),
+            sp(3, 0, 0.0, 0.4, 2.0),
+            sp(4, 0, 0.0, 0.0, 2.0),
+        ];
+        let mut last = None;
+        for (k, q) in readings.iter().enumerate() {
+            last = Some(memory_step(&mut memory, &[*q], k, &p, true, &mut linkage));
+        }
+        let (t, pieces) = last.expect("five steps");
+        assert_eq!(t.groups[0].pieces, vec![[0, 2], [2, 4]]);
+        assert_eq!(pieces.len(), 2);
+        assert_eq!(t.joints, vec![ReadingRef::new(4, 0)]);
+        assert_eq!(t.used.len(), 4);
+        assert_eq!(memory.len(), 1);
+        assert_eq!(memory[0].support.reading, ReadingRef::new(4, 0));
     }
 
     #[test]

@@ -131,9 +131,8 @@ pub struct Params {
     /// its readings leave the memory (docs/algorithm.md §8.15). Acts only with point memory.
     pub memory_stacks: bool,
     /// A point-memory piece that becomes a segment keeps its newest end reading in the memory
-    /// as its joint, so that the next piece along the same line shares it and overlaps this
-    /// one; a joint leaves a later piece that turns off its line (docs/algorithm.md §8.16).
-    /// Acts only with point memory.
+    /// as its joint, so that the next piece along the chain shares it and overlaps this one
+    /// (docs/algorithm.md §8.16). Acts only with point memory.
     pub memory_joints: bool,
     /// Fewest readings of a fitted piece that becomes a new segment; shorter pieces' readings
     /// go to point memory. 0 is off (the paper fits any piece; docs/algorithm.md §8.8).
