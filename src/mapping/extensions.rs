@@ -231,8 +231,8 @@ fn is_stack(readings: &[SupportPoint], accuracy_pct: f64) -> bool {
 /// it by §3, and returns the pieces of at least `memory_min_points` points (their readings leave
 /// the memory but, with `memory_joints`, a piece's joint, [`joint_end`], §8.16); with
 /// `memory_stacks`, a piece that is a stack ([`is_stack`], §8.15) leaves the memory too but is
-/// not returned. With `record` false (an untraced step) the trace only says
-/// how many readings are held; the memory and the pieces are the same either way.
+/// not returned. With `record` false (an untraced step) the trace only says how many readings
+/// are held; the memory and the pieces are the same either way.
 pub fn memory_step(
     memory: &mut Vec<MemoryPoint>,
     singles: &[SupportPoint],
@@ -268,7 +268,7 @@ pub fn memory_step(
     // Traced: which leaving readings a segment took (the rest left in stacks). Pieces share
     // their corner readings, so this is told apart per reading, not per piece.
     let mut in_segment = if record { vec![false; n] } else { Vec::new() };
-    // The joints kept this step (§8.16).
+    // Traced: the joints kept this step (§8.16).
     let mut joints = Vec::new();
     let groups = group_ends.iter().scan(0, |start, &end| {
         Some(&members[std::mem::replace(start, end)..end])
@@ -301,17 +301,15 @@ pub fn memory_step(
                 .flatten();
             for (at, q) in piece.iter().enumerate() {
                 let Some(i) = index_of(q) else { continue };
-                if joint == Some(at) {
-                    joints.push(i);
-                    // Should another piece take it too, it leaves as this segment's reading.
-                    if record {
-                        in_segment[i] = true;
-                    }
-                    continue;
-                }
-                used[i] = true;
+                // A joint is in this segment too: should another piece take it, it leaves as
+                // a segment's reading.
                 if record && !stack {
                     in_segment[i] = true;
+                }
+                if joint != Some(at) {
+                    used[i] = true;
+                } else if record {
+                    joints.push(i);
                 }
             }
             if stack {
