@@ -124,77 +124,40 @@ pub fn changed_fields(params: &Params, preset: Preset) -> Vec<&'static str> {
 /// A parameter switched on or off: its name in the panel, its getter and its setter.
 type Switch = (&'static str, fn(&Params) -> bool, fn(&mut Params, bool));
 
+/// A [`Switch`] for the `Params` field `$field`, named `$name` in the panel (the field's name
+/// unless given).
+macro_rules! switch {
+    ($field:ident) => {
+        switch!(stringify!($field), $field)
+    };
+    ($name:expr, $field:ident) => {
+        (
+            $name,
+            |p: &Params| p.$field,
+            |p: &mut Params, v: bool| p.$field = v,
+        )
+    };
+}
+
 /// The parameters switched on or off, in the panel's order.
 const SWITCHES: &[Switch] = &[
-    ("correlation", |p| p.correlate, |p, v| p.correlate = v),
-    (
-        "constant_depth",
-        |p| p.constant_depth,
-        |p, v| p.constant_depth = v,
-    ),
-    (
-        "merge_duplicates",
-        |p| p.merge_duplicates,
-        |p, v| p.merge_duplicates = v,
-    ),
-    (
-        "corner_guard",
-        |p| p.corner_guard,
-        |p, v| p.corner_guard = v,
-    ),
-    (
-        "arc_features",
-        |p| p.arc_features,
-        |p, v| p.arc_features = v,
-    ),
-    (
-        "explain_readings",
-        |p| p.explain_readings,
-        |p, v| p.explain_readings = v,
-    ),
-    ("free_space", |p| p.free_space, |p, v| p.free_space = v),
-    (
-        "confirm_segments",
-        |p| p.confirm_segments,
-        |p, v| p.confirm_segments = v,
-    ),
-    (
-        "baseline_confirm",
-        |p| p.baseline_confirm,
-        |p, v| p.baseline_confirm = v,
-    ),
-    (
-        "refit_unconfirms",
-        |p| p.refit_unconfirms,
-        |p, v| p.refit_unconfirms = v,
-    ),
-    ("plane_gate", |p| p.plane_gate, |p, v| p.plane_gate = v),
-    ("echo_fit", |p| p.echo_fit, |p, v| p.echo_fit = v),
-    (
-        "corner_diagonals",
-        |p| p.corner_diagonals,
-        |p, v| p.corner_diagonals = v,
-    ),
-    (
-        "round_reflectors",
-        |p| p.round_reflectors,
-        |p, v| p.round_reflectors = v,
-    ),
-    (
-        "settled_walls",
-        |p| p.settled_walls,
-        |p, v| p.settled_walls = v,
-    ),
-    (
-        "memory_stacks",
-        |p| p.memory_stacks,
-        |p, v| p.memory_stacks = v,
-    ),
-    (
-        "memory_joints",
-        |p| p.memory_joints,
-        |p, v| p.memory_joints = v,
-    ),
+    switch!("correlation", correlate),
+    switch!(constant_depth),
+    switch!(merge_duplicates),
+    switch!(corner_guard),
+    switch!(arc_features),
+    switch!(explain_readings),
+    switch!(free_space),
+    switch!(confirm_segments),
+    switch!(baseline_confirm),
+    switch!(refit_unconfirms),
+    switch!(plane_gate),
+    switch!(echo_fit),
+    switch!(corner_diagonals),
+    switch!(round_reflectors),
+    switch!(settled_walls),
+    switch!(memory_stacks),
+    switch!(memory_joints),
 ];
 
 /// Colour of a field's name when its value differs from the preset's.
