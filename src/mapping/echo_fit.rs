@@ -17,7 +17,7 @@
 //! range, towards the line's normal.
 
 use super::map::Map;
-use super::point_features::{feature_tolerance_m, mean_origin, Beam};
+use super::point_features::{feature_tolerance_m, mean_origin, round_echo, Beam, RoundEcho};
 use super::support::SupportPoint;
 use crate::geometry::{fit_line_tls, segments_cross, unit, Point, Vec2};
 use serde::{Deserialize, Serialize};
@@ -450,12 +450,13 @@ pub const MAX_ROUND_RADIUS_M: f64 = 0.508;
 
 /// The rounded reflector (a pillar, a column, a table leg: a cylinder, docs/algorithm.md
 /// §8.14) that best explains the ranges of `beams`: its centre `c` and radius `r`, each reading
-/// its sensor's distance from the surface, `|c − o| − r`, along the ray through the centre (the
-/// surface's normal). Found by Gauss-Newton from a centre one start radius behind `start` (away
+/// its sensor's distance from the surface along the ray through the centre (the surface's
+/// normal), `|c − o| − r`, or along the cone's edge when the centre lies just outside it
+/// ([`round_echo`]). Found by Gauss-Newton from a centre one start radius behind `start` (away
 /// from the sensors), with its cost (the sum of squared range residuals over squared
 /// tolerances). `None` unless, after twelve Gauss-Newton steps, the radius lies within
-/// [`MIN_ROUND_RADIUS_M`]..=[`MAX_ROUND_RADIUS_M`], every sensor outside the cylinder, its
-/// centre inside every beam's cone, and every range explained within its tolerance. The
+/// [`MIN_ROUND_RADIUS_M`]..=[`MAX_ROUND_RADIUS_M`], every sensor outside the cylinder, every
+/// beam echoed by it, and every range explained within its tolerance. The
 /// sensors must stand apart: from one place only the centre's distance less the radius is
 /// seen.
 ///
@@ -493,16 +494,29 @@ pub fn fit_round_reflector(
     let away = away / away.norm().max(1e-9);
     let (mut c, mut r) = (start + away * START_RADIUS_M, START_RADIUS_M);
     let weights = range_weights(beams, accuracy_pct);
+    let half = HalfCone::new(half_beam_rad);
     for _ in 0..12 {
         // Normal equations of the linearised residuals |c − o_i| − r − D_i in (c_x, c_y, r).
         let mut a = nalgebra::Matrix3::<f64>::zeros();
         let mut g = nalgebra::Vector3::<f64>::zeros();
         for (b, &w) in beams.iter().zip(&weights) {
-            let v = c - b.origin;
-            let d = v.norm().max(1e-9);
-            let j = nalgebra::Vector3::new(v.x / d, v.y / d, -1.0);
+            // A beam the current guess does not echo pulls along the ray through the centre.
+            let echo = round_echo(&c, r, b, half).unwrap_or_else(|| {
+                let v = c - b.origin;
+                let d = v.norm().max(1e-9);
+                RoundEcho {
+                    range_m: d - r,
+                    d_range_d_centre: v / d,
+                    d_range_d_radius: -1.0,
+                }
+            });
+            let j = nalgebra::Vector3::new(
+                echo.d_range_d_centre.x,
+                echo.d_range_d_centre.y,
+                echo.d_range_d_radius,
+            );
             a += w * j * j.transpose();
-            g += w * j * (d - r - b.range_m);
+            g += w * j * (echo.range_m - b.range_m);
         }
         // Sensors standing together cannot tell the radius from the distance.
         let step = a.lu().solve(&g)?;
@@ -515,16 +529,14 @@ pub fn fit_round_reflector(
     if !(MIN_ROUND_RADIUS_M..=MAX_ROUND_RADIUS_M).contains(&r) {
         return None;
     }
-    let cos_half = HalfCone::new(half_beam_rad).cos;
     let mut cost = 0.0;
     for b in beams {
-        let v = c - b.origin;
-        let d = v.norm();
         let tol = feature_tolerance_m(accuracy_pct, b.range_m);
-        if d <= r || (d - r - b.range_m).abs() > tol || v.dot(&b.direction) / d < cos_half {
+        let residual_m = round_echo(&c, r, b, half)?.range_m - b.range_m;
+        if residual_m.abs() > tol {
             return None;
         }
-        cost += ((d - r - b.range_m) / tol).powi(2);
+        cost += (residual_m / tol).powi(2);
     }
     Some((c, r, cost))
 }

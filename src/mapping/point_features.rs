@@ -15,7 +15,7 @@
 //!
 //! Both look only at the cluster's readings and at the features the grid index files near them.
 
-use super::echo_fit::{HalfCone, MAX_ROUND_RADIUS_M};
+use super::echo_fit::{echo_ray, HalfCone, MAX_INCIDENCE_RAD, MAX_ROUND_RADIUS_M};
 use super::map::{FeatureKind, Map, PointFeature};
 use crate::geometry::{Point, Vec2};
 use crate::units::inches;
@@ -149,11 +149,59 @@ pub fn explains(at: &Point, beam: &Beam, accuracy_pct: f64, half_beam_rad: f64) 
     explains_round(at, 0.0, beam, accuracy_pct, half_beam_rad)
 }
 
+/// The echo a rounded reflector (a pillar, docs/algorithm.md §8.14) returns to a beam: its
+/// range and how the range moves with the reflector's centre and radius.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RoundEcho {
+    /// The range the beam reads, metres.
+    pub range_m: f64,
+    /// The range's gradient in the centre, metres per metre.
+    pub d_range_d_centre: Vec2,
+    /// The range's derivative in the radius.
+    pub d_range_d_radius: f64,
+}
+
+/// The echo `beam`'s sonar hears from a pillar of centre `at` and radius `radius_m` (0 for a
+/// point), as for a plane (§8.10): along the ray through the centre, the surface's normal,
+/// `|at − o| − radius_m`, when the centre lies inside the cone; else along the cone's edge
+/// nearer the centre, where that edge meets the surface within [`MAX_INCIDENCE_RAD`] of its
+/// normal (a pillar whose centre lies just outside a wide beam still fills its edge). `None`
+/// when the sensor is inside the pillar or the edge misses it.
+///
+/// The edge ray `e` meets the circle at `t = e·v − s`, where `v = at − o` and
+/// `s = √(r² − |v|² + (e·v)²)`; the incidence there is `acos(s / r)`.
+pub fn round_echo(at: &Point, radius_m: f64, beam: &Beam, half: HalfCone) -> Option<RoundEcho> {
+    let v = at - beam.origin;
+    let d = v.norm();
+    if d <= radius_m {
+        return None;
+    }
+    if v.dot(&beam.direction) / d >= half.cos {
+        return Some(RoundEcho {
+            range_m: d - radius_m,
+            d_range_d_centre: v / d,
+            d_range_d_radius: -1.0,
+        });
+    }
+    let (ray, _) = echo_ray(beam, &(v / d), half);
+    let along = ray.dot(&v);
+    let s2 = radius_m * radius_m - (d * d - along * along);
+    let s_min = radius_m * MAX_INCIDENCE_RAD.cos();
+    if along <= 0.0 || s2 < s_min * s_min || s2 <= 0.0 {
+        return None;
+    }
+    let s = s2.sqrt();
+    Some(RoundEcho {
+        range_m: along - s,
+        d_range_d_centre: ray + (v - ray * along) / s,
+        d_range_d_radius: -radius_m / s,
+    })
+}
+
 /// Whether the confirmed rounded reflector of centre `at` and radius `radius_m` (a pillar,
-/// docs/algorithm.md §8.14; 0 for a point, [`explains`]) explains `beam`: the sensor's distance
-/// from its surface along the ray through its centre, `|at − o| − radius_m`, is the range within
-/// the tolerance, and the centre lies within `half_beam_rad` of the axis (a specular surface
-/// echoes only along its normal, which passes through the centre).
+/// docs/algorithm.md §8.14; 0 for a point, [`explains`]) explains `beam`: the range of its echo
+/// ([`round_echo`]) is the reading's within the tolerance. For a point, and for a pillar whose
+/// centre lies inside the beam, that is `|at − o| − radius_m`.
 ///
 /// ```
 /// use sonarmap::geometry::{Point, Vec2};
@@ -173,13 +221,9 @@ pub fn explains_round(
     accuracy_pct: f64,
     half_beam_rad: f64,
 ) -> bool {
-    let v = at - beam.origin;
-    let d = v.norm();
-    let tolerance_m = feature_tolerance_m(accuracy_pct, beam.range_m);
-    if (d - radius_m - beam.range_m).abs() > tolerance_m || d <= radius_m {
-        return false;
-    }
-    v.dot(&beam.direction) / d >= HalfCone::new(half_beam_rad).cos
+    round_echo(at, radius_m, beam, HalfCone::new(half_beam_rad)).is_some_and(|echo| {
+        (echo.range_m - beam.range_m).abs() <= feature_tolerance_m(accuracy_pct, beam.range_m)
+    })
 }
 
 /// Radius within which an arc's point joins an existing feature rather than making a new one:
@@ -393,6 +437,88 @@ mod tests {
 
     fn wall(id: u32, a: (f64, f64), b: (f64, f64)) -> Segment {
         test_wall(id, a, b, 2.0)
+    }
+
+    /// A sensor at the origin looking along +x (half-beam 12.5°) and a pillar of radius 0.3 m
+    /// whose centre stands 1.5 m away, `off_deg` from the axis.
+    fn pillar_echo(off_deg: f64) -> Option<RoundEcho> {
+        let beam = Beam {
+            origin: Point::origin(),
+            direction: Vec2::new(1.0, 0.0),
+            range_m: 1.2,
+        };
+        let at = Point::from(crate::geometry::unit(off_deg.to_radians()) * 1.5);
+        round_echo(&at, 0.3, &beam, HalfCone::new(12.5f64.to_radians()))
+    }
+
+    #[test]
+    fn a_pillar_inside_the_beam_echoes_along_the_ray_through_its_centre() {
+        // 10° off the axis, inside the cone: 1.5 − 0.3 = 1.2 m.
+        let echo = pillar_echo(10.0).unwrap();
+        assert!((echo.range_m - 1.2).abs() < 1e-12);
+        assert_eq!(echo.d_range_d_radius, -1.0);
+    }
+
+    #[test]
+    fn a_pillar_just_outside_the_beam_echoes_along_the_cone_edge() {
+        // 15° off the axis: the edge at 12.5° passes 1.5 sin 2.5° = 0.065429 m from the centre,
+        // 1.5 cos 2.5° = 1.498572 m along, and meets the surface √(0.09 − 0.065429²) = 0.292778
+        // m short of that: 1.205794 m, 5.8 mm beyond the 1.2 m of the ray through the centre.
+        // The incidence there is acos(0.292778 / 0.3) = 12.6°.
+        let echo = pillar_echo(15.0).unwrap();
+        assert!((echo.range_m - 1.205794).abs() < 1e-6, "{echo:?}");
+        assert!((echo.d_range_d_radius - -0.3 / 0.292778).abs() < 1e-5);
+        // A reading of 1.2058 m is explained; the centre's own ray would have refused it.
+        let beam = Beam {
+            origin: Point::origin(),
+            direction: Vec2::new(1.0, 0.0),
+            range_m: 1.2058,
+        };
+        let at = Point::from(crate::geometry::unit(15f64.to_radians()) * 1.5);
+        assert!(explains_round(&at, 0.3, &beam, 1.0, 12.5f64.to_radians()));
+        // A point there (radius 0) echoes nothing: the edge cannot meet it.
+        assert!(!explains_round(&at, 0.0, &beam, 1.0, 12.5f64.to_radians()));
+    }
+
+    #[test]
+    fn a_pillar_met_by_the_cone_edge_beyond_the_incidence_limit_echoes_nothing() {
+        // The edge meets the surface within 60° of its normal while it passes within
+        // 0.3 sin 60° = 0.2598 m of the centre: 1.5 sin(Δ) ≤ 0.2598, Δ ≤ 9.97° past the edge.
+        // At 22° (Δ = 9.5°) it echoes; at 23.5° (Δ = 11°, 0.2862 m: it still grazes the
+        // surface) it does not; at 35° (Δ = 22.5°, 0.574 m) the edge misses.
+        assert!(pillar_echo(22.0).is_some());
+        assert_eq!(pillar_echo(23.5), None);
+        assert_eq!(pillar_echo(35.0), None);
+    }
+
+    proptest::proptest! {
+        /// The gradient [`round_echo`] gives is the range's: finite differences agree with it.
+        #[test]
+        fn the_echo_gradient_is_the_ranges(
+            off_deg in -22.0..22.0f64,
+            distance_m in 0.8..4.0f64,
+            radius_m in 0.06..0.5f64,
+        ) {
+            let beam = Beam { origin: Point::origin(), direction: Vec2::new(1.0, 0.0), range_m: 1.0 };
+            let half = HalfCone::new(12.5f64.to_radians());
+            let at = Point::from(crate::geometry::unit(off_deg.to_radians()) * distance_m);
+            let Some(echo) = round_echo(&at, radius_m, &beam, half) else { return Ok(()) };
+            let h = 1e-7;
+            let moved = |dx: f64, dy: f64, dr: f64| {
+                round_echo(&(at + Vec2::new(dx, dy)), radius_m + dr, &beam, half).map(|e| e.range_m)
+            };
+            // Skip the seams (the cone's edge, the incidence limit), where one side of the
+            // difference takes the other branch.
+            let (Some(x), Some(y), Some(r)) = (moved(h, 0.0, 0.0), moved(0.0, h, 0.0), moved(0.0, 0.0, h)) else {
+                return Ok(());
+            };
+            if (off_deg.abs() - 12.5).abs() < 1e-3 {
+                return Ok(());
+            }
+            proptest::prop_assert!(((x - echo.range_m) / h - echo.d_range_d_centre.x).abs() < 1e-4);
+            proptest::prop_assert!(((y - echo.range_m) / h - echo.d_range_d_centre.y).abs() < 1e-4);
+            proptest::prop_assert!(((r - echo.range_m) / h - echo.d_range_d_radius).abs() < 1e-4);
+        }
     }
 
     #[test]

@@ -95,6 +95,59 @@ fn a_pillar_echoes_toward_its_centre_and_occludes_the_wall_behind() {
 }
 
 #[test]
+fn a_pillar_just_outside_a_beam_echoes_from_its_edge_and_the_fit_hears_it_there() {
+    // A pillar of radius 0.25 m at (2, 3) with 35° of surface roughness, heard by sensors on
+    // y = 0 whose beams hold its centre inside (0–5° off the axis) or just past the cone's edge
+    // (13.5–14.5°, the edge 1–2° short of it: 3 m away it meets the surface 2.9–5.8 cm from
+    // the centre's ray, within 35° of its normal). The simulator's specular echo is the one
+    // the engine predicts (docs/algorithm.md §8.14): along the edge when the centre is outside.
+    use sonarmap::geometry::{unit, Vec2};
+    use sonarmap::mapping::echo_fit::fit_round_reflector;
+    use sonarmap::mapping::point_features::{explains_round, Beam};
+    let centre = Point::new(2.0, 3.0);
+    let plan = FloorPlan {
+        walls: vec![],
+        circles: vec![Circle {
+            centre,
+            radius_m: 0.25,
+        }],
+    };
+    let world = World::new(&plan, 35f64.to_radians(), 0.0254);
+    let half = (BEAM / 2.0).to_radians();
+    let mut beams = Vec::new();
+    let mut at_edge = 0;
+    for (x, off_deg) in [
+        (1.0, 0.0),
+        (1.4, 14.5),
+        (1.8, -5.0),
+        (2.2, 13.5),
+        (2.6, -14.0),
+        (3.0, 3.0),
+    ] {
+        let to_centre: Vec2 = centre - Point::new(x, 0.0);
+        let heading_deg = to_centre.y.atan2(to_centre.x).to_degrees() + off_deg;
+        let range_m = echo(&world, x, 0.0, heading_deg, Model::Specular).unwrap();
+        let beam = Beam {
+            origin: Point::new(x, 0.0),
+            direction: unit(heading_deg.to_radians()),
+            range_m,
+        };
+        // Explained at 1 %: through the centre for the first kind, along the edge for the
+        // second, which reads beyond |c − o| − r.
+        assert!(explains_round(&centre, 0.25, &beam, 1.0, half), "{beam:?}");
+        if f64::abs(off_deg) > BEAM / 2.0 {
+            at_edge += 1;
+            assert!(range_m > to_centre.norm() - 0.25 + 1e-4, "{beam:?}");
+        }
+        beams.push(beam);
+    }
+    assert_eq!(at_edge, 3);
+    let (c, r, _) = fit_round_reflector(&beams, Point::new(2.0, 2.7), 1.0, half).unwrap();
+    assert!((c - centre).norm() < 0.01, "{c:?}");
+    assert!((r - 0.25).abs() < 0.01, "{r}");
+}
+
+#[test]
 fn paths_are_cut_by_step_and_turn() {
     let w = [
         Pose::new(0.0, 0.0, 0.0),
