@@ -264,3 +264,59 @@ fn simulated_ranges_are_quantised_within_accuracy_and_below_max_range() {
         }
     }
 }
+
+mod pillar_echo_properties {
+    use super::*;
+    use proptest::prelude::*;
+    use sonarmap::geometry::{unit, Vec2};
+    use sonarmap::mapping::echo_fit::HalfCone;
+    use sonarmap::mapping::point_features::{round_echo, Beam};
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(400))]
+
+        /// Wherever a sensor stands and however its beam points at a lone pillar, the engine's
+        /// pillar echo (docs/algorithm.md §8.14) is the simulator's: the same range when the
+        /// simulator hears one (through the centre, or along the cone's edge within the
+        /// surface's roughness, at most §8.10's 60°), and an echo the engine predicts is heard
+        /// by a simulator whose roughness allows its incidence.
+        #[test]
+        fn the_engine_hears_a_pillar_where_the_simulator_does(
+            radius_m in 0.05f64..0.5,
+            distance_m in 0.8f64..4.0,
+            bearing_deg in 0.0f64..360.0,
+            off_axis_deg in -25.0f64..25.0,
+            roughness_deg in 5.0f64..60.0,
+        ) {
+            let centre = Point::new(1.0, 2.0);
+            let plan = FloorPlan { walls: vec![], circles: vec![Circle { centre, radius_m }] };
+            let world = World::new(&plan, roughness_deg.to_radians(), 0.0254);
+            let sensor = centre - unit(bearing_deg.to_radians()) * (distance_m + radius_m);
+            let heading_deg = bearing_deg + off_axis_deg;
+            let heard = echo(&world, sensor.x, sensor.y, heading_deg, Model::Specular);
+            let beam = Beam { origin: sensor, direction: unit(heading_deg.to_radians()), range_m: 1.0 };
+            let predicted = round_echo(&centre, radius_m, &beam, HalfCone::new((BEAM / 2.0).to_radians()));
+            if let Some(heard_m) = heard {
+                let predicted = predicted.expect("the engine hears what the simulator does");
+                prop_assert!((predicted.range_m - heard_m).abs() < 1e-6, "{predicted:?} vs {heard_m}");
+            }
+            if let Some(p) = predicted {
+                // The incidence where the echo's ray meets the surface.
+                let v: Vec2 = centre - sensor;
+                let (e, along) = if off_axis_deg.abs() <= BEAM / 2.0 {
+                    (v / v.norm(), v.norm())
+                } else {
+                    let edge = heading_deg - (BEAM / 2.0).copysign(off_axis_deg);
+                    let e = unit(edge.to_radians());
+                    (e, e.dot(&v))
+                };
+                let hit = sensor + e * p.range_m;
+                let cos_incidence = -e.dot(&((hit - centre) / radius_m));
+                prop_assert!(cos_incidence > 0.0 && (p.range_m - (along - radius_m)) > -1e-9);
+                if cos_incidence.acos() < roughness_deg.to_radians() - 1e-6 {
+                    prop_assert!(heard.is_some_and(|h| (h - p.range_m).abs() < 1e-6), "{p:?} vs {heard:?}");
+                }
+            }
+        }
+    }
+}
