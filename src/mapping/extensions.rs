@@ -131,9 +131,79 @@ pub struct Linkage {
     points: Vec<Point>,
     /// Which of them a piece took (point memory's, scratch).
     used: Vec<bool>,
+    /// Which readings of the memory may be in a group big enough to fit, as the last step left
+    /// the memory (`None` until a step has run, or after [`Linkage::forget`]): those of a
+    /// group fitted then that stayed ([`Linkage::group_from_seeds`]).
+    seeds: Option<Vec<bool>>,
+    /// Breadth-first search's queue and each reading's visit (scratch).
+    queue: Vec<usize>,
+    visited: Vec<bool>,
+    /// Each group found from the seeds: its first reading, and where it lies in `next`
+    /// (scratch).
+    found: Vec<(usize, usize, usize)>,
 }
 
 impl Linkage {
+    /// Forgets what the last step left: the memory was changed elsewhere (a map resumed from a
+    /// checkpoint), so the next step groups it all afresh.
+    pub fn forget(&mut self) {
+        self.seeds = None;
+    }
+
+    /// The groups of `points` with at least `min_points` readings (the only ones point memory
+    /// fits), as [`Linkage::group`] would give them (each sorted, in the order of their first
+    /// index), found by breadth-first search from `seeds` alone. Every such group holds a seed
+    /// when the seeds are the readings just added and those of last step's fitted groups that
+    /// stayed: a group of old readings alone was linked the same way last step, inside a group
+    /// at least as big, which was fitted.
+    fn group_from_seeds(
+        &mut self,
+        points: &[Point],
+        seeds: &[bool],
+        gap_m: f64,
+        min_points: usize,
+    ) {
+        let n = points.len();
+        self.visited.clear();
+        self.visited.resize(n, false);
+        // Each group's readings, one group after another (in `next`, scratch), and where.
+        let found = &mut self.next;
+        found.clear();
+        self.found.clear();
+        for start in (0..n).filter(|&i| seeds[i]) {
+            if self.visited[start] {
+                continue;
+            }
+            let from = found.len();
+            self.visited[start] = true;
+            self.queue.clear();
+            self.queue.push(start);
+            while let Some(p) = self.queue.pop() {
+                found.push(p);
+                for q in 0..n {
+                    if !self.visited[q] && within_gap(&points[p], &points[q], gap_m) {
+                        self.visited[q] = true;
+                        self.queue.push(q);
+                    }
+                }
+            }
+            if found.len() - from < min_points {
+                found.truncate(from);
+            } else {
+                found[from..].sort_unstable();
+                self.found.push((found[from], from, found.len()));
+            }
+        }
+        // In the order of each group's first index.
+        self.found.sort_unstable();
+        self.members.clear();
+        self.group_ends.clear();
+        for &(_, from, end) in &self.found {
+            self.members.extend_from_slice(&found[from..end]);
+            self.group_ends.push(self.members.len());
+        }
+    }
+
     /// Groups `points` into `members` and `group_ends` (see [`single_linkage_groups`]).
     fn group(&mut self, points: &[Point], gap_m: f64) {
         let n = points.len();
@@ -232,7 +302,9 @@ fn is_stack(readings: &[SupportPoint], accuracy_pct: f64) -> bool {
 /// the memory but, with `memory_joints`, a piece's joint, [`joint_end`], §8.16); with
 /// `memory_stacks`, a piece that is a stack ([`is_stack`], §8.15) leaves the memory too but is
 /// not returned. With `record` false (an untraced step) the trace only says how many readings
-/// are held; the memory and the pieces are the same either way.
+/// are held; the memory and the pieces are the same either way. After a first step, only the
+/// groups around the readings just added and those fitted last step are looked for
+/// ([`Linkage::group_from_seeds`]): the others are too small to fit.
 pub fn memory_step(
     memory: &mut Vec<MemoryPoint>,
     singles: &[SupportPoint],
@@ -243,11 +315,18 @@ pub fn memory_step(
 ) -> (MemoryTrace, Vec<MemoryPiece>) {
     let mut trace = MemoryTrace::default();
     let horizon = params.memory_snapshots;
+    // Last step's seeds, while they still describe this memory; they leave with their readings.
+    let mut seeds = linkage.seeds.take().filter(|s| s.len() == memory.len());
+    let (mut i, mut kept) = (0, 0);
     memory.retain(|m| {
         let keep = snapshot - m.support.reading.snapshot().min(snapshot) < horizon;
         if !keep && record {
             trace.expired.push(m.support.reading);
         }
+        if let (Some(seeds), true) = (seeds.as_mut(), keep) {
+            seeds[kept] = seeds[i];
+        }
+        (i, kept) = (i + 1, kept + usize::from(keep));
         keep
     });
     memory.extend(singles.iter().map(|s| MemoryPoint { support: *s }));
@@ -258,8 +337,25 @@ pub fn memory_step(
     let mut points = std::mem::take(&mut linkage.points);
     points.clear();
     points.extend(memory.iter().map(|m| m.support.point));
-    linkage.group(&points, params.memory_gap_m);
+    match seeds.as_mut() {
+        Some(seeds) => {
+            // The readings just added are seeds.
+            seeds.truncate(kept);
+            seeds.resize(n, true);
+            linkage.group_from_seeds(
+                &points,
+                seeds,
+                params.memory_gap_m,
+                params.memory_min_points,
+            );
+        }
+        None => linkage.group(&points, params.memory_gap_m),
+    }
     linkage.points = points;
+    // Next step's seeds: the readings of the groups fitted now that stay.
+    let mut next_seeds = seeds.unwrap_or_default();
+    next_seeds.clear();
+    next_seeds.resize(n, false);
     let (members, group_ends) = (&linkage.members, &linkage.group_ends);
     let used = &mut linkage.used;
     used.clear();
@@ -275,6 +371,9 @@ pub fn memory_step(
     });
     let fitted = groups.filter(|m| m.len() >= params.memory_min_points);
     for (group_index, group) in fitted.enumerate() {
+        for &i in group {
+            next_seeds[i] = true;
+        }
         let mut points: Vec<SupportPoint> = group.iter().map(|&i| memory[i].support).collect();
         order_along_principal_axis(&mut points);
         // Each reading's place in the memory.
@@ -343,7 +442,7 @@ pub fn memory_step(
             .joints
             .extend(kept.map(|&i| memory[i].support.reading));
     }
-    let mut i = 0;
+    let (mut i, mut kept) = (0, 0);
     memory.retain(|m| {
         let keep = !used[i];
         if !keep && record {
@@ -353,9 +452,14 @@ pub fn memory_step(
                 trace.stacked.push(m.support.reading);
             }
         }
-        i += 1;
+        if keep {
+            next_seeds[kept] = next_seeds[i];
+        }
+        (i, kept) = (i + 1, kept + usize::from(keep));
         keep
     });
+    next_seeds.truncate(kept);
+    linkage.seeds = Some(next_seeds);
     trace.held_after = memory.len();
     (trace, pieces_out)
 }
@@ -446,6 +550,83 @@ mod tests {
                 flood_fill_groups(&points, gap_m)
             );
         }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(128))]
+        /// Point memory grouping from last step's seeds (the readings just added and those of
+        /// the groups fitted then that stayed) gives every step the same pieces, trace and
+        /// memory as grouping it all afresh.
+        #[test]
+        fn grouping_from_seeds_is_grouping_afresh(
+            steps in proptest::collection::vec(
+                proptest::collection::vec((0u8..30, 0u8..30, 5u8..40), 0..5),
+                1..60,
+            ),
+            min_points in 2usize..5,
+            gap_tenths in 1u8..5,
+            horizon in 1usize..12,
+            joints in proptest::bool::ANY,
+            stacks in proptest::bool::ANY,
+        ) {
+            let params = Params {
+                memory_snapshots: horizon,
+                memory_gap_m: f64::from(gap_tenths) * 0.1,
+                memory_min_points: min_points,
+                memory_joints: joints,
+                memory_stacks: stacks,
+                ..Params::paper()
+            };
+            let (mut kept, mut afresh) = (Vec::new(), Vec::new());
+            let (mut kept_linkage, mut afresh_linkage) = (Linkage::default(), Linkage::default());
+            for (snapshot, singles) in steps.iter().enumerate() {
+                let singles: Vec<SupportPoint> = singles
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &(x, y, d))| {
+                        let (x, y) = (f64::from(x) * 0.1, f64::from(y) * 0.1);
+                        sp(snapshot, k, x, y, f64::from(d) * 0.1)
+                    })
+                    .collect();
+                afresh_linkage.forget();
+                let (t1, p1) = memory_step(&mut kept, &singles, snapshot, &params, true, &mut kept_linkage);
+                let (t2, p2) = memory_step(&mut afresh, &singles, snapshot, &params, true, &mut afresh_linkage);
+                proptest::prop_assert_eq!(&t1, &t2);
+                let points = |p: &[MemoryPiece]| p.iter().map(|q| (q.group, q.points.clone())).collect::<Vec<_>>();
+                proptest::prop_assert_eq!(points(&p1), points(&p2));
+                proptest::prop_assert_eq!(&kept, &afresh);
+            }
+        }
+    }
+
+    #[test]
+    fn a_forgetting_linkage_finds_the_groups_of_a_memory_changed_elsewhere() {
+        // A V of three readings 0.28 m apart (gap 0.3): one group, split into two pieces of
+        // two, too few to fit, so it stays in the memory and is fitted again every step. A
+        // linkage last used on three lone readings (no group: no seeds) is given this memory,
+        // as a map resumed from a checkpoint gives it: once told to forget, it finds the V.
+        let params = paper_with_memory();
+        let mut linkage = Linkage::default();
+        let mut lone = vec![];
+        let far = [
+            sp(0, 0, 0.0, 0.0, 1.0),
+            sp(0, 1, 5.0, 0.0, 1.0),
+            sp(0, 2, 9.0, 0.0, 1.0),
+        ];
+        let (trace, _) = memory_step(&mut lone, &far, 0, &params, true, &mut linkage);
+        assert!(trace.groups.is_empty() && lone.len() == 3);
+        let v = [
+            sp(0, 0, 0.0, 0.0, 1.0),
+            sp(0, 1, 0.2, 0.2, 1.0),
+            sp(0, 2, 0.4, 0.0, 1.0),
+        ];
+        let mut memory: Vec<MemoryPoint> =
+            v.iter().map(|&support| MemoryPoint { support }).collect();
+        linkage.forget();
+        let (trace, pieces) = memory_step(&mut memory, &[], 1, &params, true, &mut linkage);
+        assert_eq!(trace.groups.len(), 1);
+        assert_eq!(trace.groups[0].pieces, vec![[0, 1], [1, 2]]);
+        assert!(pieces.is_empty() && memory.len() == 3);
     }
 
     #[test]

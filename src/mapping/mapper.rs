@@ -273,6 +273,7 @@ impl Mapper {
     /// Resumes from `state`, whose map has its spatial index built (a checkpoint made live:
     /// [`crate::checkpoints::Checkpoints::live_before`]).
     pub fn resume(&mut self, state: MapperState) {
+        self.buffers.linkage.forget();
         self.map = state.map;
         self.last_pose = state.last_pose;
         self.next_snapshot = state.next_snapshot;
@@ -281,6 +282,7 @@ impl Mapper {
     /// Resumes from a state taken by [`Mapper::state`] (its map shared, not moved: see
     /// [`Map::with_index`]); the replay's checkpoints resume through [`Mapper::resume`].
     pub fn restore(&mut self, state: &MapperState) {
+        self.buffers.linkage.forget();
         self.map = state.map.with_index();
         self.last_pose = state.last_pose;
         self.next_snapshot = state.next_snapshot;
