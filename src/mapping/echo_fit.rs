@@ -497,7 +497,8 @@ pub fn fit_round_reflector(
     let weights = range_weights(beams, accuracy_pct);
     let half = HalfCone::new(half_beam_rad);
     for _ in 0..12 {
-        // Normal equations of the linearised residuals |c − o_i| − r − D_i in (c_x, c_y, r).
+        // Normal equations of the linearised residuals (the echo's range less the reading's,
+        // through the centre or along the cone's edge) in (c_x, c_y, r).
         let mut a = nalgebra::Matrix3::<f64>::zeros();
         let mut g = nalgebra::Vector3::<f64>::zeros();
         for (b, &w) in beams.iter().zip(&weights) {

@@ -601,7 +601,7 @@ mod tests {
 
     #[test]
     fn a_forgetting_linkage_finds_the_groups_of_a_memory_changed_elsewhere() {
-        // A V of three readings 0.28 m apart (gap 0.3): one group, split into two pieces of
+        // A V of three readings 0.28 m apart (gap 0.3048): one group, split into two pieces of
         // two, too few to fit, so it stays in the memory and is fitted again every step. A
         // linkage last used on three lone readings (no group: no seeds) is given this memory,
         // as a map resumed from a checkpoint gives it: once told to forget, it finds the V.

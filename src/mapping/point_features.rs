@@ -166,7 +166,9 @@ pub struct RoundEcho {
 /// `|at − o| − radius_m`, when the centre lies inside the cone; else along the cone's edge
 /// nearer the centre, where that edge meets the surface within [`MAX_INCIDENCE_RAD`] of its
 /// normal (a pillar whose centre lies just outside a wide beam still fills its edge). `None`
-/// when the sensor is inside the pillar or the edge misses it.
+/// when the sensor is inside the pillar, or the centre lies outside the cone and the radius is
+/// not positive (a point), the edge misses the circle, meets it beyond that incidence, or
+/// points away from it.
 ///
 /// The edge ray `e` meets the circle at `t = e·v − s`, where `v = at − o` and
 /// `s = √(r² − |v|² + (e·v)²)`; the incidence there is `acos(s / r)`.
@@ -183,11 +185,15 @@ pub fn round_echo(at: &Point, radius_m: f64, beam: &Beam, half: HalfCone) -> Opt
             d_range_d_radius: -1.0,
         });
     }
+    // A point (or, in a fit's steps, a negative radius) gives no echo outside the cone.
+    if radius_m.is_nan() || radius_m <= 0.0 {
+        return None;
+    }
     let (ray, _) = echo_ray(beam, &(v / d), half);
     let along = ray.dot(&v);
     let s2 = radius_m * radius_m - (d * d - along * along);
     let s_min = radius_m * MAX_INCIDENCE_RAD.cos();
-    if along <= 0.0 || s2 < s_min * s_min || s2 <= 0.0 {
+    if along.is_nan() || s2.is_nan() || along <= 0.0 || s2 < s_min * s_min {
         return None;
     }
     let s = s2.sqrt();
@@ -200,8 +206,8 @@ pub fn round_echo(at: &Point, radius_m: f64, beam: &Beam, half: HalfCone) -> Opt
 
 /// Whether the confirmed rounded reflector of centre `at` and radius `radius_m` (a pillar,
 /// docs/algorithm.md §8.14; 0 for a point, [`explains`]) explains `beam`: the range of its echo
-/// ([`round_echo`]) is the reading's within the tolerance. For a point, and for a pillar whose
-/// centre lies inside the beam, that is `|at − o| − radius_m`.
+/// ([`round_echo`]) is the reading's within the tolerance. When the centre lies inside the beam
+/// that is `|at − o| − radius_m`; a point outside it explains nothing.
 ///
 /// ```
 /// use sonarmap::geometry::{Point, Vec2};
@@ -394,23 +400,23 @@ fn feature_reach(beam: &Beam, accuracy_pct: f64, half_beam_rad: f64) -> (Point, 
     (tip, reach)
 }
 
-/// Of the features `near` (id, place and radius), the one that explains `beam` nearest to its
-/// range (the lower id on a tie).
+/// Of the features `near` (id, place and radius), the one that explains `beam`
+/// ([`explains_round`]) whose echo's range ([`round_echo`]) is nearest the reading's (the lower
+/// id on a tie).
 fn nearest_explaining(
     near: impl Iterator<Item = (u32, Point, f64)>,
     beam: &Beam,
     accuracy_pct: f64,
     half_beam_rad: f64,
 ) -> Option<u32> {
-    let residual =
-        |at: &Point, radius_m: f64| ((at - beam.origin).norm() - radius_m - beam.range_m).abs();
-    near.filter(|(_, at, r)| explains_round(at, *r, beam, accuracy_pct, half_beam_rad))
-        .min_by(|(ia, a, ra), (ib, b, rb)| {
-            residual(a, *ra)
-                .total_cmp(&residual(b, *rb))
-                .then(ia.cmp(ib))
-        })
-        .map(|(id, _, _)| id)
+    let half = HalfCone::new(half_beam_rad);
+    let tolerance_m = feature_tolerance_m(accuracy_pct, beam.range_m);
+    near.filter_map(|(id, at, r)| {
+        let residual_m = (round_echo(&at, r, beam, half)?.range_m - beam.range_m).abs();
+        (residual_m <= tolerance_m).then_some((id, residual_m))
+    })
+    .min_by(|(ia, a), (ib, b)| a.total_cmp(b).then(ia.cmp(ib)))
+    .map(|(id, _)| id)
 }
 
 /// Readings of a reflector of radius `radius_m` (0: a point) centred at `centre`, from
@@ -477,7 +483,8 @@ mod tests {
         let at = Point::from(crate::geometry::unit(15f64.to_radians()) * 1.5);
         assert!(explains_round(&at, 0.3, &beam, 1.0, 12.5f64.to_radians()));
         // A point there (radius 0) echoes nothing: the edge cannot meet it.
-        assert!(!explains_round(&at, 0.0, &beam, 1.0, 12.5f64.to_radians()));
+        let half = HalfCone::new(12.5f64.to_radians());
+        assert_eq!(round_echo(&at, 0.0, &beam, half), None);
     }
 
     #[test]

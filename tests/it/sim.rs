@@ -98,12 +98,12 @@ fn a_pillar_echoes_toward_its_centre_and_occludes_the_wall_behind() {
 fn a_pillar_just_outside_a_beam_echoes_from_its_edge_and_the_fit_hears_it_there() {
     // A pillar of radius 0.25 m at (2, 3) with 35° of surface roughness, heard by sensors on
     // y = 0 whose beams hold its centre inside (0–5° off the axis) or just past the cone's edge
-    // (13.5–14.5°, the edge 1–2° short of it: 3 m away it meets the surface 2.9–5.8 cm from
-    // the centre's ray, within 35° of its normal). The simulator's specular echo is the one
+    // (13.5–14.5°, the edge 1–2° short of it: it passes 5–11 cm from the centre and meets the
+    // surface at 12–25° of incidence, within the 35°). The simulator's specular echo is the one
     // the engine predicts (docs/algorithm.md §8.14): along the edge when the centre is outside.
     use sonarmap::geometry::{unit, Vec2};
-    use sonarmap::mapping::echo_fit::fit_round_reflector;
-    use sonarmap::mapping::point_features::{explains_round, Beam};
+    use sonarmap::mapping::echo_fit::{fit_round_reflector, HalfCone};
+    use sonarmap::mapping::point_features::{explains_round, round_echo, Beam};
     let centre = Point::new(2.0, 3.0);
     let plan = FloorPlan {
         walls: vec![],
@@ -132,8 +132,10 @@ fn a_pillar_just_outside_a_beam_echoes_from_its_edge_and_the_fit_hears_it_there(
             direction: unit(heading_deg.to_radians()),
             range_m,
         };
-        // Explained at 1 %: through the centre for the first kind, along the edge for the
-        // second, which reads beyond |c − o| − r.
+        // The engine's echo is the simulator's: through the centre for the first kind, along
+        // the edge for the second, which reads beyond |c − o| − r.
+        let predicted = round_echo(&centre, 0.25, &beam, HalfCone::new(half)).unwrap();
+        assert!((predicted.range_m - range_m).abs() < 1e-9, "{beam:?}");
         assert!(explains_round(&centre, 0.25, &beam, 1.0, half), "{beam:?}");
         if f64::abs(off_deg) > BEAM / 2.0 {
             at_edge += 1;
