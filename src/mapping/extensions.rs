@@ -1,7 +1,7 @@
 //! The two extensions beyond the paper (docs/algorithm.md §8), each off in the `paper` preset.
 
 use super::fit::split_recursive;
-use super::map::{MemoryPoint, SupportPoint};
+use super::map::{MemoryPoint, ReadingRef, SupportPoint};
 use super::params::Params;
 use super::trace::{ConstantDepthTrace, MemoryGroupTrace, MemoryTrace};
 use crate::geometry::{fit_line_tls, AlongLine, Point};
@@ -135,6 +135,9 @@ pub struct Linkage {
     /// the memory (`None` until a step has run, or after [`Linkage::forget`]): those of a
     /// group fitted then that stayed ([`Linkage::group_from_seeds`]).
     seeds: Option<Vec<bool>>,
+    /// The memory the seeds describe: its first and last readings (with the seeds' length, a
+    /// check that it was not changed elsewhere; [`Linkage::forget`] is the rule).
+    seeded_ends: Option<(ReadingRef, ReadingRef)>,
     /// Breadth-first search's queue and each reading's visit (scratch).
     queue: Vec<usize>,
     visited: Vec<bool>,
@@ -316,7 +319,17 @@ pub fn memory_step(
     let mut trace = MemoryTrace::default();
     let horizon = params.memory_snapshots;
     // Last step's seeds, while they still describe this memory; they leave with their readings.
-    let mut seeds = linkage.seeds.take().filter(|s| s.len() == memory.len());
+    let ends = |memory: &[MemoryPoint]| {
+        Some((
+            memory.first()?.support.reading,
+            memory.last()?.support.reading,
+        ))
+    };
+    let seeded_ends = linkage.seeded_ends.take();
+    let mut seeds = linkage
+        .seeds
+        .take()
+        .filter(|s| s.len() == memory.len() && seeded_ends == ends(memory));
     let (mut i, mut kept) = (0, 0);
     memory.retain(|m| {
         let keep = snapshot - m.support.reading.snapshot().min(snapshot) < horizon;
@@ -460,6 +473,7 @@ pub fn memory_step(
     });
     next_seeds.truncate(kept);
     linkage.seeds = Some(next_seeds);
+    linkage.seeded_ends = ends(memory);
     trace.held_after = memory.len();
     (trace, pieces_out)
 }
