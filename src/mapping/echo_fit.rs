@@ -17,7 +17,9 @@
 //! range, towards the line's normal.
 
 use super::map::Map;
-use super::point_features::{feature_tolerance_m, mean_origin, round_echo, Beam, RoundEcho};
+use super::point_features::{
+    feature_tolerance_m, mean_origin, round_echo, round_residual_m, Beam, RoundEcho,
+};
 use super::support::SupportPoint;
 use crate::geometry::{fit_line_tls, segments_cross, unit, Point, Vec2};
 use serde::{Deserialize, Serialize};
@@ -505,12 +507,7 @@ pub fn fit_round_reflector(
             // A beam the current guess does not echo pulls along the ray through the centre.
             let echo = round_echo(&c, r, b, half).unwrap_or_else(|| {
                 let v = c - b.origin;
-                let d = v.norm().max(1e-9);
-                RoundEcho {
-                    range_m: d - r,
-                    d_range_d_centre: v / d,
-                    d_range_d_radius: -1.0,
-                }
+                RoundEcho::through_centre(v, v.norm().max(1e-9), r)
             });
             let j = nalgebra::Vector3::new(
                 echo.d_range_d_centre.x,
@@ -539,12 +536,8 @@ pub fn fit_round_reflector(
     }
     let mut cost = 0.0;
     for b in beams {
-        let tol = feature_tolerance_m(accuracy_pct, b.range_m);
-        let residual_m = round_echo(&c, r, b, half)?.range_m - b.range_m;
-        if residual_m.abs() > tol {
-            return None;
-        }
-        cost += (residual_m / tol).powi(2);
+        let residual_m = round_residual_m(&c, r, b, accuracy_pct, half)?;
+        cost += (residual_m / feature_tolerance_m(accuracy_pct, b.range_m)).powi(2);
     }
     Some((c, r, cost))
 }

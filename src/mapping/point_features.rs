@@ -161,6 +161,18 @@ pub struct RoundEcho {
     pub d_range_d_radius: f64,
 }
 
+impl RoundEcho {
+    /// The echo along the ray through the centre, `v` from the sensor (`d` its length):
+    /// `d − radius_m`, the surface's normal.
+    pub fn through_centre(v: Vec2, d: f64, radius_m: f64) -> Self {
+        RoundEcho {
+            range_m: d - radius_m,
+            d_range_d_centre: v / d,
+            d_range_d_radius: -1.0,
+        }
+    }
+}
+
 /// The echo `beam`'s sonar hears from a pillar of centre `at` and radius `radius_m` (0 for a
 /// point), as for a plane (§8.10): along the ray through the centre, the surface's normal,
 /// `|at − o| − radius_m`, when the centre lies inside the cone; else along the cone's edge
@@ -179,11 +191,7 @@ pub fn round_echo(at: &Point, radius_m: f64, beam: &Beam, half: HalfCone) -> Opt
         return None;
     }
     if v.dot(&beam.direction) / d >= half.cos {
-        return Some(RoundEcho {
-            range_m: d - radius_m,
-            d_range_d_centre: v / d,
-            d_range_d_radius: -1.0,
-        });
+        return Some(RoundEcho::through_centre(v, d, radius_m));
     }
     // A point (or, in a fit's steps, a negative radius) gives no echo outside the cone.
     if radius_m.is_nan() || radius_m <= 0.0 {
@@ -227,9 +235,28 @@ pub fn explains_round(
     accuracy_pct: f64,
     half_beam_rad: f64,
 ) -> bool {
-    round_echo(at, radius_m, beam, HalfCone::new(half_beam_rad)).is_some_and(|echo| {
-        (echo.range_m - beam.range_m).abs() <= feature_tolerance_m(accuracy_pct, beam.range_m)
-    })
+    round_residual_m(
+        at,
+        radius_m,
+        beam,
+        accuracy_pct,
+        HalfCone::new(half_beam_rad),
+    )
+    .is_some()
+}
+
+/// The range of the echo `beam`'s sonar hears from the rounded reflector of centre `at` and
+/// radius `radius_m` ([`round_echo`]) less the reading's, metres, when that lies within the
+/// reading's tolerance ([`feature_tolerance_m`]): the reflector explains the reading.
+pub fn round_residual_m(
+    at: &Point,
+    radius_m: f64,
+    beam: &Beam,
+    accuracy_pct: f64,
+    half: HalfCone,
+) -> Option<f64> {
+    let residual_m = round_echo(at, radius_m, beam, half)?.range_m - beam.range_m;
+    (residual_m.abs() <= feature_tolerance_m(accuracy_pct, beam.range_m)).then_some(residual_m)
 }
 
 /// Radius within which an arc's point joins an existing feature rather than making a new one:
@@ -410,10 +437,8 @@ fn nearest_explaining(
     half_beam_rad: f64,
 ) -> Option<u32> {
     let half = HalfCone::new(half_beam_rad);
-    let tolerance_m = feature_tolerance_m(accuracy_pct, beam.range_m);
     near.filter_map(|(id, at, r)| {
-        let residual_m = (round_echo(&at, r, beam, half)?.range_m - beam.range_m).abs();
-        (residual_m <= tolerance_m).then_some((id, residual_m))
+        round_residual_m(&at, r, beam, accuracy_pct, half).map(|residual_m| (id, residual_m.abs()))
     })
     .min_by(|(ia, a), (ib, b)| a.total_cmp(b).then(ia.cmp(ib)))
     .map(|(id, _)| id)
