@@ -131,19 +131,26 @@ pub struct Linkage {
     points: Vec<Point>,
     /// Which of them a piece took (point memory's, scratch).
     used: Vec<bool>,
-    /// Which readings of the memory may be in a group big enough to fit, as the last step left
-    /// the memory (`None` until a step has run, or after [`Linkage::forget`]): those of a
-    /// group fitted then that stayed ([`Linkage::group_from_seeds`]).
-    seeds: Option<Vec<bool>>,
-    /// The memory the seeds describe: its first and last readings (with the seeds' length, a
-    /// check that it was not changed elsewhere; [`Linkage::forget`] is the rule).
-    seeded_ends: Option<(ReadingRef, ReadingRef)>,
+    /// The seeds the last step left (`None` until a step has run, or after
+    /// [`Linkage::forget`]; [`Linkage::group_from_seeds`]).
+    seeds: Option<Seeds>,
     /// Breadth-first search's queue and each reading's visit (scratch).
     queue: Vec<usize>,
     visited: Vec<bool>,
     /// Each group found from the seeds: its first reading, and where it lies in `next`
     /// (scratch).
-    found: Vec<(usize, usize, usize)>,
+    spans: Vec<(usize, usize, usize)>,
+}
+
+/// Which readings of point memory may be in a group big enough to fit, as a step left the
+/// memory: those of a group fitted then that stayed.
+#[derive(Clone, Debug)]
+struct Seeds {
+    /// One flag a reading.
+    flags: Vec<bool>,
+    /// The memory's first and last readings (with the flags' length, a check that it was not
+    /// changed elsewhere; [`Linkage::forget`] is the rule).
+    ends: Option<(ReadingRef, ReadingRef)>,
 }
 
 impl Linkage {
@@ -172,7 +179,7 @@ impl Linkage {
         // Each group's readings, one group after another (in `next`, scratch), and where.
         let found = &mut self.next;
         found.clear();
-        self.found.clear();
+        self.spans.clear();
         for start in (0..n).filter(|&i| seeds[i]) {
             if self.visited[start] {
                 continue;
@@ -194,14 +201,14 @@ impl Linkage {
                 found.truncate(from);
             } else {
                 found[from..].sort_unstable();
-                self.found.push((found[from], from, found.len()));
+                self.spans.push((found[from], from, found.len()));
             }
         }
         // In the order of each group's first index.
-        self.found.sort_unstable();
+        self.spans.sort_unstable();
         self.members.clear();
         self.group_ends.clear();
-        for &(_, from, end) in &self.found {
+        for &(_, from, end) in &self.spans {
             self.members.extend_from_slice(&found[from..end]);
             self.group_ends.push(self.members.len());
         }
@@ -325,11 +332,11 @@ pub fn memory_step(
             memory.last()?.support.reading,
         ))
     };
-    let seeded_ends = linkage.seeded_ends.take();
     let mut seeds = linkage
         .seeds
         .take()
-        .filter(|s| s.len() == memory.len() && seeded_ends == ends(memory));
+        .filter(|s| s.flags.len() == memory.len() && s.ends == ends(memory))
+        .map(|s| s.flags);
     let (mut i, mut kept) = (0, 0);
     memory.retain(|m| {
         let keep = snapshot - m.support.reading.snapshot().min(snapshot) < horizon;
@@ -472,8 +479,10 @@ pub fn memory_step(
         keep
     });
     next_seeds.truncate(kept);
-    linkage.seeds = Some(next_seeds);
-    linkage.seeded_ends = ends(memory);
+    linkage.seeds = Some(Seeds {
+        flags: next_seeds,
+        ends: ends(memory),
+    });
     trace.held_after = memory.len();
     (trace, pieces_out)
 }
