@@ -1099,6 +1099,17 @@ fn building_extended_at_first<T>(
     (h, k, thing)
 }
 
+/// Asserts that the inspector at snapshot `k` shows a label containing each of `texts` (the
+/// `what` line).
+fn assert_labels_shown(h: &Harness<'static, SonarApp>, k: usize, what: &str, texts: &[&str]) {
+    for text in texts {
+        assert!(
+            h.query_all_by_label_contains(text).next().is_some(),
+            "snapshot {k}: no {what} line with {text:?} (of {texts:?})"
+        );
+    }
+}
+
 #[test]
 fn the_inspector_explains_an_echo_placement_with_its_numbers() {
     // The first snapshot whose step moved a piece's readings to their echo points names it in
@@ -1108,13 +1119,7 @@ fn the_inspector_explains_an_echo_placement_with_its_numbers() {
         "reading(s) moved to the foot of the perpendicular, {} to",
         fit.at_cone_edge
     );
-    assert!(
-        h.query_all_by_label_contains("echo placement: ")
-            .next()
-            .is_some()
-            && h.query_all_by_label_contains(&text).next().is_some(),
-        "snapshot {k}: no echo placement line with {text:?}"
-    );
+    assert_labels_shown(&h, k, "echo placement", &["echo placement: ", &text]);
 }
 
 #[test]
@@ -1129,11 +1134,7 @@ fn the_inspector_explains_a_corner_diagonal_with_its_numbers() {
         d.walls[1],
         d.corner_angle_rad.to_degrees()
     );
-    assert!(
-        h.query_all_by_label_contains(&text).next().is_some()
-            && h.query_all_by_label_contains(&walls).next().is_some(),
-        "snapshot {k}: no corner diagonal line with {text:?} and {walls:?}"
-    );
+    assert_labels_shown(&h, k, "corner diagonal", &[&text, &walls]);
 }
 
 #[test]
@@ -1144,12 +1145,7 @@ fn the_inspector_explains_a_settled_reading_with_its_wall() {
     let text = format!("settled: sensor {} read ", s.sensor);
     let wall = format!("confirmed wall s{} predicts", s.segment);
     let kept_out = "kept out of the clusters, point memory and the free-space sweep";
-    assert!(
-        h.query_all_by_label_contains(&text).next().is_some()
-            && h.query_all_by_label_contains(&wall).next().is_some()
-            && h.query_all_by_label_contains(kept_out).next().is_some(),
-        "snapshot {k}: no settled line with {text:?}, {wall:?} and {kept_out:?}"
-    );
+    assert_labels_shown(&h, k, "settled", &[&text, &wall, kept_out]);
 }
 
 #[test]
@@ -1160,11 +1156,7 @@ fn the_inspector_explains_a_stack_with_its_readings_and_ranges() {
         building_extended_at_first(|trace| trace.memory.as_ref()?.stacked.first().copied());
     let text = format!("stack: readings {}/{}", first.snapshot(), first.sensor());
     let why = "the sonar moved along its beam, so their line has no direction";
-    assert!(
-        h.query_all_by_label_contains(&text).next().is_some()
-            && h.query_all_by_label_contains(why).next().is_some(),
-        "snapshot {k}: no stack line with {text:?} and {why:?}"
-    );
+    assert_labels_shown(&h, k, "stack", &[&text, why]);
 }
 
 #[test]
@@ -1175,9 +1167,5 @@ fn the_inspector_explains_a_joint_kept_in_point_memory() {
         building_extended_at_first(|trace| trace.memory.as_ref()?.joints.first().copied());
     let text = format!("joint: reading {}/{}", joint.snapshot(), joint.sensor());
     let why = "the next piece along the chain shares it";
-    assert!(
-        h.query_all_by_label_contains(&text).next().is_some()
-            && h.query_all_by_label_contains(why).next().is_some(),
-        "snapshot {k}: no joint line with {text:?} and {why:?}"
-    );
+    assert_labels_shown(&h, k, "joint", &[&text, why]);
 }
