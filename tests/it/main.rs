@@ -9,6 +9,7 @@ mod engine_properties;
 mod engine_rules;
 mod eval;
 mod figure;
+mod golden;
 mod import;
 mod import_fuzz;
 mod import_hostile;
