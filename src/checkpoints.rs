@@ -19,11 +19,11 @@
 //! within the budget.
 
 use crate::geometry::Pose;
-use crate::mapping::confirm::PlaneSupport;
-use crate::mapping::features::PointFeature;
-use crate::mapping::map::{Face, MemoryPoint, Segment, SupportPoint};
-use crate::mapping::point_features::Beam;
-use crate::mapping::support_list::SupportList;
+use crate::mapping::model::beam::Beam;
+use crate::mapping::model::features::PointFeature;
+use crate::mapping::model::map::{Face, MemoryPoint, Segment, SupportPoint};
+use crate::mapping::model::plane_supports::PlaneSupport;
+use crate::mapping::model::support_list::SupportList;
 use crate::mapping::MapperState;
 use crate::mapping::SegmentId;
 use rustc_hash::FxHashSet;
@@ -438,7 +438,7 @@ fn replaced<'a, T>(
 mod tests {
     use super::*;
     use crate::geometry::Point;
-    use crate::mapping::map::{EndPoint, Map, ReadingRef};
+    use crate::mapping::model::map::{EndPoint, Map, ReadingRef};
     use crate::mapping::SegmentKind;
 
     fn segment(id: u32, points: usize) -> Segment {

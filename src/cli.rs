@@ -67,13 +67,9 @@ pub struct SoakArgs {
     /// Seed of the first scene of each kind.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Only these parameter sets: paper, extended, or the paper with one extension
-    /// (paper+memory, paper+constant_depth, paper+merge_duplicates, paper+support_cap,
-    /// paper+corner_guard, paper+arc_features, paper+explain_readings, paper+free_space,
-    /// paper+confirm_segments, paper+baseline_confirm, paper+refit_unconfirms, paper+plane_gate,
-    /// paper+echo_fit, paper+corner_diagonals, paper+settled_walls, paper+memory_stacks,
-    /// paper+memory_joints, paper+min_piece_points);
-    /// default all.
+    /// Only these parameter sets: paper, extended, or the paper with one extension and what it
+    /// needs, paper+NAME for each parameter the presets set apart (paper+memory_snapshots,
+    /// paper+settled_walls, ...; an unknown name lists them all); default all.
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
 }
@@ -308,18 +304,22 @@ pub fn read_run(path: &Path) -> Result<Run> {
     crate::convert::load_any(path)
 }
 
-/// The parameters from a preset and an optional `--params` file.
+/// The parameters from a preset and an optional `--params` file; a parameter on while one it
+/// acts only with is off is warned about on stderr.
 pub fn read_params(args: &ParamArgs) -> Result<Params> {
     let base = Params::preset(args.preset.into());
-    match &args.params {
-        None => Ok(base),
-        Some(path) => {
-            let name = path.display().to_string();
-            let file: ParamsFile = parse_json(&read(path)?, &name)?;
-            base.with_file(&file)
-                .with_context(|| format!("{name}: bad parameters"))
-        }
+    let Some(path) = &args.params else {
+        return Ok(base);
+    };
+    let name = path.display().to_string();
+    let file: ParamsFile = parse_json(&read(path)?, &name)?;
+    let params = base
+        .with_file(&file)
+        .with_context(|| format!("{name}: bad parameters"))?;
+    for unmet in params.unmet_needs() {
+        eprintln!("warning: {name}: {unmet}");
     }
+    Ok(params)
 }
 
 /// Writes `text` to a temporary file next to `path` and renames it into place.
@@ -838,11 +838,11 @@ pub fn execute(command: &Command) -> Result<()> {
 
 fn soak_command(args: &SoakArgs) -> Result<()> {
     let started = std::time::Instant::now();
-    let known: Vec<&str> = sonarmap::soak::soak_variants()
-        .iter()
-        .map(|(n, _)| *n)
+    let known: Vec<String> = sonarmap::soak::soak_variants()
+        .into_iter()
+        .map(|(n, _)| n)
         .collect();
-    if let Some(bad) = args.only.iter().find(|o| !known.contains(&o.as_str())) {
+    if let Some(bad) = args.only.iter().find(|o| !known.contains(o)) {
         bail!(
             "--only {bad}: not a parameter set of the soak ({})",
             known.join(", ")
@@ -867,7 +867,7 @@ fn soak_command(args: &SoakArgs) -> Result<()> {
     struct Failure {
         scene: &'static str,
         seed: u64,
-        params: &'static str,
+        params: String,
         snapshot: usize,
         panicked: bool,
         message: String,

@@ -12,9 +12,9 @@
 //! — the parameter change itself. Otherwise it is **consequential**: an earlier difference changed
 //! what the decision saw.
 
-use crate::mapping::map::{ReadingRef, SegmentId};
-use crate::mapping::matching::SegmentEnds;
-use crate::mapping::trace::{NewSegmentTrace, Outcome, Rule, SegmentSource, StepTrace};
+use crate::mapping::model::map::{ReadingRef, SegmentId};
+use crate::mapping::model::trace::{NewSegmentTrace, Outcome, Rule, SegmentSource, StepTrace};
+use crate::mapping::paper::matching::SegmentEnds;
 use crate::mapping::{candidate_reach_m, EndPoint, Map, Mapper, Params, SegmentKind};
 use crate::run::Run;
 use serde::{Deserialize, Serialize};

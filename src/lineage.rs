@@ -3,7 +3,7 @@
 //! segment to the decision that made it without rescanning any trace. Built from the slim
 //! trace (decisions, updates, correlations), so it costs the replay little.
 
-use crate::mapping::trace::{CorrelationKind, Outcome, StepTrace};
+use crate::mapping::model::trace::{CorrelationKind, Outcome, StepTrace};
 use crate::mapping::SegmentId;
 use serde::{Deserialize, Serialize};
 

@@ -10,7 +10,7 @@
 use crate::checkpoints::{Checkpoints, DEFAULT_CHECKPOINT_BUDGET_BYTES};
 use crate::eval::{map_verdicts, segment_verdict, truth_figures};
 use crate::lineage::Lineage;
-use crate::mapping::trace::{Outcome, StepTrace};
+use crate::mapping::model::trace::{Outcome, StepTrace};
 use crate::mapping::{Map, Mapper, Params, RecordedDecision, StepFailure};
 use crate::run::{FloorPlan, Run, Snapshot};
 use serde::{Deserialize, Serialize};
@@ -74,7 +74,12 @@ impl StepSummary {
             correlations: trace
                 .correlations
                 .iter()
-                .filter(|c| !matches!(c.result, crate::mapping::trace::CorrelationKind::None))
+                .filter(|c| {
+                    !matches!(
+                        c.result,
+                        crate::mapping::model::trace::CorrelationKind::None
+                    )
+                })
                 .count() as u32,
             warnings: trace.warnings.len() as u32,
             segments: segments as u32,

@@ -8,156 +8,18 @@ use crate::mapping::{Map, Mapper, Params};
 use crate::run::Run;
 use crate::sim::{family_plan, repeat_laps, simulate, Model, SceneKind};
 
-/// The parameter sets a soak drives: both presets, then the paper with each extension flag of
-/// docs/algorithm.md §8 alone.
-pub fn soak_variants() -> Vec<(&'static str, Params)> {
-    let paper = Params::paper();
-    let extended = Params::extended();
-    vec![
-        ("paper", paper.clone()),
-        ("extended", extended.clone()),
-        (
-            "paper+memory",
-            Params {
-                memory_snapshots: extended.memory_snapshots,
-                ..paper.clone()
-            },
-        ),
-        (
-            "paper+constant_depth",
-            Params {
-                constant_depth: true,
-                ..paper.clone()
-            },
-        ),
-        (
-            "paper+merge_duplicates",
-            Params {
-                merge_duplicates: true,
-                ..paper.clone()
-            },
-        ),
-        (
-            "paper+support_cap",
-            Params {
-                support_cap: extended.support_cap,
-                ..paper.clone()
-            },
-        ),
-        (
-            "paper+corner_guard",
-            Params {
-                corner_guard: true,
-                ..paper.clone()
-            },
-        ),
-        (
-            "paper+arc_features",
-            Params {
-                arc_features: true,
-                ..paper.clone()
-            },
-        ),
-        (
-            "paper+explain_readings",
-            Params {
-                arc_features: true,
-                explain_readings: true,
-                ..paper.clone()
-            },
-        ),
-        (
-            "paper+free_space",
-            Params {
-                free_space: true,
-                ..paper.clone()
-            },
-        ),
-        (
-            "paper+confirm_segments",
-            Params {
-                confirm_segments: true,
-                ..paper.clone()
-            },
-        ),
-        (
-            // Confirms point memory's pieces: memory and confirmation come along.
-            "paper+baseline_confirm",
-            Params {
-                memory_snapshots: extended.memory_snapshots,
-                confirm_segments: true,
-                baseline_confirm: true,
-                ..paper.clone()
-            },
-        ),
-        (
-            // Only confirmed segments lose their confirmation: confirmation comes along.
-            "paper+refit_unconfirms",
-            Params {
-                confirm_segments: true,
-                refit_unconfirms: true,
-                ..paper.clone()
-            },
-        ),
-        (
-            "paper+plane_gate",
-            Params {
-                plane_gate: true,
-                ..paper.clone()
-            },
-        ),
-        (
-            "paper+echo_fit",
-            Params {
-                echo_fit: true,
-                ..paper.clone()
-            },
-        ),
-        (
-            // Diagonals are found against confirmed walls: confirmation comes along.
-            "paper+corner_diagonals",
-            Params {
-                confirm_segments: true,
-                corner_diagonals: true,
-                round_reflectors: true,
-                ..paper.clone()
-            },
-        ),
-        (
-            // Settling needs confirmed walls: confirmation comes along.
-            "paper+settled_walls",
-            Params {
-                confirm_segments: true,
-                settled_walls: true,
-                ..paper.clone()
-            },
-        ),
-        (
-            // Stacks are point memory's pieces: memory comes along.
-            "paper+memory_stacks",
-            Params {
-                memory_snapshots: extended.memory_snapshots,
-                memory_stacks: true,
-                ..paper.clone()
-            },
-        ),
-        (
-            // Joints are point memory's readings: memory comes along.
-            "paper+memory_joints",
-            Params {
-                memory_snapshots: extended.memory_snapshots,
-                memory_joints: true,
-                ..paper.clone()
-            },
-        ),
-        (
-            "paper+min_piece_points",
-            Params {
-                min_piece_points: extended.min_piece_points,
-                ..paper
-            },
-        ),
-    ]
+/// The parameter sets a soak drives: both presets, then the paper with each parameter the
+/// presets set apart at its `extended` value, with what it acts only with
+/// ([`Params::paper_with`]), named `paper+NAME`: every extension of docs/algorithm.md §8 alone.
+pub fn soak_variants() -> Vec<(String, Params)> {
+    let mut variants = vec![
+        ("paper".to_string(), Params::paper()),
+        ("extended".to_string(), Params::extended()),
+    ];
+    variants.extend(Params::extension_parameters().filter_map(|p| {
+        Params::paper_with(p.name).map(|params| (format!("paper+{}", p.name), params))
+    }));
+    variants
 }
 
 /// A run that panicked or broke an invariant.
@@ -168,7 +30,7 @@ pub struct SoakFailure {
     /// Its seed.
     pub seed: u64,
     /// The parameter set's name.
-    pub variant: &'static str,
+    pub variant: String,
     /// The snapshot whose step failed.
     pub snapshot: usize,
     /// The panic message or the broken invariant.
@@ -304,7 +166,7 @@ pub fn soak_variants_named(
                     report.failures.push(SoakFailure {
                         kind,
                         seed,
-                        variant,
+                        variant: variant.clone(),
                         snapshot,
                         message,
                         panicked,

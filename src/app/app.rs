@@ -17,7 +17,7 @@ use super::scene_cache::{SceneCache, SceneSubject};
 use super::settings::Settings;
 use super::truth::TruthView;
 use crate::diff::{DecisionDifference, RunDiff};
-use crate::mapping::matching::SegmentEnds;
+use crate::mapping::paper::matching::SegmentEnds;
 use crate::mapping::Params;
 use crate::replay::{ReplayCursor, StepView};
 use crate::run::Run;

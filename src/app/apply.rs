@@ -16,7 +16,7 @@ use super::map_view::ViewRequest;
 use crate::export::{
     svg_to_png, write_bytes_atomically, write_svg_atomically, write_text_atomically,
 };
-use crate::mapping::matching::evaluate_pair;
+use crate::mapping::paper::matching::evaluate_pair;
 use crate::mapping::{Params, ParamsFile};
 use crate::scene::figure::{figure_svg, Figure};
 use crate::scene::SceneInput;

@@ -6,7 +6,7 @@ use super::inspector::{centre_of, outcome_name, InspectCtx};
 use super::timeline::BASELINE_COLOUR;
 use super::truth::TruthView;
 use crate::diff::{DecisionDifference, DecisionSide, DifferenceKind};
-use crate::mapping::trace::DecisionTrace;
+use crate::mapping::model::trace::DecisionTrace;
 use crate::mapping::{Outcome, Rule};
 use crate::scene::SceneId;
 use egui::RichText;

@@ -3,6 +3,7 @@
 //! set with it passes [`Params::validate`]; otherwise the field keeps the text and shows why.
 
 use super::command::Command;
+use crate::mapping::model::params::{ParamKind, Parameter, PARAMETERS};
 use crate::mapping::{FitMode, Params, Preset, SplitMode};
 use crate::units::Units;
 use egui::{Color32, RichText};
@@ -11,75 +12,42 @@ use std::collections::BTreeMap;
 /// Colour of a refused value's reason.
 const ERROR: Color32 = Color32::from_rgb(0xe0, 0x40, 0x40);
 
-/// What a numeric field holds.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Kind {
-    /// A plain number (percent, count).
-    Plain,
-    /// A length, shown in the run's units.
-    Length,
-    /// An angle, shown in degrees.
-    Degrees,
-    /// A whole number.
-    Count,
+/// The numeric fields, in declaration order ([`PARAMETERS`]): every parameter but the flags
+/// and the choices, with `split_fixed` (the fixed split's length) after `t_gap`'s neighbours,
+/// where the split rule is shown.
+fn numeric_fields() -> impl Iterator<Item = &'static Parameter> {
+    PARAMETERS
+        .iter()
+        .filter(|p| !matches!(p.kind, ParamKind::Flag | ParamKind::Choice) || p.name == "split")
 }
 
-/// The numeric fields: file name, label, kind.
-const FIELDS: [(&str, &str, Kind); 12] = [
-    ("accuracy_pct", "ξ accuracy (%)", Kind::Plain),
-    ("d_max", "d_max", Kind::Length),
-    ("min_range", "min_range", Kind::Length),
-    ("t_gap", "t_gap", Kind::Length),
-    ("orientation_deg", "θ_o (°)", Kind::Degrees),
-    ("split_fixed", "split length", Kind::Length),
-    ("max_step", "max_step", Kind::Length),
-    ("memory_snapshots", "memory_snapshots", Kind::Count),
-    ("memory_gap", "memory_gap", Kind::Length),
-    ("memory_min_points", "memory_min_points", Kind::Count),
-    ("support_cap", "support_cap", Kind::Count),
-    ("min_piece_points", "min_piece_points", Kind::Count),
-];
-
-/// The value of field `name` of `p` in the units the panel shows (run units, degrees).
-fn value_of(p: &Params, name: &str, units: Units) -> f64 {
+/// The panel's label of field `name`: its name, with the paper's symbol where it has one.
+fn label_of(name: &str) -> &str {
     match name {
-        "accuracy_pct" => p.accuracy_pct,
-        "d_max" => units.from_m(p.d_max_m),
-        "min_range" => units.from_m(p.min_range_m),
-        "t_gap" => units.from_m(p.t_gap_m),
-        "orientation_deg" => p.orientation_rad.to_degrees(),
-        "split_fixed" => match p.split {
-            SplitMode::Fixed(v) => units.from_m(v),
-            SplitMode::Resolution => 0.0,
-        },
-        "max_step" => units.from_m(p.max_step_m),
-        "memory_snapshots" => p.memory_snapshots as f64,
-        "memory_gap" => units.from_m(p.memory_gap_m),
-        "memory_min_points" => p.memory_min_points as f64,
-        "support_cap" => p.support_cap as f64,
-        "min_piece_points" => p.min_piece_points as f64,
-        _ => f64::NAN,
+        "accuracy_pct" => "ξ accuracy (%)",
+        "orientation_deg" => "θ_o (°)",
+        "split" => "split length",
+        other => other,
+    }
+}
+
+/// The value of field `name` of `p` in the units the panel shows (run units, degrees); the
+/// fixed split's length for `split`.
+fn value_of(p: &Params, name: &str, units: Units) -> f64 {
+    match (name, p.split) {
+        ("split", SplitMode::Fixed(v)) => units.from_m(v),
+        ("split", SplitMode::Resolution) => 0.0,
+        _ => p.number(name, units).unwrap_or(f64::NAN),
     }
 }
 
 /// `p` with field `name` set to `v` (in the panel's units).
 fn with_value(p: &Params, name: &str, v: f64, units: Units) -> Params {
     let mut p = p.clone();
-    let count = |v: f64| if v >= 0.0 { v as usize } else { 0 };
-    match name {
-        "accuracy_pct" => p.accuracy_pct = v,
-        "d_max" => p.d_max_m = units.to_m(v),
-        "min_range" => p.min_range_m = units.to_m(v),
-        "t_gap" => p.t_gap_m = units.to_m(v),
-        "orientation_deg" => p.orientation_rad = v.to_radians(),
-        "split_fixed" => p.split = SplitMode::Fixed(units.to_m(v)),
-        "max_step" => p.max_step_m = units.to_m(v),
-        "memory_snapshots" => p.memory_snapshots = count(v),
-        "memory_gap" => p.memory_gap_m = units.to_m(v),
-        "memory_min_points" => p.memory_min_points = count(v),
-        "support_cap" => p.support_cap = count(v),
-        "min_piece_points" => p.min_piece_points = count(v),
-        _ => {}
+    if name == "split" {
+        p.split = SplitMode::Fixed(units.to_m(v));
+    } else {
+        p.set_number(name, v, units);
     }
     p
 }
@@ -95,70 +63,26 @@ pub fn preset_name(preset: Preset) -> &'static str {
 /// The fields (as the panel names them) where `params` differs from `preset`'s values.
 pub fn changed_fields(params: &Params, preset: Preset) -> Vec<&'static str> {
     let base = Params::preset(preset);
-    let mut changed: Vec<&'static str> = FIELDS
+    let differs = |name: &str| {
+        let (mut a, mut b) = (Params::paper(), Params::paper());
+        a.take_from(name, params);
+        b.take_from(name, &base);
+        a != b
+    };
+    PARAMETERS
         .iter()
-        .filter(|(name, _, _)| *name != "split_fixed")
-        .filter(|(name, _, _)| {
-            let (a, b) = (
-                value_of(params, name, Units::Metres),
-                value_of(&base, name, Units::Metres),
-            );
-            (a - b).abs() > 1e-12 * a.abs().max(b.abs()).max(1.0)
-        })
-        .map(|(name, _, _)| *name)
-        .collect();
-    let flags = [
-        ("split", params.split != base.split),
-        ("fit", params.fit != base.fit),
-    ];
-    changed.extend(flags.into_iter().filter(|(_, c)| *c).map(|(n, _)| n));
-    changed.extend(
-        SWITCHES
-            .iter()
-            .filter(|(_, get, _)| get(params) != get(&base))
-            .map(|(name, _, _)| *name),
-    );
-    changed
+        .map(|p| p.name)
+        .filter(|name| differs(name))
+        .collect()
 }
 
-/// A parameter switched on or off: its name in the panel, its getter and its setter.
-type Switch = (&'static str, fn(&Params) -> bool, fn(&mut Params, bool));
-
-/// A [`Switch`] for the `Params` field `$field`, named `$name` in the panel (the field's name
-/// unless given).
-macro_rules! switch {
-    ($field:ident) => {
-        switch!(stringify!($field), $field)
-    };
-    ($name:expr, $field:ident) => {
-        (
-            $name,
-            |p: &Params| p.$field,
-            |p: &mut Params, v: bool| p.$field = v,
-        )
-    };
+/// The flags, in declaration order: the paper's correlation, then the extensions.
+fn switches() -> impl Iterator<Item = &'static str> {
+    PARAMETERS
+        .iter()
+        .filter(|p| p.kind == ParamKind::Flag)
+        .map(|p| p.name)
 }
-
-/// The parameters switched on or off, in the panel's order.
-const SWITCHES: &[Switch] = &[
-    switch!("correlation", correlate),
-    switch!(constant_depth),
-    switch!(merge_duplicates),
-    switch!(corner_guard),
-    switch!(arc_features),
-    switch!(explain_readings),
-    switch!(free_space),
-    switch!(confirm_segments),
-    switch!(baseline_confirm),
-    switch!(refit_unconfirms),
-    switch!(plane_gate),
-    switch!(echo_fit),
-    switch!(corner_diagonals),
-    switch!(round_reflectors),
-    switch!(settled_walls),
-    switch!(memory_stacks),
-    switch!(memory_joints),
-];
 
 /// Colour of a field's name when its value differs from the preset's.
 const CHANGED: Color32 = Color32::from_rgb(0xe0, 0x90, 0x30);
@@ -196,7 +120,7 @@ pub fn format_number(v: f64) -> String {
 }
 
 /// Parses a field's text; the reason when it cannot be used.
-fn parse(text: &str, kind: Kind) -> Result<f64, String> {
+fn parse(text: &str, kind: ParamKind) -> Result<f64, String> {
     let v: f64 = text
         .trim()
         .parse()
@@ -204,7 +128,7 @@ fn parse(text: &str, kind: Kind) -> Result<f64, String> {
     if !v.is_finite() {
         return Err("must be a finite number".to_owned());
     }
-    if kind == Kind::Count && (v < 0.0 || v.fract() != 0.0) {
+    if kind == ParamKind::Count && (v < 0.0 || v.fract() != 0.0) {
         return Err("must be a whole number of at least 0".to_owned());
     }
     Ok(v)
@@ -234,7 +158,7 @@ impl ParamsPanelState {
             return;
         }
         self.errors.clear();
-        for (name, _, _) in FIELDS {
+        for name in numeric_fields().map(|p| p.name) {
             let v = value_of(params, name, units);
             self.texts.insert(name, format_number(v));
         }
@@ -348,12 +272,13 @@ pub fn params_panel_ui(
     info: &ParamsPanelInfo,
 ) -> Vec<Command> {
     let mut commands = Vec::new();
-    let params = info.params;
-    let units = info.units;
-    state.sync(params, units);
-    let paper = Params::preset(info.preset);
-    let changed = changed_fields(params, info.preset);
-    let is_changed = |name: &str| changed.contains(&name);
+    state.sync(info.params, info.units);
+    let rows = Rows {
+        params: info.params,
+        preset: Params::preset(info.preset),
+        units: info.units,
+        changed: changed_fields(info.params, info.preset),
+    };
     if let Some(f) = info.rerun_progress {
         ui.add(
             egui::ProgressBar::new(f)
@@ -361,6 +286,55 @@ pub fn params_panel_ui(
                 .text(format!("re-running… {:.0}%", f * 100.0)),
         );
     }
+    preset_buttons_ui(ui, info, &rows.preset, &mut commands);
+    baseline_ui(ui, info, &mut commands);
+    ui.separator();
+    if !rows.changed.is_empty() {
+        ui.label(
+            RichText::new(format!(
+                "{} ≠ {}: the marked fields",
+                rows.changed.len(),
+                preset_name(info.preset)
+            ))
+            .color(CHANGED),
+        );
+    }
+    for unmet in info.params.unmet_needs() {
+        ui.add(egui::Label::new(RichText::new(format!("⚠ {unmet}")).color(CHANGED)).wrap());
+    }
+    egui::Grid::new("params_grid")
+        .num_columns(3)
+        .striped(true)
+        .show(ui, |ui| {
+            ui.label(RichText::new("parameter").weak());
+            ui.label(RichText::new(format!("value ({})", info.units.symbol())).weak());
+            ui.label(RichText::new(format!("≠ {}", preset_name(info.preset))).weak())
+                .on_hover_text("the preset's value, where a field differs from it");
+            ui.end_row();
+            for field in numeric_fields() {
+                if field.name == "split" {
+                    rows.split_ui(ui, &mut commands);
+                    if !matches!(rows.params.split, SplitMode::Fixed(_)) {
+                        continue;
+                    }
+                }
+                rows.number_ui(ui, state, field, &mut commands);
+            }
+            rows.fit_ui(ui, &mut commands);
+            for name in switches() {
+                rows.switch_ui(ui, name, &mut commands);
+            }
+        });
+    commands
+}
+
+/// The preset buttons, loading and saving, and the reset to the preset.
+fn preset_buttons_ui(
+    ui: &mut egui::Ui,
+    info: &ParamsPanelInfo,
+    preset: &Params,
+    commands: &mut Vec<Command>,
+) {
     ui.horizontal_wrapped(|ui| {
         if ui
             .button("Paper")
@@ -385,7 +359,7 @@ pub fn params_panel_ui(
     });
     if ui
         .add_enabled(
-            *params != paper,
+            info.params != preset,
             egui::Button::new(match info.preset {
                 Preset::Paper => "Reset to the paper's defaults".to_owned(),
                 other => format!("Reset to the {} values", preset_name(other)),
@@ -395,150 +369,145 @@ pub fn params_panel_ui(
     {
         commands.push(Command::SetPreset(info.preset));
     }
-    baseline_ui(ui, info, &mut commands);
-    ui.separator();
-    if !changed.is_empty() {
-        ui.label(
-            RichText::new(format!(
-                "{} ≠ {}: the marked fields",
-                changed.len(),
-                preset_name(info.preset)
-            ))
-            .color(CHANGED),
-        );
+}
+
+/// What the grid's rows share: the parameters, the preset's, the units, the changed fields.
+struct Rows<'a> {
+    params: &'a Params,
+    preset: Params,
+    units: Units,
+    changed: Vec<&'static str>,
+}
+
+impl Rows<'_> {
+    fn is_changed(&self, name: &str) -> bool {
+        self.changed.contains(&name)
     }
-    let submit = |candidate: Params, commands: &mut Vec<Command>| -> Result<(), String> {
+
+    /// Sends `candidate` when it is valid and new; the reason when it is refused.
+    fn submit(&self, candidate: Params, commands: &mut Vec<Command>) -> Result<(), String> {
         candidate.validate().map_err(|e| e.to_string())?;
-        if candidate != *params {
+        if candidate != *self.params {
             commands.push(Command::SetParams(candidate));
         }
         Ok(())
-    };
-    egui::Grid::new("params_grid")
-        .num_columns(3)
-        .striped(true)
-        .show(ui, |ui| {
-            ui.label(RichText::new("parameter").weak());
-            ui.label(RichText::new(format!("value ({})", units.symbol())).weak());
-            ui.label(RichText::new(format!("≠ {}", preset_name(info.preset))).weak())
-                .on_hover_text("the preset's value, where a field differs from it");
-            ui.end_row();
-            for (name, label, kind) in FIELDS {
-                if name == "split_fixed" {
-                    // The split mode, then its length when fixed.
-                    field_label(ui, "split", is_changed("split"));
-                    let fixed = matches!(params.split, SplitMode::Fixed(_));
-                    egui::ComboBox::from_id_salt("split_mode")
-                        .width(86.0)
-                        .selected_text(if fixed { "fixed" } else { "resolution" })
-                        .show_ui(ui, |ui| {
-                            if ui.selectable_label(!fixed, "resolution").clicked() && fixed {
-                                let mut p = params.clone();
-                                p.split = SplitMode::Resolution;
-                                let _ = submit(p, &mut commands);
-                            }
-                            if ui.selectable_label(fixed, "fixed").clicked() && !fixed {
-                                let mut p = params.clone();
-                                p.split = SplitMode::Fixed(crate::units::inches(2.0));
-                                let _ = submit(p, &mut commands);
-                            }
-                        });
-                    preset_value_label(
-                        ui,
-                        match paper.split {
-                            SplitMode::Fixed(_) => "fixed",
-                            SplitMode::Resolution => "resolution",
-                        },
-                        is_changed("split"),
-                    );
-                    ui.end_row();
-                    if !matches!(params.split, SplitMode::Fixed(_)) {
-                        continue;
-                    }
+    }
+
+    /// The split rule's row (its length follows as a numeric row when fixed).
+    fn split_ui(&self, ui: &mut egui::Ui, commands: &mut Vec<Command>) {
+        field_label(ui, "split", self.is_changed("split"));
+        let fixed = matches!(self.params.split, SplitMode::Fixed(_));
+        egui::ComboBox::from_id_salt("split_mode")
+            .width(86.0)
+            .selected_text(if fixed { "fixed" } else { "resolution" })
+            .show_ui(ui, |ui| {
+                if ui.selectable_label(!fixed, "resolution").clicked() && fixed {
+                    let mut p = self.params.clone();
+                    p.split = SplitMode::Resolution;
+                    let _ = self.submit(p, commands);
                 }
-                let label_response = field_label(ui, label, is_changed(name));
-                let text = state.texts.entry(name).or_default();
-                let edit = ui.add(
-                    egui::TextEdit::singleline(text)
-                        .desired_width(60.0)
-                        .id_salt(("param", name)),
-                );
-                let edit = edit.labelled_by(label_response.id);
-                let paper_text = match kind {
-                    Kind::Length => format!(
-                        "{} {}",
-                        format_number(value_of(&paper, name, units)),
-                        units.symbol()
-                    ),
-                    _ => format_number(value_of(&paper, name, units)),
-                };
-                preset_value_label(ui, &paper_text, is_changed(name));
-                ui.end_row();
-                if edit.lost_focus() {
-                    let text = text.clone();
-                    let result = parse(&text, kind).and_then(|v| {
-                        if (v - value_of(params, name, units)).abs() <= 1e-12 * v.abs().max(1.0) {
-                            Ok(())
-                        } else {
-                            submit(with_value(params, name, v, units), &mut commands)
-                        }
-                    });
-                    match result {
-                        Ok(()) => {
-                            state.errors.remove(name);
-                        }
-                        Err(e) => {
-                            state.errors.insert(name, e);
-                        }
-                    }
+                if ui.selectable_label(fixed, "fixed").clicked() && !fixed {
+                    let mut p = self.params.clone();
+                    p.split = SplitMode::Fixed(crate::units::inches(2.0));
+                    let _ = self.submit(p, commands);
                 }
-                if let Some(e) = state.errors.get(name) {
-                    ui.label("");
-                    ui.add(
-                        egui::Label::new(RichText::new(format!("refused: {e}")).color(ERROR))
-                            .wrap(),
-                    );
-                    ui.label("");
-                    ui.end_row();
+            });
+        let preset_text = match self.preset.split {
+            SplitMode::Fixed(_) => "fixed",
+            SplitMode::Resolution => "resolution",
+        };
+        preset_value_label(ui, preset_text, self.is_changed("split"));
+        ui.end_row();
+    }
+
+    /// A numeric field's row, and the reason below it when its text was refused.
+    fn number_ui(
+        &self,
+        ui: &mut egui::Ui,
+        state: &mut ParamsPanelState,
+        field: &'static Parameter,
+        commands: &mut Vec<Command>,
+    ) {
+        let (name, units) = (field.name, self.units);
+        let label_response = field_label(ui, label_of(name), self.is_changed(name));
+        let text = state.texts.entry(name).or_default();
+        let edit = ui.add(
+            egui::TextEdit::singleline(text)
+                .desired_width(60.0)
+                .id_salt(("param", name)),
+        );
+        let edit = edit.labelled_by(label_response.id);
+        let preset_number = format_number(value_of(&self.preset, name, units));
+        let preset_text = match field.kind {
+            ParamKind::Length => format!("{preset_number} {}", units.symbol()),
+            _ => preset_number,
+        };
+        preset_value_label(ui, &preset_text, self.is_changed(name));
+        ui.end_row();
+        if edit.lost_focus() {
+            let text = text.clone();
+            let result = parse(&text, field.kind).and_then(|v| {
+                let now = value_of(self.params, name, units);
+                if (v - now).abs() <= 1e-12 * v.abs().max(1.0) {
+                    Ok(())
+                } else {
+                    self.submit(with_value(self.params, name, v, units), commands)
                 }
-            }
-            field_label(ui, "fit", is_changed("fit"));
-            let fit_name = |mode: FitMode| match mode {
-                FitMode::EndPoints => "end points",
-                FitMode::TotalLeastSquares => "least squares",
+            });
+            match result {
+                Ok(()) => state.errors.remove(name),
+                Err(e) => state.errors.insert(name, e),
             };
-            egui::ComboBox::from_id_salt("fit_mode")
-                .width(86.0)
-                .selected_text(fit_name(params.fit))
-                .show_ui(ui, |ui| {
-                    for mode in [FitMode::EndPoints, FitMode::TotalLeastSquares] {
-                        if ui
-                            .selectable_label(params.fit == mode, fit_name(mode))
-                            .clicked()
-                            && params.fit != mode
-                        {
-                            let mut p = params.clone();
-                            p.fit = mode;
-                            let _ = submit(p, &mut commands);
-                        }
-                    }
-                });
-            preset_value_label(ui, fit_name(paper.fit), is_changed("fit"));
+        }
+        if let Some(e) = state.errors.get(name) {
+            ui.label("");
+            ui.add(egui::Label::new(RichText::new(format!("refused: {e}")).color(ERROR)).wrap());
+            ui.label("");
             ui.end_row();
-            for &(name, get, set) in SWITCHES {
-                field_label(ui, name, is_changed(name));
-                let mut on = get(params);
-                if ui.checkbox(&mut on, "").changed() {
-                    let mut p = params.clone();
-                    set(&mut p, on);
-                    let _ = submit(p, &mut commands);
+        }
+    }
+
+    /// The fit's row.
+    fn fit_ui(&self, ui: &mut egui::Ui, commands: &mut Vec<Command>) {
+        field_label(ui, "fit", self.is_changed("fit"));
+        let fit_name = |mode: FitMode| match mode {
+            FitMode::EndPoints => "end points",
+            FitMode::TotalLeastSquares => "least squares",
+        };
+        egui::ComboBox::from_id_salt("fit_mode")
+            .width(86.0)
+            .selected_text(fit_name(self.params.fit))
+            .show_ui(ui, |ui| {
+                for mode in [FitMode::EndPoints, FitMode::TotalLeastSquares] {
+                    let selected = self.params.fit == mode;
+                    if ui.selectable_label(selected, fit_name(mode)).clicked() && !selected {
+                        let mut p = self.params.clone();
+                        p.fit = mode;
+                        let _ = self.submit(p, commands);
+                    }
                 }
-                let preset_text = if get(&paper) { "on" } else { "off" };
-                preset_value_label(ui, preset_text, is_changed(name));
-                ui.end_row();
-            }
-        });
-    commands
+            });
+        preset_value_label(ui, fit_name(self.preset.fit), self.is_changed("fit"));
+        ui.end_row();
+    }
+
+    /// A flag's row.
+    fn switch_ui(&self, ui: &mut egui::Ui, name: &'static str, commands: &mut Vec<Command>) {
+        field_label(ui, name, self.is_changed(name));
+        let mut on = self.params.flag(name) == Some(true);
+        if ui.checkbox(&mut on, "").changed() {
+            let mut p = self.params.clone();
+            p.set_flag(name, on);
+            let _ = self.submit(p, commands);
+        }
+        let preset_on = self.preset.flag(name) == Some(true);
+        preset_value_label(
+            ui,
+            if preset_on { "on" } else { "off" },
+            self.is_changed(name),
+        );
+        ui.end_row();
+    }
 }
 
 #[cfg(test)]
@@ -559,14 +528,19 @@ mod tests {
         for preset in [Preset::Paper, Preset::Extended] {
             let base = Params::preset(preset);
             assert!(changed_fields(&base, preset).is_empty());
-            for &(name, get, set) in SWITCHES {
+            for name in switches() {
                 let mut p = base.clone();
-                set(&mut p, !get(&base));
+                p.set_flag(name, base.flag(name) != Some(true));
                 assert_eq!(changed_fields(&p, preset), vec![name], "{name}");
             }
         }
-        assert!(SWITCHES.iter().any(|(name, ..)| *name == "memory_stacks"));
-        assert!(SWITCHES.iter().any(|(name, ..)| *name == "memory_joints"));
+        assert!(switches().any(|name| name == "memory_stacks"));
+        assert!(switches().any(|name| name == "memory_joints"));
+        assert_eq!(
+            switches().count(),
+            17,
+            "correlate and the 16 extension flags"
+        );
         // The counts too: `min_piece_points` was missing from the panel.
         let p = Params {
             min_piece_points: 5,
@@ -581,8 +555,8 @@ mod tests {
     #[test]
     fn fields_round_trip_through_the_panel_units() {
         let p = Params::paper();
-        for (name, _, _) in FIELDS {
-            if name == "split_fixed" {
+        for name in numeric_fields().map(|p| p.name) {
+            if name == "split" {
                 continue;
             }
             let v = value_of(&p, name, Units::Centimetres);

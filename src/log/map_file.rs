@@ -2,7 +2,7 @@
 //! length in the log's units.
 
 use super::save::tidy;
-use crate::mapping::map::FeatureKind;
+use crate::mapping::model::map::FeatureKind;
 use crate::mapping::{Map, SegmentKind};
 use crate::units::Units;
 use serde::{Deserialize, Serialize};

@@ -3,8 +3,8 @@
 //! with it. The causes are fixed where they are found; this only keeps a bug we have not found
 //! from ending a session.
 
-use super::mapper::Mapper;
-use super::trace::StepTrace;
+use crate::mapping::mapper::Mapper;
+use crate::mapping::model::trace::StepTrace;
 use crate::run::Snapshot;
 use std::cell::{Cell, RefCell};
 use std::panic::{catch_unwind, AssertUnwindSafe, PanicHookInfo};

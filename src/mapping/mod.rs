@@ -1,39 +1,26 @@
-//! The paper's mapping algorithm (docs/algorithm.md §1–§8), one rule a file.
+//! The mapping engine (docs/algorithm.md), in three parts that a newcomer can tell apart:
+//! - [`model`]: the map, its ids and support lists, the spatial index, the trace types and the
+//!   parameters; plain data that knows no rule;
+//! - [`paper`]: the paper's rules, §1 readings to §6 correlation, one rule a file;
+//! - [`ext`]: the extensions of docs/algorithm.md §8, each its own flag, listed in [`ext::ALL`].
+//!
+//! [`Mapper`] (`mapper.rs`) runs one snapshot as a list of stages: the paper's, with the
+//! extensions' hooks between them. `model` and `paper` import nothing from `ext` (checked by a
+//! test).
 
-mod cell_table;
-pub mod cluster;
-pub mod confirm;
-pub mod corner_diagonals;
-pub mod correlate;
-pub mod echo_fit;
-pub mod extensions;
-pub mod fast_path;
-pub mod features;
-pub mod fit;
-pub mod flip;
-pub mod free_space;
+pub mod ext;
 mod guard;
-pub mod id_list;
-pub mod ids;
-pub mod index;
-pub mod map;
 mod mapper;
-pub mod matching;
-pub mod merge;
-pub mod params;
-pub mod plane_supports;
-pub mod point_features;
-pub mod readings;
-pub mod round_reflectors;
-pub mod settled_walls;
-pub mod support;
-pub mod support_list;
-pub mod trace;
-pub mod update;
+pub mod model;
+pub mod paper;
+mod recorded;
+mod step;
 
 pub use guard::{install_quiet_step_hook, note_guarded_panic, StepFailure};
-pub use map::{EndPoint, Map, Segment, SegmentId, SegmentKind, SupportPoint};
-pub use mapper::{candidate_reach_m, Mapper, MapperState, RecordedDecision};
-pub use params::EXTENDED_SUPPORT_CAP;
-pub use params::{FitMode, Params, ParamsError, ParamsFile, Preset, SplitMode};
-pub use trace::{Outcome, Rule, StepTrace};
+pub use mapper::{Mapper, MapperState};
+pub use model::map::{EndPoint, Map, Segment, SegmentId, SegmentKind, SupportPoint};
+pub use model::params::EXTENDED_SUPPORT_CAP;
+pub use model::params::{FitMode, Params, ParamsError, ParamsFile, Preset, SplitMode};
+pub use model::trace::{Outcome, Rule, StepTrace};
+pub use paper::candidates::candidate_reach_m;
+pub use recorded::RecordedDecision;

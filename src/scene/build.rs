@@ -9,8 +9,8 @@ use super::style::{decision_marker, palette, Role};
 use super::{format_length, Scene, ViewRect};
 use crate::eval::Verdict;
 use crate::geometry::{lerp, projection_param, unit, Point, Pose};
-use crate::mapping::map::FeatureKind;
-use crate::mapping::trace::{CorrelationKind, ReadingTrace};
+use crate::mapping::model::map::FeatureKind;
+use crate::mapping::model::trace::{CorrelationKind, ReadingTrace};
 use crate::mapping::{Map, Outcome, SegmentId, SegmentKind, StepTrace};
 use crate::run::{Run, Snapshot};
 use crate::units::inches;
@@ -197,7 +197,7 @@ struct MapLine {
 }
 
 impl MapLine {
-    /// Length, metres (as [`crate::mapping::map::Segment::length`]).
+    /// Length, metres (as [`crate::mapping::model::map::Segment::length`]).
     fn length(&self) -> f64 {
         (self.b - self.a).norm()
     }

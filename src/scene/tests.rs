@@ -2,7 +2,7 @@
 
 use super::*;
 use crate::geometry::{Point, Pose};
-use crate::mapping::trace::*;
+use crate::mapping::model::trace::*;
 use crate::mapping::{EndPoint, Map, Segment, SegmentKind, StepTrace};
 use crate::run::{FloorPlan, Run, Snapshot, Wall};
 use crate::sonar::{SensorLayout, SensorSpec};

@@ -171,9 +171,9 @@ fn no_connecting_segment_outlives_a_segment_it_joined_on_a_lap_run() {
 mod fit_properties {
     use proptest::prelude::*;
     use sonarmap::geometry::{Point, Vec2};
-    use sonarmap::mapping::echo_fit::{fit_echo_line, place_echoes};
-    use sonarmap::mapping::point_features::Beam;
-    use sonarmap::mapping::support::{ReadingRef, SupportPoint};
+    use sonarmap::mapping::ext::echo_fit::{fit_echo_line, place_echoes};
+    use sonarmap::mapping::model::beam::Beam;
+    use sonarmap::mapping::model::support::{ReadingRef, SupportPoint};
 
     const HALF: f64 = 12.5 * std::f64::consts::PI / 180.0;
 
@@ -239,7 +239,7 @@ fn a_new_face_across_a_corner_leaves_before_the_step_correlates_or_confirms_it()
         let made: Vec<_> = trace
             .decisions
             .iter()
-            .filter(|d| d.outcome == sonarmap::mapping::trace::Outcome::NewFace)
+            .filter(|d| d.outcome == sonarmap::mapping::model::trace::Outcome::NewFace)
             .filter_map(|d| d.result)
             .collect();
         for d in trace.diagonals.iter().filter(|d| made.contains(&d.segment)) {

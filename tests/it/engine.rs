@@ -2,7 +2,7 @@
 //! an axis ray-cast (the beam simulator is tested elsewhere).
 
 use sonarmap::geometry::{distance_to_segment, Point, Pose};
-use sonarmap::mapping::trace::{CorrelationKind, EndRole, Outcome};
+use sonarmap::mapping::model::trace::{CorrelationKind, EndRole, Outcome};
 use sonarmap::mapping::{Mapper, Params, SegmentKind, StepTrace};
 use sonarmap::run::Snapshot;
 use sonarmap::sonar::{SensorLayout, SensorSpec};
@@ -362,7 +362,7 @@ fn max_step_warning_when_the_robot_jumps() {
     assert!(traces[0].warnings.is_empty());
     assert!(matches!(
         traces[1].warnings[0],
-        sonarmap::mapping::trace::Warning::MaxStep { .. }
+        sonarmap::mapping::model::trace::Warning::MaxStep { .. }
     ));
 }
 

@@ -207,7 +207,7 @@ proptest! {
 /// corridor with three doors, in `extended` and in `paper` with merging).
 #[test]
 fn a_new_face_whose_first_segment_was_merged_away_in_the_same_snapshot_keeps_its_face() {
-    use sonarmap::mapping::trace::{Outcome, SegmentSource};
+    use sonarmap::mapping::model::trace::{Outcome, SegmentSource};
     let bytes = include_bytes!("../fixtures/corridor_three_doors.plan.json");
     let plan = sonarmap::sim::load_plan(bytes, "corridor_three_doors.plan.json").unwrap();
     let lap = sonarmap::sim::simulate(&plan, sonarmap::sim::Model::Specular, 20);
@@ -220,7 +220,7 @@ fn a_new_face_whose_first_segment_was_merged_away_in_the_same_snapshot_keeps_its
     // keep most of this corridor's readings out of new faces, and with the paper's fit (§8.13
     // places the pieces elsewhere, and the scene no longer arises).
     let bounds = Params {
-        fit: sonarmap::mapping::params::FitMode::EndPoints,
+        fit: sonarmap::mapping::model::params::FitMode::EndPoints,
         arc_features: false,
         explain_readings: false,
         free_space: false,

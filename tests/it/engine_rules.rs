@@ -3,8 +3,8 @@
 //! `(x_k, D_k)`, so every point, range and confidence is chosen.
 
 use sonarmap::geometry::{Point, Pose};
-use sonarmap::mapping::map::SegmentKind;
-use sonarmap::mapping::trace::{Outcome, SegmentSource};
+use sonarmap::mapping::model::map::SegmentKind;
+use sonarmap::mapping::model::trace::{Outcome, SegmentSource};
 use sonarmap::mapping::{Mapper, Params};
 use sonarmap::run::Snapshot;
 use sonarmap::sonar::{SensorLayout, SensorMount, SensorSpec};

@@ -2,6 +2,7 @@
 
 mod app;
 mod app_views;
+
 mod cli;
 mod echo;
 mod engine;

@@ -4,8 +4,8 @@
 
 use resvg::tiny_skia::Pixmap;
 use sonarmap::geometry::{distance_to_line, lerp, projection_param, Point, Pose};
-use sonarmap::mapping::map::ReadingRef;
-use sonarmap::mapping::trace::*;
+use sonarmap::mapping::model::map::ReadingRef;
+use sonarmap::mapping::model::trace::*;
 use sonarmap::mapping::{EndPoint, Map, Segment, SegmentKind, StepTrace, SupportPoint};
 use sonarmap::run::{FloorPlan, Run, Snapshot, Wall};
 use sonarmap::scene::svg::{default_view, page_transform, to_svg};

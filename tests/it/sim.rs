@@ -102,8 +102,11 @@ fn a_pillar_just_outside_a_beam_echoes_from_its_edge_and_the_fit_hears_it_there(
     // surface at 12–25° of incidence, within the 35°). The simulator's specular echo is the one
     // the engine predicts (docs/algorithm.md §8.14): along the edge when the centre is outside.
     use sonarmap::geometry::{unit, Vec2};
-    use sonarmap::mapping::echo_fit::{fit_round_reflector, HalfCone};
-    use sonarmap::mapping::point_features::{explains_round, round_echo, Beam};
+    use sonarmap::mapping::ext::beam_geometry::round_echo;
+    use sonarmap::mapping::ext::beam_geometry::HalfCone;
+    use sonarmap::mapping::ext::echo_fit::fit_round_reflector;
+    use sonarmap::mapping::ext::point_features::explains_round;
+    use sonarmap::mapping::model::beam::Beam;
     let centre = Point::new(2.0, 3.0);
     let plan = FloorPlan {
         walls: vec![],
@@ -271,8 +274,9 @@ mod pillar_echo_properties {
     use super::*;
     use proptest::prelude::*;
     use sonarmap::geometry::{unit, Vec2};
-    use sonarmap::mapping::echo_fit::HalfCone;
-    use sonarmap::mapping::point_features::{round_echo, Beam};
+    use sonarmap::mapping::ext::beam_geometry::round_echo;
+    use sonarmap::mapping::ext::beam_geometry::HalfCone;
+    use sonarmap::mapping::model::beam::Beam;
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(400))]

@@ -2,8 +2,8 @@
 //! of "compare with…" ([`CompareState`]).
 
 use crate::geometry::Point;
-use crate::mapping::map::EndPoint;
-use crate::mapping::trace::PairEvaluation;
+use crate::mapping::model::map::EndPoint;
+use crate::mapping::model::trace::PairEvaluation;
 use crate::mapping::{Params, SegmentId};
 use crate::replay::StepView;
 use crate::run::Run;

@@ -3,7 +3,7 @@
 
 use super::context::InspectCtx;
 use super::widgets::{heading, kv, FAIL, PASS};
-use crate::mapping::trace::CorrelationKind;
+use crate::mapping::model::trace::CorrelationKind;
 use egui::RichText;
 
 pub(super) fn correlation_ui(ui: &mut egui::Ui, ctx: &InspectCtx, c: usize) {

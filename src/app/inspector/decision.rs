@@ -6,9 +6,9 @@ use super::names::{outcome_name, rule_name};
 use super::widgets::{coloured, header_row, heading, kv, test_cells, FAIL, PASS};
 use crate::app::command::Command;
 use crate::app::timeline::BASELINE_COLOUR;
-use crate::mapping::map::ReadingRef;
-use crate::mapping::matching::{evaluate_pair, SegmentEnds};
-use crate::mapping::trace::{CandidateTrace, DecisionTrace, PairEvaluation};
+use crate::mapping::model::map::ReadingRef;
+use crate::mapping::model::trace::{CandidateTrace, DecisionTrace, PairEvaluation};
+use crate::mapping::paper::matching::{evaluate_pair, SegmentEnds};
 use crate::mapping::{Params, SegmentId, StepTrace};
 use crate::replay::StepView;
 use crate::scene::SceneId;
@@ -62,7 +62,9 @@ pub(super) fn decision_ui(
 /// failed, and the t_gap that would break or join the new segment's cluster
 /// (`mapping::flip`): this test alone, the map as it is.
 fn flip_points_ui(ui: &mut egui::Ui, ctx: &InspectCtx, d: &DecisionTrace) {
-    use crate::mapping::flip::{cluster_gap_flips, colinearity_flip_pct, orientation_flip_rad};
+    use crate::mapping::paper::flip::{
+        cluster_gap_flips, colinearity_flip_pct, orientation_flip_rad,
+    };
     heading(ui, "Flip points (this test alone, the map as it is)");
     let deciding = d
         .mpc_stage

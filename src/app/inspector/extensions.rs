@@ -6,10 +6,10 @@
 
 use super::context::InspectCtx;
 use super::widgets::heading;
-use crate::mapping::corner_diagonals::CORNER_WALL_REACH_M;
-use crate::mapping::extensions::range_span_m;
-use crate::mapping::map::ReadingRef;
-use crate::mapping::point_features::feature_tolerance_m;
+use crate::mapping::ext::beam_geometry::feature_tolerance_m;
+use crate::mapping::ext::corner_diagonals::CORNER_WALL_REACH_M;
+use crate::mapping::ext::point_memory::range_span_m;
+use crate::mapping::model::map::ReadingRef;
 use egui::RichText;
 
 /// One line for each stack point memory let go this step (§8.15).

@@ -1,7 +1,7 @@
 //! Human names of the trace's enums and of scene ids, shared by the inspector's pages, the
 //! decision list and the app's messages.
 
-use crate::mapping::trace::DiscardReason;
+use crate::mapping::model::trace::DiscardReason;
 use crate::mapping::{Outcome, Rule};
 use crate::scene::SceneId;
 

@@ -33,12 +33,12 @@ pub(super) fn floor_plan_ui(ui: &mut egui::Ui) {
 fn warnings_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
     for w in &ctx.view.trace.warnings {
         let text = match w {
-            crate::mapping::trace::Warning::MaxStep { step_m, max_step_m } => format!(
+            crate::mapping::model::trace::Warning::MaxStep { step_m, max_step_m } => format!(
                 "warning: the robot moved {} since the last snapshot (max_step {})",
                 ctx.len(*step_m),
                 ctx.len(*max_step_m)
             ),
-            crate::mapping::trace::Warning::RangeCount { given, expected } => {
+            crate::mapping::model::trace::Warning::RangeCount { given, expected } => {
                 format!("warning: {given} ranges for {expected} sensors")
             }
         };

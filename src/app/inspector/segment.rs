@@ -6,7 +6,7 @@ use super::decision::decision_ui;
 use super::names::outcome_name;
 use super::widgets::{coloured, header_row, heading, kv};
 use crate::app::command::Command;
-use crate::mapping::trace::{SegmentSource, SplitTrace};
+use crate::mapping::model::trace::{SegmentSource, SplitTrace};
 use crate::scene::SceneId;
 use egui::RichText;
 

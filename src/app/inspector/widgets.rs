@@ -1,6 +1,6 @@
 //! The inspector's small shared widgets: pass/fail colours and cells, headings, key-value rows.
 
-use crate::mapping::trace::Test;
+use crate::mapping::model::trace::Test;
 use egui::{Color32, RichText};
 
 /// Colour of a passed test.

@@ -1,0 +1,583 @@
+//! Confirmation of segments (docs/algorithm.md §8.7; beyond the paper).
+//!
+//! A plane returns a sonar's echo from the foot of the perpendicular from the sensor (Kleeman
+//! and Kuc's plane model): a reading supports a segment *as a plane* when the perpendicular
+//! distance from its sensor to the segment's line is its range within the tolerance
+//! (`ξ·D/100`, at least 1 in), the foot lies on the segment (10 % of its length of slack at
+//! either end), and the foot lies within half the beam width of the axis. A corner's arc fitted
+//! as a slanted line, or a wall seen obliquely and placed short of it, has no such reading from
+//! two poses. A segment is **confirmed** once readings of two distinct snapshots support it as
+//! a plane; until then it is tentative (drawn dimmed; `eval` reports both sets).
+
+use crate::geometry::{distance_to_line, line_angle_between, projection_param, Point, Vec2};
+use crate::mapping::ext::beam_geometry::echo_ray;
+use crate::mapping::ext::beam_geometry::feature_tolerance_m;
+use crate::mapping::ext::beam_geometry::incidence_cosine;
+use crate::mapping::ext::beam_geometry::HalfCone;
+use crate::mapping::model::beam::Beam;
+use crate::mapping::model::ext_trace::BaselinePair;
+use crate::mapping::model::ext_trace::PlaneSupportTrace;
+use crate::mapping::model::ext_trace::UnconfirmedTrace;
+use crate::mapping::model::map::EndPoint;
+use crate::mapping::model::map::{Map, SegmentId};
+use crate::mapping::model::plane_supports::CONFIRMING_SNAPSHOTS;
+use crate::mapping::model::support::ReadingRef;
+
+/// How far apart along a segment the sensors of two readings of one step must have stood for
+/// them to confirm it (docs/algorithm.md §8.7, baseline confirmation): 8 in, the baseline
+/// that confirms a point feature (§8.5).
+pub const CONFIRMING_BASELINE_M: f64 = 8.0 * 0.0254;
+
+/// How far from a segment's direction the displacement between those two sensors may turn
+/// (docs/algorithm.md §8.7, baseline confirmation): 10°, across the segment at most
+/// `tan 10° = 0.18` of the way along it (measured: 7.5° to 12.5° give the same suite figures).
+pub const CONFIRMING_BASELINE_TURN_RAD: f64 = 10.0 * std::f64::consts::PI / 180.0;
+
+/// Whether `beam` supports the segment `a`–`b` as a plane; returns the perpendicular distance.
+///
+/// ```
+/// use sonarmap::geometry::{Point, Vec2};
+/// use sonarmap::mapping::ext::confirm::supports_as_plane;
+/// use sonarmap::mapping::model::beam::Beam;
+/// // A sensor at the origin looking along +y reads 2.03 m; a wall from (-1, 2) to (1, 2):
+/// // foot (0, 2) on the axis, |2 − 2.03| = 0.03 ≤ 0.0609 (3 % of 2.03): a plane echo.
+/// let beam = Beam { origin: Point::origin(), direction: Vec2::new(0.0, 1.0), range_m: 2.03 };
+/// let d = supports_as_plane(&beam, &Point::new(-1.0, 2.0), &Point::new(1.0, 2.0), 3.0, 12.5f64.to_radians());
+/// assert!((d.unwrap() - 2.0).abs() < 1e-12);
+/// // Read at 2.20 m (a corner 10 % farther): |2 − 2.2| = 0.2 > 0.066, no support.
+/// let far = Beam { range_m: 2.2, ..beam };
+/// assert!(supports_as_plane(&far, &Point::new(-1.0, 2.0), &Point::new(1.0, 2.0), 3.0, 12.5f64.to_radians()).is_none());
+/// // The wall from (0.6, 2) to (2, 2): the foot (0, 2) is 0.6 m before its start (slack 0.14).
+/// assert!(supports_as_plane(&beam, &Point::new(0.6, 2.0), &Point::new(2.0, 2.0), 3.0, 12.5f64.to_radians()).is_none());
+/// ```
+pub fn supports_as_plane(
+    beam: &Beam,
+    a: &Point,
+    b: &Point,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+) -> Option<f64> {
+    foot_echo(beam, a, b, accuracy_pct, HalfCone::new(half_beam_rad)).map(|e| e.range_m)
+}
+
+/// Where a plane along `a`–`b` echoes `beam` from: the range it predicts, metres, and the echo
+/// point's place along a→b (0 at `a`, 1 at `b`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlaneEcho {
+    /// The predicted range, metres.
+    pub range_m: f64,
+    /// The echo point's place along a→b.
+    pub along: f64,
+}
+
+/// [`supports_as_plane`], with where the echo comes from (the foot of the perpendicular).
+fn foot_echo(
+    beam: &Beam,
+    a: &Point,
+    b: &Point,
+    accuracy_pct: f64,
+    half: HalfCone,
+) -> Option<PlaneEcho> {
+    let t = projection_param(&beam.origin, a, b);
+    if !(-0.1..=1.1).contains(&t) {
+        return None;
+    }
+    let foot = a + (b - a) * t;
+    let v = foot - beam.origin;
+    let d = v.norm();
+    if d <= 0.0 || (d - beam.range_m).abs() > feature_tolerance_m(accuracy_pct, beam.range_m) {
+        return None;
+    }
+    (v.dot(&beam.direction) / d >= half.cos).then_some(PlaneEcho {
+        range_m: d,
+        along: t,
+    })
+}
+
+/// Whether `beam` supports the segment `a`–`b` as a plane, its echo taken from the nearest
+/// point of the plane inside the cone (docs/algorithm.md §8.10): the foot of the perpendicular
+/// when the normal lies inside the cone ([`supports_as_plane`]), else where the cone's nearer
+/// edge meets the line, at most [`MAX_INCIDENCE_RAD`](crate::mapping::ext::beam_geometry::MAX_INCIDENCE_RAD) off the normal. That point must lie on
+/// the segment (10 % slack) at the range within the tolerance. Returns the predicted range.
+///
+/// ```
+/// use sonarmap::geometry::{Point, Vec2};
+/// use sonarmap::mapping::ext::confirm::supports_as_echo;
+/// use sonarmap::mapping::model::beam::Beam;
+/// // The wall y = 2 seen 30° off its normal: the cone edge (12.5°) meets it 17.5° off the
+/// // normal, at 2 / cos 17.5° = 2.0971 m, at x = 0.6306.
+/// let dir = Vec2::new(60f64.to_radians().cos(), 60f64.to_radians().sin());
+/// let beam = Beam { origin: Point::origin(), direction: dir, range_m: 2.10 };
+/// let (a, b) = (Point::new(0.0, 2.0), Point::new(2.0, 2.0));
+/// let d = supports_as_echo(&beam, &a, &b, 3.0, 12.5f64.to_radians()).unwrap();
+/// assert!((d - 2.0971).abs() < 1e-4);
+/// // The foot model alone refuses it: the foot (0, 2) lies 30° off the axis.
+/// assert!(sonarmap::mapping::ext::confirm::supports_as_plane(&beam, &a, &b, 3.0, 12.5f64.to_radians()).is_none());
+/// ```
+pub fn supports_as_echo(
+    beam: &Beam,
+    a: &Point,
+    b: &Point,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+) -> Option<f64> {
+    cone_echo(beam, a, b, accuracy_pct, HalfCone::new(half_beam_rad)).map(|e| e.range_m)
+}
+
+/// [`supports_as_echo`], with where the echo comes from.
+fn cone_echo(
+    beam: &Beam,
+    a: &Point,
+    b: &Point,
+    accuracy_pct: f64,
+    half: HalfCone,
+) -> Option<PlaneEcho> {
+    let along = b - a;
+    let length = along.norm();
+    if length <= 0.0 {
+        return None;
+    }
+    let mut normal = Vec2::new(-along.y, along.x) / length;
+    let mut perpendicular_m = normal.dot(&(a - beam.origin));
+    if perpendicular_m < 0.0 {
+        normal = -normal;
+        perpendicular_m = -perpendicular_m;
+    }
+    if perpendicular_m <= 0.0 {
+        return None;
+    }
+    let predicted_m = perpendicular_m / incidence_cosine(beam, &normal, half)?;
+    if (predicted_m - beam.range_m).abs() > feature_tolerance_m(accuracy_pct, beam.range_m) {
+        return None;
+    }
+    let (ray, _) = echo_ray(beam, &normal, half);
+    let t = projection_param(&(beam.origin + ray * predicted_m), a, b);
+    (-0.1..=1.1).contains(&t).then_some(PlaneEcho {
+        range_m: predicted_m,
+        along: t,
+    })
+}
+
+/// The plane test a segment's readings take: [`supports_as_echo`] with `cone_edges`, else
+/// [`supports_as_plane`].
+pub fn supports(
+    beam: &Beam,
+    a: &Point,
+    b: &Point,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+    cone_edges: bool,
+) -> Option<f64> {
+    plane_echo(beam, a, b, accuracy_pct, half_beam_rad, cone_edges).map(|e| e.range_m)
+}
+
+/// [`supports`], with where the echo comes from along the segment.
+pub fn plane_echo(
+    beam: &Beam,
+    a: &Point,
+    b: &Point,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+    cone_edges: bool,
+) -> Option<PlaneEcho> {
+    plane_echo_in(
+        beam,
+        a,
+        b,
+        accuracy_pct,
+        HalfCone::new(half_beam_rad),
+        cone_edges,
+    )
+}
+
+/// [`plane_echo`], the beam's half-width given as its [`HalfCone`].
+pub fn plane_echo_in(
+    beam: &Beam,
+    a: &Point,
+    b: &Point,
+    accuracy_pct: f64,
+    half: HalfCone,
+    cone_edges: bool,
+) -> Option<PlaneEcho> {
+    if cone_edges {
+        cone_echo(beam, a, b, accuracy_pct, half)
+    } else {
+        foot_echo(beam, a, b, accuracy_pct, half)
+    }
+}
+
+/// Notes the plane support `beams` (readings of `snapshot` that went into segment `id`) give
+/// it: at most once a snapshot. Returns the trace record of the first supporting reading,
+/// if any.
+pub fn note_plane_support(
+    map: &mut Map,
+    id: SegmentId,
+    beams: &[(usize, Beam)],
+    snapshot: usize,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+    cone_edges: bool,
+) -> Option<PlaneSupportTrace> {
+    let s = map.segment(id)?;
+    let (a, b) = (s.a.point, s.b.point);
+    let (sensor, beam, distance_m) = beams.iter().find_map(|(sensor, beam)| {
+        supports(beam, &a, &b, accuracy_pct, half_beam_rad, cone_edges).map(|d| (*sensor, *beam, d))
+    })?;
+    let support = map.plane_support.update(id, |support| {
+        if support.snapshots > 0 && support.last_snapshot == snapshot {
+            return None;
+        }
+        support.snapshots += 1;
+        support.last_snapshot = snapshot;
+        Some(*support)
+    })?;
+    Some(PlaneSupportTrace {
+        segment: id,
+        sensor,
+        range_m: beam.range_m,
+        distance_m,
+        snapshots: support.snapshots,
+        confirmed: support.confirmed(),
+        baseline: None,
+    })
+}
+
+/// Whether a refit moved a segment off its line (docs/algorithm.md §8.7, `refit_unconfirms`):
+/// from `before` (its end-points before the update) to `after` (the refit's first piece, its
+/// end-points with their ranges), it turned more than `max_turn_rad` (`θ_o`), or an end-point
+/// of `after` lies farther than `2·tol(D)` from the old line (`tol(D) = max(ξ·D/100, 1 in)`,
+/// `D` that end-point's range). The plane support that confirmed it was support for the old
+/// line. Returns the numbers when it did.
+///
+/// ```
+/// use sonarmap::geometry::Point;
+/// use sonarmap::mapping::ext::confirm::refit_moved_off;
+/// use sonarmap::mapping::model::map::EndPoint;
+/// let end = |x: f64, y: f64| EndPoint { point: Point::new(x, y), range_m: 1.0 };
+/// let before = [Point::new(0.0, 1.0), Point::new(2.0, 1.0)];
+/// // An end 0.05 m off the old line: under 2 · 0.03 = 0.06 (3 % of 1 m): the same line.
+/// assert!(refit_moved_off(before, [end(0.0, 1.0), end(1.5, 1.05)], 3.0, 15f64.to_radians()).is_none());
+/// // 0.07 m off: moved.
+/// let t = refit_moved_off(before, [end(0.0, 1.0), end(1.5, 1.07)], 3.0, 15f64.to_radians()).unwrap();
+/// assert!((t.off_line_m[1] - 0.07).abs() < 1e-12 && (t.limits_m[1] - 0.06).abs() < 1e-12);
+/// ```
+pub fn refit_moved_off(
+    before: [Point; 2],
+    after: [EndPoint; 2],
+    accuracy_pct: f64,
+    max_turn_rad: f64,
+) -> Option<UnconfirmedTrace> {
+    let turn_rad = line_angle_between(&(before[1] - before[0]), &(after[1].point - after[0].point));
+    let off = |e: &EndPoint| distance_to_line(&e.point, &before[0], &before[1]);
+    let limit = |e: &EndPoint| 2.0 * feature_tolerance_m(accuracy_pct, e.range_m);
+    let off_line_m = [off(&after[0]), off(&after[1])];
+    let limits_m = [limit(&after[0]), limit(&after[1])];
+    let moved =
+        turn_rad > max_turn_rad || off_line_m[0] > limits_m[0] || off_line_m[1] > limits_m[1];
+    moved.then(|| UnconfirmedTrace {
+        segment: 0,
+        before,
+        after: [after[0].point, after[1].point],
+        turn_rad,
+        off_line_m,
+        limits_m,
+    })
+}
+
+/// Baseline confirmation (docs/algorithm.md §8.7): among `beams` (readings, each with its own
+/// snapshot's beam), two of distinct snapshots that support the segment `a`–`b` as a plane
+/// ([`supports`]) and whose sensors stood at least `min_baseline_m` apart along it, the
+/// displacement at most `max_turn_rad` from its direction (across it at most
+/// `along·tan max_turn`). The pair displaced farthest along it (the first such in order on
+/// ties), if any.
+///
+/// A sensor that moves towards a surface hears the same patch of it, and its range shrinks
+/// as it would for a corner or an edge in the beam; moved along a plane it hears another
+/// patch at the same perpendicular distance. Readings that went into a segment in one step
+/// from two poses so displaced (point memory's pieces hold readings of up to
+/// `memory_snapshots` snapshots) are two observations of the plane, as two steps' readings
+/// are.
+///
+/// ```
+/// use sonarmap::geometry::{Point, Vec2};
+/// use sonarmap::mapping::ext::confirm::baseline_pair;
+/// use sonarmap::mapping::model::beam::Beam;
+/// use sonarmap::mapping::model::support::ReadingRef;
+/// // A side sensor looking along +y at the wall y = 1 from x = 0 and x = 0.4 (snapshots 3, 5).
+/// let at = |x: f64, snapshot: usize| {
+///     let beam = Beam { origin: Point::new(x, 0.0), direction: Vec2::new(0.0, 1.0), range_m: 1.0 };
+///     (ReadingRef::new(snapshot, 2), beam)
+/// };
+/// let (a, b) = (Point::new(0.0, 1.0), Point::new(0.4, 1.0));
+/// let half = 12.5f64.to_radians();
+/// let pair = baseline_pair(&[at(0.0, 3), at(0.4, 5)], &a, &b, 3.0, half, false, 0.2032, 15f64.to_radians());
+/// assert!((pair.unwrap().along_m - 0.4).abs() < 1e-12);
+/// // 0.1 m apart: under the 8 in baseline.
+/// assert!(baseline_pair(&[at(0.0, 3), at(0.1, 5)], &a, &b, 3.0, half, false, 0.2032, 15f64.to_radians()).is_none());
+/// ```
+#[allow(clippy::too_many_arguments)]
+pub fn baseline_pair(
+    beams: &[(ReadingRef, Beam)],
+    a: &Point,
+    b: &Point,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+    cone_edges: bool,
+    min_baseline_m: f64,
+    max_turn_rad: f64,
+) -> Option<BaselinePair> {
+    let along = b - a;
+    let length = along.norm();
+    if length <= 0.0 {
+        return None;
+    }
+    let direction = along / length;
+    let supporting: Vec<&(ReadingRef, Beam)> = beams
+        .iter()
+        .filter(|(_, beam)| supports(beam, a, b, accuracy_pct, half_beam_rad, cone_edges).is_some())
+        .collect();
+    let tan_turn = max_turn_rad.tan();
+    let mut best: Option<BaselinePair> = None;
+    for (i, (r1, b1)) in supporting.iter().enumerate() {
+        for (r2, b2) in &supporting[i + 1..] {
+            if r1.snapshot == r2.snapshot {
+                continue;
+            }
+            let moved = b2.origin - b1.origin;
+            let along_m = moved.dot(&direction).abs();
+            let across_m = (moved - direction * moved.dot(&direction)).norm();
+            if along_m < min_baseline_m
+                || across_m > along_m * tan_turn
+                || best.is_some_and(|p| along_m <= p.along_m)
+            {
+                continue;
+            }
+            let readings = if r1.snapshot < r2.snapshot {
+                [*r1, *r2]
+            } else {
+                [*r2, *r1]
+            };
+            best = Some(BaselinePair {
+                readings,
+                along_m,
+                across_m,
+            });
+        }
+    }
+    best
+}
+
+/// Confirms segment `id` by `pair` (its readings went into it in `snapshot`'s step; see
+/// [`baseline_pair`]) unless it is confirmed already. Returns the trace record: the later
+/// reading of the pair, its range and its distance from the segment's line.
+pub fn note_baseline_support(
+    map: &mut Map,
+    id: SegmentId,
+    pair: BaselinePair,
+    later: &Beam,
+    snapshot: usize,
+) -> Option<PlaneSupportTrace> {
+    let s = map.segment(id)?;
+    let distance_m = distance_to_line(&later.origin, &s.a.point, &s.b.point);
+    let newly_confirmed = map.plane_support.update(id, |support| {
+        if support.confirmed() {
+            return false;
+        }
+        support.snapshots = CONFIRMING_SNAPSHOTS;
+        support.last_snapshot = snapshot;
+        true
+    });
+    if !newly_confirmed {
+        return None;
+    }
+    Some(PlaneSupportTrace {
+        segment: id,
+        sensor: pair.readings[1].sensor(),
+        range_m: later.range_m,
+        distance_m,
+        snapshots: CONFIRMING_SNAPSHOTS,
+        confirmed: true,
+        baseline: Some(pair),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Vec2;
+    use crate::mapping::model::map::{test_wall, EndPoint};
+
+    const HALF: f64 = 12.5 * std::f64::consts::PI / 180.0;
+
+    /// Sensor `sensor` of snapshot `snapshot` at (`x`, `y`) looking along +y, reading `range_m`.
+    fn up(snapshot: usize, sensor: usize, x: f64, y: f64, range_m: f64) -> (ReadingRef, Beam) {
+        let beam = Beam {
+            origin: Point::new(x, y),
+            direction: Vec2::new(0.0, 1.0),
+            range_m,
+        };
+        (ReadingRef::new(snapshot, sensor), beam)
+    }
+
+    /// The wall y = 1 from x = −0.2 to 0.8.
+    fn wall() -> (Point, Point) {
+        (Point::new(-0.2, 1.0), Point::new(0.8, 1.0))
+    }
+
+    fn pair_of(beams: &[(ReadingRef, Beam)]) -> Option<BaselinePair> {
+        let (a, b) = wall();
+        baseline_pair(
+            beams,
+            &a,
+            &b,
+            3.0,
+            HALF,
+            false,
+            CONFIRMING_BASELINE_M,
+            CONFIRMING_BASELINE_TURN_RAD,
+        )
+    }
+
+    #[test]
+    fn baseline_pair_takes_the_two_snapshots_farthest_apart_along_the_wall() {
+        // A side sensor reads 1.00 m from x = 0, 0.25 and 0.5 (snapshots 1, 2, 3): the pair
+        // 1–3 is 0.5 m apart along the wall, 0 across.
+        let beams = [
+            up(1, 4, 0.0, 0.0, 1.0),
+            up(2, 4, 0.25, 0.0, 1.0),
+            up(3, 4, 0.5, 0.0, 1.0),
+        ];
+        let pair = pair_of(&beams).unwrap();
+        assert_eq!(pair.readings[0].snapshot, 1);
+        assert_eq!(pair.readings[1].snapshot, 3);
+        assert!((pair.along_m - 0.5).abs() < 1e-12 && pair.across_m.abs() < 1e-12);
+        // Given in the other order, the earlier snapshot still comes first.
+        let reversed = [beams[2], beams[1], beams[0]];
+        assert_eq!(pair_of(&reversed).unwrap().readings, pair.readings);
+    }
+
+    #[test]
+    fn readings_of_one_snapshot_make_no_baseline() {
+        // Two sensors of snapshot 5, 0.3 m apart along the wall, both reading 1 m.
+        assert!(pair_of(&[up(5, 3, 0.0, 0.0, 1.0), up(5, 4, 0.3, 0.0, 1.0)]).is_none());
+    }
+
+    #[test]
+    fn sensors_closer_than_eight_inches_along_the_wall_make_no_baseline() {
+        // 0.20 m < 8 in = 0.2032 m; 0.21 m passes.
+        assert!(pair_of(&[up(1, 4, 0.0, 0.0, 1.0), up(2, 4, 0.2, 0.0, 1.0)]).is_none());
+        let pair = pair_of(&[up(1, 4, 0.0, 0.0, 1.0), up(2, 4, 0.21, 0.0, 1.0)]).unwrap();
+        assert!((pair.along_m - 0.21).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_sensor_that_moved_towards_the_wall_makes_no_baseline() {
+        // 0.3 m along and 0.1 m towards the wall (reading 0.90 m): 0.1 > 0.3 · tan 10° =
+        // 0.0529, refused. 0.05 m towards it (reading 0.95 m): 0.05 ≤ 0.0529, a baseline.
+        assert!(pair_of(&[up(1, 4, 0.0, 0.0, 1.0), up(2, 4, 0.3, 0.1, 0.9)]).is_none());
+        let pair = pair_of(&[up(1, 4, 0.0, 0.0, 1.0), up(2, 4, 0.3, 0.05, 0.95)]).unwrap();
+        assert!((pair.along_m - 0.3).abs() < 1e-12 && (pair.across_m - 0.05).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_reading_that_does_not_support_the_plane_makes_no_baseline() {
+        // At x = 0.4 the sensor reads 1.10 m: |1 − 1.1| = 0.1 > 0.033 (3 % of 1.1).
+        assert!(pair_of(&[up(1, 4, 0.0, 0.0, 1.0), up(2, 4, 0.4, 0.0, 1.1)]).is_none());
+    }
+
+    /// End-points read from `range_m`.
+    fn ends(a: (f64, f64), b: (f64, f64), range_m: f64) -> [EndPoint; 2] {
+        let e = |(x, y): (f64, f64)| EndPoint {
+            point: Point::new(x, y),
+            range_m,
+        };
+        [e(a), e(b)]
+    }
+
+    const THETA_O: f64 = 15.0 * std::f64::consts::PI / 180.0;
+
+    #[test]
+    fn a_refit_within_two_tolerances_of_the_old_line_keeps_it() {
+        // Old line y = 1 from x = 0 to 2. After: (0, 1)–(1.5, 1.05), read at 1 m: the end is
+        // 0.05 m off, under 2 · 0.03 = 0.06; turned atan(0.05 / 1.5) = 1.9° < 15°.
+        let before = [Point::new(0.0, 1.0), Point::new(2.0, 1.0)];
+        let after = ends((0.0, 1.0), (1.5, 1.05), 1.0);
+        assert!(refit_moved_off(before, after, 3.0, THETA_O).is_none());
+    }
+
+    #[test]
+    fn a_refit_that_moved_an_end_off_the_old_line_unconfirms_it() {
+        // 0.07 m off > 0.06 (read at 1 m); read at 3 m the limit is 2 · 0.09 = 0.18: kept.
+        let before = [Point::new(0.0, 1.0), Point::new(2.0, 1.0)];
+        let t = refit_moved_off(before, ends((0.0, 1.0), (1.5, 1.07), 1.0), 3.0, THETA_O).unwrap();
+        assert!(t.off_line_m[0].abs() < 1e-12 && (t.off_line_m[1] - 0.07).abs() < 1e-12);
+        assert!((t.limits_m[0] - 0.06).abs() < 1e-12 && (t.limits_m[1] - 0.06).abs() < 1e-12);
+        assert!((t.turn_rad - (0.07f64 / 1.5).atan()).abs() < 1e-12);
+        assert_eq!(t.after, [Point::new(0.0, 1.0), Point::new(1.5, 1.07)]);
+        assert!(
+            refit_moved_off(before, ends((0.0, 1.0), (1.5, 1.07), 3.0), 3.0, THETA_O).is_none()
+        );
+    }
+
+    #[test]
+    fn a_refit_that_turned_past_theta_o_unconfirms_it() {
+        // (0, 1)–(0.2, 1.055): the end is 0.055 m off (under 0.06) but the piece turned
+        // atan(0.055 / 0.2) = 15.4° > θ_o = 15°.
+        let before = [Point::new(0.0, 1.0), Point::new(2.0, 1.0)];
+        let t = refit_moved_off(before, ends((0.0, 1.0), (0.2, 1.055), 1.0), 3.0, THETA_O).unwrap();
+        assert!((t.turn_rad.to_degrees() - 15.376).abs() < 1e-3);
+        assert!(t.off_line_m[1] < t.limits_m[1]);
+    }
+
+    #[test]
+    fn a_baseline_confirms_a_tentative_segment_once() {
+        let mut map = Map::from_segments(vec![test_wall(0, (-0.2, 1.0), (0.8, 1.0), 1.0)]);
+        map.confirms_segments = true;
+        let beams = [up(1, 4, 0.0, 0.0, 1.0), up(3, 4, 0.5, 0.0, 1.01)];
+        let pair = pair_of(&beams).unwrap();
+        assert!(map.is_tentative(0));
+        let t = note_baseline_support(&mut map, 0, pair, &beams[1].1, 3).unwrap();
+        assert!(t.confirmed && t.snapshots == CONFIRMING_SNAPSHOTS);
+        assert_eq!((t.sensor, t.range_m), (4, 1.01));
+        // The later sensor stands 1 m from the wall's line.
+        assert!((t.distance_m - 1.0).abs() < 1e-12);
+        assert_eq!(t.baseline, Some(pair));
+        assert!(!map.is_tentative(0));
+        assert!(map.check_invariants(0).is_ok());
+        // Confirmed already: nothing more to note.
+        assert!(note_baseline_support(&mut map, 0, pair, &beams[1].1, 4).is_none());
+    }
+
+    #[test]
+    fn two_snapshots_of_plane_support_confirm_a_segment_once_each() {
+        let mut map = Map::from_segments(vec![test_wall(0, (-1.0, 2.0), (1.0, 2.0), 2.0)]);
+        map.confirms_segments = true;
+        let half = 12.5f64.to_radians();
+        // Straight at the wall, 2.02 m: |2 − 2.02| = 0.02 ≤ 0.0606.
+        let straight = Beam {
+            origin: Point::origin(),
+            direction: Vec2::new(0.0, 1.0),
+            range_m: 2.02,
+        };
+        // 20° off the perpendicular: outside the 12.5° half beam, no support.
+        let (s, c) = (20f64.to_radians().sin(), 20f64.to_radians().cos());
+        let oblique = Beam {
+            direction: Vec2::new(s, c),
+            ..straight
+        };
+        assert!(map.is_tentative(0));
+        assert!(note_plane_support(&mut map, 0, &[(3, oblique)], 0, 3.0, half, false).is_none());
+        let first = note_plane_support(&mut map, 0, &[(1, straight)], 0, 3.0, half, false).unwrap();
+        assert_eq!((first.snapshots, first.confirmed), (1, false));
+        assert!((first.distance_m - 2.0).abs() < 1e-12);
+        // The same snapshot again counts once.
+        assert!(note_plane_support(&mut map, 0, &[(2, straight)], 0, 3.0, half, false).is_none());
+        let second =
+            note_plane_support(&mut map, 0, &[(1, straight)], 1, 3.0, half, false).unwrap();
+        assert_eq!((second.snapshots, second.confirmed), (2, true));
+        assert!(!map.is_tentative(0));
+        assert!(map.check_invariants(0).is_ok());
+        // A map that does not confirm calls nothing tentative.
+        assert!(!Map::default().is_tentative(7));
+    }
+}

@@ -1,0 +1,61 @@
+//! The world beam of a kept reading and the plane test from it: the geometry every extension
+//! that tests a reading against a plane or a reflector shares (docs/algorithm.md §8.5–§8.14).
+
+use crate::geometry::{Point, Pose};
+use crate::mapping::ext::confirm::supports;
+use crate::mapping::model::beam::Beam;
+use crate::mapping::model::map::SupportPoint;
+use crate::mapping::Mapper;
+use crate::sonar::EchoModel;
+
+impl Mapper {
+    /// The sonar's accuracy ξ (%) and the half-width of its beam (radians), which every test of
+    /// a reading against a plane or a reflector takes (docs/algorithm.md §8.5–§8.10).
+    pub(in crate::mapping) fn accuracy_and_half_beam(&self) -> (f64, f64) {
+        (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0)
+    }
+
+    /// Whether the plane tests of §8.7 take echoes from the cone's edges too (§8.10: echo
+    /// placement on, for a sensor whose echoes come from its whole cone).
+    pub(in crate::mapping) fn cone_edges(&self) -> bool {
+        self.params.echo_fit && self.sensor.echo == EchoModel::Cone
+    }
+
+    /// The world beam of reading `q`, from the pose of its snapshot when that is among the
+    /// recent ones the map keeps (docs/algorithm.md §8.7, §8.10).
+    pub(in crate::mapping) fn recent_beam_of(&self, q: &SupportPoint) -> Option<Beam> {
+        let pose = self.map.recent_pose(q.reading.snapshot())?;
+        Some(self.beam_of(&pose, q))
+    }
+
+    /// The world beam of kept point `q` of a snapshot at `pose`.
+    /// Its direction is the sensor's axis, wherever the point was placed (§8.10 moves points
+    /// off their axes).
+    pub(in crate::mapping) fn beam_of(&self, pose: &Pose, q: &SupportPoint) -> Beam {
+        let frame = match self.step_frame {
+            Some((step_pose, frame)) if step_pose == *pose => frame,
+            _ => pose.robot_frame(),
+        };
+        let axis = &self.beam_axes[q.reading.sensor()];
+        Beam {
+            origin: frame.to_world(&axis.origin_in_robot),
+            direction: frame.direction_to_world(&axis.direction_in_robot),
+            range_m: q.range_m,
+        }
+    }
+
+    /// Whether a reading among `points` (of the snapshot at `pose`) supports the segment
+    /// `a`–`b` as a plane (docs/algorithm.md §8.7).
+    pub(in crate::mapping) fn supports_as_plane_now(
+        &self,
+        pose: &Pose,
+        points: &[SupportPoint],
+        a: &Point,
+        b: &Point,
+    ) -> bool {
+        let (xi, half) = self.accuracy_and_half_beam();
+        points
+            .iter()
+            .any(|q| supports(&self.beam_of(pose, q), a, b, xi, half, self.cone_edges()).is_some())
+    }
+}

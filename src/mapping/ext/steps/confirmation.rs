@@ -1,0 +1,177 @@
+//! The mapper's confirmation stage (docs/algorithm.md §8.7): plane support, baseline
+//! confirmation, refits that unconfirm, and the plane gate on a new face.
+
+use crate::mapping::ext::confirm::{
+    baseline_pair, note_baseline_support, note_plane_support, refit_moved_off, supports,
+    CONFIRMING_BASELINE_M, CONFIRMING_BASELINE_TURN_RAD,
+};
+use crate::mapping::model::beam::Beam;
+use crate::mapping::model::ext_trace::UnconfirmedTrace;
+use crate::mapping::model::map::{SegmentId, SupportPoint};
+use crate::mapping::model::support::ReadingRef;
+use crate::mapping::model::trace::{NewSegmentTrace, Outcome, StepTrace};
+use crate::mapping::Mapper;
+use crate::run::Snapshot;
+
+impl Mapper {
+    /// §8.7 confirmation: each segment this step's new segments matched, extended or made
+    /// hears of the plane support of their readings.
+    pub(in crate::mapping) fn note_plane_support(
+        &mut self,
+        snapshot: &Snapshot,
+        new_segments: &[NewSegmentTrace],
+        trace: &mut StepTrace,
+    ) {
+        let (xi, half) = self.accuracy_and_half_beam();
+        let cone_edges = self.cone_edges();
+        let targets: Vec<(usize, SegmentId)> = trace
+            .decisions
+            .iter()
+            .filter_map(|d| d.result.map(|r| (d.new_segment, r)))
+            .collect();
+        for (ni, target) in targets {
+            let now = |q: &&SupportPoint| q.reading.snapshot() == trace.snapshot;
+            let beam = |q: &SupportPoint| (q.reading.sensor(), self.beam_of(&snapshot.pose, q));
+            let beams: Vec<(usize, Beam)> = match new_segments.get(ni) {
+                Some(n) if !n.points.is_empty() => n.points.iter().filter(now).map(beam).collect(),
+                // Untraced, a new face's points moved into the map segment.
+                _ => match self.map.segment(target) {
+                    Some(s) => s.points.iter().filter(now).map(beam).collect(),
+                    None => continue,
+                },
+            };
+            if let Some(t) = note_plane_support(
+                &mut self.map,
+                target,
+                &beams,
+                trace.snapshot,
+                xi,
+                half,
+                cone_edges,
+            ) {
+                if self.record_trace {
+                    trace.plane_support.push(t);
+                }
+            }
+        }
+    }
+
+    /// §8.7 `refit_unconfirms`: a confirmed segment that a refit of this step moved off its
+    /// line ([`refit_moved_off`]) is tentative again.
+    pub(in crate::mapping) fn unconfirm_moved_refits(&mut self, trace: &mut StepTrace) {
+        for u in &trace.updates {
+            if u.refit.is_none() || !self.map.is_confirmed(u.segment) {
+                continue;
+            }
+            let Some(s) = self.map.segment(u.segment) else {
+                continue;
+            };
+            let before = [u.before[0].point, u.before[1].point];
+            let moved = refit_moved_off(
+                before,
+                [s.a, s.b],
+                self.params.accuracy_pct,
+                self.params.orientation_rad,
+            );
+            if let Some(moved) = moved {
+                self.map.plane_support.remove(&u.segment);
+                // Kept in the slim trace too: the lineage of a segment reads it there.
+                trace.unconfirmed.push(UnconfirmedTrace {
+                    segment: u.segment,
+                    ..moved
+                });
+            }
+        }
+    }
+
+    /// §8.7 baseline confirmation: each segment this step made (a NEW FACE) is confirmed when
+    /// two of its readings of distinct snapshots (this snapshot's, and those of earlier
+    /// snapshots that point memory's pieces brought, `memory_readings`), each from its own
+    /// snapshot's pose, support it as a plane from sensors at least [`CONFIRMING_BASELINE_M`]
+    /// apart along it, within [`CONFIRMING_BASELINE_TURN_RAD`] of its direction.
+    pub(in crate::mapping) fn note_baseline_support(
+        &mut self,
+        snapshot: &Snapshot,
+        memory_readings: &[ReadingRef],
+        trace: &mut StepTrace,
+    ) {
+        let (xi, half) = self.accuracy_and_half_beam();
+        let cone_edges = self.cone_edges();
+        // Made this step: a MATCH's or an EXTENSION's target holds readings of earlier steps
+        // that were tested when they came.
+        let mut targets: Vec<SegmentId> = trace
+            .decisions
+            .iter()
+            .filter(|d| d.outcome == Outcome::NewFace)
+            .filter_map(|d| d.result)
+            .collect();
+        targets.sort_unstable();
+        targets.dedup();
+        for target in targets {
+            if !self.map.is_tentative(target) {
+                continue;
+            }
+            let Some(s) = self.map.segment(target) else {
+                continue;
+            };
+            let beams: Vec<(ReadingRef, Beam)> = s
+                .points
+                .iter()
+                .filter_map(|q| {
+                    let beam = if q.reading.snapshot() == trace.snapshot {
+                        self.beam_of(&snapshot.pose, q)
+                    } else if memory_readings.contains(&q.reading) {
+                        self.recent_beam_of(q)?
+                    } else {
+                        return None;
+                    };
+                    Some((q.reading, beam))
+                })
+                .collect();
+            let (a, b) = (s.a.point, s.b.point);
+            let Some(pair) = baseline_pair(
+                &beams,
+                &a,
+                &b,
+                xi,
+                half,
+                cone_edges,
+                CONFIRMING_BASELINE_M,
+                CONFIRMING_BASELINE_TURN_RAD,
+            ) else {
+                continue;
+            };
+            let Some(&(_, later)) = beams.iter().find(|(r, _)| *r == pair.readings[1]) else {
+                continue;
+            };
+            if let Some(t) =
+                note_baseline_support(&mut self.map, target, pair, &later, trace.snapshot)
+            {
+                if self.record_trace {
+                    trace.plane_support.push(t);
+                }
+            }
+        }
+    }
+
+    /// §8.7 plane gate: whether a reading of `new` supports it as a plane
+    /// ([`crate::mapping::ext::confirm::supports_as_plane`]), each from its own snapshot's pose
+    /// (point memory's readings are at most `memory_snapshots` old).
+    pub(in crate::mapping) fn plane_gate(&self, new: &NewSegmentTrace) -> bool {
+        let (xi, half) = self.accuracy_and_half_beam();
+        new.points.iter().any(|q| {
+            let Some(beam) = self.recent_beam_of(q) else {
+                return false;
+            };
+            supports(
+                &beam,
+                &new.a.point,
+                &new.b.point,
+                xi,
+                half,
+                self.cone_edges(),
+            )
+            .is_some()
+        })
+    }
+}

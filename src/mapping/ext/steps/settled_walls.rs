@@ -1,0 +1,134 @@
+//! The mapper's settled-walls stage (docs/algorithm.md §8.12).
+
+use crate::mapping::ext::settled_walls::{
+    any_settling_wall, settling_wall, SettleRule, SETTLED_END_MARGIN_GAPS,
+};
+use crate::mapping::model::trace::{SettledTrace, StepTrace};
+use crate::mapping::step::StepBuffers;
+use crate::mapping::Mapper;
+use crate::run::Snapshot;
+
+impl Mapper {
+    /// §8.12 settled walls: the kept points a confirmed wall explains well inside its ends (at
+    /// least [`SETTLED_END_MARGIN_GAPS`] memory gaps from either end) leave `buffers.kept`:
+    /// they join no cluster, no point memory and no free-space sweep.
+    pub(in crate::mapping) fn set_aside_settled_readings(
+        &self,
+        snapshot: &Snapshot,
+        trace: &mut StepTrace,
+        buffers: &mut StepBuffers,
+    ) {
+        if self.map.plane_support.is_empty() {
+            return;
+        }
+        let (accuracy_pct, half_beam_rad) = self.accuracy_and_half_beam();
+        let rule = SettleRule::new(
+            accuracy_pct,
+            half_beam_rad,
+            self.cone_edges(),
+            SETTLED_END_MARGIN_GAPS * self.params.memory_gap_m,
+        );
+        let (near, settled_by) = (&mut buffers.near_walls, &mut buffers.settled_by);
+        settled_by.resize(self.layout.len(), None);
+        buffers.kept.retain(|q| {
+            let beam = self.beam_of(&snapshot.pose, q);
+            let hint = settled_by.get(q.reading.sensor()).copied().flatten();
+            // Traced, the wall that predicts the range best, for the trace; untraced, any.
+            let segment = if self.record_trace {
+                let Some((segment, predicted_m, inside_m)) =
+                    settling_wall(&self.map, &beam, &rule, near)
+                else {
+                    return true;
+                };
+                trace.settled.push(SettledTrace {
+                    sensor: q.reading.sensor(),
+                    range_m: q.range_m,
+                    segment,
+                    predicted_m,
+                    inside_m,
+                });
+                segment
+            } else {
+                let found = any_settling_wall(&self.map, &beam, &rule, hint, near);
+                let Some(segment) = found else {
+                    return true;
+                };
+                segment
+            };
+            if let Some(slot) = settled_by.get_mut(q.reading.sensor()) {
+                *slot = Some(segment);
+            }
+            false
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::geometry::Pose;
+    use crate::mapping::model::map::test_wall;
+    use crate::mapping::model::map::{Map, SegmentId};
+    use crate::mapping::model::plane_supports::PlaneSupport;
+    use crate::mapping::model::plane_supports::CONFIRMING_SNAPSHOTS;
+    use crate::mapping::{Mapper, MapperState, Params, StepTrace};
+    use crate::run::Snapshot;
+    use crate::sonar::SensorMount;
+    use crate::sonar::{SensorLayout, SensorSpec};
+
+    /// One sensor at the origin facing +y, over a map of the wall s0 along y = 2 (x from -2 to
+    /// 2, confirmed when `wall_confirmed`) and the tentative segment s1 across the beam at
+    /// y = 1 (x from -0.3 to 0.3); the sensor reads 2.0 m. Returns the step's trace and the map.
+    fn read_the_wall(wall_confirmed: bool) -> (StepTrace, Map) {
+        let layout = SensorLayout {
+            mounts: vec![SensorMount {
+                x_m: 0.0,
+                y_m: 0.0,
+                heading_rad: std::f64::consts::FRAC_PI_2,
+            }],
+        };
+        let mut mapper = Mapper::new(Params::extended(), layout, SensorSpec::default());
+        let mut map = Map::from_segments(vec![
+            test_wall(0, (-2.0, 2.0), (2.0, 2.0), 2.0),
+            test_wall(1, (-0.3, 1.0), (0.3, 1.0), 1.0),
+        ]);
+        map.confirms_segments = true;
+        if wall_confirmed {
+            map.plane_support.insert(
+                0,
+                PlaneSupport {
+                    snapshots: CONFIRMING_SNAPSHOTS,
+                    last_snapshot: 0,
+                },
+            );
+        }
+        mapper.restore(&MapperState {
+            map,
+            last_pose: None,
+            next_snapshot: 1,
+        });
+        let trace = mapper.step(&Snapshot {
+            t: 1.0,
+            pose: Pose::new(0.0, 0.0, 0.0),
+            ranges_m: vec![Some(2.0)],
+        });
+        (trace, mapper.map().clone())
+    }
+
+    #[test]
+    fn a_settled_reading_sweeps_no_free_space_and_an_unsettled_one_does() {
+        // s0 confirmed predicts 2.0 m (the foot (0, 2) on the axis, 2 m inside both ends): the
+        // reading is settled. It would see through s1 (p = 1, 1 + 2·0.06 = 1.12 < 2), but the
+        // space in front of a confirmed wall is not swept again: s1 stays.
+        let (trace, map) = read_the_wall(true);
+        assert_eq!(trace.settled.len(), 1);
+        assert_eq!(trace.settled[0].segment, 0);
+        assert!(trace.refuted.is_empty(), "{:?}", trace.refuted);
+        assert!(map.segment(1).is_some());
+        // s0 tentative: nothing settles the reading, which refutes s1 (and not s0: 2 + 0.12 > 2).
+        let (trace, map) = read_the_wall(false);
+        assert!(trace.settled.is_empty());
+        let refuted: Vec<SegmentId> = trace.refuted.iter().map(|r| r.segment).collect();
+        assert_eq!(refuted, vec![1]);
+        assert!(map.segment(1).is_none() && map.segment(0).is_some());
+    }
+}

@@ -1,0 +1,242 @@
+//! What the extensions (docs/algorithm.md §8) record in a step's trace
+//! (docs/formats.md §8): plain values, apart from the rules that make them.
+
+use crate::geometry::{Point, Vec2};
+use crate::mapping::model::ids::SegmentId;
+use crate::mapping::model::support::{ReadingRef, SupportPoint};
+use crate::mapping::model::trace::fitting::SplitTrace;
+use serde::{Deserialize, Serialize};
+
+/// Two readings of distinct snapshots that support a segment as a plane, their sensors
+/// displaced along it (docs/algorithm.md §8.7, baseline confirmation).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BaselinePair {
+    /// The two readings, the earlier snapshot first.
+    pub readings: [ReadingRef; 2],
+    /// How far the second sensor stood from the first along the segment, metres.
+    pub along_m: f64,
+    /// How far across it (along its normal), metres.
+    pub across_m: f64,
+}
+
+/// A line fitted from the ranges: the points `x` with `normal · x = offset_m`, the sensors on
+/// the side `normal · x < offset_m`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EchoLine {
+    /// Unit normal, pointing from the sensors towards the line.
+    pub normal: Vec2,
+    /// Offset along the normal, metres.
+    pub offset_m: f64,
+    /// The largest |predicted − read| range over the readings, in units of each reading's
+    /// tolerance (`max(ξ·D/100, 1 in)`); at most 1 for an accepted fit.
+    pub worst_residual_over_tolerance: f64,
+}
+
+/// A segment that gained plane support this step, for the trace.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PlaneSupportTrace {
+    /// The segment.
+    pub segment: SegmentId,
+    /// The sensor whose reading supported it.
+    pub sensor: usize,
+    /// The reading, metres.
+    pub range_m: f64,
+    /// The perpendicular distance from the sensor to its line, metres.
+    pub distance_m: f64,
+    /// Snapshots supporting it now.
+    pub snapshots: u32,
+    /// Whether it is confirmed now.
+    pub confirmed: bool,
+    /// When it was confirmed by two poses of one step (docs/algorithm.md §8.7, baseline
+    /// confirmation): the two readings and how far apart their sensors stood.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub baseline: Option<BaselinePair>,
+}
+
+/// A confirmed segment that a refit (§5) moved off its line and so lost its confirmation
+/// (docs/algorithm.md §8.7, `refit_unconfirms`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct UnconfirmedTrace {
+    /// The segment (the refit's first piece, which keeps the id).
+    pub segment: SegmentId,
+    /// Its end-points before the update and after the refit.
+    pub before: [Point; 2],
+    /// After the refit.
+    pub after: [Point; 2],
+    /// The angle it turned, radians.
+    pub turn_rad: f64,
+    /// The distances of its new end-points from the old line, metres.
+    pub off_line_m: [f64; 2],
+    /// Their limits, `2·tol(D)` with `D` each end-point's range, metres.
+    pub limits_m: [f64; 2],
+}
+
+/// A segment removed as a corner's diagonal, for the trace.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DiagonalTrace {
+    /// The segment removed.
+    pub segment: SegmentId,
+    /// Its end-points when it left.
+    pub ends: [Point; 2],
+    /// The two walls of the corner (one of them, at least, confirmed).
+    pub walls: [SegmentId; 2],
+    /// The junction: where the walls' lines meet.
+    pub junction: Point,
+    /// Distances of the segment's two end-points from the junction, metres.
+    pub end_distances_m: [f64; 2],
+    /// The segment's angles to the two walls, radians.
+    pub angles_rad: [f64; 2],
+    /// The angle between the two walls, radians.
+    pub corner_angle_rad: f64,
+}
+
+/// What echo placement did to one new segment, for the trace.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EchoFitTrace {
+    /// The new segment (index into the step's new segments; for a dropped piece, the index it
+    /// would have had).
+    pub new_segment: usize,
+    /// The piece did not become a segment: its ranges fit one reflector point better than the
+    /// line (`reflector`), or most of its echo points lie behind confirmed walls.
+    #[serde(default)]
+    pub dropped: bool,
+    /// The reflector point (a corner or an edge) whose ranges fit better than the line's; it
+    /// was filed as a point feature.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reflector: Option<Point>,
+    /// The fitted line.
+    pub line: EchoLine,
+    /// Readings whose echo came from inside the cone (the foot of the perpendicular).
+    pub at_foot: usize,
+    /// Readings whose echo came from the cone's edge (an oblique, rough wall).
+    pub at_cone_edge: usize,
+    /// The largest distance a reading moved from its beam axis, metres.
+    pub moved_max_m: f64,
+    /// Readings whose echo point lies behind a confirmed wall, which their sound would have
+    /// met first ([`echo_behind_confirmed_wall`]); more than half, and the piece is dropped.
+    #[serde(default)]
+    pub behind_confirmed_wall: usize,
+}
+
+/// A segment a reading refuted, for the trace.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RefutedTrace {
+    /// The segment removed.
+    pub segment: SegmentId,
+    /// The sensor whose reading refuted it.
+    pub sensor: usize,
+    /// The reading, metres.
+    pub range_m: f64,
+    /// The perpendicular distance from the sensor to the segment, metres.
+    pub distance_m: f64,
+    /// The perpendicular's angle off the beam axis, radians.
+    pub off_axis_rad: f64,
+}
+
+/// What the arc rule found in one cluster, for the trace.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ArcTrace {
+    /// The cluster (index into the step's clusters).
+    pub cluster: usize,
+    /// The sensors of the cluster's readings, in chain order.
+    pub sensors: Vec<usize>,
+    /// Smallest and largest range, metres.
+    pub range_min_m: f64,
+    /// Largest range, metres.
+    pub range_max_m: f64,
+    /// The reflector point placed, world frame.
+    pub at: Point,
+    /// The feature it was filed under (made or moved).
+    pub feature: u32,
+    /// True when the feature is new.
+    pub new_feature: bool,
+    /// One plane explains the ranges at least as well as the reflector point (a wall seen
+    /// square-on reads so too): the cluster is fitted as well (docs/algorithm.md §8.5).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub also_fitted: bool,
+}
+
+/// A pillar filed (or moved) from the evidence, for the trace.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RoundTrace {
+    /// The feature.
+    pub feature: u32,
+    /// The fitted centre, world frame, metres.
+    pub centre: Point,
+    /// The fitted radius, metres.
+    pub radius_m: f64,
+    /// Readings of evidence it explained.
+    pub readings: usize,
+    /// How far apart their sensors stood, metres (at most).
+    pub baseline_m: f64,
+}
+
+/// A reading a confirmed wall explained, kept out of the clusters, for the trace.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SettledTrace {
+    /// The sensor.
+    pub sensor: usize,
+    /// Its range, metres.
+    pub range_m: f64,
+    /// The confirmed wall that explains it.
+    pub segment: SegmentId,
+    /// The range the wall predicts for the beam (its echo point's distance), metres.
+    pub predicted_m: f64,
+    /// The echo point's distance from the nearer end of the wall, or of the chain of confirmed
+    /// pieces that continue it (docs/algorithm.md §8.12), metres.
+    pub inside_m: f64,
+}
+
+/// A group of remembered readings (docs/algorithm.md §8, point memory).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MemoryGroupTrace {
+    /// The group's readings ordered along its principal axis.
+    pub points: Vec<SupportPoint>,
+    /// Every test of the recursive fit.
+    pub splits: Vec<SplitTrace>,
+    /// Pieces as `[first, last]` indices into `points`.
+    pub pieces: Vec<[usize; 2]>,
+    /// For each piece, the new segment it became (pieces with too few points stay in memory;
+    /// stacks leave it without a segment).
+    pub piece_segments: Vec<Option<usize>>,
+    /// The pieces (indices into `pieces`) that were stacks: one place read at changing ranges,
+    /// no line (docs/algorithm.md §8.15).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub stacks: Vec<usize>,
+}
+
+/// What point memory did in this step.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct MemoryTrace {
+    /// Readings added (one-point clusters of this snapshot).
+    pub added: Vec<ReadingRef>,
+    /// Readings dropped because they were older than `memory_snapshots`.
+    pub expired: Vec<ReadingRef>,
+    /// Groups that were fitted.
+    pub groups: Vec<MemoryGroupTrace>,
+    /// Readings that left memory because they became part of a segment.
+    pub used: Vec<ReadingRef>,
+    /// Readings that left memory in a stack (docs/algorithm.md §8.15), making no segment.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub stacked: Vec<ReadingRef>,
+    /// Readings kept in memory as the joints of this step's pieces (docs/algorithm.md §8.16).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub joints: Vec<ReadingRef>,
+    /// Readings held after this step.
+    pub held_after: usize,
+}
+
+/// A reading explained by a confirmed point feature (docs/algorithm.md §8.5).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ExplainedTrace {
+    /// The sensor.
+    pub sensor: usize,
+    /// Its range, metres.
+    pub range_m: f64,
+    /// The feature.
+    pub feature: u32,
+    /// The feature's distance from the sensor, metres.
+    pub feature_distance_m: f64,
+    /// The feature's angle off the beam axis, radians.
+    pub off_axis_rad: f64,
+}

@@ -1,0 +1,33 @@
+//! Unit tests of `map.rs`.
+
+use super::*;
+
+fn segment(id: SegmentId) -> Segment {
+    test_wall(id, (0.0, f64::from(id)), (1.0, f64::from(id)), 1.0)
+}
+
+#[test]
+fn lookups_find_every_segment_through_many_removals_and_pushes() {
+    let mut map = Map::from_segments((0..200).map(segment).collect());
+    let mut present: Vec<SegmentId> = (0..200).collect();
+    let mut next = 200;
+    // Remove every third segment from the front half, push a new one now and then, and
+    // check every id after each change against a plain search.
+    for round in 0..60 {
+        let victim = present[(round * 3) % (present.len() / 2)];
+        map.remove_segment(victim);
+        present.retain(|&id| id != victim);
+        if round % 4 == 0 {
+            map.next_segment_id = next + 1;
+            map.push_segment(segment(next));
+            present.push(next);
+            next += 1;
+        }
+        for id in 0..next {
+            let expected = present.binary_search(&id).ok();
+            assert_eq!(map.position(id), expected, "id {id} after round {round}");
+            assert_eq!(map.segment(id).map(|s| s.id), expected.map(|_| id));
+        }
+    }
+    assert_eq!(map.segments.len(), present.len());
+}

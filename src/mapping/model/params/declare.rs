@@ -1,0 +1,455 @@
+//! Every parameter declared once (docs/algorithm.md §7, §8): its field, its name and unit in a
+//! `--params` file, its value in each preset, and the parameters it acts only with. The
+//! [`Params`] struct, the [`ParamsFile`], their conversions, the list [`PARAMETERS`] (that the
+//! parameters panel, the soak and the prerequisite check read) and the accessors by name are
+//! all generated from the one table at the end of this file.
+
+use super::{FitMode, SplitMode, EXTENDED_SUPPORT_CAP};
+use crate::units::{inches, Units};
+use serde::{Deserialize, Serialize};
+
+/// What a parameter holds, as a file and the panel give it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ParamKind {
+    /// On or off.
+    Flag,
+    /// A whole number (readings, snapshots, points); 0 is off where the help says so.
+    Count,
+    /// A plain number (a percentage).
+    Number,
+    /// A length: metres in [`Params`], the file's units in a file.
+    Length,
+    /// An angle: radians in [`Params`], degrees in a file.
+    Degrees,
+    /// One of named choices (the split rule, the fit).
+    Choice,
+}
+
+/// One parameter as declared.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Parameter {
+    /// Its name in a `--params` file (and the panel, the trace, the docs).
+    pub name: &'static str,
+    /// What it holds.
+    pub kind: ParamKind,
+    /// The parameters it acts only with (each "on": a set flag, a count above 0).
+    pub needs: &'static [&'static str],
+    /// Its doc comment.
+    pub help: &'static str,
+}
+
+/// `split` in a params file: `{"resolution": {}}` or `{"fixed": 2.0}`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SplitFile {
+    /// The ball radius of the farthest point.
+    Resolution {},
+    /// A fixed length in the file's units.
+    Fixed(f64),
+}
+
+/// A field's value as a file holds it (`$conv` names the conversion).
+macro_rules! to_file_value {
+    (flag, $v:expr, $u:expr) => {
+        $v
+    };
+    (count, $v:expr, $u:expr) => {
+        $v
+    };
+    (number, $v:expr, $u:expr) => {
+        $v
+    };
+    (choice, $v:expr, $u:expr) => {
+        $v
+    };
+    (length, $v:expr, $u:expr) => {
+        $u.from_m($v)
+    };
+    (degrees, $v:expr, $u:expr) => {
+        $v.to_degrees()
+    };
+    (split, $v:expr, $u:expr) => {
+        match $v {
+            SplitMode::Resolution => SplitFile::Resolution {},
+            SplitMode::Fixed(v) => SplitFile::Fixed($u.from_m(v)),
+        }
+    };
+}
+
+/// A field's value from a file's (`$conv` names the conversion).
+macro_rules! from_file_value {
+    (flag, $v:expr, $u:expr) => {
+        *$v
+    };
+    (count, $v:expr, $u:expr) => {
+        *$v
+    };
+    (number, $v:expr, $u:expr) => {
+        *$v
+    };
+    (choice, $v:expr, $u:expr) => {
+        *$v
+    };
+    (length, $v:expr, $u:expr) => {
+        $u.to_m(*$v)
+    };
+    (degrees, $v:expr, $u:expr) => {
+        $v.to_radians()
+    };
+    (split, $v:expr, $u:expr) => {
+        match $v {
+            SplitFile::Resolution {} => SplitMode::Resolution,
+            SplitFile::Fixed(v) => SplitMode::Fixed($u.to_m(*v)),
+        }
+    };
+}
+
+/// The [`ParamKind`] of a conversion.
+macro_rules! kind_of {
+    (flag) => {
+        ParamKind::Flag
+    };
+    (count) => {
+        ParamKind::Count
+    };
+    (number) => {
+        ParamKind::Number
+    };
+    (length) => {
+        ParamKind::Length
+    };
+    (degrees) => {
+        ParamKind::Degrees
+    };
+    (choice) => {
+        ParamKind::Choice
+    };
+    (split) => {
+        ParamKind::Choice
+    };
+}
+
+/// The value of a field as a number in the file's units (flags and choices have none).
+macro_rules! number_of {
+    (count, $v:expr, $u:expr) => {
+        Some($v as f64)
+    };
+    (number, $v:expr, $u:expr) => {
+        Some($v)
+    };
+    (length, $v:expr, $u:expr) => {
+        Some($u.from_m($v))
+    };
+    (degrees, $v:expr, $u:expr) => {
+        Some($v.to_degrees())
+    };
+    ($other:ident, $v:expr, $u:expr) => {
+        None
+    };
+}
+
+/// Sets a field from a number in the file's units; false for flags and choices.
+macro_rules! set_number {
+    (count, $f:expr, $v:expr, $u:expr) => {{
+        $f = if $v >= 0.0 { $v as usize } else { 0 };
+        true
+    }};
+    (number, $f:expr, $v:expr, $u:expr) => {{
+        $f = $v;
+        true
+    }};
+    (length, $f:expr, $v:expr, $u:expr) => {{
+        $f = $u.to_m($v);
+        true
+    }};
+    (degrees, $f:expr, $v:expr, $u:expr) => {{
+        $f = $v.to_radians();
+        true
+    }};
+    ($other:ident, $f:expr, $v:expr, $u:expr) => {
+        false
+    };
+}
+
+/// Whether a field is "on" (a set flag, a count above 0); other kinds never are.
+macro_rules! is_on {
+    (flag, $v:expr) => {
+        $v
+    };
+    (count, $v:expr) => {
+        $v > 0
+    };
+    ($other:ident, $v:expr) => {
+        false
+    };
+}
+
+/// The flag's value (flags only).
+macro_rules! flag_of {
+    (flag, $v:expr) => {
+        Some($v)
+    };
+    ($other:ident, $v:expr) => {
+        None
+    };
+}
+
+/// Sets a flag (flags only); false for the other kinds.
+macro_rules! set_flag {
+    (flag, $f:expr, $v:expr) => {{
+        $f = $v;
+        true
+    }};
+    ($other:ident, $f:expr, $v:expr) => {
+        false
+    };
+}
+
+/// Generates [`Params`], [`ParamsFile`], [`PARAMETERS`] and the accessors from the table.
+macro_rules! parameters {
+    ($(
+        $(#[doc = $doc:literal])*
+        $field:ident: $ty:ty, file $file:ident: $file_ty:ty, $conv:ident,
+            paper $paper:expr, extended $extended:expr, needs [$($need:literal),*];
+    )*) => {
+        /// Every parameter of the mapper. Lengths in metres, angles in radians.
+        /// Persisted sets (the app's settings) written before a parameter existed take the
+        /// paper's value for it.
+        #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+        #[serde(default)]
+        pub struct Params {
+            $( $(#[doc = $doc])* pub $field: $ty, )*
+        }
+
+        /// The `--params` file of docs/formats.md §6. Every field is optional.
+        #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+        #[serde(deny_unknown_fields)]
+        #[allow(missing_docs)]
+        pub struct ParamsFile {
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            pub preset: Option<super::Preset>,
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            pub units: Option<String>,
+            $(
+                #[serde(default, skip_serializing_if = "Option::is_none")]
+                pub $file: Option<$file_ty>,
+            )*
+        }
+
+        /// Every parameter, in the order of [`Params`] and of a params file.
+        pub const PARAMETERS: &[Parameter] = &[
+            $( Parameter {
+                name: stringify!($file),
+                kind: kind_of!($conv),
+                needs: &[$($need),*],
+                help: concat!($($doc),*),
+            }, )*
+        ];
+
+        impl Params {
+            /// The paper's values (docs/algorithm.md §7).
+            pub fn paper() -> Self {
+                Self { $( $field: $paper, )* }
+            }
+
+            /// The paper plus every extension of docs/algorithm.md §8 (each parameter's
+            /// `extended` value in the table of `params/declare.rs`).
+            pub fn extended() -> Self {
+                Self { $( $field: $extended, )* }
+            }
+
+            /// Sets the fields `file` gives, its lengths in `units`.
+            pub(super) fn apply_file_fields(&mut self, file: &ParamsFile, units: Units) {
+                $( if let Some(v) = &file.$file {
+                    self.$field = from_file_value!($conv, v, units);
+                } )*
+            }
+
+            /// Every field as a file gives it, lengths in `units` (no preset, no units).
+            pub(super) fn file_fields(&self, units: Units) -> ParamsFile {
+                ParamsFile {
+                    preset: None,
+                    units: None,
+                    $( $file: Some(to_file_value!($conv, self.$field, units)), )*
+                }
+            }
+
+            /// Parameter `name`'s value as a number in a file's units (`units` for
+            /// lengths); `None` for flags, choices and unknown names.
+            pub fn number(&self, name: &str, units: Units) -> Option<f64> {
+                let _ = units;
+                match name {
+                    $( stringify!($file) => number_of!($conv, self.$field, units), )*
+                    _ => None,
+                }
+            }
+
+            /// Sets parameter `name` from a number in a file's units; false when it takes
+            /// none (a flag, a choice, an unknown name).
+            pub fn set_number(&mut self, name: &str, v: f64, units: Units) -> bool {
+                let _ = (v, units);
+                match name {
+                    $( stringify!($file) => set_number!($conv, self.$field, v, units), )*
+                    _ => false,
+                }
+            }
+
+            /// Flag `name`'s value; `None` for the other parameters.
+            pub fn flag(&self, name: &str) -> Option<bool> {
+                match name {
+                    $( stringify!($file) => flag_of!($conv, self.$field), )*
+                    _ => None,
+                }
+            }
+
+            /// Sets flag `name`; false when `name` is no flag.
+            pub fn set_flag(&mut self, name: &str, on: bool) -> bool {
+                let _ = on;
+                match name {
+                    $( stringify!($file) => set_flag!($conv, self.$field, on), )*
+                    _ => false,
+                }
+            }
+
+            /// Whether parameter `name` is on (a set flag, a count above 0).
+            pub fn is_on(&self, name: &str) -> bool {
+                match name {
+                    $( stringify!($file) => is_on!($conv, self.$field), )*
+                    _ => false,
+                }
+            }
+
+            /// Parameter `name` takes its value in `from`; false for an unknown name.
+            pub fn take_from(&mut self, name: &str, from: &Params) -> bool {
+                match name {
+                    $( stringify!($file) => {
+                        self.$field = from.$field.clone();
+                        true
+                    } )*
+                    _ => false,
+                }
+            }
+        }
+    };
+}
+
+parameters! {
+    /// Accuracy `ξ`, percent of range (§2).
+    accuracy_pct: f64, file accuracy_pct: f64, number,
+        paper 3.0, extended 3.0, needs [];
+    /// Readings beyond this are discarded (§3.1).
+    d_max_m: f64, file d_max: f64, length,
+        paper inches(255.0), extended inches(255.0), needs [];
+    /// Readings below this are discarded (blind zone).
+    min_range_m: f64, file min_range: f64, length,
+        paper inches(6.0), extended inches(6.0), needs [];
+    /// Cluster gap threshold (§3.1, §4).
+    t_gap_m: f64, file t_gap: f64, length,
+        paper inches(42.0), extended inches(42.0), needs [];
+    /// Orientation threshold `θ_o` (§3.3.1).
+    orientation_rad: f64, file orientation_deg: f64, degrees,
+        paper 15f64.to_radians(), extended 15f64.to_radians(), needs [];
+    /// Split rule of the recursive fit.
+    split: SplitMode, file split: SplitFile, split,
+        paper SplitMode::Resolution, extended SplitMode::Resolution, needs [];
+    /// Line placement of the recursive fit. `extended`: total least squares, a piece's
+    /// end-points on the line through all its readings, not on one noisy reading each
+    /// (docs/algorithm.md §8.13).
+    fit: FitMode, file fit: FitMode, choice,
+        paper FitMode::EndPoints, extended FitMode::TotalLeastSquares, needs [];
+    /// Largest step between snapshots before a warning (§3.3.1).
+    max_step_m: f64, file max_step: f64, length,
+        paper inches(10.0), extended inches(10.0), needs [];
+    /// Correlation of new faces (§3.3.3) on or off.
+    correlate: bool, file correlate: bool, flag,
+        paper true, extended true, needs [];
+    /// Point memory length in snapshots; 0 is off (docs/algorithm.md §8.1).
+    memory_snapshots: usize, file memory_snapshots: usize, count,
+        paper 0, extended 10, needs [];
+    /// Link distance of remembered points (§8.1).
+    memory_gap_m: f64, file memory_gap: f64, length,
+        paper inches(12.0), extended inches(12.0), needs [];
+    /// Fewest points of a memory segment (§8.1).
+    memory_min_points: usize, file memory_min_points: usize, count,
+        paper 3, extended 3, needs [];
+    /// Constant-depth groups on or off (docs/algorithm.md §8.2).
+    constant_depth: bool, file constant_depth: bool, flag,
+        paper false, extended true, needs [];
+    /// Fuse map segments that match an updated segment into it (a long-run bound beyond the
+    /// paper, docs/algorithm.md §8.3; see `mapping::paper::merge`).
+    merge_duplicates: bool, file merge_duplicates: bool, flag,
+        paper false, extended true, needs [];
+    /// Supporting points a segment keeps, the most recent ones; 0 keeps them all (a long-run
+    /// bound beyond the paper, docs/algorithm.md §5 and §8).
+    support_cap: usize, file support_cap: usize, count,
+        paper 0, extended EXTENDED_SUPPORT_CAP, needs [];
+    /// Refuse a correlation corner that would collapse a line, joining the two end-points by a
+    /// connecting segment instead (beyond the paper, docs/algorithm.md §6 and §8).
+    corner_guard: bool, file corner_guard: bool, flag,
+        paper false, extended true, needs [];
+    /// Arc rule: a cluster whose readings, from two or more sensors, pass the ball test
+    /// pairwise is one reflector point, filed as a point feature instead of fitted
+    /// (docs/algorithm.md §8.5).
+    arc_features: bool, file arc_features: bool, flag,
+        paper false, extended true, needs [];
+    /// Readings a confirmed point feature explains (its range from the sensor, inside the
+    /// beam) join no cluster (docs/algorithm.md §8.5). Acts only with `arc_features`, which
+    /// files the features.
+    explain_readings: bool, file explain_readings: bool, flag,
+        paper false, extended true, needs ["arc_features"];
+    /// A segment whose perpendicular foot lies inside a beam that read farther is removed
+    /// (docs/algorithm.md §8.6).
+    free_space: bool, file free_space: bool, flag,
+        paper false, extended true, needs [];
+    /// Segments are tentative until readings of two snapshots support them as a plane
+    /// (docs/algorithm.md §8.7).
+    confirm_segments: bool, file confirm_segments: bool, flag,
+        paper false, extended true, needs [];
+    /// A segment made in one step from readings of several snapshots (a point-memory piece)
+    /// is confirmed when two of them, of distinct snapshots, support it as a plane from
+    /// sensors 8 in or more apart along it (docs/algorithm.md §8.7). Acts only with
+    /// `confirm_segments` and point memory.
+    baseline_confirm: bool, file baseline_confirm: bool, flag,
+        paper false, extended true, needs ["confirm_segments", "memory_snapshots"];
+    /// A confirmed segment that a refit (§5) turned more than `θ_o` or moved more than
+    /// `2·tol(D)` off its line is tentative again (docs/algorithm.md §8.7). Acts only with
+    /// `confirm_segments`.
+    refit_unconfirms: bool, file refit_unconfirms: bool, flag,
+        paper false, extended true, needs ["confirm_segments"];
+    /// A NEW FACE needs a reading that supports it as a plane (docs/algorithm.md §8.7).
+    plane_gate: bool, file plane_gate: bool, flag,
+        paper false, extended true, needs [];
+    /// A fitted piece's readings move to where one plane's echoes came from, when a line fitted
+    /// from their ranges explains them all (docs/algorithm.md §8.10).
+    echo_fit: bool, file echo_fit: bool, flag,
+        paper false, extended true, needs [];
+    /// A segment lying wholly near the junction of two confirmed walls and turned from both
+    /// is a corner's diagonal and leaves the map (docs/algorithm.md §8.11). Acts only with
+    /// `confirm_segments`.
+    corner_diagonals: bool, file corner_diagonals: bool, flag,
+        paper false, extended true, needs ["confirm_segments"];
+    /// The readings of removed diagonals are kept as evidence; a round pillar that explains
+    /// enough of them, seen from apart, is filed as a rounded feature and explains its echoes
+    /// (docs/algorithm.md §8.14). Acts only with `corner_diagonals`.
+    round_reflectors: bool, file round_reflectors: bool, flag,
+        paper false, extended true, needs ["corner_diagonals"];
+    /// A reading a confirmed wall explains as a plane echo, well inside its ends, is settled:
+    /// kept out of the clusters, point memory and the free-space sweep (docs/algorithm.md
+    /// §8.12). Acts only with `confirm_segments`.
+    settled_walls: bool, file settled_walls: bool, flag,
+        paper false, extended true, needs ["confirm_segments"];
+    /// A point-memory piece whose readings are one place read at changing ranges (a stack:
+    /// a wall square-on to a sonar the robot drives towards or away from) makes no segment;
+    /// its readings leave the memory (docs/algorithm.md §8.15). Acts only with point memory.
+    memory_stacks: bool, file memory_stacks: bool, flag,
+        paper false, extended true, needs ["memory_snapshots"];
+    /// A point-memory piece that becomes a segment keeps its newest end reading in the memory
+    /// as its joint, so that the next piece along the chain shares it and overlaps this one
+    /// (docs/algorithm.md §8.16). Acts only with point memory.
+    memory_joints: bool, file memory_joints: bool, flag,
+        paper false, extended true, needs ["memory_snapshots"];
+    /// Fewest readings of a fitted piece that becomes a new segment; shorter pieces' readings
+    /// go to point memory. 0 is off (the paper fits any piece; docs/algorithm.md §8.8).
+    min_piece_points: usize, file min_piece_points: usize, count,
+        paper 0, extended 3, needs [];
+}

@@ -1,0 +1,267 @@
+//! Mapping parameters (docs/algorithm.md §7, §8) and the `--params` file (docs/formats.md §6).
+//! Lengths are metres; defaults are the paper's inches converted.
+
+mod declare;
+mod needs;
+
+pub use declare::{ParamKind, Parameter, Params, ParamsFile, SplitFile, PARAMETERS};
+pub use needs::UnmetNeed;
+
+use crate::units::Units;
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// How the recursive fit decides to split (docs/algorithm.md §3).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum SplitMode {
+    /// Split when the farthest point is farther than its own ball radius `ξ·D/100`.
+    Resolution,
+    /// Split when the farthest point is farther than this length, metres.
+    Fixed(f64),
+}
+
+/// How a piece's line is placed (docs/algorithm.md §3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FitMode {
+    /// The line through the first and last readings (Crowley's end-point fit).
+    EndPoints,
+    /// Total least squares through all readings; the end readings projected onto it.
+    TotalLeastSquares,
+}
+
+/// `support_cap` of the `extended` preset: an update then costs the same after an hour of
+/// driving as after a minute.
+pub const EXTENDED_SUPPORT_CAP: usize = 64;
+
+/// A named parameter set.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Preset {
+    /// The paper alone.
+    Paper,
+    /// The paper with every extension of docs/algorithm.md §8.
+    Extended,
+}
+
+impl Preset {
+    /// Parses `paper` or `extended`.
+    pub fn parse(name: &str) -> Option<Preset> {
+        match name {
+            "paper" => Some(Preset::Paper),
+            "extended" => Some(Preset::Extended),
+            _ => None,
+        }
+    }
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Self::paper()
+    }
+}
+
+impl Params {
+    /// The values of a preset.
+    pub fn preset(preset: Preset) -> Self {
+        match preset {
+            Preset::Paper => Self::paper(),
+            Preset::Extended => Self::extended(),
+        }
+    }
+
+    /// Checks every value; the first problem found is returned.
+    pub fn validate(&self) -> Result<(), ParamsError> {
+        let positive = |name: &'static str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(ParamsError::NotPositive { name, value: v })
+            }
+        };
+        let non_negative = |name: &'static str, v: f64| {
+            if v.is_finite() && v >= 0.0 {
+                Ok(())
+            } else {
+                Err(ParamsError::Negative { name, value: v })
+            }
+        };
+        positive("accuracy_pct", self.accuracy_pct)?;
+        positive("d_max", self.d_max_m)?;
+        non_negative("min_range", self.min_range_m)?;
+        non_negative("t_gap", self.t_gap_m)?;
+        non_negative("max_step", self.max_step_m)?;
+        non_negative("memory_gap", self.memory_gap_m)?;
+        if !(self.orientation_rad.is_finite()
+            && (0.0..=std::f64::consts::FRAC_PI_2).contains(&self.orientation_rad))
+        {
+            return Err(ParamsError::OutOfRange {
+                name: "orientation_deg",
+                value: self.orientation_rad.to_degrees(),
+                expected: "between 0 and 90 degrees",
+            });
+        }
+        if let SplitMode::Fixed(t) = self.split {
+            non_negative("split.fixed", t)?;
+        }
+        if self.memory_min_points < 2 {
+            return Err(ParamsError::OutOfRange {
+                name: "memory_min_points",
+                value: self.memory_min_points as f64,
+                expected: "at least 2",
+            });
+        }
+        if self.min_range_m > self.d_max_m {
+            return Err(ParamsError::OutOfRange {
+                name: "min_range",
+                value: self.min_range_m,
+                expected: "no larger than d_max",
+            });
+        }
+        Ok(())
+    }
+
+    /// Applies a `--params` file on top of `self` (the file's preset first, then its fields),
+    /// and validates the result. Nothing changes on error.
+    pub fn with_file(&self, file: &ParamsFile) -> Result<Params, ParamsError> {
+        let mut p = match file.preset {
+            Some(preset) => Params::preset(preset),
+            None => self.clone(),
+        };
+        let units = match &file.units {
+            None => Units::Inches,
+            Some(name) => {
+                Units::parse(name).ok_or_else(|| ParamsError::UnknownUnits(name.clone()))?
+            }
+        };
+        p.apply_file_fields(file, units);
+        p.validate()?;
+        Ok(p)
+    }
+
+    /// The complete parameter set as a `--params` file in `units`.
+    pub fn to_file(&self, units: Units) -> ParamsFile {
+        let mut file = self.file_fields(units);
+        file.units = Some(units.symbol().to_string());
+        file
+    }
+}
+
+/// A parameter value that cannot be used.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum ParamsError {
+    /// Must be greater than zero.
+    #[error("parameter `{name}` must be a finite number greater than 0, got {value}")]
+    NotPositive {
+        /// Parameter name as in files.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// Must not be negative.
+    #[error("parameter `{name}` must be a finite number of at least 0, got {value}")]
+    Negative {
+        /// Parameter name as in files.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// Outside its range.
+    #[error("parameter `{name}` = {value} is out of range: expected {expected}")]
+    OutOfRange {
+        /// Parameter name as in files.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// What is allowed.
+        expected: &'static str,
+    },
+    /// Units not known.
+    #[error("unknown units `{0}`: expected \"in\", \"mm\", \"cm\" or \"m\"")]
+    UnknownUnits(String),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn paper_defaults_are_the_papers_inches() {
+        let p = Params::paper();
+        assert!((Units::Inches.from_m(p.t_gap_m) - 42.0).abs() < 1e-9);
+        assert!((Units::Inches.from_m(p.d_max_m) - 255.0).abs() < 1e-9);
+        assert!((p.orientation_rad.to_degrees() - 15.0).abs() < 1e-9);
+        assert_eq!(p.memory_snapshots, 0);
+        assert!(!p.constant_depth);
+        assert!(!p.merge_duplicates);
+        assert_eq!(p.support_cap, 0, "the paper keeps every supporting point");
+        assert!(!p.corner_guard);
+        assert!(!p.arc_features && !p.explain_readings && !p.free_space && !p.confirm_segments);
+        assert!(!p.plane_gate && !p.echo_fit && p.min_piece_points == 0);
+        assert!(!p.corner_diagonals && !p.settled_walls && !p.round_reflectors);
+        assert!(!p.memory_stacks && !p.memory_joints);
+        assert!(!p.baseline_confirm && !p.refit_unconfirms);
+        let e = Params::extended();
+        assert_eq!(e.support_cap, 64);
+        assert_eq!(
+            (p.fit, e.fit),
+            (FitMode::EndPoints, FitMode::TotalLeastSquares)
+        );
+        assert!(e.corner_guard);
+        assert_eq!(e.memory_snapshots, 10);
+        assert!(e.constant_depth);
+        assert!(e.merge_duplicates);
+        assert!(e.arc_features && e.explain_readings && e.free_space && e.confirm_segments);
+        assert!(e.plane_gate && e.echo_fit && e.min_piece_points == 3);
+        assert!(e.corner_diagonals && e.settled_walls && e.round_reflectors);
+        assert!(e.memory_stacks && e.memory_joints);
+        assert!(e.baseline_confirm && e.refit_unconfirms);
+        assert!(p.validate().is_ok() && e.validate().is_ok());
+    }
+
+    #[test]
+    fn negative_t_gap_and_zero_accuracy_are_errors() {
+        let p = Params {
+            t_gap_m: -1.0,
+            ..Params::paper()
+        };
+        assert!(matches!(
+            p.validate(),
+            Err(ParamsError::Negative { name: "t_gap", .. })
+        ));
+        let p = Params {
+            accuracy_pct: 0.0,
+            ..Params::paper()
+        };
+        assert!(matches!(
+            p.validate(),
+            Err(ParamsError::NotPositive {
+                name: "accuracy_pct",
+                ..
+            })
+        ));
+        let p = Params {
+            accuracy_pct: f64::NAN,
+            ..Params::paper()
+        };
+        assert!(p.validate().is_err());
+    }
+
+    #[test]
+    fn params_file_applies_preset_then_fields_in_its_units() {
+        let file: ParamsFile = serde_json::from_str(
+            r#"{"preset": "extended", "t_gap": 100, "units": "cm", "split": {"fixed": 2.0}, "fit": "total_least_squares"}"#,
+        )
+        .unwrap();
+        let p = Params::paper().with_file(&file).unwrap();
+        assert!((p.t_gap_m - 1.0).abs() < 1e-12);
+        assert_eq!(p.split, SplitMode::Fixed(0.02));
+        assert_eq!(p.fit, FitMode::TotalLeastSquares);
+        assert_eq!(p.memory_snapshots, 10);
+        let back = Params::paper()
+            .with_file(&p.to_file(Units::Millimetres))
+            .unwrap();
+        assert!((back.t_gap_m - p.t_gap_m).abs() < 1e-12);
+        assert_eq!(back.memory_snapshots, 10);
+    }
+}
