@@ -1,4 +1,4 @@
-//! What the flagged extensions of docs/algorithm.md §8.5–§8.8 did in this step, with their
+//! What the flagged extensions of docs/algorithm.md §8 did in this step, with their
 //! numbers: arcs filed as corners or edges, readings explained by a feature, segments a reading
 //! saw past, plane support, the plane gate, echo placement (§8.10), corner diagonals (§8.11),
 //! readings a confirmed wall settled (§8.12), pillars found among the diagonals' echoes
@@ -13,7 +13,7 @@ use crate::mapping::model::map::ReadingRef;
 use egui::RichText;
 
 /// One line for each stack point memory let go this step (§8.15).
-fn stacks_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
+fn stacks(ctx: &InspectCtx, out: &mut Vec<RichText>) {
     let Some(memory) = &ctx.view.trace.memory else {
         return;
     };
@@ -32,7 +32,7 @@ fn stacks_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
                 .iter()
                 .map(|q| format!("{}/{}", q.reading.snapshot(), q.reading.sensor()))
                 .collect();
-            ui.label(format!(
+            out.push(RichText::new(format!(
                 "stack: readings {} (snapshot/sensor) lie at one place, {}, pairwise within \
                  ξ·(D1+D2)/100 = {} %, but read from {} to {}: the sonar moved along its beam, \
                  so their line has no direction; they leave point memory without a segment",
@@ -41,13 +41,13 @@ fn stacks_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
                 2.0 * xi,
                 ctx.len(near_m),
                 ctx.len(far_m),
-            ));
+            )));
         }
     }
 }
 
 /// One line for each joint point memory kept this step (§8.16).
-fn joints_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
+fn joints(ctx: &InspectCtx, out: &mut Vec<RichText>) {
     let Some(memory) = &ctx.view.trace.memory else {
         return;
     };
@@ -60,40 +60,22 @@ fn joints_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             .map_or_else(String::new, |q| format!(" at {}", ctx.point(&q.point)))
     };
     for &r in &memory.joints {
-        ui.label(format!(
+        out.push(RichText::new(format!(
             "joint: reading {}/{} (snapshot/sensor){}, the newest end of a piece that became a \
              segment, stays in point memory: the next piece along the chain shares it, so the \
              two overlap and match instead of leaving a reading's spacing between them",
             r.snapshot(),
             r.sensor(),
             place(r),
-        ));
+        )));
     }
 }
 
-/// The step's extension records; nothing when none acted.
-pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
-    let t = &ctx.view.trace;
-    if t.arcs.is_empty()
-        && t.explained.is_empty()
-        && t.refuted.is_empty()
-        && t.plane_support.is_empty()
-        && t.gated.is_empty()
-        && t.echo_fits.is_empty()
-        && t.diagonals.is_empty()
-        && t.round_reflectors.is_empty()
-        && t.settled.is_empty()
-        && t.unconfirmed.is_empty()
-        && t.memory
-            .as_ref()
-            .is_none_or(|m| m.stacked.is_empty() && m.joints.is_empty())
-    {
-        return;
-    }
-    heading(ui, "Extensions this step");
+/// One line for each of the step's arcs filed as point features (§8.5).
+fn arcs(ctx: &InspectCtx, out: &mut Vec<RichText>) {
     let xi = ctx.params.accuracy_pct;
-    for a in &t.arcs {
-        ui.label(format!(
+    for a in &ctx.view.trace.arcs {
+        out.push(RichText::new(format!(
             "arc: cluster {} (sensors {:?}) ranges {} to {}, pairwise within ξ·(D1+D2)/100 = {} %: \
              one reflector at {} -> feature f{}{}{}",
             a.cluster,
@@ -109,9 +91,13 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             } else {
                 ""
             }
-        ));
+        )));
     }
-    for e in &t.explained {
+}
+
+/// One line for each of the step's readings a confirmed feature explained (§8.5).
+fn explained(ctx: &InspectCtx, out: &mut Vec<RichText>) {
+    for e in &ctx.view.trace.explained {
         // A pillar (§8.14) echoes from its surface, its radius short of its centre.
         let radius_m = ctx
             .view
@@ -127,7 +113,7 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
         } else {
             String::new()
         };
-        ui.label(format!(
+        out.push(RichText::new(format!(
             "explained: sensor {} read {}; confirmed feature f{} lies {} away{}, {:.1}° off \
              the axis: its echo, kept out of the clusters",
             e.sensor,
@@ -136,10 +122,15 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             ctx.len(e.feature_distance_m),
             surface,
             e.off_axis_rad.to_degrees()
-        ));
+        )));
     }
-    for e in &t.settled {
-        ui.label(format!(
+}
+
+/// One line for each of the step's readings a confirmed wall settled (§8.12).
+fn settled(ctx: &InspectCtx, out: &mut Vec<RichText>) {
+    let xi = ctx.params.accuracy_pct;
+    for e in &ctx.view.trace.settled {
+        out.push(RichText::new(format!(
             "settled: sensor {} read {}; confirmed wall s{} predicts {} (tolerance {}), its \
              echo {} inside the nearer end (of the wall and the confirmed pieces continuing it): \
              kept out of the clusters, point memory and the free-space sweep",
@@ -149,12 +140,14 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             ctx.len(e.predicted_m),
             ctx.len(feature_tolerance_m(xi, e.range_m)),
             ctx.len(e.inside_m)
-        ));
+        )));
     }
-    stacks_ui(ui, ctx);
-    joints_ui(ui, ctx);
-    for r in &t.refuted {
-        ui.label(format!(
+}
+
+/// One line for each of the step's segments a reading saw past (§8.6).
+fn refuted(ctx: &InspectCtx, out: &mut Vec<RichText>) {
+    for r in &ctx.view.trace.refuted {
+        out.push(RichText::new(format!(
             "free space: sensor {} read {} but s{} lies {} away, {:.1}° off the axis (a plane \
              there echoes from that foot): removed",
             r.sensor,
@@ -162,10 +155,14 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             r.segment,
             ctx.len(r.distance_m),
             r.off_axis_rad.to_degrees()
-        ));
+        )));
     }
-    for u in &t.unconfirmed {
-        ui.label(format!(
+}
+
+/// One line for each of the step's confirmed segments a refit moved off their line (§8.7).
+fn unconfirmed(ctx: &InspectCtx, out: &mut Vec<RichText>) {
+    for u in &ctx.view.trace.unconfirmed {
+        out.push(RichText::new(format!(
             "refit moved s{} off its line (turned {:.1}°, limit {:.1}°; ends {} and {} off it, \
              limits {} and {}): tentative again",
             u.segment,
@@ -175,11 +172,15 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             ctx.len(u.off_line_m[1]),
             ctx.len(u.limits_m[0]),
             ctx.len(u.limits_m[1]),
-        ));
+        )));
     }
-    for p in &t.plane_support {
+}
+
+/// One line for each of the step's plane and baseline support (§8.7).
+fn plane_support(ctx: &InspectCtx, out: &mut Vec<RichText>) {
+    for p in &ctx.view.trace.plane_support {
         if let Some(b) = &p.baseline {
-            ui.label(format!(
+            out.push(RichText::new(format!(
                 "baseline confirmation: readings of snapshots {} (sensor {}) and {} (sensor {}) \
                  support s{} as a plane, their sensors {} apart along it and {} across: confirmed",
                 b.readings[0].snapshot,
@@ -189,10 +190,10 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
                 p.segment,
                 ctx.len(b.along_m),
                 ctx.len(b.across_m),
-            ));
+            )));
             continue;
         }
-        ui.label(format!(
+        out.push(RichText::new(format!(
             "plane support: sensor {} read {}, s{} lies {} away: {} snapshot(s){}",
             p.sensor,
             ctx.len(p.range_m),
@@ -204,10 +205,14 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             } else {
                 ", tentative"
             }
-        ));
+        )));
     }
-    for e in &t.echo_fits {
-        ui.label(format!(
+}
+
+/// One line for each of the step's echo placement (§8.10).
+fn echo_fits(ctx: &InspectCtx, out: &mut Vec<RichText>) {
+    for e in &ctx.view.trace.echo_fits {
+        out.push(RichText::new(format!(
             "echo placement: {}: one plane explains its ranges (worst {:.2} of the tolerance): \
              its normal at {:.1}°; {} reading(s) moved to the foot of the perpendicular, {} to \
              the cone's edge, by up to {}",
@@ -221,16 +226,16 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             e.at_foot,
             e.at_cone_edge,
             ctx.len(e.moved_max_m)
-        ));
+        )));
         if let Some(at) = e.reflector {
-            ui.label(format!(
+            out.push(RichText::new(format!(
                 "  one reflector at {} explains its ranges better than the line: a corner or an \
                  edge, filed as a point feature and not added as a segment",
                 ctx.point(&at)
-            ));
+            )));
         }
         if e.behind_confirmed_wall > 0 {
-            ui.label(format!(
+            out.push(RichText::new(format!(
                 "  {} of its echo points lie behind a confirmed wall{}",
                 e.behind_confirmed_wall,
                 if e.dropped && e.reflector.is_none() {
@@ -238,11 +243,15 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
                 } else {
                     ""
                 }
-            ));
+            )));
         }
     }
-    for d in &t.diagonals {
-        ui.label(format!(
+}
+
+/// One line for each of the step's corner diagonals removed (§8.11).
+fn diagonals(ctx: &InspectCtx, out: &mut Vec<RichText>) {
+    for d in &ctx.view.trace.diagonals {
+        out.push(RichText::new(format!(
             "corner diagonal: s{} ({} to {}) lies {} and {} from the junction {} of s{} and s{} \
              ({:.1} deg apart; within {} of each), turned {:.1} and {:.1} deg from them \
              (at least {:.1}): a corner's echoes, not a wall: removed",
@@ -259,10 +268,14 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             d.angles_rad[0].to_degrees(),
             d.angles_rad[1].to_degrees(),
             ctx.params.orientation_rad.to_degrees()
-        ));
+        )));
     }
-    for r in &t.round_reflectors {
-        ui.label(format!(
+}
+
+/// One line for each of the step's pillars filed (§8.14).
+fn pillars(ctx: &InspectCtx, out: &mut Vec<RichText>) {
+    for r in &ctx.view.trace.round_reflectors {
+        out.push(RichText::new(format!(
             "pillar: one cylinder, centre {} radius {}, explains {} readings of removed \
              diagonals (each |c - o| - r within its tolerance), heard from sensors {} apart: \
              feature f{}",
@@ -271,15 +284,50 @@ pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             r.readings,
             ctx.len(r.baseline_m),
             r.feature
-        ));
+        )));
     }
-    for n in &t.gated {
-        ui.label(
+}
+
+/// One line for each of the step's new faces the plane gate refused (§8.7).
+fn gated(ctx: &InspectCtx, out: &mut Vec<RichText>) {
+    for n in &ctx.view.trace.gated {
+        out.push(
             RichText::new(format!(
                 "plane gate: n{n} would be a new face, but no reading of it lies at its range \
                  from the line inside its beam: not added"
             ))
             .weak(),
         );
+    }
+}
+
+/// Each extension's lines, in the order they are shown.
+const EXTENSION_LINES: &[fn(&InspectCtx, &mut Vec<RichText>)] = &[
+    arcs,
+    explained,
+    settled,
+    stacks,
+    joints,
+    refuted,
+    unconfirmed,
+    plane_support,
+    echo_fits,
+    diagonals,
+    pillars,
+    gated,
+];
+
+/// The step's extension records; nothing when none acted.
+pub(super) fn extensions_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
+    let mut lines = Vec::new();
+    for extension in EXTENSION_LINES {
+        extension(ctx, &mut lines);
+    }
+    if lines.is_empty() {
+        return;
+    }
+    heading(ui, "Extensions this step");
+    for line in lines {
+        ui.label(line);
     }
 }

@@ -201,22 +201,7 @@ pub fn fit_echo_line(
     }
     let (coarse, coarse_cost) = best?;
     // Golden-section refinement within one step either side.
-    let ratio = (5f64.sqrt() - 1.0) / 2.0;
-    let (mut lo, mut hi) = (coarse - step, coarse + step);
-    let (mut m1, mut m2) = (hi - ratio * (hi - lo), lo + ratio * (hi - lo));
-    let (mut c1, mut c2) = (cost_or_inf(m1), cost_or_inf(m2));
-    for _ in 0..GOLDEN_ITERATIONS {
-        if c1 <= c2 {
-            (hi, m2, c2) = (m2, m1, c1);
-            m1 = hi - ratio * (hi - lo);
-            c1 = cost_or_inf(m1);
-        } else {
-            (lo, m1, c1) = (m1, m2, c2);
-            m2 = lo + ratio * (hi - lo);
-            c2 = cost_or_inf(m2);
-        }
-    }
-    let refined = (lo + hi) / 2.0;
+    let refined = golden_section_min(coarse - step, coarse + step, cost_or_inf);
     let angle = if cost_or_inf(refined) <= coarse_cost {
         refined
     } else {
@@ -233,6 +218,26 @@ pub fn fit_echo_line(
         offset_m,
         worst_residual_over_tolerance: worst,
     })
+}
+
+/// The middle of the bracket that [`GOLDEN_ITERATIONS`] golden-section steps leave of
+/// `lo..hi` around the least `cost`.
+fn golden_section_min(mut lo: f64, mut hi: f64, cost: impl Fn(f64) -> f64) -> f64 {
+    let ratio = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut m1, mut m2) = (hi - ratio * (hi - lo), lo + ratio * (hi - lo));
+    let (mut c1, mut c2) = (cost(m1), cost(m2));
+    for _ in 0..GOLDEN_ITERATIONS {
+        if c1 <= c2 {
+            (hi, m2, c2) = (m2, m1, c1);
+            m1 = hi - ratio * (hi - lo);
+            c1 = cost(m1);
+        } else {
+            (lo, m1, c1) = (m1, m2, c2);
+            m2 = lo + ratio * (hi - lo);
+            c2 = cost(m2);
+        }
+    }
+    (lo + hi) / 2.0
 }
 
 /// The single reflector point (a corner or an edge) that best explains the ranges of `beams`,

@@ -5,7 +5,7 @@
 use crate::geometry::{fit_line_tls, AlongLine, Point};
 use crate::mapping::ext::constant_depth::same_depth;
 use crate::mapping::ext::memory_linkage::{Linkage, Seeds};
-use crate::mapping::model::map::{MemoryPoint, SupportPoint};
+use crate::mapping::model::map::{MemoryPoint, ReadingRef, SupportPoint};
 use crate::mapping::model::params::Params;
 use crate::mapping::model::trace::{MemoryGroupTrace, MemoryTrace};
 use crate::mapping::paper::fit::split_recursive;
@@ -62,19 +62,102 @@ pub fn memory_step(
     linkage: &mut Linkage,
 ) -> (MemoryTrace, Vec<MemoryPiece>) {
     let mut trace = MemoryTrace::default();
-    let horizon = params.memory_snapshots;
     // Last step's seeds, while they still describe this memory; they leave with their readings.
-    let ends = |memory: &[MemoryPoint]| {
-        Some((
-            memory.first()?.support.reading,
-            memory.last()?.support.reading,
-        ))
-    };
     let mut seeds = linkage
         .seeds
         .take()
-        .filter(|s| s.flags.len() == memory.len() && s.ends == ends(memory))
+        .filter(|s| s.flags.len() == memory.len() && s.ends == memory_ends(memory))
         .map(|s| s.flags);
+    let kept = expire_and_add(
+        memory,
+        singles,
+        snapshot,
+        params,
+        seeds.as_mut(),
+        &mut trace,
+        record,
+    );
+    group_memory(memory, seeds.as_mut(), kept, params, linkage);
+    let n = memory.len();
+    // Next step's seeds: the readings of the groups fitted now that stay.
+    let mut next_seeds = seeds.unwrap_or_default();
+    next_seeds.clear();
+    next_seeds.resize(n, false);
+    let mut taken = Taken {
+        used: std::mem::take(&mut linkage.used),
+        in_segment: if record { vec![false; n] } else { Vec::new() },
+        joints: Vec::new(),
+        pieces: Vec::new(),
+    };
+    taken.used.clear();
+    taken.used.resize(n, false);
+    let (members, group_ends) = (&linkage.members, &linkage.group_ends);
+    let groups = group_ends.iter().scan(0, |start, &end| {
+        Some(&members[std::mem::replace(start, end)..end])
+    });
+    let fitted = groups.filter(|m| m.len() >= params.memory_min_points);
+    for (group_index, group) in fitted.enumerate() {
+        for &i in group {
+            next_seeds[i] = true;
+        }
+        let group_trace = fit_group(memory, group, group_index, params, record, &mut taken);
+        if let Some(g) = group_trace {
+            trace.groups.push(g);
+        }
+    }
+    if record {
+        // A joint another piece of its group took left with that piece; a corner two pieces
+        // both keep as their joint is one reading held.
+        taken.joints.sort_unstable();
+        taken.joints.dedup();
+        let kept = taken.joints.iter().filter(|&&i| !taken.used[i]);
+        trace
+            .joints
+            .extend(kept.map(|&i| memory[i].support.reading));
+    }
+    release_taken(memory, &taken, &mut next_seeds, &mut trace, record);
+    linkage.used = taken.used;
+    linkage.seeds = Some(Seeds {
+        flags: next_seeds,
+        ends: memory_ends(memory),
+    });
+    trace.held_after = memory.len();
+    (trace, taken.pieces)
+}
+
+/// The first and last readings of `memory`: what last step's seeds were taken against.
+fn memory_ends(memory: &[MemoryPoint]) -> Option<(ReadingRef, ReadingRef)> {
+    Some((
+        memory.first()?.support.reading,
+        memory.last()?.support.reading,
+    ))
+}
+
+/// What one step's pieces took from the memory.
+struct Taken {
+    /// Per remembered reading: a piece that became a segment (or a stack) took it.
+    used: Vec<bool>,
+    /// Traced: per reading, whether a segment took it (the rest left in stacks). Pieces share
+    /// their corner readings, so this is told apart per reading, not per piece.
+    in_segment: Vec<bool>,
+    /// Traced: the joints kept this step (§8.16), by place in the memory.
+    joints: Vec<usize>,
+    /// The pieces that become new segments.
+    pieces: Vec<MemoryPiece>,
+}
+
+/// Readings older than the memory's span leave it (and their seed flags with them), then the
+/// step's `singles` join it. Returns how many old readings stayed.
+fn expire_and_add(
+    memory: &mut Vec<MemoryPoint>,
+    singles: &[SupportPoint],
+    snapshot: usize,
+    params: &Params,
+    mut seeds: Option<&mut Vec<bool>>,
+    trace: &mut MemoryTrace,
+    record: bool,
+) -> usize {
+    let horizon = params.memory_snapshots;
     let (mut i, mut kept) = (0, 0);
     memory.retain(|m| {
         let keep = snapshot - m.support.reading.snapshot().min(snapshot) < horizon;
@@ -91,15 +174,26 @@ pub fn memory_step(
     if record {
         trace.added.extend(singles.iter().map(|s| s.reading));
     }
-    let n = memory.len();
+    kept
+}
+
+/// Groups the memory's readings by single linkage: around the seeds (the `kept` old ones
+/// flagged, and every reading just added) when last step's seeds still hold, else afresh.
+fn group_memory(
+    memory: &[MemoryPoint],
+    seeds: Option<&mut Vec<bool>>,
+    kept: usize,
+    params: &Params,
+    linkage: &mut Linkage,
+) {
     let mut points = std::mem::take(&mut linkage.points);
     points.clear();
     points.extend(memory.iter().map(|m| m.support.point));
-    match seeds.as_mut() {
+    match seeds {
         Some(seeds) => {
             // The readings just added are seeds.
             seeds.truncate(kept);
-            seeds.resize(n, true);
+            seeds.resize(memory.len(), true);
             linkage.group_from_seeds(
                 &points,
                 seeds,
@@ -110,101 +204,90 @@ pub fn memory_step(
         None => linkage.group(&points, params.memory_gap_m),
     }
     linkage.points = points;
-    // Next step's seeds: the readings of the groups fitted now that stay.
-    let mut next_seeds = seeds.unwrap_or_default();
-    next_seeds.clear();
-    next_seeds.resize(n, false);
-    let (members, group_ends) = (&linkage.members, &linkage.group_ends);
-    let used = &mut linkage.used;
-    used.clear();
-    used.resize(n, false);
-    let mut pieces_out = Vec::new();
-    // Traced: which leaving readings a segment took (the rest left in stacks). Pieces share
-    // their corner readings, so this is told apart per reading, not per piece.
-    let mut in_segment = if record { vec![false; n] } else { Vec::new() };
-    // Traced: the joints kept this step (§8.16).
-    let mut joints = Vec::new();
-    let groups = group_ends.iter().scan(0, |start, &end| {
-        Some(&members[std::mem::replace(start, end)..end])
-    });
-    let fitted = groups.filter(|m| m.len() >= params.memory_min_points);
-    for (group_index, group) in fitted.enumerate() {
-        for &i in group {
-            next_seeds[i] = true;
+}
+
+/// Fits one group (`group`, places in the memory) as §3 fits a cluster: its pieces of enough
+/// readings become segments, unless they are stacks (§8.15); a segment's newest end reading
+/// stays as its joint (§8.16). What they take goes to `taken`. Traced, the group's record.
+fn fit_group(
+    memory: &[MemoryPoint],
+    group: &[usize],
+    group_index: usize,
+    params: &Params,
+    record: bool,
+    taken: &mut Taken,
+) -> Option<MemoryGroupTrace> {
+    let mut points: Vec<SupportPoint> = group.iter().map(|&i| memory[i].support).collect();
+    order_along_principal_axis(&mut points);
+    // Each reading's place in the memory.
+    let index_of = |q: &SupportPoint| {
+        group
+            .iter()
+            .copied()
+            .find(|&i| memory[i].support.reading == q.reading)
+    };
+    let mut splits = Vec::new();
+    let mut pieces = Vec::new();
+    split_recursive(&points, params, &mut splits, &mut pieces);
+    let mut piece_segments = Vec::with_capacity(pieces.len());
+    let mut stacks = Vec::new();
+    for (k, &[first, last]) in pieces.iter().enumerate() {
+        let piece = &points[first..=last];
+        if piece.len() < params.memory_min_points {
+            piece_segments.push(None);
+            continue;
         }
-        let mut points: Vec<SupportPoint> = group.iter().map(|&i| memory[i].support).collect();
-        order_along_principal_axis(&mut points);
-        // Each reading's place in the memory.
-        let index_of = |q: &SupportPoint| {
-            group
-                .iter()
-                .copied()
-                .find(|&i| memory[i].support.reading == q.reading)
-        };
-        let mut splits = Vec::new();
-        let mut pieces = Vec::new();
-        split_recursive(&points, params, &mut splits, &mut pieces);
-        let mut piece_segments = Vec::with_capacity(pieces.len());
-        let mut stacks = Vec::new();
-        for (k, &[first, last]) in pieces.iter().enumerate() {
-            let piece = &points[first..=last];
-            if piece.len() < params.memory_min_points {
-                piece_segments.push(None);
-                continue;
+        let stack = params.memory_stacks && is_stack(piece, params.accuracy_pct);
+        let joint = (params.memory_joints && !stack)
+            .then(|| joint_end(piece))
+            .flatten();
+        for (at, q) in piece.iter().enumerate() {
+            let Some(i) = index_of(q) else { continue };
+            // A joint is in this segment too: should another piece take it, it leaves as a
+            // segment's reading.
+            if record && !stack {
+                taken.in_segment[i] = true;
             }
-            let stack = params.memory_stacks && is_stack(piece, params.accuracy_pct);
-            let joint = (params.memory_joints && !stack)
-                .then(|| joint_end(piece))
-                .flatten();
-            for (at, q) in piece.iter().enumerate() {
-                let Some(i) = index_of(q) else { continue };
-                // A joint is in this segment too: should another piece take it, it leaves as
-                // a segment's reading.
-                if record && !stack {
-                    in_segment[i] = true;
-                }
-                if joint != Some(at) {
-                    used[i] = true;
-                } else if record {
-                    joints.push(i);
-                }
-            }
-            if stack {
-                piece_segments.push(None);
-                stacks.push(k);
-            } else {
-                piece_segments.push(Some(pieces_out.len()));
-                pieces_out.push(MemoryPiece {
-                    group: group_index,
-                    points: piece.to_vec(),
-                });
+            if joint != Some(at) {
+                taken.used[i] = true;
+            } else if record {
+                taken.joints.push(i);
             }
         }
-        if record {
-            trace.groups.push(MemoryGroupTrace {
-                points,
-                splits,
-                pieces,
-                piece_segments,
-                stacks,
+        if stack {
+            piece_segments.push(None);
+            stacks.push(k);
+        } else {
+            piece_segments.push(Some(taken.pieces.len()));
+            taken.pieces.push(MemoryPiece {
+                group: group_index,
+                points: piece.to_vec(),
             });
         }
     }
-    if record {
-        // A joint another piece of its group took left with that piece; a corner two pieces
-        // both keep as their joint is one reading held.
-        joints.sort_unstable();
-        joints.dedup();
-        let kept = joints.iter().filter(|&&i| !used[i]);
-        trace
-            .joints
-            .extend(kept.map(|&i| memory[i].support.reading));
-    }
+    record.then_some(MemoryGroupTrace {
+        points,
+        splits,
+        pieces,
+        piece_segments,
+        stacks,
+    })
+}
+
+/// The readings the step's pieces took leave the memory (traced as used by a segment or
+/// stacked), with their seed flags.
+fn release_taken(
+    memory: &mut Vec<MemoryPoint>,
+    taken: &Taken,
+    next_seeds: &mut Vec<bool>,
+    trace: &mut MemoryTrace,
+    record: bool,
+) {
     let (mut i, mut kept) = (0, 0);
     memory.retain(|m| {
-        let keep = !used[i];
+        let keep = !taken.used[i];
         if !keep && record {
-            if in_segment[i] {
+            if taken.in_segment[i] {
                 trace.used.push(m.support.reading);
             } else {
                 trace.stacked.push(m.support.reading);
@@ -217,12 +300,6 @@ pub fn memory_step(
         keep
     });
     next_seeds.truncate(kept);
-    linkage.seeds = Some(Seeds {
-        flags: next_seeds,
-        ends: ends(memory),
-    });
-    trace.held_after = memory.len();
-    (trace, pieces_out)
 }
 
 /// Orders `points` along their principal (total-least-squares) axis, equal places by reading

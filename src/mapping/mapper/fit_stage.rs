@@ -2,6 +2,7 @@
 //! cluster, with the extensions' hooks where they act.
 
 use super::Mapper;
+use crate::mapping::model::map::SupportPoint;
 use crate::mapping::model::trace::{ClusterTrace, NewSegmentTrace, SegmentSource, StepTrace};
 use crate::mapping::paper::cluster::cluster_points;
 use crate::mapping::paper::fit::{piece_end_points, split_recursive};
@@ -49,8 +50,6 @@ impl Mapper {
         trace: &mut StepTrace,
         buffers: &mut StepBuffers,
     ) -> FittedStep {
-        let params = self.params.clone();
-        let params = &params;
         let StepBuffers {
             kept,
             clusters,
@@ -103,40 +102,9 @@ impl Mapper {
             }
             let mut splits = self.fresh_or_reused(splits_buffer, 0);
             pieces.clear();
-            split_recursive(&fitted, params, &mut splits, pieces);
+            split_recursive(&fitted, &self.params, &mut splits, pieces);
             let first_new = out.segments.len();
-            // The last reading sent to point memory: consecutive pieces share their corner
-            // reading, which goes there once.
-            let mut sent_until: Option<usize> = None;
-            for &[first, last] in pieces.iter() {
-                // §8.8: a piece too short to be trusted as a line; its readings go to point
-                // memory (when on) as one-point clusters do.
-                let (a, b) = piece_end_points(&fitted, first, last, params.fit);
-                if self.hook_piece_too_short(&fitted[first..=last], (&a, &b), pieces.len(), trace) {
-                    // A closed loop's last point repeats its first (after the constant-depth
-                    // reduction, which may have shortened the chain).
-                    let end = if repeats_first {
-                        last.min(fitted.len() - 2)
-                    } else {
-                        last
-                    };
-                    let start = sent_until.map_or(first, |sent| first.max(sent + 1));
-                    out.singles
-                        .extend(fitted.iter().take(end + 1).skip(start).copied());
-                    sent_until = Some(end);
-                    continue;
-                }
-                let mut new = NewSegmentTrace {
-                    source: SegmentSource::Cluster(ci),
-                    a,
-                    b,
-                    points: fitted[first..=last].to_vec(),
-                };
-                if !self.hook_keeps_piece(&mut new, out.segments.len(), trace) {
-                    continue;
-                }
-                out.segments.push(new);
-            }
+            self.fit_pieces(ci, &fitted, pieces, repeats_first, trace, &mut out);
             // A one-point cluster, or one the constant-depth reduction (§8.2) left with one
             // reading (a wall seen square-on by three sonars), goes to point memory (§8.1).
             if fitted.len() == 1 {
@@ -156,5 +124,48 @@ impl Mapper {
             }
         }
         out
+    }
+
+    /// §3's `pieces` of cluster `ci` (its points `fitted`; `repeats_first` when it is a closed
+    /// loop whose last point repeats its first) become new segments in `out`, unless a hook
+    /// keeps one back: a piece too short (§8.8) sends its readings to point memory, once each
+    /// (consecutive pieces share their corner reading), and echo placement (§8.10) may drop one.
+    fn fit_pieces(
+        &mut self,
+        ci: usize,
+        fitted: &[SupportPoint],
+        pieces: &[[usize; 2]],
+        repeats_first: bool,
+        trace: &mut StepTrace,
+        out: &mut FittedStep,
+    ) {
+        // The last reading sent to point memory.
+        let mut sent_until: Option<usize> = None;
+        for &[first, last] in pieces {
+            let (a, b) = piece_end_points(fitted, first, last, self.params.fit);
+            if self.hook_piece_too_short(&fitted[first..=last], (&a, &b), pieces.len(), trace) {
+                // A closed loop's last point repeats its first (after the constant-depth
+                // reduction, which may have shortened the chain).
+                let end = if repeats_first {
+                    last.min(fitted.len() - 2)
+                } else {
+                    last
+                };
+                let start = sent_until.map_or(first, |sent| first.max(sent + 1));
+                out.singles
+                    .extend(fitted.iter().take(end + 1).skip(start).copied());
+                sent_until = Some(end);
+                continue;
+            }
+            let mut new = NewSegmentTrace {
+                source: SegmentSource::Cluster(ci),
+                a,
+                b,
+                points: fitted[first..=last].to_vec(),
+            };
+            if self.hook_keeps_piece(&mut new, out.segments.len(), trace) {
+                out.segments.push(new);
+            }
+        }
     }
 }

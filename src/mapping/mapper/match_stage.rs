@@ -14,6 +14,10 @@ use crate::mapping::paper::support_points::cap_support_points;
 use crate::mapping::paper::update::{apply_update, UpdateRequest};
 use crate::mapping::recorded::{recorded_decision, RecordedDecision};
 use crate::mapping::step::{NewFaces, StepBuffers};
+use std::ops::Range;
+
+/// Each decision of a step as recorded, with its named segment's ends before the step.
+type Recorded = Vec<(RecordedDecision, Option<SegmentEnds>)>;
 
 impl Mapper {
     /// The map segments that could pass a test against `new` (docs/algorithm.md §4 pruning).
@@ -71,23 +75,8 @@ impl Mapper {
         candidate_sets.clear();
         trace.decisions.reserve_exact(new_segments.len());
         trace.updates.reserve_exact(new_segments.len());
-        // Recorded decisions name their segments with the ends they had before this step.
-        let script = script.filter(|s| s.len() == new_segments.len());
-        let recorded: Option<Vec<(RecordedDecision, Option<SegmentEnds>)>> = script.map(|s| {
-            s.iter()
-                .map(|&r| {
-                    let ends = r.existing.and_then(|id| self.map.segment(id));
-                    (r, ends.map(|e| SegmentEnds { a: e.a, b: e.b }))
-                })
-                .collect()
-        });
-        if recorded.is_none() {
-            for seg in new_segments.iter() {
-                let start = candidates.len();
-                self.candidates_for(&SegmentEnds { a: seg.a, b: seg.b }, candidates);
-                candidate_sets.push(start..candidates.len());
-            }
-        }
+        let recorded =
+            self.recorded_or_candidates(new_segments, script, candidates, candidate_sets);
         // Whether a candidate is outermost is asked as the map stood before this snapshot: the
         // map keeps each face as it was before the step first changes it.
         self.map.begin_face_journal();
@@ -122,35 +111,15 @@ impl Mapper {
                     )
                 }
             };
-            decision.result = match decision.outcome {
-                Outcome::Match | Outcome::Extension => {
-                    let taken = recorded.as_ref().map(|r| &r[ni].0);
-                    let update =
-                        self.update_for(&decision, &new_segments[ni], &absorbed_into, taken);
-                    update.map(|(target, update)| {
-                        if let Some(update) = update {
-                            absorbed_into
-                                .extend(update.absorbed.iter().map(|x| (x.segment, x.into)));
-                            trace.updates.push(update);
-                        }
-                        target
-                    })
-                }
-                Outcome::Dismissed => None,
-                Outcome::NewFace if !self.hook_admits_new_face(&new_segments[ni]) => {
-                    trace.gated.push(ni);
-                    None
-                }
-                Outcome::NewFace => {
-                    let id = self.add_new_face_segment(
-                        &mut new_segments[ni],
-                        &mut faces,
-                        trace.snapshot,
-                    );
-                    self.hook_new_face_filed(id, trace);
-                    Some(id)
-                }
-            };
+            let taken = recorded.as_ref().map(|r| &r[ni].0);
+            decision.result = self.act_on(
+                &decision,
+                &mut new_segments[ni],
+                taken,
+                &mut absorbed_into,
+                &mut faces,
+                trace,
+            );
             if !self.record_trace {
                 *mpc_stage = std::mem::take(&mut decision.mpc_stage);
                 decision.epc_stage = Vec::new();
@@ -159,6 +128,71 @@ impl Mapper {
         }
         self.map.end_face_journal();
         faces.made
+    }
+
+    /// With `script` (one recorded decision a new segment), each decision as recorded with its
+    /// named segment's ends before this step (which is how a recording names them); without,
+    /// each new segment's candidates gathered into `candidates`, a range of it each.
+    fn recorded_or_candidates(
+        &self,
+        new_segments: &[NewSegmentTrace],
+        script: Option<&[RecordedDecision]>,
+        candidates: &mut Vec<Candidate>,
+        candidate_sets: &mut Vec<Range<usize>>,
+    ) -> Option<Recorded> {
+        let script = script.filter(|s| s.len() == new_segments.len());
+        let recorded: Option<Recorded> = script.map(|s| {
+            s.iter()
+                .map(|&r| {
+                    let ends = r.existing.and_then(|id| self.map.segment(id));
+                    (r, ends.map(|e| SegmentEnds { a: e.a, b: e.b }))
+                })
+                .collect()
+        });
+        if recorded.is_none() {
+            for seg in new_segments {
+                let start = candidates.len();
+                self.candidates_for(&SegmentEnds { a: seg.a, b: seg.b }, candidates);
+                candidate_sets.push(start..candidates.len());
+            }
+        }
+        recorded
+    }
+
+    /// What `decision` (of new segment `new`) does to the map: a MATCH or EXTENSION updates
+    /// its segment (§5; `taken`, as a recording took it), a NEW FACE is filed unless a hook
+    /// refuses it (§8.7 plane gate). Returns the segment it ends up in.
+    fn act_on(
+        &mut self,
+        decision: &DecisionTrace,
+        new: &mut NewSegmentTrace,
+        taken: Option<&RecordedDecision>,
+        absorbed_into: &mut Vec<(SegmentId, SegmentId)>,
+        faces: &mut NewFaces,
+        trace: &mut StepTrace,
+    ) -> Option<SegmentId> {
+        match decision.outcome {
+            Outcome::Match | Outcome::Extension => {
+                let update = self.update_for(decision, new, absorbed_into, taken);
+                update.map(|(target, update)| {
+                    if let Some(update) = update {
+                        absorbed_into.extend(update.absorbed.iter().map(|x| (x.segment, x.into)));
+                        trace.updates.push(update);
+                    }
+                    target
+                })
+            }
+            Outcome::Dismissed => None,
+            Outcome::NewFace if !self.hook_admits_new_face(new) => {
+                trace.gated.push(decision.new_segment);
+                None
+            }
+            Outcome::NewFace => {
+                let id = self.add_new_face_segment(new, faces, trace.snapshot);
+                self.hook_new_face_filed(id, trace);
+                Some(id)
+            }
+        }
     }
 
     /// §5 for a MATCH or EXTENSION `decision` of `new`: the update of the segment that now

@@ -1,7 +1,9 @@
 //! Correlation of new faces with the map (paper §3.3.3, Figure 3; docs/algorithm.md §6).
 
 use crate::geometry::{line_angle_between, line_intersection, projection_param, Point};
-use crate::mapping::model::map::{FaceId, Map, ObjectId, Segment, SegmentId, SegmentKind};
+use crate::mapping::model::map::{
+    EndPoint, FaceId, Map, ObjectId, Segment, SegmentId, SegmentKind,
+};
 use crate::mapping::model::params::Params;
 use crate::mapping::model::support_list::SupportList;
 use crate::mapping::model::trace::{CorrelationKind, CorrelationTrace, InterpolationReason, Test};
@@ -80,7 +82,6 @@ pub fn correlate_face(
     trace.new_segment = Some((map.segments[ni].id, nend));
     trace.existing_segment = Some((map.segments[ei].id, eend));
     let (n, e) = (&map.segments[ni], &map.segments[ei]);
-    let end_point = |s: &Segment, end: usize| if end == 0 { s.a } else { s.b };
     let (np, ep) = (end_point(n, nend), end_point(e, eend));
     let angle = line_angle_between(&(n.b.point - n.a.point), &(e.b.point - e.a.point));
     trace.angle_rad = Some(angle);
@@ -94,34 +95,18 @@ pub fn correlate_face(
         join_objects(map, &new_ids, new_object, object);
         return trace;
     }
-    let fixed_end = |s: &Segment, end: usize| if end == 0 { s.b.point } else { s.a.point };
-    // `corner_guard` (§8): a corner must keep each segment pointing the same way and at least
-    // half as long; otherwise the literal rule can collapse a segment onto its other end.
-    let keeps_shape = |x: &Point, s: &Segment, end: usize| {
-        let fixed = fixed_end(s, end);
-        !params.corner_guard || projection_param(x, &fixed, &end_point(s, end).point) >= 0.5
-    };
-    let intersection = if angle > params.orientation_rad {
-        line_intersection(&n.a.point, &n.b.point, &e.a.point, &e.b.point).filter(|x| {
+    let intersection = (angle > params.orientation_rad)
+        .then(|| line_intersection(&n.a.point, &n.b.point, &e.a.point, &e.b.point))
+        .flatten()
+        .filter(|x| {
             (x - np.point).norm() <= params.t_gap_m && (x - ep.point).norm() <= params.t_gap_m
-        })
-    } else {
-        None
-    };
-    let corner = intersection.filter(|x| keeps_shape(x, n, nend) && keeps_shape(x, e, eend));
-    match corner {
+        });
+    let corner =
+        intersection.filter(|x| keeps_shape(params, x, n, nend) && keeps_shape(params, x, e, eend));
+    trace.result = match corner {
         Some(x) => {
-            for (idx, end) in [(ni, nend), (ei, eend)] {
-                let s = &map.segments[idx];
-                let (mut a, mut b) = (s.a, s.b);
-                if end == 0 {
-                    a.point = x;
-                } else {
-                    b.point = x;
-                }
-                map.set_ends(s.id, a, b);
-            }
-            trace.result = CorrelationKind::Corner { point: x };
+            meet_at_corner(map, [(ni, nend), (ei, eend)], x);
+            CorrelationKind::Corner { point: x }
         }
         None => {
             let reason = if angle <= params.orientation_rad {
@@ -131,29 +116,72 @@ pub fn correlate_face(
             } else {
                 InterpolationReason::IntersectionTooFar
             };
-            let joins = [e.id, n.id];
-            let id = map.allocate_segment_id();
-            let link_face = map.new_face();
-            if let Some(f) = map.face_mut(link_face) {
-                f.segments.push(id);
-            }
-            map.push_segment(Segment {
-                id,
-                kind: SegmentKind::Interpolated,
-                a: ep,
-                b: np,
-                face: link_face,
-                object,
-                created: snapshot,
-                updated: Vec::new(),
-                points: SupportList::default(),
-            });
-            map.note_link(id, joins);
-            trace.result = CorrelationKind::Interpolated { link: id, reason };
+            let link = add_link(map, [ep, np], [e.id, n.id], object, snapshot);
+            CorrelationKind::Interpolated { link, reason }
         }
-    }
+    };
     join_objects(map, &new_ids, new_object, object);
     trace
+}
+
+/// End `end` (0 for `a`, 1 for `b`) of `s`.
+fn end_point(s: &Segment, end: usize) -> EndPoint {
+    if end == 0 {
+        s.a
+    } else {
+        s.b
+    }
+}
+
+/// `corner_guard` (§8): whether moving end `end` of `s` to `x` keeps the segment pointing the
+/// same way and at least half as long; otherwise the literal rule can collapse a segment onto
+/// its other end. Always true without the guard.
+fn keeps_shape(params: &Params, x: &Point, s: &Segment, end: usize) -> bool {
+    let fixed = end_point(s, 1 - end).point;
+    !params.corner_guard || projection_param(x, &fixed, &end_point(s, end).point) >= 0.5
+}
+
+/// A corner: the given ends (position in `map.segments`, 0 for `a`, 1 for `b`) move to `x`.
+fn meet_at_corner(map: &mut Map, ends: [(usize, usize); 2], x: Point) {
+    for (idx, end) in ends {
+        let s = &map.segments[idx];
+        let (mut a, mut b) = (s.a, s.b);
+        if end == 0 {
+            a.point = x;
+        } else {
+            b.point = x;
+        }
+        map.set_ends(s.id, a, b);
+    }
+}
+
+/// A connecting segment from `ends[0]` to `ends[1]`, of a face of its own and `object`, that
+/// joins the segments `joins`. Returns its id.
+fn add_link(
+    map: &mut Map,
+    ends: [EndPoint; 2],
+    joins: [SegmentId; 2],
+    object: ObjectId,
+    snapshot: usize,
+) -> SegmentId {
+    let id = map.allocate_segment_id();
+    let link_face = map.new_face();
+    if let Some(f) = map.face_mut(link_face) {
+        f.segments.push(id);
+    }
+    map.push_segment(Segment {
+        id,
+        kind: SegmentKind::Interpolated,
+        a: ends[0],
+        b: ends[1],
+        face: link_face,
+        object,
+        created: snapshot,
+        updated: Vec::new(),
+        points: SupportList::default(),
+    });
+    map.note_link(id, joins);
+    id
 }
 
 /// The closest pair of end-points of [`correlate_face`]: positions in `map.segments`, ends
