@@ -3,7 +3,7 @@
 //! set with it passes [`Params::validate`]; otherwise the field keeps the text and shows why.
 
 use super::command::Command;
-use crate::mapping::model::params::{ParamKind, Parameter, PARAMETERS};
+use crate::mapping::model::params::{parameter, ParamKind, Parameter, PARAMETERS};
 use crate::mapping::{FitMode, Params, Preset, SplitMode};
 use crate::units::Units;
 use egui::{Color32, RichText};
@@ -429,7 +429,8 @@ impl Rows<'_> {
         commands: &mut Vec<Command>,
     ) {
         let (name, units) = (field.name, self.units);
-        let label_response = field_label(ui, label_of(name), self.is_changed(name));
+        let label_response =
+            field_label(ui, label_of(name), self.is_changed(name)).on_hover_text(field.help.trim());
         let text = state.texts.entry(name).or_default();
         let edit = ui.add(
             egui::TextEdit::singleline(text)
@@ -493,7 +494,8 @@ impl Rows<'_> {
 
     /// A flag's row.
     fn switch_ui(&self, ui: &mut egui::Ui, name: &'static str, commands: &mut Vec<Command>) {
-        field_label(ui, name, self.is_changed(name));
+        let help = parameter(name).map_or("", |p| p.help.trim());
+        field_label(ui, name, self.is_changed(name)).on_hover_text(help);
         let mut on = self.params.flag(name) == Some(true);
         if ui.checkbox(&mut on, "").changed() {
             let mut p = self.params.clone();

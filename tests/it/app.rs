@@ -1,40 +1,14 @@
 //! The inspector driven through egui_kittest (no GPU): every test goes through the app's
 //! command path or clicks widgets by label.
 
+use super::support::{asset, building, harness, settle, MemoryStorage};
 use egui_kittest::kittest::Queryable;
 use egui_kittest::Harness;
 use sonarmap::app::{
     decision_row_text, snapshot_label, Command, CompareState, Settings, SonarApp, SETTINGS_KEY,
 };
 use sonarmap::scene::{Layer, SceneId};
-use std::collections::HashMap;
 use std::path::PathBuf;
-
-pub(crate) fn asset(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("assets")
-        .join(name)
-}
-
-pub(crate) fn harness(app: SonarApp) -> Harness<'static, SonarApp> {
-    Harness::builder()
-        .with_size(egui::vec2(1400.0, 900.0))
-        .with_accessibility_check(false)
-        .build_ui_state(|ui, app: &mut SonarApp| app.ui(ui), app)
-}
-
-/// The app on the built-in run, then `building.log.json` opened through the command path.
-pub(crate) fn building() -> Harness<'static, SonarApp> {
-    let run = sonarmap::assets::default_run().expect("built-in run loads");
-    let mut h = harness(SonarApp::new(run, None));
-    h.run();
-    h.state_mut()
-        .push(Command::Open(asset("building.log.json")));
-    h.run();
-    assert!(h.state().banner().is_none(), "{:?}", h.state().banner());
-    assert!(h.state().len() > 10);
-    h
-}
 
 fn shows_index(h: &Harness<SonarApp>, k: usize) {
     let label = snapshot_label(k, h.state().len());
@@ -311,22 +285,6 @@ fn a_broken_log_shows_a_banner_and_keeps_the_run() {
     assert_eq!(h.state().run().name, name);
 }
 
-#[derive(Default)]
-pub(crate) struct MemoryStorage(HashMap<String, String>);
-
-impl eframe::Storage for MemoryStorage {
-    fn get_string(&self, key: &str) -> Option<String> {
-        self.0.get(key).cloned()
-    }
-    fn set_string(&mut self, key: &str, value: String) {
-        self.0.insert(key.to_owned(), value);
-    }
-    fn remove_string(&mut self, key: &str) {
-        self.0.remove(key);
-    }
-    fn flush(&mut self) {}
-}
-
 #[test]
 fn settings_persist_and_corrupt_values_are_ignored() {
     let run = sonarmap::assets::default_run().unwrap();
@@ -486,23 +444,6 @@ fn new_parameters_while_a_large_run_opens_rerun_the_whole_run() {
 }
 
 // ---- Live parameters, A/B comparison, bookmarks (issue 6) ----
-
-/// Steps the harness until no background work is left (re-runs, comparisons), then settles.
-pub(crate) fn settle(h: &mut Harness<'static, SonarApp>) {
-    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(300);
-    loop {
-        h.step();
-        if !h.state().is_loading() {
-            break;
-        }
-        assert!(
-            std::time::Instant::now() < deadline,
-            "background work never ended"
-        );
-        std::thread::sleep(std::time::Duration::from_millis(5));
-    }
-    h.run();
-}
 
 /// Replaces the text of the parameter field labelled `label` and presses Enter.
 fn set_field(h: &mut Harness<'static, SonarApp>, label: &str, text: &str) {

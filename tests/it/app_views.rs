@@ -2,7 +2,7 @@
 //! the window, collapsible and remembered panels, the inspector's dock, the A | B split with
 //! linked zoom, the in-app file dialog, the layout picker, parameters that are not the preset's.
 
-use super::app::{asset, building, harness, settle, MemoryStorage};
+use super::support::{asset, building, fixture_path, harness, settle, MemoryStorage};
 use egui_kittest::kittest::Queryable;
 use egui_kittest::Harness;
 use sonarmap::app::{Command, DialogBackend, FilePurpose, SonarApp};
@@ -202,8 +202,7 @@ fn a_table_opens_through_the_layout_picker() {
     let run = sonarmap::assets::default_run().unwrap();
     let mut h = harness(SonarApp::new(run, None));
     h.run();
-    let table = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/fixtures/nomad_tiny.table.csv");
+    let table = fixture_path("nomad_tiny.table.csv");
     h.state_mut().push(Command::Open(table));
     h.run();
     assert!(h.state().banner().is_none(), "{:?}", h.state().banner());
@@ -218,8 +217,7 @@ fn a_table_opens_through_the_layout_picker() {
     assert_eq!(h.state().run().units, sonarmap::units::Units::Inches);
 
     // Cancelling keeps the run that was open.
-    let table = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/fixtures/nomad_tiny.table.csv");
+    let table = fixture_path("nomad_tiny.table.csv");
     h.state_mut()
         .push(Command::Open(asset("tight_room.log.json")));
     h.run();

@@ -1,25 +1,15 @@
 //! Property tests: random layouts, poses and ranges never panic, never produce non-finite
 //! geometry, and the trace accounts for every reading and every new segment exactly once.
 
+use super::support::layout_of;
 use proptest::prelude::*;
 use sonarmap::geometry::Pose;
 use sonarmap::mapping::{Mapper, Params, StepTrace};
 use sonarmap::run::Snapshot;
-use sonarmap::sonar::{SensorLayout, SensorMount, SensorSpec};
+use sonarmap::sonar::{SensorLayout, SensorSpec};
 
 fn layout() -> impl Strategy<Value = SensorLayout> {
-    prop::collection::vec((-0.5f64..0.5, -0.5f64..0.5, -7.0f64..7.0), 1..24).prop_map(|m| {
-        SensorLayout {
-            mounts: m
-                .into_iter()
-                .map(|(x_m, y_m, heading_rad)| SensorMount {
-                    x_m,
-                    y_m,
-                    heading_rad,
-                })
-                .collect(),
-        }
-    })
+    prop::collection::vec((-0.5f64..0.5, -0.5f64..0.5, -7.0f64..7.0), 1..24).prop_map(layout_of)
 }
 
 fn range() -> impl Strategy<Value = Option<f64>> {

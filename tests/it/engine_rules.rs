@@ -2,26 +2,18 @@
 //! small enough to compute by hand. Sensors in a row facing +y put reading `k` exactly at
 //! `(x_k, D_k)`, so every point, range and confidence is chosen.
 
+use super::support::layout_of;
 use sonarmap::geometry::{Point, Pose};
 use sonarmap::mapping::model::map::SegmentKind;
 use sonarmap::mapping::model::trace::{Outcome, SegmentSource};
 use sonarmap::mapping::{Mapper, Params};
 use sonarmap::run::Snapshot;
-use sonarmap::sonar::{SensorLayout, SensorMount, SensorSpec};
+use sonarmap::sonar::{SensorLayout, SensorSpec};
 use std::f64::consts::FRAC_PI_2;
 
 /// Sensors at `(x, 0)` for each `x`, all facing +y.
 fn row(xs: &[f64]) -> SensorLayout {
-    SensorLayout {
-        mounts: xs
-            .iter()
-            .map(|&x_m| SensorMount {
-                x_m,
-                y_m: 0.0,
-                heading_rad: FRAC_PI_2,
-            })
-            .collect(),
-    }
+    layout_of(xs.iter().map(|&x| (x, 0.0, FRAC_PI_2)))
 }
 
 fn snapshot(t: f64, ranges_m: &[Option<f64>]) -> Snapshot {

@@ -15,11 +15,11 @@
 //! runs its importer and `import_any`. Long runs: `IMPORT_FUZZ_CASES=2000000 cargo test
 //! --release --test it import_fuzz`.
 
-use super::import::{Cdr, MOUNTS};
 use super::import_hostile::{
     channel_record, check_contract, header_record, mcap_end, message_record, record, schema_record,
     MAGIC,
 };
+use super::support::ros2::{Cdr, MOUNTS};
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

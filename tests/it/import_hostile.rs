@@ -4,8 +4,8 @@
 //! a small multiple of the input, files cut short, values no robot produces in every importer
 //! and in layouts, control characters echoed from the file, and the messages that misled.
 
-use super::import::{check_err, nomad_options, odom_msg, range_msg, tf_msg, Cdr, MOUNTS};
 use super::peak::peak_bytes;
+use super::support::ros2::{check_err, nomad_options, odom_msg, range_msg, tf_msg, Cdr, MOUNTS};
 use sonarmap::import::{
     import_any, import_mcap, import_player, import_table, parse_layout, ImportError, ImportOptions,
     Imported, NamedBytes,

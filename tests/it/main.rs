@@ -2,7 +2,7 @@
 
 mod app;
 mod app_views;
-
+mod architecture;
 mod cli;
 mod echo;
 mod engine;
@@ -20,3 +20,4 @@ mod peak;
 mod scene;
 mod sim;
 mod suite;
+mod support;

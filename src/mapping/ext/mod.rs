@@ -14,3 +14,131 @@ pub mod point_memory;
 pub mod round_reflectors;
 pub mod settled_walls;
 mod steps;
+
+/// One extension: the parameter that switches it on, its section of docs/algorithm.md, and
+/// where the idea comes from (as docs/algorithm.md §7 and §8 cite it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Extension {
+    /// Its parameter (a flag, or a count that is off at 0).
+    pub parameter: &'static str,
+    /// Its section of docs/algorithm.md.
+    pub section: &'static str,
+    /// Its source.
+    pub source: &'static str,
+}
+
+/// Every extension, in the order a step runs them (`steps/mod.rs`).
+pub const ALL: &[Extension] = &[
+    Extension {
+        parameter: "explain_readings",
+        section: "8.5",
+        source: "Leonard and Durrant-Whyte 1992: a point target explains its echoes",
+    },
+    Extension {
+        parameter: "settled_walls",
+        section: "8.12",
+        source: "Kleeman and Kuc: a plane echoes from the foot of the perpendicular",
+    },
+    Extension {
+        parameter: "arc_features",
+        section: "8.5",
+        source: "Leonard and Durrant-Whyte 1992: regions of constant depth seen by several sensors",
+    },
+    Extension {
+        parameter: "constant_depth",
+        section: "8.2",
+        source: "Leonard and Durrant-Whyte 1992: regions of constant depth",
+    },
+    Extension {
+        parameter: "min_piece_points",
+        section: "8.8",
+        source: "beyond the literature (sonarmap): a line needs readings enough to resolve it",
+    },
+    Extension {
+        parameter: "echo_fit",
+        section: "8.10",
+        source: "Kleeman and Kuc: the plane model, echoes from the foot or the cone's edge",
+    },
+    Extension {
+        parameter: "memory_snapshots",
+        section: "8.1",
+        source: "beyond the literature (sonarmap): readings of several snapshots fitted as one cluster",
+    },
+    Extension {
+        parameter: "memory_stacks",
+        section: "8.15",
+        source: "beyond the literature (sonarmap): a place read at changing ranges has no direction",
+    },
+    Extension {
+        parameter: "memory_joints",
+        section: "8.16",
+        source: "beyond the literature (sonarmap): pieces of one chain share a reading",
+    },
+    Extension {
+        parameter: "plane_gate",
+        section: "8.7",
+        source: "Kleeman and Kuc: a plane supported by an echo from its foot",
+    },
+    Extension {
+        parameter: "corner_diagonals",
+        section: "8.11",
+        source: "Kleeman and Kuc: a corner echoes from its vertex at any incidence",
+    },
+    Extension {
+        parameter: "round_reflectors",
+        section: "8.14",
+        source: "Leonard and Durrant-Whyte 1992: cylinders beside planes, corners and edges",
+    },
+    Extension {
+        parameter: "confirm_segments",
+        section: "8.7",
+        source: "Kleeman and Kuc: a plane told from a corner from two positions",
+    },
+    Extension {
+        parameter: "refit_unconfirms",
+        section: "8.7",
+        source: "beyond the literature (sonarmap): a refit that moves a wall takes back its confirmation",
+    },
+    Extension {
+        parameter: "baseline_confirm",
+        section: "8.7",
+        source: "Kleeman and Kuc: two sensors on a baseline",
+    },
+    Extension {
+        parameter: "free_space",
+        section: "8.6",
+        source: "Kleeman and Kuc's plane model: a segment inside the beam short of the range was seen through",
+    },
+];
+
+#[cfg(test)]
+mod tests {
+    use super::ALL;
+    use crate::mapping::Params;
+
+    #[test]
+    fn every_extension_parameter_is_listed_once_and_only_the_paper_rules_options_are_not() {
+        let listed: Vec<&str> = ALL.iter().map(|e| e.parameter).collect();
+        let mut unique = listed.clone();
+        unique.sort_unstable();
+        unique.dedup();
+        assert_eq!(unique.len(), listed.len(), "listed once");
+        let options_of_the_papers_rules =
+            ["fit", "support_cap", "merge_duplicates", "corner_guard"];
+        for p in Params::extension_parameters() {
+            let is_option = options_of_the_papers_rules.contains(&p.name);
+            assert_eq!(listed.contains(&p.name), !is_option, "{}", p.name);
+        }
+        let algorithm = include_str!("../../../docs/algorithm.md");
+        for e in ALL {
+            let heading = format!("\n### {} ", e.section);
+            assert!(algorithm.contains(&heading), "{}: no §{}", e.parameter, e.section);
+            assert!(Params::paper_with(e.parameter).is_some(), "{}", e.parameter);
+            assert!(
+                !Params::paper().is_on(e.parameter),
+                "{} off in paper",
+                e.parameter
+            );
+        }
+    }
+}

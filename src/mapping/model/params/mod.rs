@@ -5,7 +5,7 @@ mod declare;
 mod needs;
 
 pub use declare::{ParamKind, Parameter, Params, ParamsFile, SplitFile, PARAMETERS};
-pub use needs::UnmetNeed;
+pub use needs::{parameter, UnmetNeed};
 
 use crate::units::Units;
 use serde::{Deserialize, Serialize};

@@ -1,0 +1,90 @@
+//! What the integration tests share: the app driven in a harness, the paths of the assets and
+//! fixtures, one sensor-layout builder, and (in `ros2`) ROS 2 recordings built byte by byte.
+
+pub(crate) mod ros2;
+
+use egui_kittest::Harness;
+use sonarmap::app::{Command, SonarApp};
+use sonarmap::sonar::{SensorLayout, SensorMount};
+use std::collections::HashMap;
+use std::path::PathBuf;
+
+/// A file of `tests/fixtures/`.
+pub(crate) fn fixture_path(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures")
+        .join(name)
+}
+
+/// A sensor layout of the mounts `(x_m, y_m, heading_rad)`, robot frame.
+pub(crate) fn layout_of(mounts: impl IntoIterator<Item = (f64, f64, f64)>) -> SensorLayout {
+    SensorLayout {
+        mounts: mounts
+            .into_iter()
+            .map(|(x_m, y_m, heading_rad)| SensorMount {
+                x_m,
+                y_m,
+                heading_rad,
+            })
+            .collect(),
+    }
+}
+
+pub(crate) fn asset(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("assets")
+        .join(name)
+}
+
+pub(crate) fn harness(app: SonarApp) -> Harness<'static, SonarApp> {
+    Harness::builder()
+        .with_size(egui::vec2(1400.0, 900.0))
+        .with_accessibility_check(false)
+        .build_ui_state(|ui, app: &mut SonarApp| app.ui(ui), app)
+}
+
+/// The app on the built-in run, then `building.log.json` opened through the command path.
+pub(crate) fn building() -> Harness<'static, SonarApp> {
+    let run = sonarmap::assets::default_run().expect("built-in run loads");
+    let mut h = harness(SonarApp::new(run, None));
+    h.run();
+    h.state_mut()
+        .push(Command::Open(asset("building.log.json")));
+    h.run();
+    assert!(h.state().banner().is_none(), "{:?}", h.state().banner());
+    assert!(h.state().len() > 10);
+    h
+}
+
+#[derive(Default)]
+pub(crate) struct MemoryStorage(pub(crate) HashMap<String, String>);
+
+impl eframe::Storage for MemoryStorage {
+    fn get_string(&self, key: &str) -> Option<String> {
+        self.0.get(key).cloned()
+    }
+    fn set_string(&mut self, key: &str, value: String) {
+        self.0.insert(key.to_owned(), value);
+    }
+    fn remove_string(&mut self, key: &str) {
+        self.0.remove(key);
+    }
+    fn flush(&mut self) {}
+}
+
+/// Steps the harness until no background work is left (re-runs, comparisons), then settles.
+pub(crate) fn settle(h: &mut Harness<'static, SonarApp>) {
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(300);
+    loop {
+        h.step();
+        if !h.state().is_loading() {
+            break;
+        }
+        assert!(
+            std::time::Instant::now() < deadline,
+            "background work never ended"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    h.run();
+}
