@@ -13,9 +13,8 @@ use super::jobs::JobKind;
 use super::layout_picker::LayoutChoice;
 use super::loaded::Source;
 use super::map_view::ViewRequest;
-use crate::export::{
-    svg_to_png, write_bytes_atomically, write_svg_atomically, write_text_atomically,
-};
+use crate::atomic_write::write_atomic;
+use crate::export::svg_to_png;
 use crate::mapping::matching::evaluate_pair;
 use crate::mapping::{Params, ParamsFile};
 use crate::scene::figure::{figure_svg, Figure};
@@ -306,9 +305,9 @@ impl SonarApp {
         let written = if png {
             let width = figure.size_px.0 * self.settings.png_scale.clamp(1, 4);
             svg_to_png(&svg, width)
-                .and_then(|bytes| write_bytes_atomically(path, &bytes).map_err(|e| e.to_string()))
+                .and_then(|bytes| write_atomic(path, &bytes).map_err(|e| e.to_string()))
         } else {
-            write_svg_atomically(path, &svg).map_err(|e| e.to_string())
+            write_atomic(path, svg.as_bytes()).map_err(|e| e.to_string())
         };
         written.map_err(|e| format!("Could not write {}: {e}", path.display()))
     }
@@ -359,7 +358,7 @@ impl SonarApp {
         let result = serde_json::to_string_pretty(&file)
             .map_err(|e| e.to_string())
             .and_then(|text| {
-                write_text_atomically(path, &(text + "\n")).map_err(|e| e.to_string())
+                write_atomic(path, (text + "\n").as_bytes()).map_err(|e| e.to_string())
             });
         match result {
             Ok(()) => self.message = format!("saved parameters to {}", path.display()),
