@@ -10,7 +10,7 @@ use super::file_dialog::{ask_system, probe_system, DialogBackend, FilePurpose, S
 use super::in_app_dialog::InAppDialog;
 use super::inspector::{describe_id, CompareState};
 use super::jobs::JobKind;
-use super::layout_picker::LayoutChoice;
+use super::layout_choice::LayoutChoice;
 use super::loaded::Source;
 use super::map_view::ViewRequest;
 use crate::atomic_write::write_atomic;

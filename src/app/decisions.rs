@@ -2,48 +2,14 @@
 //! filterable by outcome. Clicking a row selects the new segment and centres the view on it.
 
 use super::command::Command;
+use super::decision_filter::DecisionFilter;
 use super::inspector::{centre_of, outcome_name, InspectCtx};
 use super::timeline::BASELINE_COLOUR;
-use super::truth::TruthView;
 use crate::diff::{DecisionDifference, DecisionSide, DifferenceKind};
 use crate::mapping::trace::DecisionTrace;
 use crate::mapping::{Outcome, Rule};
 use crate::scene::SceneId;
 use egui::RichText;
-
-/// Which decisions the list shows.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum DecisionFilter {
-    /// Every decision.
-    #[default]
-    All,
-    /// Decisions with this outcome.
-    Outcome(Outcome),
-    /// Decisions that made or updated a segment `eval` calls spurious (with a floor plan).
-    Spurious,
-}
-
-impl DecisionFilter {
-    /// True when decision `d` passes; `truth` gives the verdicts on the map shown.
-    fn keeps(self, d: &DecisionTrace, truth: Option<&TruthView>) -> bool {
-        match self {
-            DecisionFilter::All => true,
-            DecisionFilter::Outcome(o) => d.outcome == o,
-            DecisionFilter::Spurious => d
-                .result
-                .and_then(|id| truth.and_then(|t| t.verdict(id)))
-                .is_some_and(|v| !v.is_true()),
-        }
-    }
-
-    fn name(self) -> &'static str {
-        match self {
-            DecisionFilter::All => "All",
-            DecisionFilter::Outcome(o) => outcome_name(o),
-            DecisionFilter::Spurious => "Spurious",
-        }
-    }
-}
 
 const FILTERS: [DecisionFilter; 5] = [
     DecisionFilter::All,
