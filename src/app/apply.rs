@@ -40,11 +40,7 @@ impl SonarApp {
             Command::First => self.seek(0),
             Command::Last => self.seek(self.len().saturating_sub(1)),
             Command::TogglePlay => self.toggle_play(),
-            Command::SetRate(rate) => {
-                if rate.is_finite() && rate > 0.0 {
-                    self.settings.rate = rate.clamp(0.25, 60.0);
-                }
-            }
+            Command::SetRate(rate) => self.set_rate(rate),
             Command::NextMark => self.next_mark(),
             Command::PrevMark => self.prev_mark(),
             Command::Select(id) => self.select(id),
@@ -55,14 +51,7 @@ impl SonarApp {
             Command::CancelCompare => self.compare = CompareState::Off,
             Command::ToggleLayer(layer) => self.toggle_layer(layer),
             Command::TogglePlots => self.settings.show_plots = !self.settings.show_plots,
-            Command::ToggleMarkKind(kind) => {
-                let hidden = &mut self.settings.hidden_marks;
-                if hidden.contains(&kind) {
-                    hidden.retain(|k| *k != kind);
-                } else {
-                    hidden.push(kind);
-                }
-            }
+            Command::ToggleMarkKind(kind) => self.toggle_mark_kind(kind),
             Command::FilterDecisions(filter) => self.decision_filter = filter,
             Command::FitView => self.map_view.request = Some(ViewRequest::Fit),
             Command::ZoomToSelection => self.zoom_to_selection(),
@@ -103,6 +92,23 @@ impl SonarApp {
                     self.message = "not opened: no layout chosen".to_owned();
                 }
             }
+        }
+    }
+
+    /// Sets the playback rate (a rate that is not a positive number is ignored).
+    fn set_rate(&mut self, rate: f32) {
+        if rate.is_finite() && rate > 0.0 {
+            self.settings.rate = rate.clamp(0.25, 60.0);
+        }
+    }
+
+    /// Shows the marks of `kind` when hidden, hides them when shown.
+    fn toggle_mark_kind(&mut self, kind: super::marks::MarkKind) {
+        let hidden = &mut self.settings.hidden_marks;
+        if hidden.contains(&kind) {
+            hidden.retain(|k| *k != kind);
+        } else {
+            hidden.push(kind);
         }
     }
 

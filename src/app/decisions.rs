@@ -74,26 +74,7 @@ pub fn decisions_ui(
 ) -> Vec<Command> {
     let mut commands = Vec::new();
     let decisions = &ctx.view.trace.decisions;
-    ui.horizontal_wrapped(|ui| {
-        ui.label(RichText::new(format!("Decisions ({})", decisions.len())).strong());
-        // "Spurious" only with a floor plan to judge by.
-        let spurious = ctx.truth.map(|_| DecisionFilter::Spurious);
-        for f in FILTERS.into_iter().chain(spurious) {
-            let count = decisions.iter().filter(|d| f.keeps(d, ctx.truth)).count();
-            let label = ui.selectable_label(filter == f, format!("{} {count}", f.name()));
-            let label = if f == DecisionFilter::Spurious {
-                label.on_hover_text(
-                    "Decisions that made or updated a segment eval calls spurious (on no wall \
-                     of the floor plan)",
-                )
-            } else {
-                label
-            };
-            if label.clicked() {
-                commands.push(Command::FilterDecisions(f));
-            }
-        }
-    });
+    filters_ui(ui, ctx, filter, &mut commands);
     ui.separator();
     egui::ScrollArea::vertical()
         .id_salt("decisions_scroll")
@@ -146,4 +127,34 @@ pub fn decisions_ui(
             }
         });
     commands
+}
+
+/// The list's title and its filters, each with its count.
+fn filters_ui(
+    ui: &mut egui::Ui,
+    ctx: &InspectCtx,
+    filter: DecisionFilter,
+    commands: &mut Vec<Command>,
+) {
+    let decisions = &ctx.view.trace.decisions;
+    ui.horizontal_wrapped(|ui| {
+        ui.label(RichText::new(format!("Decisions ({})", decisions.len())).strong());
+        // "Spurious" only with a floor plan to judge by.
+        let spurious = ctx.truth.map(|_| DecisionFilter::Spurious);
+        for f in FILTERS.into_iter().chain(spurious) {
+            let count = decisions.iter().filter(|d| f.keeps(d, ctx.truth)).count();
+            let label = ui.selectable_label(filter == f, format!("{} {count}", f.name()));
+            let label = if f == DecisionFilter::Spurious {
+                label.on_hover_text(
+                    "Decisions that made or updated a segment eval calls spurious (on no wall \
+                 of the floor plan)",
+                )
+            } else {
+                label
+            };
+            if label.clicked() {
+                commands.push(Command::FilterDecisions(f));
+            }
+        }
+    });
 }

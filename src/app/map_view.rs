@@ -181,6 +181,20 @@ impl MapPlot {
         link_group: None,
         caption: None,
     };
+
+    /// The A | B split's left view: the pinned baseline.
+    pub const SPLIT_A: MapPlot = MapPlot {
+        id: "map_view_a",
+        link_group: Some("map_views"),
+        caption: Some("A: baseline"),
+    };
+
+    /// The A | B split's right view: the current parameters (the main view's plot).
+    pub const SPLIT_B: MapPlot = MapPlot {
+        id: "map_view",
+        link_group: Some("map_views"),
+        caption: Some("B: current"),
+    };
 }
 
 /// Draws the map view and reports what the user asked for. `describe` gives a hover text for

@@ -174,21 +174,15 @@ fn paint(
             half_angle_rad,
             radius_m,
         } => {
-            const N: usize = 16;
-            let mut pts = vec![to_screen(apex)];
-            for i in 0..=N {
-                let a = heading_rad - half_angle_rad + 2.0 * half_angle_rad * i as f64 / N as f64;
-                pts.push(to_screen(&Point::new(
-                    apex.x + radius_m * a.cos(),
-                    apex.y + radius_m * a.sin(),
-                )));
-            }
-            out.push(Shape::Path(PathShape {
-                points: pts,
-                closed: true,
-                fill: pen.fill,
-                stroke: PathStroke::new(pen.width, pen.line),
-            }));
+            let from = heading_rad - half_angle_rad;
+            out.push(wedge(
+                apex,
+                from,
+                2.0 * half_angle_rad,
+                *radius_m,
+                pen,
+                to_screen,
+            ));
         }
         SceneShape::Marker { at, shape } => {
             let c = if halo {
@@ -219,6 +213,33 @@ fn paint(
             }
         }
     }
+}
+
+/// A sonar beam: the sector from `apex` (world) of `radius_m`, from heading `from_rad` over
+/// `width_rad`, filled and outlined.
+fn wedge(
+    apex: &Point,
+    from_rad: f64,
+    width_rad: f64,
+    radius_m: f64,
+    pen: Pen,
+    to_screen: &dyn Fn(&Point) -> Pos2,
+) -> Shape {
+    const N: usize = 16;
+    let mut pts = vec![to_screen(apex)];
+    for i in 0..=N {
+        let a = from_rad + width_rad * i as f64 / N as f64;
+        pts.push(to_screen(&Point::new(
+            apex.x + radius_m * a.cos(),
+            apex.y + radius_m * a.sin(),
+        )));
+    }
+    Shape::Path(PathShape {
+        points: pts,
+        closed: true,
+        fill: pen.fill,
+        stroke: PathStroke::new(pen.width, pen.line),
+    })
 }
 
 /// A circle of radius `r` pixels at `c`: filled, and outlined (dashed when the pen is).
