@@ -103,8 +103,29 @@ struct Fixture {
 /// Robot at the origin, four sonars. Sensor 0 and 1 kept, 2 discarded at max range, 3 no
 /// echo. New segment 0 matches map segment 0; new segment 1 fails against it and is a new face.
 fn fixture() -> Fixture {
+    let mut previous = StepTrace {
+        snapshot: 0,
+        ..Default::default()
+    };
+    previous.readings = vec![reading(0, Some((1.5, 0.1)), None)];
+    let before = Map::from_segments(vec![seg(0, (1.45, -0.3), (1.45, 0.3))]);
+    let after = Map::from_segments(vec![
+        seg(0, (1.5, -0.4), (1.5, 0.4)),
+        seg(1, (0.0, 1.5), (0.5, 1.5)),
+    ]);
+    Fixture {
+        run: fixture_run(),
+        step: fixture_step(),
+        previous,
+        before,
+        after,
+    }
+}
+
+/// The fixture's run: four sonars in a ring, a wall at x = 2, two snapshots.
+fn fixture_run() -> Run {
     let layout = SensorLayout::ring(4, std::f64::consts::FRAC_PI_2, 0.0, 0.2);
-    let run = Run {
+    Run {
         name: "Test <room> & co".into(),
         units: Units::Metres,
         robot_radius_m: Some(0.2),
@@ -130,12 +151,12 @@ fn fixture() -> Fixture {
                 ranges_m: vec![None; 4],
             },
         ],
-    };
-    let mut previous = StepTrace {
-        snapshot: 0,
-        ..Default::default()
-    };
-    previous.readings = vec![reading(0, Some((1.5, 0.1)), None)];
+    }
+}
+
+/// The fixture's step 1: four readings (one discarded at maximum range, one without echo),
+/// a cluster and its gap, two new segments, their decisions, an update and a corner.
+fn fixture_step() -> StepTrace {
     let mut step = StepTrace {
         snapshot: 1,
         pose: Some(Pose::new(0.0, 0.0, 0.0)),
@@ -165,31 +186,7 @@ fn fixture() -> Fixture {
         new_segment((1.5, -0.4), (1.5, 0.4)),
         new_segment((0.0, 1.5), (0.5, 1.5)),
     ];
-    step.decisions = vec![
-        DecisionTrace {
-            new_segment: 0,
-            mpc_stage: vec![candidate(0, true, true, true)],
-            epc_stage: vec![],
-            outcome: Outcome::Match,
-            rule: Rule::MidPointOverlap,
-            existing: Some(0),
-            result: Some(0),
-        },
-        DecisionTrace {
-            new_segment: 1,
-            mpc_stage: vec![candidate(0, false, false, false)],
-            epc_stage: vec![],
-            outcome: Outcome::NewFace,
-            rule: Rule::NoCandidatePassed,
-            existing: None,
-            result: Some(1),
-        },
-    ];
-    let before = Map::from_segments(vec![seg(0, (1.45, -0.3), (1.45, 0.3))]);
-    let after = Map::from_segments(vec![
-        seg(0, (1.5, -0.4), (1.5, 0.4)),
-        seg(1, (0.0, 1.5), (0.5, 1.5)),
-    ]);
+    step.decisions = fixture_decisions();
     step.updates = vec![UpdateTrace {
         segment: 0,
         new_segment: 0,
@@ -213,13 +210,31 @@ fn fixture() -> Fixture {
             point: Point::new(1.5, 1.5),
         },
     }];
-    Fixture {
-        run,
-        step,
-        previous,
-        before,
-        after,
-    }
+    step
+}
+
+/// The fixture's decisions: new segment 0 matches map segment 0, new segment 1 is a new face.
+fn fixture_decisions() -> Vec<DecisionTrace> {
+    vec![
+        DecisionTrace {
+            new_segment: 0,
+            mpc_stage: vec![candidate(0, true, true, true)],
+            epc_stage: vec![],
+            outcome: Outcome::Match,
+            rule: Rule::MidPointOverlap,
+            existing: Some(0),
+            result: Some(0),
+        },
+        DecisionTrace {
+            new_segment: 1,
+            mpc_stage: vec![candidate(0, false, false, false)],
+            epc_stage: vec![],
+            outcome: Outcome::NewFace,
+            rule: Rule::NoCandidatePassed,
+            existing: None,
+            result: Some(1),
+        },
+    ]
 }
 
 fn build(f: &Fixture, options: &ViewOptions, with_previous: bool) -> Scene {
