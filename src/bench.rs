@@ -261,6 +261,53 @@ fn bench_inspector(
 ) -> InspectorFigures {
     let n = run.snapshots.len();
     let json = save_run(run);
+    let (loads, peak) = time_loads(&json, repeats);
+    let first_frames = time_first_frames(&json, params, repeats);
+    alloc_count::start_counting();
+    let start = Instant::now();
+    let replay = Replay::build(
+        Arc::new(run.clone()),
+        params.clone(),
+        checkpoint_interval,
+        &mut |_| true,
+    )
+    .expect("never cancelled");
+    let replay_build_s = start.elapsed().as_secs_f64();
+    alloc_count::stop_counting();
+    let lineage_ms_max = time_lineages(&replay, n);
+    let checkpoint_bytes = alloc_count::counted_bytes().max(0) as usize;
+    let (checkpoints, spacing_min, spacing_max) = replay.checkpoint_spacing();
+    let seeks = time_seeks(run, &replay);
+    let plot_frames = time_plots(&replay, n);
+    InspectorFigures {
+        load_s: median(loads),
+        load_peak_memory_over_file_size: peak as f64 / json.len() as f64,
+        file_bytes: json.len(),
+        first_frame_ms: median(first_frames),
+        seek_ms_max: seeks.seeks.iter().cloned().fold(0.0, f64::max),
+        seek_ms_median: median(seeks.seeks),
+        step_forward_ms_max: seeks.forward_ms_max,
+        checkpoints,
+        checkpoint_spacing_min: spacing_min,
+        checkpoint_spacing_max: spacing_max,
+        checkpoint_bytes,
+        checkpoint_estimated_bytes: replay.checkpoint_bytes().0,
+        checkpoint_budget_bytes: replay.checkpoint_bytes().1,
+        frame_ms_median: median(seeks.frames),
+        scene_build_ms_median: median(seeks.builds),
+        frame_reusing_scene_ms_median: median(seeks.reused_frames),
+        frame_vertices_max: seeks.vertices_max,
+        svg_ms_median: median(seeks.svgs),
+        svg_bytes_max: seeks.svg_bytes_max,
+        replay_build_s,
+        lineage_ms_max,
+        plots_frame_ms_median: median(plot_frames),
+    }
+}
+
+/// Loading the saved run `json`, `repeats` times: the seconds of each, and the peak memory
+/// counted while loading, bytes.
+fn time_loads(json: &str, repeats: usize) -> (Vec<f64>, usize) {
     let mut loads = Vec::new();
     let mut peak = 0usize;
     for _ in 0..repeats.max(1) {
@@ -272,8 +319,13 @@ fn bench_inspector(
         peak = peak.max(alloc_count::peak_counted_bytes().max(0) as usize);
         drop(loaded);
     }
-    // Opening the run in the inspector: loaded, its first snapshots replayed on the spot, and
-    // the first of them made ready to draw (the whole replay then runs on a thread).
+    (loads, peak)
+}
+
+/// Opening the run in the inspector, `repeats` times, milliseconds each: loaded, its first
+/// snapshots replayed on the spot, and the first of them made ready to draw (the whole
+/// replay then runs on a thread).
+fn time_first_frames(json: &str, params: &Params, repeats: usize) -> Vec<f64> {
     let mut first_frames = Vec::new();
     for _ in 0..repeats.max(1) {
         let start = Instant::now();
@@ -288,18 +340,12 @@ fn bench_inspector(
         }
         first_frames.push(start.elapsed().as_secs_f64() * 1e3);
     }
-    alloc_count::start_counting();
-    let start = Instant::now();
-    let replay = Replay::build(
-        Arc::new(run.clone()),
-        params.clone(),
-        checkpoint_interval,
-        &mut |_| true,
-    )
-    .expect("never cancelled");
-    let replay_build_s = start.elapsed().as_secs_f64();
-    alloc_count::stop_counting();
-    // Every segment's lineage, as the inspector lists it (the events and their snapshots).
+    first_frames
+}
+
+/// The slowest of every segment's lineage, as the inspector lists it (the events and their
+/// snapshots), milliseconds.
+fn time_lineages(replay: &Replay, n: usize) -> f64 {
     let mut lineage_ms_max: f64 = 0.0;
     for id in 0..replay.final_map().next_segment_id {
         let start = Instant::now();
@@ -308,57 +354,46 @@ fn bench_inspector(
         std::hint::black_box(rows);
         lineage_ms_max = lineage_ms_max.max(start.elapsed().as_secs_f64() * 1e3);
     }
-    let checkpoint_bytes = alloc_count::counted_bytes().max(0) as usize;
-    let (checkpoints, spacing_min, spacing_max) = replay.checkpoint_spacing();
-    // Seek to snapshots spread over the run, each the slowest view from its checkpoint (once
-    // each: a long early interval takes several of the 20 places).
+    lineage_ms_max
+}
+
+/// The timings of the seeks and of drawing what they show, milliseconds.
+#[derive(Default)]
+struct SeekTimes {
+    seeks: Vec<f64>,
+    forward_ms_max: f64,
+    frames: Vec<f64>,
+    reused_frames: Vec<f64>,
+    builds: Vec<f64>,
+    vertices_max: usize,
+    svgs: Vec<f64>,
+    svg_bytes_max: usize,
+}
+
+/// Seeks to snapshots spread over the run, each the slowest view from its checkpoint (once
+/// each: a long early interval takes several of the 20 places); each then stepped forward,
+/// drawn in the map view and exported as SVG.
+fn time_seeks(run: &Run, replay: &Replay) -> SeekTimes {
+    let n = run.snapshots.len();
     let mut targets: Vec<usize> = (0..20)
         .map(|i| replay.slowest_view_like(i * n / 20))
         .collect();
     targets.dedup();
-    let mut seeks = Vec::new();
-    let mut forward_ms_max: f64 = 0.0;
-    let mut frames = Vec::new();
-    let mut reused_frames = Vec::new();
-    let mut builds = Vec::new();
-    let mut vertices_max = 0;
-    let mut svgs = Vec::new();
-    let mut svg_bytes_max = 0;
+    let mut times = SeekTimes::default();
     for &k in &targets {
         let mut cursor = crate::replay::ReplayCursor::default();
         let start = Instant::now();
         let view = replay
             .view_from(&mut cursor, None, k)
             .expect("non-empty run");
-        seeks.push(start.elapsed().as_secs_f64() * 1e3);
+        times.seeks.push(start.elapsed().as_secs_f64() * 1e3);
         let start = Instant::now();
         std::hint::black_box(replay.view_from(&mut cursor, Some(&view), k + 1));
-        forward_ms_max = forward_ms_max.max(start.elapsed().as_secs_f64() * 1e3);
+        times.forward_ms_max = times
+            .forward_ms_max
+            .max(start.elapsed().as_secs_f64() * 1e3);
         let input = SceneInput::from_view(run, &view);
-        // Settle the view on the whole map (the plot fits itself over a couple of frames), as
-        // the inspector is after a jump; then time a frame as it would draw it.
-        let mut map_view = HeadlessMapView::new(1600.0, 1000.0);
-        for _ in 0..3 {
-            let options = ViewOptions {
-                world_per_px: map_view.world_per_px(),
-                ..ViewOptions::all()
-            };
-            map_view.frame(&build_scene(&input, &options), run.units);
-        }
-        let options = ViewOptions {
-            world_per_px: map_view.world_per_px(),
-            ..ViewOptions::all()
-        };
-        let start = Instant::now();
-        let scene = build_scene(&input, &options);
-        let built = start.elapsed().as_secs_f64() * 1e3;
-        let stats = map_view.frame(&scene, run.units);
-        frames.push(start.elapsed().as_secs_f64() * 1e3);
-        let start = Instant::now();
-        map_view.frame(&scene, run.units);
-        reused_frames.push(start.elapsed().as_secs_f64() * 1e3);
-        builds.push(built);
-        vertices_max = vertices_max.max(stats.vertices);
+        time_frames(run, &input, &mut times);
         let scene = build_scene(&input, &ViewOptions::all());
         let start = Instant::now();
         let svg = to_svg(
@@ -368,10 +403,45 @@ fn bench_inspector(
             &run.name,
             run.units,
         );
-        svgs.push(start.elapsed().as_secs_f64() * 1e3);
-        svg_bytes_max = svg_bytes_max.max(svg.len());
+        times.svgs.push(start.elapsed().as_secs_f64() * 1e3);
+        times.svg_bytes_max = times.svg_bytes_max.max(svg.len());
     }
-    // The run plots panel under the timeline, every plot, at the run's last snapshot.
+    times
+}
+
+/// A frame of `input` in the map view, as the inspector draws it after a jump (the view
+/// settled on the whole map first: the plot fits itself over a couple of frames): the scene
+/// built, the frame drawn, and the frame drawn again from the same scene.
+fn time_frames(run: &Run, input: &SceneInput, times: &mut SeekTimes) {
+    let mut map_view = HeadlessMapView::new(1600.0, 1000.0);
+    for _ in 0..3 {
+        let options = ViewOptions {
+            world_per_px: map_view.world_per_px(),
+            ..ViewOptions::all()
+        };
+        map_view.frame(&build_scene(input, &options), run.units);
+    }
+    let options = ViewOptions {
+        world_per_px: map_view.world_per_px(),
+        ..ViewOptions::all()
+    };
+    let start = Instant::now();
+    let scene = build_scene(input, &options);
+    let built = start.elapsed().as_secs_f64() * 1e3;
+    let stats = map_view.frame(&scene, run.units);
+    times.frames.push(start.elapsed().as_secs_f64() * 1e3);
+    let start = Instant::now();
+    map_view.frame(&scene, run.units);
+    times
+        .reused_frames
+        .push(start.elapsed().as_secs_f64() * 1e3);
+    times.builds.push(built);
+    times.vertices_max = times.vertices_max.max(stats.vertices);
+}
+
+/// The run plots panel under the timeline, every plot three times, at the run's last
+/// snapshot: milliseconds each.
+fn time_plots(replay: &Replay, n: usize) -> Vec<f64> {
     let mut plots = crate::app::HeadlessRunPlots::new(1400.0, 170.0);
     let mut plot_frames = Vec::new();
     for plot in crate::app::RunPlot::ALL {
@@ -381,28 +451,5 @@ fn bench_inspector(
             plot_frames.push(start.elapsed().as_secs_f64() * 1e3);
         }
     }
-    InspectorFigures {
-        load_s: median(loads),
-        load_peak_memory_over_file_size: peak as f64 / json.len() as f64,
-        file_bytes: json.len(),
-        first_frame_ms: median(first_frames),
-        seek_ms_max: seeks.iter().cloned().fold(0.0, f64::max),
-        seek_ms_median: median(seeks),
-        step_forward_ms_max: forward_ms_max,
-        checkpoints,
-        checkpoint_spacing_min: spacing_min,
-        checkpoint_spacing_max: spacing_max,
-        checkpoint_bytes,
-        checkpoint_estimated_bytes: replay.checkpoint_bytes().0,
-        checkpoint_budget_bytes: replay.checkpoint_bytes().1,
-        frame_ms_median: median(frames),
-        scene_build_ms_median: median(builds),
-        frame_reusing_scene_ms_median: median(reused_frames),
-        frame_vertices_max: vertices_max,
-        svg_ms_median: median(svgs),
-        svg_bytes_max,
-        replay_build_s,
-        lineage_ms_max,
-        plots_frame_ms_median: median(plot_frames),
-    }
+    plot_frames
 }

@@ -22,7 +22,7 @@
 
 use crate::geometry::{distance_to_segment, line_angle_between, projection_param};
 use crate::mapping::{Map, Params, Segment, SegmentId, SegmentKind};
-use crate::run::{FloorPlan, Run};
+use crate::run::{FloorPlan, Run, Wall};
 use crate::units::inches;
 use serde::{Deserialize, Serialize};
 
@@ -298,26 +298,7 @@ pub fn evaluate(map: &Map, run: &Run, floor_plan: &FloorPlan, params: &Params) -
         angle_n,
         mut covered,
     } = part;
-    // Visibility from the kept readings.
-    let mut marks: Vec<Vec<(f64, f64)>> = vec![Vec::new(); walls.len()];
-    for snap in &run.snapshots {
-        for (k, r) in snap.ranges_m.iter().enumerate() {
-            let Some(d) = *r else { continue };
-            if k >= run.layout.len()
-                || d >= run.sensor.max_range_m
-                || d > params.d_max_m
-                || d < params.min_range_m
-            {
-                continue;
-            }
-            let p = run.layout.point_in_world(&snap.pose, k, d);
-            for (i, w) in walls.iter().enumerate() {
-                if distance_to_segment(&p, &w.a, &w.b) <= tol(d) {
-                    marks[i].push((projection_param(&p, &w.a, &w.b).clamp(0.0, 1.0), tol(d)));
-                }
-            }
-        }
-    }
+    let mut marks = visibility_marks(run, walls, params, &tol);
     let (mut wall_length, mut covered_length, mut visible_length, mut covered_visible) =
         (0.0, 0.0, 0.0, 0.0);
     for (i, w) in walls.iter().enumerate() {
@@ -330,25 +311,7 @@ pub fn evaluate(map: &Map, run: &Run, floor_plan: &FloorPlan, params: &Params) -
         covered_length += measure(&cov) * len;
         let mut m = std::mem::take(&mut marks[i]);
         m.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut visible = Vec::new();
-        let mut current: Option<(f64, f64, f64)> = None; // (lo, hi, last mark)
-        for (t, r) in m {
-            let (lo, hi) = ((t - r / len).max(0.0), (t + r / len).min(1.0));
-            current = match current {
-                Some((clo, chi, last)) if (t - last) * len <= params.t_gap_m => {
-                    Some((clo, chi.max(hi), t))
-                }
-                Some(c) => {
-                    visible.push((c.0, c.1));
-                    Some((lo, hi, t))
-                }
-                None => Some((lo, hi, t)),
-            };
-        }
-        if let Some(c) = current {
-            visible.push((c.0, c.1));
-        }
-        let visible = union(visible);
+        let visible = visible_spans(m, len, params.t_gap_m);
         visible_length += measure(&visible) * len;
         covered_visible += intersection_measure(&cov, &visible) * len;
     }
@@ -370,6 +333,59 @@ pub fn evaluate(map: &Map, run: &Run, floor_plan: &FloorPlan, params: &Params) -
         visible_length: u.from_m(visible_length),
         covered_length: u.from_m(covered_length),
     }
+}
+
+/// For each wall, the marks of the kept readings whose beam-axis point lies within its
+/// tolerance (`tol` of the range) of it: the point's place along the wall (0 to 1) and the
+/// tolerance, metres.
+fn visibility_marks(
+    run: &Run,
+    walls: &[Wall],
+    params: &Params,
+    tol: &dyn Fn(f64) -> f64,
+) -> Vec<Vec<(f64, f64)>> {
+    let mut marks: Vec<Vec<(f64, f64)>> = vec![Vec::new(); walls.len()];
+    for snap in &run.snapshots {
+        for (k, r) in snap.ranges_m.iter().enumerate() {
+            let Some(d) = *r else { continue };
+            if k >= run.layout.len()
+                || d >= run.sensor.max_range_m
+                || d > params.d_max_m
+                || d < params.min_range_m
+            {
+                continue;
+            }
+            let p = run.layout.point_in_world(&snap.pose, k, d);
+            for (i, w) in walls.iter().enumerate() {
+                if distance_to_segment(&p, &w.a, &w.b) <= tol(d) {
+                    marks[i].push((projection_param(&p, &w.a, &w.b).clamp(0.0, 1.0), tol(d)));
+                }
+            }
+        }
+    }
+    marks
+}
+
+/// The visible spans of a wall `len` metres long from its marks sorted along it: ± each
+/// mark's tolerance, marks no more than `t_gap_m` apart joined (a union of spans, 0 to 1).
+fn visible_spans(marks: Vec<(f64, f64)>, len: f64, t_gap_m: f64) -> Vec<(f64, f64)> {
+    let mut visible = Vec::new();
+    let mut current: Option<(f64, f64, f64)> = None; // (lo, hi, last mark)
+    for (t, r) in marks {
+        let (lo, hi) = ((t - r / len).max(0.0), (t + r / len).min(1.0));
+        current = match current {
+            Some((clo, chi, last)) if (t - last) * len <= t_gap_m => Some((clo, chi.max(hi), t)),
+            Some(c) => {
+                visible.push((c.0, c.1));
+                Some((lo, hi, t))
+            }
+            None => Some((lo, hi, t)),
+        };
+    }
+    if let Some(c) = current {
+        visible.push((c.0, c.1));
+    }
+    union(visible)
 }
 
 /// The confirmed part of `map` (its tentative segments left out, docs/algorithm.md §8.7), when

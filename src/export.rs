@@ -1,19 +1,5 @@
-//! Writing exports to disk. Kept apart from the pure scene: this is the only file-system code
-//! the export path needs.
-
-use std::io::{self, Write};
-use std::path::Path;
-
-/// Writes any text file atomically (a temp file beside it, then a rename): parameter sets,
-/// bookmarks. The same as [`write_svg_atomically`], named for what it does.
-pub fn write_text_atomically(path: &Path, contents: &str) -> io::Result<()> {
-    write_svg_atomically(path, contents)
-}
-
-/// Writes `contents` to `path` atomically (see [`write_bytes_atomically`]).
-pub fn write_svg_atomically(path: &Path, contents: &str) -> io::Result<()> {
-    write_bytes_atomically(path, contents.as_bytes())
-}
+//! Rendering exports: the SVG's fonts, and the SVG drawn as a PNG. Kept apart from the pure
+//! scene; the files are written by [`crate::atomic_write`].
 
 /// usvg's options for the exported SVGs: the system's fonts, and egui's own font (Ubuntu
 /// Light, built into the program) as the sans-serif that the SVG's font list ends with, so
@@ -57,37 +43,6 @@ pub fn svg_to_png(svg: &str, width_px: u32) -> Result<Vec<u8>, String> {
         .map_err(|e| format!("PNG encoding: {e}"))
 }
 
-/// Writes `contents` to `path` atomically: into a temporary file in the same directory, which
-/// is then renamed over `path`. A reader never sees a half-written file; on error the
-/// temporary file is removed and `path` is left as it was.
-pub fn write_bytes_atomically(path: &Path, contents: &[u8]) -> io::Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let name = path.file_name().ok_or_else(|| {
-        io::Error::new(
-            io::ErrorKind::InvalidInput,
-            format!("{}: not a file path", path.display()),
-        )
-    })?;
-    let tmp = dir.join(format!(
-        ".{}.{}.tmp",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(contents)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -103,22 +58,5 @@ mod tests {
         };
         let b = t.abs_bounding_box();
         assert!(b.width() > 10.0 && b.width() < 60.0, "{b:?}");
-    }
-
-    #[test]
-    fn writes_and_replaces_without_leaving_temporaries() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("out.svg");
-        write_svg_atomically(&path, "<svg/>").unwrap();
-        write_svg_atomically(&path, "<svg></svg>").unwrap();
-        assert_eq!(std::fs::read_to_string(&path).unwrap(), "<svg></svg>");
-        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
-    }
-
-    #[test]
-    fn missing_directory_is_an_error() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("nope").join("out.svg");
-        assert!(write_svg_atomically(&path, "x").is_err());
     }
 }

@@ -11,6 +11,7 @@
 pub mod alloc_count;
 pub mod app;
 pub mod assets;
+pub mod atomic_write;
 pub mod bench;
 pub mod checkpoints;
 pub mod diff;

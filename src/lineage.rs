@@ -3,7 +3,9 @@
 //! segment to the decision that made it without rescanning any trace. Built from the slim
 //! trace (decisions, updates, correlations), so it costs the replay little.
 
-use crate::mapping::model::trace::{CorrelationKind, Outcome, StepTrace};
+use crate::mapping::model::trace::{
+    CorrelationKind, DecisionTrace, Outcome, StepTrace, UpdateTrace,
+};
 use crate::mapping::SegmentId;
 use serde::{Deserialize, Serialize};
 
@@ -166,46 +168,58 @@ impl Lineage {
                         continue;
                     };
                     updates.next();
-                    let pieces = u.refit.as_ref().map_or(&[][..], |r| &r.pieces[..]);
-                    self.push(
-                        u.segment,
-                        LineageEvent::Updated {
-                            snapshot,
-                            new_segment: d.new_segment,
-                            outcome: d.outcome,
-                            refit: u.refit.is_some(),
-                        },
-                    );
-                    for &piece in pieces.iter().filter(|&&p| p != u.segment) {
-                        self.push(u.segment, LineageEvent::SplitOff { snapshot, piece });
-                        self.push(
-                            piece,
-                            LineageEvent::SplitFrom {
-                                snapshot,
-                                parent: u.segment,
-                            },
-                        );
-                    }
-                    for a in &u.absorbed {
-                        self.push(
-                            a.into,
-                            LineageEvent::Absorbed {
-                                snapshot,
-                                segment: a.segment,
-                            },
-                        );
-                        self.push(
-                            a.segment,
-                            LineageEvent::AbsorbedInto {
-                                snapshot,
-                                into: a.into,
-                            },
-                        );
-                    }
+                    self.record_update(snapshot, d, u);
                 }
                 _ => {}
             }
         }
+        self.record_after_matching(trace);
+    }
+
+    /// The events of update `u`, made by decision `d`: the update, the pieces its refit split
+    /// off, the duplicates it absorbed.
+    fn record_update(&mut self, snapshot: usize, d: &DecisionTrace, u: &UpdateTrace) {
+        let pieces = u.refit.as_ref().map_or(&[][..], |r| &r.pieces[..]);
+        self.push(
+            u.segment,
+            LineageEvent::Updated {
+                snapshot,
+                new_segment: d.new_segment,
+                outcome: d.outcome,
+                refit: u.refit.is_some(),
+            },
+        );
+        for &piece in pieces.iter().filter(|&&p| p != u.segment) {
+            self.push(u.segment, LineageEvent::SplitOff { snapshot, piece });
+            self.push(
+                piece,
+                LineageEvent::SplitFrom {
+                    snapshot,
+                    parent: u.segment,
+                },
+            );
+        }
+        for a in &u.absorbed {
+            self.push(
+                a.into,
+                LineageEvent::Absorbed {
+                    snapshot,
+                    segment: a.segment,
+                },
+            );
+            self.push(
+                a.segment,
+                LineageEvent::AbsorbedInto {
+                    snapshot,
+                    into: a.into,
+                },
+            );
+        }
+    }
+
+    /// The events of the step after matching.
+    fn record_after_matching(&mut self, trace: &StepTrace) {
+        let snapshot = trace.snapshot;
         // In the step's order: refits that lost their confirmation (§8.7), correlation (§6),
         // then free space (§8.6), corner diagonals (§8.11) and the links that left with a
         // segment (§8.3).

@@ -1,8 +1,6 @@
 //! The `sonarmap` binary: the inspector, or a headless subcommand (docs/formats.md §10).
 
 mod cli;
-mod convert;
-mod figure_args;
 
 use clap::Parser;
 use sonarmap::app::{Command, SonarApp, Source};

@@ -44,7 +44,7 @@ pub struct SonarApp {
     pub(super) play_clock_s: f64,
     pub(super) selection: SceneId,
     pub(super) compare: CompareState,
-    pub(super) decision_filter: super::decisions::DecisionFilter,
+    pub(super) decision_filter: super::decision_filter::DecisionFilter,
     pub(super) banner: Option<String>,
     pub(super) message: String,
     pub(super) map_view: MapViewState,

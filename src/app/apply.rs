@@ -10,12 +10,11 @@ use super::file_dialog::{ask_system, probe_system, DialogBackend, FilePurpose, S
 use super::in_app_dialog::InAppDialog;
 use super::inspector::{describe_id, CompareState};
 use super::jobs::JobKind;
-use super::layout_picker::LayoutChoice;
+use super::layout_choice::LayoutChoice;
 use super::loaded::Source;
 use super::map_view::ViewRequest;
-use crate::export::{
-    svg_to_png, write_bytes_atomically, write_svg_atomically, write_text_atomically,
-};
+use crate::atomic_write::write_atomic;
+use crate::export::svg_to_png;
 use crate::mapping::paper::matching::evaluate_pair;
 use crate::mapping::{Params, ParamsFile};
 use crate::scene::figure::{figure_svg, Figure};
@@ -41,11 +40,7 @@ impl SonarApp {
             Command::First => self.seek(0),
             Command::Last => self.seek(self.len().saturating_sub(1)),
             Command::TogglePlay => self.toggle_play(),
-            Command::SetRate(rate) => {
-                if rate.is_finite() && rate > 0.0 {
-                    self.settings.rate = rate.clamp(0.25, 60.0);
-                }
-            }
+            Command::SetRate(rate) => self.set_rate(rate),
             Command::NextMark => self.next_mark(),
             Command::PrevMark => self.prev_mark(),
             Command::Select(id) => self.select(id),
@@ -56,14 +51,7 @@ impl SonarApp {
             Command::CancelCompare => self.compare = CompareState::Off,
             Command::ToggleLayer(layer) => self.toggle_layer(layer),
             Command::TogglePlots => self.settings.show_plots = !self.settings.show_plots,
-            Command::ToggleMarkKind(kind) => {
-                let hidden = &mut self.settings.hidden_marks;
-                if hidden.contains(&kind) {
-                    hidden.retain(|k| *k != kind);
-                } else {
-                    hidden.push(kind);
-                }
-            }
+            Command::ToggleMarkKind(kind) => self.toggle_mark_kind(kind),
             Command::FilterDecisions(filter) => self.decision_filter = filter,
             Command::FitView => self.map_view.request = Some(ViewRequest::Fit),
             Command::ZoomToSelection => self.zoom_to_selection(),
@@ -104,6 +92,23 @@ impl SonarApp {
                     self.message = "not opened: no layout chosen".to_owned();
                 }
             }
+        }
+    }
+
+    /// Sets the playback rate (a rate that is not a positive number is ignored).
+    fn set_rate(&mut self, rate: f32) {
+        if rate.is_finite() && rate > 0.0 {
+            self.settings.rate = rate.clamp(0.25, 60.0);
+        }
+    }
+
+    /// Shows the marks of `kind` when hidden, hides them when shown.
+    fn toggle_mark_kind(&mut self, kind: super::marks::MarkKind) {
+        let hidden = &mut self.settings.hidden_marks;
+        if hidden.contains(&kind) {
+            hidden.retain(|k| *k != kind);
+        } else {
+            hidden.push(kind);
         }
     }
 
@@ -306,9 +311,9 @@ impl SonarApp {
         let written = if png {
             let width = figure.size_px.0 * self.settings.png_scale.clamp(1, 4);
             svg_to_png(&svg, width)
-                .and_then(|bytes| write_bytes_atomically(path, &bytes).map_err(|e| e.to_string()))
+                .and_then(|bytes| write_atomic(path, &bytes).map_err(|e| e.to_string()))
         } else {
-            write_svg_atomically(path, &svg).map_err(|e| e.to_string())
+            write_atomic(path, svg.as_bytes()).map_err(|e| e.to_string())
         };
         written.map_err(|e| format!("Could not write {}: {e}", path.display()))
     }
@@ -359,7 +364,7 @@ impl SonarApp {
         let result = serde_json::to_string_pretty(&file)
             .map_err(|e| e.to_string())
             .and_then(|text| {
-                write_text_atomically(path, &(text + "\n")).map_err(|e| e.to_string())
+                write_atomic(path, (text + "\n").as_bytes()).map_err(|e| e.to_string())
             });
         match result {
             Ok(()) => self.message = format!("saved parameters to {}", path.display()),

@@ -2,7 +2,7 @@
 //! `{"format": "sonarmap-bookmarks", "version": 1, "bookmarks": [{"name", "snapshot"}]}`
 //! (docs/formats.md §9). The built-in run keeps its bookmarks in the settings instead.
 
-use crate::export::write_text_atomically;
+use crate::atomic_write::write_atomic;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -59,6 +59,6 @@ pub fn write_sidecar(log: &Path, bookmarks: &[Bookmark]) -> Result<(), String> {
     };
     serde_json::to_string_pretty(&file)
         .map_err(|e| e.to_string())
-        .and_then(|t| write_text_atomically(&side, &(t + "\n")).map_err(|e| e.to_string()))
+        .and_then(|t| write_atomic(&side, (t + "\n").as_bytes()).map_err(|e| e.to_string()))
         .map_err(|e| format!("Could not write {}: {e}", side.display()))
 }

@@ -53,7 +53,7 @@ pub enum Command {
     /// Show or hide one kind of timeline mark.
     ToggleMarkKind(super::marks::MarkKind),
     /// Show only decisions with this outcome (`None`: all).
-    FilterDecisions(super::decisions::DecisionFilter),
+    FilterDecisions(super::decision_filter::DecisionFilter),
     /// Fit the map view to the scene.
     FitView,
     /// Zoom the map view onto the selected segment.
@@ -104,7 +104,7 @@ pub enum Command {
     /// Dock the inspector below the decision list or in a tab.
     DockInspector(super::settings::InspectorDock),
     /// Open the log waiting in the layout picker with this layout.
-    OpenWithLayout(super::layout_picker::LayoutChoice),
+    OpenWithLayout(super::layout_choice::LayoutChoice),
     /// Ask for a layout file (system or in-app dialog) for the log in the layout picker.
     ChooseLayoutFile,
     /// Ask for the poses table (system or in-app dialog) of the table in the layout picker.

@@ -2,48 +2,14 @@
 //! filterable by outcome. Clicking a row selects the new segment and centres the view on it.
 
 use super::command::Command;
+use super::decision_filter::DecisionFilter;
 use super::inspector::{centre_of, outcome_name, InspectCtx};
 use super::timeline::BASELINE_COLOUR;
-use super::truth::TruthView;
 use crate::diff::{DecisionDifference, DecisionSide, DifferenceKind};
 use crate::mapping::model::trace::DecisionTrace;
 use crate::mapping::{Outcome, Rule};
 use crate::scene::SceneId;
 use egui::RichText;
-
-/// Which decisions the list shows.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum DecisionFilter {
-    /// Every decision.
-    #[default]
-    All,
-    /// Decisions with this outcome.
-    Outcome(Outcome),
-    /// Decisions that made or updated a segment `eval` calls spurious (with a floor plan).
-    Spurious,
-}
-
-impl DecisionFilter {
-    /// True when decision `d` passes; `truth` gives the verdicts on the map shown.
-    fn keeps(self, d: &DecisionTrace, truth: Option<&TruthView>) -> bool {
-        match self {
-            DecisionFilter::All => true,
-            DecisionFilter::Outcome(o) => d.outcome == o,
-            DecisionFilter::Spurious => d
-                .result
-                .and_then(|id| truth.and_then(|t| t.verdict(id)))
-                .is_some_and(|v| !v.is_true()),
-        }
-    }
-
-    fn name(self) -> &'static str {
-        match self {
-            DecisionFilter::All => "All",
-            DecisionFilter::Outcome(o) => outcome_name(o),
-            DecisionFilter::Spurious => "Spurious",
-        }
-    }
-}
 
 const FILTERS: [DecisionFilter; 5] = [
     DecisionFilter::All,
@@ -108,26 +74,7 @@ pub fn decisions_ui(
 ) -> Vec<Command> {
     let mut commands = Vec::new();
     let decisions = &ctx.view.trace.decisions;
-    ui.horizontal_wrapped(|ui| {
-        ui.label(RichText::new(format!("Decisions ({})", decisions.len())).strong());
-        // "Spurious" only with a floor plan to judge by.
-        let spurious = ctx.truth.map(|_| DecisionFilter::Spurious);
-        for f in FILTERS.into_iter().chain(spurious) {
-            let count = decisions.iter().filter(|d| f.keeps(d, ctx.truth)).count();
-            let label = ui.selectable_label(filter == f, format!("{} {count}", f.name()));
-            let label = if f == DecisionFilter::Spurious {
-                label.on_hover_text(
-                    "Decisions that made or updated a segment eval calls spurious (on no wall \
-                     of the floor plan)",
-                )
-            } else {
-                label
-            };
-            if label.clicked() {
-                commands.push(Command::FilterDecisions(f));
-            }
-        }
-    });
+    filters_ui(ui, ctx, filter, &mut commands);
     ui.separator();
     egui::ScrollArea::vertical()
         .id_salt("decisions_scroll")
@@ -180,4 +127,34 @@ pub fn decisions_ui(
             }
         });
     commands
+}
+
+/// The list's title and its filters, each with its count.
+fn filters_ui(
+    ui: &mut egui::Ui,
+    ctx: &InspectCtx,
+    filter: DecisionFilter,
+    commands: &mut Vec<Command>,
+) {
+    let decisions = &ctx.view.trace.decisions;
+    ui.horizontal_wrapped(|ui| {
+        ui.label(RichText::new(format!("Decisions ({})", decisions.len())).strong());
+        // "Spurious" only with a floor plan to judge by.
+        let spurious = ctx.truth.map(|_| DecisionFilter::Spurious);
+        for f in FILTERS.into_iter().chain(spurious) {
+            let count = decisions.iter().filter(|d| f.keeps(d, ctx.truth)).count();
+            let label = ui.selectable_label(filter == f, format!("{} {count}", f.name()));
+            let label = if f == DecisionFilter::Spurious {
+                label.on_hover_text(
+                    "Decisions that made or updated a segment eval calls spurious (on no wall \
+                 of the floor plan)",
+                )
+            } else {
+                label
+            };
+            if label.clicked() {
+                commands.push(Command::FilterDecisions(f));
+            }
+        }
+    });
 }

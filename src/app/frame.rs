@@ -18,7 +18,7 @@ use super::marks::MarkKind;
 use super::menu::{handle_shortcuts, menu_bar_ui, shortcuts_window_ui};
 use super::params_panel::{params_panel_ui, BaselineSummary, ParamsPanelInfo};
 use super::run_plots::run_plots_ui;
-use super::settings::{InspectorDock, LeftTab, RightTab, SETTINGS_KEY};
+use super::settings::{InspectorDock, LeftTab, PanelLayout, RightTab, SETTINGS_KEY};
 use super::timeline::{timeline_ui, TimelineInfo};
 use crate::geometry::Point;
 use crate::scene::svg::default_view;
@@ -227,40 +227,7 @@ impl SonarApp {
             .min_size(200.0)
             .default_size(panels.right_px)
             .show(ui, |ui| {
-                ui.horizontal(|ui| {
-                    let tab = panels.inspector_dock == InspectorDock::Tab;
-                    if tab {
-                        for (page, label) in [
-                            (RightTab::Decisions, "Decisions"),
-                            (RightTab::Inspector, "Inspector"),
-                        ] {
-                            if ui
-                                .selectable_label(panels.right_tab == page, label)
-                                .clicked()
-                            {
-                                commands.push(Command::ShowRightTab(page));
-                            }
-                        }
-                    }
-                    ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                        let (dock, text, hover) = if tab {
-                            (
-                                InspectorDock::Below,
-                                "Dock below",
-                                "Show the inspector below the decision list",
-                            )
-                        } else {
-                            (
-                                InspectorDock::Tab,
-                                "Dock in a tab",
-                                "Show the inspector in a tab beside the decision list",
-                            )
-                        };
-                        if ui.small_button(text).on_hover_text(hover).clicked() {
-                            commands.push(Command::DockInspector(dock));
-                        }
-                    });
-                });
+                right_panel_header_ui(ui, &panels, commands);
                 let Some(view) = &self.view else {
                     return;
                 };
@@ -324,6 +291,9 @@ impl SonarApp {
                 &self.settings.panels,
                 self.baseline.is_some(),
             ));
+            if let Some(a_scene) = &split_scene {
+                self.share_request(a_scene, scene);
+            }
             let describe = |id: SceneId| {
                 self.view.as_ref().and_then(|view| {
                     hover_text(
@@ -356,25 +326,11 @@ impl SonarApp {
                 ));
                 return;
             };
-            // Both plots frame the same request (Fit: both maps), then stay linked.
-            if self.map_view.request == Some(ViewRequest::Fit) {
-                let (a, b) = (default_view(&a_scene), default_view(scene));
-                let both = ViewRect::new(
-                    Point::new(a.min.x.min(b.min.x), a.min.y.min(b.min.y)),
-                    Point::new(a.max.x.max(b.max.x), a.max.y.max(b.max.y)),
-                );
-                self.map_view.request = Some(ViewRequest::Frame(both));
-            }
-            self.split_view.request = self.map_view.request;
             let no_hover = |_: SceneId| None;
             ui.columns(2, |columns| {
                 commands.extend(map_view_ui(
                     &mut columns[0],
-                    MapPlot {
-                        id: "map_view_a",
-                        link_group: Some("map_views"),
-                        caption: Some("A: baseline"),
-                    },
+                    MapPlot::SPLIT_A,
                     &a_scene,
                     units,
                     &mut self.split_view,
@@ -384,11 +340,7 @@ impl SonarApp {
                 ));
                 commands.extend(map_view_ui(
                     &mut columns[1],
-                    MapPlot {
-                        id: "map_view",
-                        link_group: Some("map_views"),
-                        caption: Some("B: current"),
-                    },
+                    MapPlot::SPLIT_B,
                     scene,
                     units,
                     &mut self.map_view,
@@ -398,6 +350,20 @@ impl SonarApp {
                 ));
             });
         });
+    }
+
+    /// Both plots of the A | B split frame the same request (Fit: both maps), then stay
+    /// linked.
+    fn share_request(&mut self, a_scene: &Scene, scene: &Scene) {
+        if self.map_view.request == Some(ViewRequest::Fit) {
+            let (a, b) = (default_view(a_scene), default_view(scene));
+            let both = ViewRect::new(
+                Point::new(a.min.x.min(b.min.x), a.min.y.min(b.min.y)),
+                Point::new(a.max.x.max(b.max.x), a.max.y.max(b.max.y)),
+            );
+            self.map_view.request = Some(ViewRequest::Frame(both));
+        }
+        self.split_view.request = self.map_view.request;
     }
 
     /// The in-app file dialog and the layout picker, when open.
@@ -542,4 +508,43 @@ impl eframe::App for SonarApp {
             storage.set_string(SETTINGS_KEY, text);
         }
     }
+}
+
+/// The right panel's header: the Decisions and Inspector tabs (when docked in a tab) and the
+/// dock switch.
+fn right_panel_header_ui(ui: &mut egui::Ui, panels: &PanelLayout, commands: &mut Vec<Command>) {
+    ui.horizontal(|ui| {
+        let tab = panels.inspector_dock == InspectorDock::Tab;
+        if tab {
+            for (page, label) in [
+                (RightTab::Decisions, "Decisions"),
+                (RightTab::Inspector, "Inspector"),
+            ] {
+                if ui
+                    .selectable_label(panels.right_tab == page, label)
+                    .clicked()
+                {
+                    commands.push(Command::ShowRightTab(page));
+                }
+            }
+        }
+        ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+            let (dock, text, hover) = if tab {
+                (
+                    InspectorDock::Below,
+                    "Dock below",
+                    "Show the inspector below the decision list",
+                )
+            } else {
+                (
+                    InspectorDock::Tab,
+                    "Dock in a tab",
+                    "Show the inspector in a tab beside the decision list",
+                )
+            };
+            if ui.small_button(text).on_hover_text(hover).clicked() {
+                commands.push(Command::DockInspector(dock));
+            }
+        });
+    });
 }

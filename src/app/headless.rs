@@ -3,7 +3,8 @@
 //! get them. `sonarmap bench` times frames with it; tests count what a frame draws.
 
 use super::map_view::{map_view_ui, MapViewState, ViewRequest};
-use super::run_plots::{run_plots_ui, RunPlot};
+use super::run_plot::RunPlot;
+use super::run_plots::run_plots_ui;
 use crate::replay::{StepSummary, TruthSample};
 use crate::scene::{Scene, SceneId};
 use crate::units::Units;

@@ -201,126 +201,17 @@ impl InAppDialog {
             .default_size(egui::vec2(620.0, 460.0))
             .collapsible(false)
             .show(ctx, |ui| {
-                ui.horizontal(|ui| {
-                    if ui
-                        .add_enabled(self.folder.parent().is_some(), egui::Button::new("Up"))
-                        .on_hover_text("The parent folder")
-                        .clicked()
-                    {
-                        go_to = self.folder.parent().map(Path::to_path_buf);
-                    }
-                    ui.label(egui::RichText::new(self.folder.display().to_string()).strong());
-                });
-                if !self.recent_folders.is_empty() {
-                    ui.horizontal_wrapped(|ui| {
-                        ui.label(egui::RichText::new("Recent folders:").weak());
-                        for folder in &self.recent_folders {
-                            let name = folder.file_name().map_or_else(
-                                || folder.display().to_string(),
-                                |n| n.to_string_lossy().into_owned(),
-                            );
-                            if ui
-                                .small_button(name)
-                                .on_hover_text(folder.display().to_string())
-                                .clicked()
-                            {
-                                go_to = Some(folder.clone());
-                            }
-                        }
-                    });
-                }
+                self.folders_ui(ui, &mut go_to);
                 ui.separator();
-                let list_height = (ui.available_height() - 70.0).max(120.0);
-                let mut accept_name: Option<String> = None;
-                egui::ScrollArea::vertical()
-                    .max_height(list_height)
-                    .auto_shrink([false, false])
-                    .show(ui, |ui| match &self.entries {
-                        Err(e) => {
-                            ui.colored_label(ERROR, e);
-                        }
-                        Ok(entries) if entries.is_empty() => {
-                            ui.label(egui::RichText::new("(no files of this kind here)").weak());
-                        }
-                        Ok(entries) => {
-                            for entry in entries {
-                                let text = if entry.is_dir {
-                                    format!("{}/", entry.name)
-                                } else {
-                                    entry.name.clone()
-                                };
-                                let selected = !entry.is_dir && self.path_text == entry.name;
-                                let r = ui.selectable_label(selected, text);
-                                if entry.is_dir && (r.clicked() || r.double_clicked()) {
-                                    go_to = Some(self.folder.join(&entry.name));
-                                } else if r.double_clicked() {
-                                    accept_name = Some(entry.name.clone());
-                                } else if r.clicked() {
-                                    self.path_text = entry.name.clone();
-                                    self.error = None;
-                                }
-                            }
-                        }
-                    });
-                if let Some(name) = accept_name {
+                if let Some(name) = self.entries_ui(ui, &mut go_to) {
                     self.path_text = name;
                     if let Some(path) = self.accept() {
                         answer = InAppAnswer::Chosen(path);
                     }
                 }
                 ui.separator();
-                ui.horizontal(|ui| {
-                    let label = ui.label("File:");
-                    let edit = ui
-                        .add(
-                            egui::TextEdit::singleline(&mut self.path_text)
-                                .desired_width(ui.available_width() - 150.0)
-                                .hint_text("a name here, or a path (Tab completes)")
-                                .lock_focus(true)
-                                .id_salt("in_app_file_dialog_path"),
-                        )
-                        .labelled_by(label.id);
-                    if edit.has_focus()
-                        && ui.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::Tab))
-                    {
-                        if let Some(completed) = complete_path(&self.folder, &self.path_text) {
-                            self.path_text = completed;
-                            if let Some(mut state) = egui::TextEdit::load_state(ui.ctx(), edit.id) {
-                                let end = egui::text::CCursor::new(self.path_text.chars().count());
-                                state
-                                    .cursor
-                                    .set_char_range(Some(egui::text::CCursorRange::one(end)));
-                                state.store(ui.ctx(), edit.id);
-                            }
-                        }
-                    }
-                    let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
-                    let verb = if self.purpose.is_save() {
-                        "Save"
-                    } else {
-                        "Open"
-                    };
-                    let clicked = ui.button(verb).clicked();
-                    if enter || clicked {
-                        if let Some(path) = self.accept() {
-                            answer = InAppAnswer::Chosen(path);
-                        }
-                    }
-                    if ui.button("Cancel").clicked() {
-                        answer = InAppAnswer::Cancelled;
-                    }
-                });
-                ui.horizontal(|ui| {
-                    if ui.checkbox(&mut self.all_files, "Show all files").changed() {
-                        self.refresh();
-                    }
-                    if self.purpose.is_save() && self.target().is_file() {
-                        ui.label(egui::RichText::new("exists: it will be replaced").weak());
-                    }
-                    if let Some(e) = &self.error {
-                        ui.colored_label(ERROR, e);
-                    }
-                });
+                ui.horizontal(|ui| self.path_field_ui(ui, &mut answer));
+                ui.horizontal(|ui| self.options_ui(ui));
             });
         if let Some(folder) = go_to {
             self.go_to(folder);
@@ -329,6 +220,137 @@ impl InAppDialog {
             answer = InAppAnswer::Cancelled;
         }
         answer
+    }
+
+    /// The folder shown with its Up button, and the recent folders; a click sets `go_to`.
+    fn folders_ui(&self, ui: &mut egui::Ui, go_to: &mut Option<PathBuf>) {
+        ui.horizontal(|ui| {
+            if ui
+                .add_enabled(self.folder.parent().is_some(), egui::Button::new("Up"))
+                .on_hover_text("The parent folder")
+                .clicked()
+            {
+                *go_to = self.folder.parent().map(Path::to_path_buf);
+            }
+            ui.label(egui::RichText::new(self.folder.display().to_string()).strong());
+        });
+        if !self.recent_folders.is_empty() {
+            ui.horizontal_wrapped(|ui| {
+                ui.label(egui::RichText::new("Recent folders:").weak());
+                for folder in &self.recent_folders {
+                    let name = folder.file_name().map_or_else(
+                        || folder.display().to_string(),
+                        |n| n.to_string_lossy().into_owned(),
+                    );
+                    if ui
+                        .small_button(name)
+                        .on_hover_text(folder.display().to_string())
+                        .clicked()
+                    {
+                        *go_to = Some(folder.clone());
+                    }
+                }
+            });
+        }
+    }
+
+    /// The folder's entries: a click on a folder sets `go_to`, on a file puts its name in the
+    /// path field; gives the file double-clicked.
+    fn entries_ui(&mut self, ui: &mut egui::Ui, go_to: &mut Option<PathBuf>) -> Option<String> {
+        let list_height = (ui.available_height() - 70.0).max(120.0);
+        let mut accept_name: Option<String> = None;
+        egui::ScrollArea::vertical()
+            .max_height(list_height)
+            .auto_shrink([false, false])
+            .show(ui, |ui| match &self.entries {
+                Err(e) => {
+                    ui.colored_label(ERROR, e);
+                }
+                Ok(entries) if entries.is_empty() => {
+                    ui.label(egui::RichText::new("(no files of this kind here)").weak());
+                }
+                Ok(entries) => {
+                    for entry in entries {
+                        let text = if entry.is_dir {
+                            format!("{}/", entry.name)
+                        } else {
+                            entry.name.clone()
+                        };
+                        let selected = !entry.is_dir && self.path_text == entry.name;
+                        let r = ui.selectable_label(selected, text);
+                        if entry.is_dir && (r.clicked() || r.double_clicked()) {
+                            *go_to = Some(self.folder.join(&entry.name));
+                        } else if r.double_clicked() {
+                            accept_name = Some(entry.name.clone());
+                        } else if r.clicked() {
+                            self.path_text = entry.name.clone();
+                            self.error = None;
+                        }
+                    }
+                }
+            });
+        accept_name
+    }
+
+    /// The path field (Tab completes), Open or Save, and Cancel; sets `answer`.
+    fn path_field_ui(&mut self, ui: &mut egui::Ui, answer: &mut InAppAnswer) {
+        let label = ui.label("File:");
+        let edit = ui
+            .add(
+                egui::TextEdit::singleline(&mut self.path_text)
+                    .desired_width(ui.available_width() - 150.0)
+                    .hint_text("a name here, or a path (Tab completes)")
+                    .lock_focus(true)
+                    .id_salt("in_app_file_dialog_path"),
+            )
+            .labelled_by(label.id);
+        if edit.has_focus()
+            && ui.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::Tab))
+        {
+            self.complete(ui, edit.id);
+        }
+        let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+        let verb = if self.purpose.is_save() {
+            "Save"
+        } else {
+            "Open"
+        };
+        let clicked = ui.button(verb).clicked();
+        if enter || clicked {
+            if let Some(path) = self.accept() {
+                *answer = InAppAnswer::Chosen(path);
+            }
+        }
+        if ui.button("Cancel").clicked() {
+            *answer = InAppAnswer::Cancelled;
+        }
+    }
+
+    /// Completes the path field (the text edit `edit`), the cursor put at its end.
+    fn complete(&mut self, ui: &egui::Ui, edit: egui::Id) {
+        if let Some(completed) = complete_path(&self.folder, &self.path_text) {
+            self.path_text = completed;
+            if let Some(mut state) = egui::TextEdit::load_state(ui.ctx(), edit) {
+                let end = egui::text::CCursor::new(self.path_text.chars().count());
+                state
+                    .cursor
+                    .set_char_range(Some(egui::text::CCursorRange::one(end)));
+                state.store(ui.ctx(), edit);
+            }
+        }
+    }
+
+    /// "Show all files", whether a file to save over exists, and the error.
+    fn options_ui(&mut self, ui: &mut egui::Ui) {
+        if ui.checkbox(&mut self.all_files, "Show all files").changed() {
+            self.refresh();
+        }
+        if self.purpose.is_save() && self.target().is_file() {
+            ui.label(egui::RichText::new("exists: it will be replaced").weak());
+        }
+        if let Some(e) = &self.error {
+            ui.colored_label(ERROR, e);
+        }
     }
 }
 

@@ -4,10 +4,10 @@
 //! would. Cancelling keeps the run that was open.
 
 use super::command::Command;
+use super::layout_choice::LayoutChoice;
 use super::loaded::Source;
 use crate::import::NamedBytes;
 use crate::units::Units;
-use std::path::PathBuf;
 
 /// The shipped layouts offered, by [`crate::import::builtin_layout`] name.
 pub const SHIPPED_LAYOUTS: [(&str, &str); 2] = [
@@ -22,15 +22,6 @@ const TABLE_UNITS: [Units; 4] = [
     Units::Millimetres,
     Units::Inches,
 ];
-
-/// Where the layout comes from.
-#[derive(Clone, Debug, PartialEq)]
-pub enum LayoutChoice {
-    /// A shipped layout, by name.
-    Shipped(String),
-    /// A `sonarmap-layout` file.
-    File(PathBuf),
-}
 
 /// A log waiting for its layout.
 pub struct LayoutPicker {

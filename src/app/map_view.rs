@@ -181,6 +181,20 @@ impl MapPlot {
         link_group: None,
         caption: None,
     };
+
+    /// The A | B split's left view: the pinned baseline.
+    pub const SPLIT_A: MapPlot = MapPlot {
+        id: "map_view_a",
+        link_group: Some("map_views"),
+        caption: Some("A: baseline"),
+    };
+
+    /// The A | B split's right view: the current parameters (the main view's plot).
+    pub const SPLIT_B: MapPlot = MapPlot {
+        id: "map_view",
+        link_group: Some("map_views"),
+        caption: Some("B: current"),
+    };
 }
 
 /// Draws the map view and reports what the user asked for. `describe` gives a hover text for
@@ -196,15 +210,38 @@ pub fn map_view_ui(
     describe: &dyn Fn(SceneId) -> Option<String>,
     ghost: Option<&Map>,
 ) -> Vec<Command> {
-    let mut commands = Vec::new();
     let m_per_unit = units.metres_per_unit();
     let s = 1.0 / m_per_unit;
     let shift = ui.input(|i| i.modifiers.shift);
     let measuring = state.ruler_tool || shift;
     let request = state.request.take();
     let ruler = state.ruler_m;
-    let x_units = units;
-    let mut plot = Plot::new(plot_id.id)
+    let plot = map_plot(ui, plot_id, units, measuring);
+    let response = plot.show(ui, |plot_ui| {
+        apply_request(plot_ui, request, s);
+        if let Some(map) = ghost {
+            ghost_lines(plot_ui, map, s);
+        }
+        plot_ui.add(ScenePlotItem::new(scene, s));
+        let halo: Vec<usize> = (scene.primitives.iter().enumerate())
+            .filter(|(_, p)| is_selected(p.id, selected))
+            .map(|(n, _)| n)
+            .collect();
+        if !halo.is_empty() {
+            plot_ui.add(ScenePlotItem::halo(scene, s, halo));
+        }
+        if let Some(ruler) = ruler {
+            ruler_lines(plot_ui, ruler, s);
+        }
+    });
+    record_view(ui, plot_id, state, &response, m_per_unit);
+    interact(scene, state, &response, measuring, describe)
+}
+
+/// The plot of the map view: equal axes in the log's units, dragging (unless measuring) and
+/// scrolling, linked to the other views of its group.
+fn map_plot(ui: &egui::Ui, plot_id: MapPlot, units: Units, measuring: bool) -> Plot<'static> {
+    let plot = Plot::new(plot_id.id)
         .width(ui.available_width().max(1.0))
         .height(ui.available_height().max(1.0))
         .data_aspect(1.0)
@@ -217,87 +254,95 @@ pub fn map_view_ui(
             format!(
                 "{} {}",
                 egui_plot::format_number(m.value, 4),
-                x_units.symbol()
+                units.symbol()
             )
         })
         .y_axis_formatter(move |m, _| {
             format!(
                 "{} {}",
                 egui_plot::format_number(m.value, 4),
-                x_units.symbol()
+                units.symbol()
             )
         });
-    if let Some(group) = plot_id.link_group {
-        plot = plot
+    match plot_id.link_group {
+        Some(group) => plot
             .link_axis(egui::Id::unique(group), [true, true])
-            .link_cursor(egui::Id::unique(group), [true, true]);
+            .link_cursor(egui::Id::unique(group), [true, true]),
+        None => plot,
     }
-    let response = plot.show(ui, |plot_ui| {
-        match request {
-            Some(ViewRequest::Fit) => plot_ui.set_auto_bounds(true),
-            Some(ViewRequest::Center(p)) => {
-                let b = plot_ui.plot_bounds();
-                let (w, h) = (b.width() / 2.0, b.height() / 2.0);
-                let (cx, cy) = (p.x * s, p.y * s);
-                plot_ui
-                    .set_plot_bounds(PlotBounds::from_min_max([cx - w, cy - h], [cx + w, cy + h]));
-            }
-            Some(ViewRequest::Frame(r)) => {
-                plot_ui.set_plot_bounds(PlotBounds::from_min_max(
-                    [r.min.x * s, r.min.y * s],
-                    [r.max.x * s, r.max.y * s],
-                ));
-            }
-            None => {}
+}
+
+/// Moves the view as `request` asks (`s`: plot units per metre).
+fn apply_request(plot_ui: &mut egui_plot::PlotUi, request: Option<ViewRequest>, s: f64) {
+    match request {
+        Some(ViewRequest::Fit) => plot_ui.set_auto_bounds(true),
+        Some(ViewRequest::Center(p)) => {
+            let b = plot_ui.plot_bounds();
+            let (w, h) = (b.width() / 2.0, b.height() / 2.0);
+            let (cx, cy) = (p.x * s, p.y * s);
+            plot_ui.set_plot_bounds(PlotBounds::from_min_max([cx - w, cy - h], [cx + w, cy + h]));
         }
-        if let Some(map) = ghost {
-            // The baseline's map under everything else: dashed grey.
-            for seg in &map.segments {
-                plot_ui.line(
-                    Line::new(
-                        "",
-                        PlotPoints::new(vec![
-                            [seg.a.point.x * s, seg.a.point.y * s],
-                            [seg.b.point.x * s, seg.b.point.y * s],
-                        ]),
-                    )
-                    .color(GHOST)
-                    .width(2.5)
-                    .style(LineStyle::Dashed { length: 8.0 })
-                    .allow_hover(false)
-                    .id(("baseline_ghost", seg.id)),
-                );
-            }
+        Some(ViewRequest::Frame(r)) => {
+            plot_ui.set_plot_bounds(PlotBounds::from_min_max(
+                [r.min.x * s, r.min.y * s],
+                [r.max.x * s, r.max.y * s],
+            ));
         }
-        plot_ui.add(ScenePlotItem::new(scene, s));
-        let halo: Vec<usize> = (scene.primitives.iter().enumerate())
-            .filter(|(_, p)| is_selected(p.id, selected))
-            .map(|(n, _)| n)
-            .collect();
-        if !halo.is_empty() {
-            plot_ui.add(ScenePlotItem::halo(scene, s, halo));
-        }
-        if let Some((a, b)) = ruler {
-            let c = Color32::from_rgb(0xd0, 0x20, 0x80);
-            plot_ui.line(
-                Line::new(
-                    "",
-                    PlotPoints::new(vec![[a.x * s, a.y * s], [b.x * s, b.y * s]]),
-                )
-                .color(c)
-                .width(2.0)
-                .allow_hover(false)
-                .id("ruler"),
-            );
-            plot_ui.add(
-                Points::new("", vec![[a.x * s, a.y * s], [b.x * s, b.y * s]])
-                    .radius(3.0)
-                    .color(c)
-                    .allow_hover(false)
-                    .id("ruler_ends"),
-            );
-        }
-    });
+        None => {}
+    }
+}
+
+/// The baseline's map under everything else: dashed grey.
+fn ghost_lines(plot_ui: &mut egui_plot::PlotUi, map: &Map, s: f64) {
+    for seg in &map.segments {
+        plot_ui.line(
+            Line::new(
+                "",
+                PlotPoints::new(vec![
+                    [seg.a.point.x * s, seg.a.point.y * s],
+                    [seg.b.point.x * s, seg.b.point.y * s],
+                ]),
+            )
+            .color(GHOST)
+            .width(2.5)
+            .style(LineStyle::Dashed { length: 8.0 })
+            .allow_hover(false)
+            .id(("baseline_ghost", seg.id)),
+        );
+    }
+}
+
+/// The ruler from `a` to `b` (metres), with its ends marked.
+fn ruler_lines(plot_ui: &mut egui_plot::PlotUi, (a, b): (Point, Point), s: f64) {
+    let c = Color32::from_rgb(0xd0, 0x20, 0x80);
+    plot_ui.line(
+        Line::new(
+            "",
+            PlotPoints::new(vec![[a.x * s, a.y * s], [b.x * s, b.y * s]]),
+        )
+        .color(c)
+        .width(2.0)
+        .allow_hover(false)
+        .id("ruler"),
+    );
+    plot_ui.add(
+        Points::new("", vec![[a.x * s, a.y * s], [b.x * s, b.y * s]])
+            .radius(3.0)
+            .color(c)
+            .allow_hover(false)
+            .id("ruler_ends"),
+    );
+}
+
+/// Keeps what the view showed in `state` (the visible rectangle, the transform, the size)
+/// and paints the view's caption.
+fn record_view(
+    ui: &egui::Ui,
+    plot_id: MapPlot,
+    state: &mut MapViewState,
+    response: &egui_plot::PlotResponse<()>,
+    m_per_unit: f64,
+) {
     let transform = response.transform;
     let bounds = transform.bounds();
     state.visible_m = Some(ViewRect::new(
@@ -318,6 +363,19 @@ pub fn map_view_ui(
         );
     }
     state.size_px = (rect.width().max(1.0) as u32, rect.height().max(1.0) as u32);
+}
+
+/// The pointer over the view: the cursor's position, the ruler dragged while measuring, a
+/// click selecting what is under it, and its description as a tooltip.
+fn interact(
+    scene: &Scene,
+    state: &mut MapViewState,
+    response: &egui_plot::PlotResponse<()>,
+    measuring: bool,
+    describe: &dyn Fn(SceneId) -> Option<String>,
+) -> Vec<Command> {
+    let mut commands = Vec::new();
+    let (transform, m_per_unit) = (response.transform, state.m_per_unit);
     let to_world = |pos: egui::Pos2| {
         let v = transform.value_from_position(pos);
         Point::new(v.x * m_per_unit, v.y * m_per_unit)

@@ -91,131 +91,13 @@ pub fn menu_bar_ui(
     settings: &super::settings::Settings,
 ) -> Vec<Command> {
     let mut commands = Vec::new();
-    let ctx = ui.ctx().clone();
     egui::MenuBar::new().ui(ui, |ui| {
         ui.menu_button("File", |ui| {
-            if ui
-                .add(egui::Button::new("Open…").shortcut_text(ctx.format_shortcut(&OPEN)))
-                .clicked()
-            {
-                commands.push(Command::OpenDialog);
-            }
-            ui.menu_button("Open Recent", |ui| {
-                if recent.is_empty() {
-                    ui.label("no recent files");
-                }
-                for path in recent {
-                    if ui.button(path.display().to_string()).clicked() {
-                        commands.push(Command::Open(path.clone()));
-                    }
-                }
-            });
-            if ui
-                .add(egui::Button::new("Reload").shortcut_text(ctx.format_shortcut(&RELOAD)))
-                .clicked()
-            {
-                commands.push(Command::Reload);
-            }
-            ui.separator();
-            if ui
-                .add(
-                    egui::Button::new("Export figure (SVG/PNG)…")
-                        .shortcut_text(ctx.format_shortcut(&EXPORT)),
-                )
-                .clicked()
-            {
-                commands.push(Command::ExportDialog);
-            }
-            let mut figure = settings.figure_style;
-            if ui
-                .checkbox(&mut figure, "Figure style")
-                .on_hover_text(
-                    "Label only the selection and the map segments this snapshot's decisions \
-                     met",
-                )
-                .changed()
-            {
-                commands.push(Command::ToggleFigureStyle);
-            }
-            ui.horizontal(|ui| {
-                ui.label("PNG size:");
-                for scale in 1..=3 {
-                    if ui
-                        .selectable_label(settings.png_scale == scale, format!("{scale}x"))
-                        .on_hover_text("times the map view's size")
-                        .clicked()
-                    {
-                        commands.push(Command::SetPngScale(scale));
-                    }
-                }
-            });
+            file_menu_ui(ui, recent, settings, &mut commands)
         });
-        ui.menu_button("View", |ui| {
-            let items = [
-                ("Fit view", "F", Command::FitView),
-                ("Zoom to selection", "Z", Command::ZoomToSelection),
-                (
-                    "Clear selection",
-                    "Esc",
-                    Command::Select(crate::scene::SceneId::None),
-                ),
-                ("Previous snapshot", "Left", Command::Step(-1)),
-                ("Next snapshot", "Right", Command::Step(1)),
-                ("First snapshot", "Home", Command::First),
-                ("Last snapshot", "End", Command::Last),
-                ("Play / pause", "Space", Command::TogglePlay),
-                ("Previous mark", "[", Command::PrevMark),
-                ("Next mark", "]", Command::NextMark),
-                ("Left panel", "L", Command::TogglePanel(PanelToggle::Left)),
-                (
-                    "Decisions and inspector",
-                    "I",
-                    Command::TogglePanel(PanelToggle::Right),
-                ),
-                ("Map only", "M", Command::TogglePanel(PanelToggle::MapOnly)),
-                (
-                    "A | B split (pinned)",
-                    "S",
-                    Command::TogglePanel(PanelToggle::Split),
-                ),
-            ];
-            for (name, keys, command) in items {
-                if ui
-                    .add(egui::Button::new(name).shortcut_text(keys))
-                    .clicked()
-                {
-                    commands.push(command);
-                }
-            }
-            ui.separator();
-            if ui
-                .add(
-                    egui::Button::new("Bookmark this snapshot")
-                        .shortcut_text(ctx.format_shortcut(&BOOKMARK)),
-                )
-                .clicked()
-            {
-                commands.push(Command::AddBookmark(String::new()));
-            }
-        });
+        ui.menu_button("View", |ui| view_menu_ui(ui, &mut commands));
         ui.menu_button("Parameters", |ui| {
-            if ui.button("Load parameters…").clicked() {
-                commands.push(Command::LoadParamsDialog);
-            }
-            if ui.button("Save parameters…").clicked() {
-                commands.push(Command::SaveParamsDialog);
-            }
-            if ui.button("Reset to the paper's defaults").clicked() {
-                commands.push(Command::SetParams(crate::mapping::Params::paper()));
-            }
-            ui.separator();
-            if pinned {
-                if ui.button("Unpin baseline").clicked() {
-                    commands.push(Command::Unpin);
-                }
-            } else if ui.button("Pin as baseline").clicked() {
-                commands.push(Command::PinBaseline);
-            }
+            parameters_menu_ui(ui, pinned, &mut commands)
         });
         ui.menu_button("Help", |ui| {
             if ui.button("Keyboard shortcuts").clicked() {
@@ -224,6 +106,143 @@ pub fn menu_bar_ui(
         });
     });
     commands
+}
+
+/// The File menu: open, recent files, reload, export and the figure's options.
+fn file_menu_ui(
+    ui: &mut egui::Ui,
+    recent: &[PathBuf],
+    settings: &super::settings::Settings,
+    commands: &mut Vec<Command>,
+) {
+    let ctx = ui.ctx().clone();
+    if ui
+        .add(egui::Button::new("Open…").shortcut_text(ctx.format_shortcut(&OPEN)))
+        .clicked()
+    {
+        commands.push(Command::OpenDialog);
+    }
+    ui.menu_button("Open Recent", |ui| {
+        if recent.is_empty() {
+            ui.label("no recent files");
+        }
+        for path in recent {
+            if ui.button(path.display().to_string()).clicked() {
+                commands.push(Command::Open(path.clone()));
+            }
+        }
+    });
+    if ui
+        .add(egui::Button::new("Reload").shortcut_text(ctx.format_shortcut(&RELOAD)))
+        .clicked()
+    {
+        commands.push(Command::Reload);
+    }
+    ui.separator();
+    if ui
+        .add(
+            egui::Button::new("Export figure (SVG/PNG)…")
+                .shortcut_text(ctx.format_shortcut(&EXPORT)),
+        )
+        .clicked()
+    {
+        commands.push(Command::ExportDialog);
+    }
+    let mut figure = settings.figure_style;
+    if ui
+        .checkbox(&mut figure, "Figure style")
+        .on_hover_text(
+            "Label only the selection and the map segments this snapshot's decisions \
+             met",
+        )
+        .changed()
+    {
+        commands.push(Command::ToggleFigureStyle);
+    }
+    ui.horizontal(|ui| {
+        ui.label("PNG size:");
+        for scale in 1..=3 {
+            if ui
+                .selectable_label(settings.png_scale == scale, format!("{scale}x"))
+                .on_hover_text("times the map view's size")
+                .clicked()
+            {
+                commands.push(Command::SetPngScale(scale));
+            }
+        }
+    });
+}
+
+/// The View menu: the view, the snapshots, the panels and bookmarking, with their keys.
+fn view_menu_ui(ui: &mut egui::Ui, commands: &mut Vec<Command>) {
+    let ctx = ui.ctx().clone();
+    let items = [
+        ("Fit view", "F", Command::FitView),
+        ("Zoom to selection", "Z", Command::ZoomToSelection),
+        (
+            "Clear selection",
+            "Esc",
+            Command::Select(crate::scene::SceneId::None),
+        ),
+        ("Previous snapshot", "Left", Command::Step(-1)),
+        ("Next snapshot", "Right", Command::Step(1)),
+        ("First snapshot", "Home", Command::First),
+        ("Last snapshot", "End", Command::Last),
+        ("Play / pause", "Space", Command::TogglePlay),
+        ("Previous mark", "[", Command::PrevMark),
+        ("Next mark", "]", Command::NextMark),
+        ("Left panel", "L", Command::TogglePanel(PanelToggle::Left)),
+        (
+            "Decisions and inspector",
+            "I",
+            Command::TogglePanel(PanelToggle::Right),
+        ),
+        ("Map only", "M", Command::TogglePanel(PanelToggle::MapOnly)),
+        (
+            "A | B split (pinned)",
+            "S",
+            Command::TogglePanel(PanelToggle::Split),
+        ),
+    ];
+    for (name, keys, command) in items {
+        if ui
+            .add(egui::Button::new(name).shortcut_text(keys))
+            .clicked()
+        {
+            commands.push(command);
+        }
+    }
+    ui.separator();
+    if ui
+        .add(
+            egui::Button::new("Bookmark this snapshot")
+                .shortcut_text(ctx.format_shortcut(&BOOKMARK)),
+        )
+        .clicked()
+    {
+        commands.push(Command::AddBookmark(String::new()));
+    }
+}
+
+/// The Parameters menu: load, save, reset, and the baseline pin.
+fn parameters_menu_ui(ui: &mut egui::Ui, pinned: bool, commands: &mut Vec<Command>) {
+    if ui.button("Load parameters…").clicked() {
+        commands.push(Command::LoadParamsDialog);
+    }
+    if ui.button("Save parameters…").clicked() {
+        commands.push(Command::SaveParamsDialog);
+    }
+    if ui.button("Reset to the paper's defaults").clicked() {
+        commands.push(Command::SetParams(crate::mapping::Params::paper()));
+    }
+    ui.separator();
+    if pinned {
+        if ui.button("Unpin baseline").clicked() {
+            commands.push(Command::Unpin);
+        }
+    } else if ui.button("Pin as baseline").clicked() {
+        commands.push(Command::PinBaseline);
+    }
 }
 
 /// The keyboard shortcut help window.

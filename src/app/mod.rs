@@ -8,7 +8,9 @@
 //!   installing replays), `command`;
 //! - its state: `settings` (persisted, with [`LeftTab`]), `loaded` (the open run and its
 //!   [`Source`]), `jobs` (replays and comparisons on threads), `baseline` (the pinned A/B
-//!   baseline), `bookmarks` (bookmarks and their sidecar file);
+//!   baseline), `bookmarks` (bookmarks and their sidecar file); the choices that panels
+//!   offer and commands carry, each a leaf that imports no panel: `decision_filter`,
+//!   `run_plot`, `layout_choice`;
 //! - the panels: `map_view` (the scene in egui_plot, hover, selection, ruler) with
 //!   `scene_item` (the scene as one plot item), `timeline`, `inspector/` (the selection's
 //!   trace, a file per kind of selection), `decisions` (this snapshot's decisions, marked where
@@ -23,6 +25,7 @@ mod baseline;
 mod bookmarks;
 mod bookmarks_panel;
 mod command;
+mod decision_filter;
 mod decisions;
 mod file_dialog;
 mod frame;
@@ -31,6 +34,7 @@ mod in_app_dialog;
 mod inspector;
 mod jobs;
 mod layers;
+mod layout_choice;
 mod layout_picker;
 mod loaded;
 mod loading;
@@ -38,6 +42,7 @@ mod map_view;
 mod marks;
 mod menu;
 mod params_panel;
+mod run_plot;
 mod run_plots;
 mod scene_cache;
 mod scene_item;
@@ -48,17 +53,19 @@ mod truth;
 pub use app::SonarApp;
 pub use bookmarks::{bookmarks_path, Bookmark};
 pub use command::{Command, PanelToggle};
-pub use decisions::{decision_row_text, DecisionFilter};
+pub use decision_filter::DecisionFilter;
+pub use decisions::decision_row_text;
 pub use file_dialog::{DialogBackend, FilePurpose};
 pub use headless::{FrameStats, HeadlessMapView, HeadlessRunPlots};
 pub use inspector::{describe_id, outcome_name, CompareState};
 pub use jobs::BACKGROUND_MIN_SNAPSHOTS;
-pub use layout_picker::{LayoutChoice, SHIPPED_LAYOUTS};
+pub use layout_choice::LayoutChoice;
+pub use layout_picker::SHIPPED_LAYOUTS;
 pub use loaded::{Source, PREVIEW_SNAPSHOTS};
 pub use map_view::{MapPlot, MapViewState, ViewRequest};
 pub use marks::MarkKind;
 pub use params_panel::{format_number, ParamsPanelState};
-pub use run_plots::RunPlot;
+pub use run_plot::RunPlot;
 pub use settings::{InspectorDock, LeftTab, PanelLayout, RightTab, Settings, SETTINGS_KEY};
 pub use timeline::snapshot_label;
 pub use truth::TruthView;

@@ -4,72 +4,9 @@
 //! column of pixels; with a baseline pinned, its curves are drawn dashed beside the current ones.
 
 use super::command::Command;
+use super::run_plot::RunPlot;
 use crate::replay::{StepSummary, TruthSample};
 use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints, VLine};
-use serde::{Deserialize, Serialize};
-
-/// A curve: its name and its value at a step.
-type Series = (&'static str, fn(&StepSummary) -> u32);
-
-/// What the plots show.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum RunPlot {
-    /// Segments in the map after each step.
-    #[default]
-    Segments,
-    /// Decisions by outcome.
-    Decisions,
-    /// Readings kept and discarded.
-    Readings,
-    /// The step's matching work: candidates offered to its new segments.
-    StepCost,
-    /// New faces that `eval` calls spurious (with a floor plan).
-    Spurious,
-    /// The map's spurious fraction and coverage (with a floor plan; sampled every checkpoint
-    /// interval).
-    Truth,
-}
-
-impl RunPlot {
-    /// Every plot.
-    pub const ALL: [RunPlot; 6] = [
-        RunPlot::Segments,
-        RunPlot::Decisions,
-        RunPlot::Readings,
-        RunPlot::StepCost,
-        RunPlot::Spurious,
-        RunPlot::Truth,
-    ];
-
-    fn label(self) -> &'static str {
-        match self {
-            RunPlot::Segments => "Segments",
-            RunPlot::Decisions => "Decisions",
-            RunPlot::Readings => "Readings",
-            RunPlot::StepCost => "Step cost",
-            RunPlot::Spurious => "Spurious new faces",
-            RunPlot::Truth => "Spurious fraction, coverage",
-        }
-    }
-
-    /// The curves: name and value per step.
-    fn series(self) -> Vec<Series> {
-        match self {
-            RunPlot::Segments => vec![("segments", |s| s.segments)],
-            RunPlot::Decisions => vec![
-                ("match", |s| s.matches),
-                ("extension", |s| s.extensions),
-                ("dismissed", |s| s.dismissals),
-                ("new face", |s| s.new_faces),
-            ],
-            RunPlot::Readings => vec![("kept", |s| s.kept), ("discarded", |s| s.discarded)],
-            RunPlot::StepCost => vec![("candidates offered", |s| s.candidates)],
-            RunPlot::Spurious => vec![("spurious new faces", |s| s.spurious_new_faces)],
-            RunPlot::Truth => Vec::new(),
-        }
-    }
-}
 
 /// At most `columns` points of `value` over `summaries`: each the largest value of its bucket
 /// of snapshots (so a spike is never thinned away), at the bucket's first snapshot.

@@ -93,6 +93,51 @@ fn world_box(shape: &SceneShape) -> (Point, Point) {
     (min, max)
 }
 
+/// How a primitive's lines and fill are drawn: its style's, or the selection's halo.
+#[derive(Clone, Copy)]
+struct Pen<'s> {
+    line: Color32,
+    width: f32,
+    dash: &'s [f32],
+    fill: Color32,
+}
+
+impl<'s> Pen<'s> {
+    /// The pen of `style`, or of the halo.
+    fn of(style: &'s Style, halo: bool) -> Self {
+        let (line, width, dash): (Color32, f32, &[f32]) = if halo {
+            (HALO, style.stroke_width_px.max(1.0) + 6.0, &[])
+        } else {
+            (
+                style
+                    .stroke
+                    .map_or(Color32::TRANSPARENT, |c| colour(c, style.opacity)),
+                style.stroke_width_px,
+                style.dash_px,
+            )
+        };
+        let fill = if halo {
+            Color32::TRANSPARENT
+        } else {
+            style
+                .fill
+                .map_or(Color32::TRANSPARENT, |c| colour(c, style.opacity))
+        };
+        Pen {
+            line,
+            width,
+            dash,
+            fill,
+        }
+    }
+
+    /// The line as an egui stroke.
+    fn stroke(self) -> Stroke {
+        Stroke::new(self.width, self.line)
+    }
+}
+
+/// The egui shapes of `prim` (its halo, when `halo`), added to `out`.
 fn paint(
     ui: &Ui,
     prim: &Primitive,
@@ -102,55 +147,26 @@ fn paint(
     out: &mut Vec<Shape>,
 ) {
     let style: &Style = &prim.style;
-    let (line, width, dash): (Color32, f32, &[f32]) = if halo {
-        (HALO, style.stroke_width_px.max(1.0) + 6.0, &[])
-    } else {
-        (
-            style
-                .stroke
-                .map_or(Color32::TRANSPARENT, |c| colour(c, style.opacity)),
-            style.stroke_width_px,
-            style.dash_px,
-        )
-    };
-    let fill = if halo {
-        Color32::TRANSPARENT
-    } else {
-        style
-            .fill
-            .map_or(Color32::TRANSPARENT, |c| colour(c, style.opacity))
-    };
-    let stroke = Stroke::new(width, line);
+    let pen = Pen::of(style, halo);
     match &prim.shape {
         SceneShape::Circle { centre, radius_m } => {
-            let c = to_screen(centre);
             let r = (*radius_m as f32 * px_per_m).max(0.5);
-            if fill != Color32::TRANSPARENT {
-                out.push(Shape::circle_filled(c, r, fill));
-            }
-            if dash.len() >= 2 {
-                let n = ((r * 0.5) as usize).clamp(16, 96);
-                let mut ring: Vec<Pos2> = (0..=n)
-                    .map(|i| {
-                        let a = std::f32::consts::TAU * i as f32 / n as f32;
-                        c + egui::vec2(r * a.cos(), r * a.sin())
-                    })
-                    .collect();
-                ring.dedup();
-                stroke_path(ring, stroke, dash, out);
-            } else if width > 0.0 && line != Color32::TRANSPARENT {
-                out.push(Shape::circle_stroke(c, r, stroke));
-            }
+            circle(to_screen(centre), r, pen, out);
         }
         SceneShape::Segment { a, b } => {
-            stroke_path(vec![to_screen(a), to_screen(b)], stroke, dash, out);
+            stroke_path(
+                vec![to_screen(a), to_screen(b)],
+                pen.stroke(),
+                pen.dash,
+                out,
+            );
         }
         SceneShape::Polyline { points, closed } => {
             let mut pts: Vec<Pos2> = points.iter().map(to_screen).collect();
             if *closed && pts.len() > 2 {
                 pts.push(pts[0]);
             }
-            stroke_path(pts, stroke, dash, out);
+            stroke_path(pts, pen.stroke(), pen.dash, out);
         }
         SceneShape::Wedge {
             apex,
@@ -158,21 +174,15 @@ fn paint(
             half_angle_rad,
             radius_m,
         } => {
-            const N: usize = 16;
-            let mut pts = vec![to_screen(apex)];
-            for i in 0..=N {
-                let a = heading_rad - half_angle_rad + 2.0 * half_angle_rad * i as f64 / N as f64;
-                pts.push(to_screen(&Point::new(
-                    apex.x + radius_m * a.cos(),
-                    apex.y + radius_m * a.sin(),
-                )));
-            }
-            out.push(Shape::Path(PathShape {
-                points: pts,
-                closed: true,
-                fill,
-                stroke: PathStroke::new(width, line),
-            }));
+            let from = heading_rad - half_angle_rad;
+            out.push(wedge(
+                apex,
+                from,
+                2.0 * half_angle_rad,
+                *radius_m,
+                pen,
+                to_screen,
+            ));
         }
         SceneShape::Marker { at, shape } => {
             let c = if halo {
@@ -197,25 +207,76 @@ fn paint(
             offset_px,
             align,
         } => {
-            if halo {
-                return;
+            if !halo {
+                let at = to_screen(anchor) + egui::vec2(offset_px[0], -offset_px[1]);
+                out.push(text_shape(ui, style, at, text, *align));
             }
-            let c = style
-                .fill
-                .or(style.stroke)
-                .map_or(Color32::GRAY, |c| colour(c, style.opacity));
-            let at = to_screen(anchor) + egui::vec2(offset_px[0], -offset_px[1]);
-            let align = match align {
-                TextAlign::Start => Align2::LEFT_BOTTOM,
-                TextAlign::Middle => Align2::CENTER_BOTTOM,
-                TextAlign::End => Align2::RIGHT_BOTTOM,
-            };
-            let font = egui::FontId::proportional(style.marker_size_px.max(8.0));
-            let galley = ui.painter().layout_no_wrap(text.clone(), font, c);
-            let rect = align.anchor_size(at, galley.size());
-            out.push(TextShape::new(rect.min, galley, c).into());
         }
     }
+}
+
+/// A sonar beam: the sector from `apex` (world) of `radius_m`, from heading `from_rad` over
+/// `width_rad`, filled and outlined.
+fn wedge(
+    apex: &Point,
+    from_rad: f64,
+    width_rad: f64,
+    radius_m: f64,
+    pen: Pen,
+    to_screen: &dyn Fn(&Point) -> Pos2,
+) -> Shape {
+    const N: usize = 16;
+    let mut pts = vec![to_screen(apex)];
+    for i in 0..=N {
+        let a = from_rad + width_rad * i as f64 / N as f64;
+        pts.push(to_screen(&Point::new(
+            apex.x + radius_m * a.cos(),
+            apex.y + radius_m * a.sin(),
+        )));
+    }
+    Shape::Path(PathShape {
+        points: pts,
+        closed: true,
+        fill: pen.fill,
+        stroke: PathStroke::new(pen.width, pen.line),
+    })
+}
+
+/// A circle of radius `r` pixels at `c`: filled, and outlined (dashed when the pen is).
+fn circle(c: Pos2, r: f32, pen: Pen, out: &mut Vec<Shape>) {
+    if pen.fill != Color32::TRANSPARENT {
+        out.push(Shape::circle_filled(c, r, pen.fill));
+    }
+    if pen.dash.len() >= 2 {
+        let n = ((r * 0.5) as usize).clamp(16, 96);
+        let mut ring: Vec<Pos2> = (0..=n)
+            .map(|i| {
+                let a = std::f32::consts::TAU * i as f32 / n as f32;
+                c + egui::vec2(r * a.cos(), r * a.sin())
+            })
+            .collect();
+        ring.dedup();
+        stroke_path(ring, pen.stroke(), pen.dash, out);
+    } else if pen.width > 0.0 && pen.line != Color32::TRANSPARENT {
+        out.push(Shape::circle_stroke(c, r, pen.stroke()));
+    }
+}
+
+/// `text` at `at` (screen), aligned as `align` says, in the style's colour and size.
+fn text_shape(ui: &Ui, style: &Style, at: Pos2, text: &str, align: TextAlign) -> Shape {
+    let c = style
+        .fill
+        .or(style.stroke)
+        .map_or(Color32::GRAY, |c| colour(c, style.opacity));
+    let align = match align {
+        TextAlign::Start => Align2::LEFT_BOTTOM,
+        TextAlign::Middle => Align2::CENTER_BOTTOM,
+        TextAlign::End => Align2::RIGHT_BOTTOM,
+    };
+    let font = egui::FontId::proportional(style.marker_size_px.max(8.0));
+    let galley = ui.painter().layout_no_wrap(text.to_owned(), font, c);
+    let rect = align.anchor_size(at, galley.size());
+    TextShape::new(rect.min, galley, c).into()
 }
 
 /// A marker glyph of radius `r` pixels.

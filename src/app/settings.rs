@@ -43,7 +43,7 @@ pub struct Settings {
     /// Kinds of timeline mark switched off.
     pub hidden_marks: Vec<super::marks::MarkKind>,
     /// What the run plots show.
-    pub run_plot: super::run_plots::RunPlot,
+    pub run_plot: super::run_plot::RunPlot,
     /// Where the side panels are and how wide (the map takes the rest).
     pub panels: PanelLayout,
     /// Which file dialog to use (the system's through the XDG portal, or the in-app one).

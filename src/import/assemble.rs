@@ -62,20 +62,7 @@ pub(crate) fn assemble(
             why: "the file has no sonar readings".to_string(),
         });
     }
-    let use_fixed = match (track.is_empty(), fixed_pose) {
-        (true, None) => {
-            return Err(ImportError::NoOdometry {
-                file: file.to_string(),
-                what: what_odometry.to_string(),
-            })
-        }
-        (true, Some(p)) => Some(p),
-        (false, Some(_)) => {
-            summary.warn("--fixed-pose is ignored: the file has odometry");
-            None
-        }
-        (false, None) => None,
-    };
+    let use_fixed = fixed_pose_to_use(file, track, fixed_pose, what_odometry, summary)?;
     let max_range_m = hw.sensor.max_range_m;
     let mut clamped = 0;
     let mut snapshots = Vec::with_capacity(raw.len());
@@ -100,19 +87,7 @@ pub(crate) fn assemble(
                 }
             },
         };
-        let mut ranges_m = s.ranges_m;
-        for r in ranges_m.iter_mut() {
-            if matches!(r, Some(v) if *v >= max_range_m) {
-                *r = None;
-                summary.turned_no_echo += 1;
-            }
-        }
-        summary.readings += ranges_m.len();
-        snapshots.push(Snapshot {
-            t: s.t,
-            pose,
-            ranges_m,
-        });
+        snapshots.push(snapshot(s, pose, max_range_m, summary));
     }
     if clamped > 0 {
         summary.warn(format!(
@@ -142,6 +117,49 @@ pub(crate) fn assemble(
         floor_plan: None,
         snapshots,
     })
+}
+
+/// The fixed pose to give every snapshot: `fixed_pose` when there is no odometry (without
+/// either, the import is refused), none when there is (a fixed pose then is ignored, with a
+/// warning).
+fn fixed_pose_to_use(
+    file: &str,
+    track: &PoseTrack,
+    fixed_pose: Option<Pose>,
+    what_odometry: &str,
+    summary: &mut ImportSummary,
+) -> Result<Option<Pose>, ImportError> {
+    Ok(match (track.is_empty(), fixed_pose) {
+        (true, None) => {
+            return Err(ImportError::NoOdometry {
+                file: file.to_string(),
+                what: what_odometry.to_string(),
+            })
+        }
+        (true, Some(p)) => Some(p),
+        (false, Some(_)) => {
+            summary.warn("--fixed-pose is ignored: the file has odometry");
+            None
+        }
+        (false, None) => None,
+    })
+}
+
+/// The snapshot of `s` at `pose`: a range at or beyond `max_range_m` is no echo (counted).
+fn snapshot(s: RawSnapshot, pose: Pose, max_range_m: f64, summary: &mut ImportSummary) -> Snapshot {
+    let mut ranges_m = s.ranges_m;
+    for r in ranges_m.iter_mut() {
+        if matches!(r, Some(v) if *v >= max_range_m) {
+            *r = None;
+            summary.turned_no_echo += 1;
+        }
+    }
+    summary.readings += ranges_m.len();
+    Snapshot {
+        t: s.t,
+        pose,
+        ranges_m,
+    }
 }
 
 /// The sensor of an import: the layout's (or the default), with the maximum range from

@@ -124,13 +124,22 @@ fn check_values(
     sensor: &SensorSpec,
     f: &str,
 ) -> Result<(), ImportError> {
+    let u = units.metres_per_unit();
+    if let Some(r) = radius_m {
+        sane::length(r / u, u, "a robot radius", units.symbol())
+            .map_err(|m| super::error::at(f, "$.robot.radius", m))?;
+    }
+    check_sonars(&file.robot.sonars, units, f)?;
+    check_sensor(file, units, sensor, f)
+}
+
+/// [`check_values`] of the sonars: ring spacing and first heading within a turn, mounts
+/// within 10 km and their headings within two turns.
+fn check_sonars(sonars: &crate::log::SonarsFile, units: Units, f: &str) -> Result<(), ImportError> {
     let fail = |path: &str, message: String| super::error::at(f, path, message);
     let u = units.metres_per_unit();
     let sym = units.symbol();
-    if let Some(r) = radius_m {
-        sane::length(r / u, u, "a robot radius", sym).map_err(|m| fail("$.robot.radius", m))?;
-    }
-    match &file.robot.sonars {
+    match sonars {
         crate::log::SonarsFile::Ring(ring) => {
             let turn = |v: f64, path: &str| {
                 sane::within(v, 360.0, "an angle within a turn", "°").map_err(|m| fail(path, m))
@@ -157,6 +166,20 @@ fn check_values(
             }
         }
     }
+    Ok(())
+}
+
+/// [`check_values`] of the sensor: beam width, accuracy, the ranges, `min_range` below
+/// `max_range` (of `sensor`, the sensor as read).
+fn check_sensor(
+    file: &LayoutFile,
+    units: Units,
+    sensor: &SensorSpec,
+    f: &str,
+) -> Result<(), ImportError> {
+    let fail = |path: &str, message: String| super::error::at(f, path, message);
+    let u = units.metres_per_unit();
+    let sym = units.symbol();
     let given = file.sensor.unwrap_or_default();
     if let Some(w) = given.beam_width_deg {
         if !(sane::MIN_BEAM_DEG..=180.0).contains(&w) {

@@ -153,24 +153,7 @@ fn records(
             return Ok(());
         }
         let opcode = bytes[pos];
-        let mut len = [0u8; 8];
-        len.copy_from_slice(&bytes[pos + 1..pos + 9]);
-        let len = u64::from_le_bytes(len);
-        if len > (left - 9) as u64 {
-            return Err(at(
-                file,
-                format!(
-                    "MCAP {} record (opcode 0x{opcode:02x}) at byte {pos}{}",
-                    name(opcode),
-                    if in_chunk { " in a chunk" } else { "" }
-                ),
-                format!(
-                    "it declares {len} bytes but only {} follow{}: expected a length that fits (the file may be cut short or corrupted)",
-                    left - 9,
-                    if in_chunk { " in the chunk" } else { " in the file" }
-                ),
-            ));
-        }
+        let len = declared_length(bytes, pos, left, in_chunk, file)?;
         let body_at = pos + 9;
         let end = body_at + len as usize;
         let mut body = Body {
@@ -181,42 +164,6 @@ fn records(
             record_at: pos,
         };
         match opcode {
-            op::HEADER => {
-                body.prefixed32("profile", file)?;
-                body.prefixed32("library", file)?;
-            }
-            op::SCHEMA => {
-                body.take(2, "id", file)?;
-                body.prefixed32("name", file)?;
-                body.prefixed32("encoding", file)?;
-                body.prefixed32("data", file)?;
-            }
-            op::CHANNEL => {
-                body.take(4, "id and schema_id", file)?;
-                body.prefixed32("topic", file)?;
-                body.prefixed32("message_encoding", file)?;
-                body.string_map("metadata", file)?;
-            }
-            op::MESSAGE => {
-                body.take(22, "channel_id, sequence, log_time, publish_time", file)?;
-                walk.messages += 1;
-            }
-            op::MESSAGE_INDEX => {
-                body.take(2, "channel_id", file)?;
-                body.prefixed32("records", file)?;
-            }
-            op::METADATA => {
-                body.prefixed32("name", file)?;
-                body.string_map("metadata", file)?;
-            }
-            op::ATTACHMENT => {
-                body.take(16, "log_time and create_time", file)?;
-                body.prefixed32("name", file)?;
-                body.prefixed32("media_type", file)?;
-                let n = body.u64("data (length)", file)?;
-                body.take(n, "data", file)?;
-                body.take(4, "crc", file)?;
-            }
             op::CHUNK if in_chunk => {
                 return Err(at(
                     file,
@@ -224,42 +171,119 @@ fn records(
                     "a chunk inside a chunk: expected records other than chunks in a chunk",
                 ));
             }
-            op::CHUNK => {
-                body.take(16, "message_start_time and message_end_time", file)?;
-                let uncompressed = body.u64("uncompressed_size", file)?;
-                body.take(4, "uncompressed_crc", file)?;
-                let compression = body.prefixed32("compression", file)?;
-                let n = body.u64("records (length)", file)?;
-                let records_at = body.pos;
-                body.take(n, "records", file)?;
-                if !compression.is_empty() {
-                    return Err(at(
-                        file,
-                        format!("MCAP Chunk record at byte {pos}, field compression"),
-                        format!(
-                            "compression {:?}: expected uncompressed chunks (this build reads no compression; write the recording again without it)",
-                            super::sane::quote(&String::from_utf8_lossy(compression))
-                        ),
-                    ));
-                }
-                if uncompressed != n {
-                    return Err(at(
-                        file,
-                        format!("MCAP Chunk record at byte {pos}, field uncompressed_size"),
-                        format!(
-                            "{uncompressed} bytes: expected the size of the uncompressed records, {n}"
-                        ),
-                    ));
-                }
-                let inner = body_at + records_at;
-                records(bytes, inner, inner + n as usize, true, file, walk)?;
-            }
+            op::CHUNK => chunk(bytes, &mut body, file, walk)?,
             op::FOOTER if !in_chunk => return Ok(()),
-            _ => {}
+            _ => fields(&mut body, file, walk)?,
         }
         pos = end;
     }
     Ok(())
+}
+
+/// The length the record at `pos` declares, checked against the `left` bytes from there.
+fn declared_length(
+    bytes: &[u8],
+    pos: usize,
+    left: usize,
+    in_chunk: bool,
+    file: &str,
+) -> Result<u64, ImportError> {
+    let opcode = bytes[pos];
+    let mut len = [0u8; 8];
+    len.copy_from_slice(&bytes[pos + 1..pos + 9]);
+    let len = u64::from_le_bytes(len);
+    if len > (left - 9) as u64 {
+        return Err(at(
+            file,
+            format!(
+                "MCAP {} record (opcode 0x{opcode:02x}) at byte {pos}{}",
+                name(opcode),
+                if in_chunk { " in a chunk" } else { "" }
+            ),
+            format!(
+                "it declares {len} bytes but only {} follow{}: expected a length that fits (the file may be cut short or corrupted)",
+                left - 9,
+                if in_chunk { " in the chunk" } else { " in the file" }
+            ),
+        ));
+    }
+    Ok(len)
+}
+
+/// Checks the lengths inside a record other than a chunk (those the `mcap` crate slices
+/// itself); counts the messages.
+fn fields(body: &mut Body, file: &str, walk: &mut Walk) -> Result<(), ImportError> {
+    match body.opcode {
+        op::HEADER => {
+            body.prefixed32("profile", file)?;
+            body.prefixed32("library", file)?;
+        }
+        op::SCHEMA => {
+            body.take(2, "id", file)?;
+            body.prefixed32("name", file)?;
+            body.prefixed32("encoding", file)?;
+            body.prefixed32("data", file)?;
+        }
+        op::CHANNEL => {
+            body.take(4, "id and schema_id", file)?;
+            body.prefixed32("topic", file)?;
+            body.prefixed32("message_encoding", file)?;
+            body.string_map("metadata", file)?;
+        }
+        op::MESSAGE => {
+            body.take(22, "channel_id, sequence, log_time, publish_time", file)?;
+            walk.messages += 1;
+        }
+        op::MESSAGE_INDEX => {
+            body.take(2, "channel_id", file)?;
+            body.prefixed32("records", file)?;
+        }
+        op::METADATA => {
+            body.prefixed32("name", file)?;
+            body.string_map("metadata", file)?;
+        }
+        op::ATTACHMENT => {
+            body.take(16, "log_time and create_time", file)?;
+            body.prefixed32("name", file)?;
+            body.prefixed32("media_type", file)?;
+            let n = body.u64("data (length)", file)?;
+            body.take(n, "data", file)?;
+            body.take(4, "crc", file)?;
+        }
+        _ => {}
+    }
+    Ok(())
+}
+
+/// Checks a top-level chunk: uncompressed, its size right, and the records inside it.
+fn chunk(bytes: &[u8], body: &mut Body, file: &str, walk: &mut Walk) -> Result<(), ImportError> {
+    let (pos, body_at) = (body.record_at, body.base);
+    body.take(16, "message_start_time and message_end_time", file)?;
+    let uncompressed = body.u64("uncompressed_size", file)?;
+    body.take(4, "uncompressed_crc", file)?;
+    let compression = body.prefixed32("compression", file)?;
+    let n = body.u64("records (length)", file)?;
+    let records_at = body.pos;
+    body.take(n, "records", file)?;
+    if !compression.is_empty() {
+        return Err(at(
+            file,
+            format!("MCAP Chunk record at byte {pos}, field compression"),
+            format!(
+                "compression {:?}: expected uncompressed chunks (this build reads no compression; write the recording again without it)",
+                super::sane::quote(&String::from_utf8_lossy(compression))
+            ),
+        ));
+    }
+    if uncompressed != n {
+        return Err(at(
+            file,
+            format!("MCAP Chunk record at byte {pos}, field uncompressed_size"),
+            format!("{uncompressed} bytes: expected the size of the uncompressed records, {n}"),
+        ));
+    }
+    let inner = body_at + records_at;
+    records(bytes, inner, inner + n as usize, true, file, walk)
 }
 
 #[cfg(test)]

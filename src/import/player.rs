@@ -127,6 +127,47 @@ impl Reading {
     }
 }
 
+/// The first sonar and position devices seen: interface and index (leading zeros dropped).
+/// Only their lines are imported.
+#[derive(Default)]
+struct Devices {
+    sonar: Option<(String, String)>,
+    position: Option<(String, String)>,
+}
+
+impl Devices {
+    /// True when `interface:index` is the first device of its kind seen (it becomes it when
+    /// none was); a line of another device is skipped.
+    fn first(
+        &mut self,
+        is_sonar: bool,
+        interface: &str,
+        index: &str,
+        line: &Line,
+        summary: &mut ImportSummary,
+    ) -> bool {
+        let slot = if is_sonar {
+            &mut self.sonar
+        } else {
+            &mut self.position
+        };
+        match slot {
+            None => *slot = Some((interface.to_string(), index.to_string())),
+            Some((i, k)) if i != interface || k != index => {
+                summary.skip(
+                    format!("line {}", line.number),
+                    format!(
+                        "{interface}:{index}: only the first device seen, {i}:{k}, is imported"
+                    ),
+                );
+                return false;
+            }
+            Some(_) => {}
+        }
+        true
+    }
+}
+
 /// Imports a Player/Stage text log. `file` names it in errors. Pure.
 pub fn import_player(
     bytes: &[u8],
@@ -143,9 +184,7 @@ pub fn import_player(
         raw: Vec::new(),
         last_sonar_t: f64::NEG_INFINITY,
     };
-    // The first sonar and position devices: interface and index (leading zeros dropped).
-    let mut sonar_device: Option<(String, String)> = None;
-    let mut position_device: Option<(String, String)> = None;
+    let mut devices = Devices::default();
     let mut ignored = 0usize;
     for line in lines(text, false, file) {
         let line = line?;
@@ -170,48 +209,81 @@ pub fn import_player(
             ignored += 1;
             continue;
         }
-        let slot = if is_sonar {
-            &mut sonar_device
-        } else {
-            &mut position_device
-        };
-        match slot {
-            None => *slot = Some((interface.to_string(), index.to_string())),
-            Some((i, k)) if i != interface || k != index => {
-                summary.skip(
-                    format!("line {}", line.number),
-                    format!(
-                        "{interface}:{index}: only the first device seen, {i}:{k}, is imported"
-                    ),
-                );
-                continue;
-            }
-            Some(_) => {}
-        }
-        if v1 {
-            number(&line, 5, "the data time in seconds", file)?;
-            if is_sonar {
-                let n = count(&line, 6, "the transducer pose count", MAX_SENSORS, file)?;
-                let mounts = poses(&line, 7, n, 3, file)?;
-                let at_ranges = 7 + 3 * n;
-                let m = count(&line, at_ranges, "the range count", MAX_SENSORS, file)?;
-                let ranges = values(&line, at_ranges, m, file)?;
-                if f.len() != at_ranges + 1 + m {
-                    return Err(field_count(
-                        &line,
-                        at_ranges + 1 + m,
-                        "data time, pose count, poses, range count, ranges",
-                        file,
-                    ));
-                }
-                reading.geometry(line.number, mounts);
-                reading.ranges(t, line.number, ranges, &mut summary);
-            } else {
-                let p = pose(&line, 6, file)?;
-                reading.odometry(t, line.number, p, &mut summary);
-            }
+        if !devices.first(is_sonar, interface, index, &line, &mut summary) {
             continue;
         }
+        let message = Message {
+            line: &line,
+            t,
+            is_sonar,
+        };
+        if v1 {
+            message.read_v1(&mut reading, &mut summary, file)?;
+        } else if !message.read(&mut reading, &mut summary, file)? {
+            ignored += 1;
+        }
+    }
+    if ignored > 0 {
+        summary.warn(format!(
+            "{ignored} lines of other interfaces or message types were left out"
+        ));
+    }
+    build(reading, file, options, summary)
+}
+
+/// A line of the first sonar or position device.
+struct Message<'l, 'a> {
+    line: &'l Line<'a>,
+    /// Its time, seconds.
+    t: f64,
+    /// A sonar's, else a position's.
+    is_sonar: bool,
+}
+
+impl Message<'_, '_> {
+    /// Reads a line of Player 1 (`data time` in field 5): a sonar's geometry and ranges in
+    /// one, or a position.
+    fn read_v1(
+        &self,
+        reading: &mut Reading,
+        summary: &mut ImportSummary,
+        file: &str,
+    ) -> Result<(), ImportError> {
+        let (line, t) = (self.line, self.t);
+        number(line, 5, "the data time in seconds", file)?;
+        if self.is_sonar {
+            let n = count(line, 6, "the transducer pose count", MAX_SENSORS, file)?;
+            let mounts = poses(line, 7, n, 3, file)?;
+            let at_ranges = 7 + 3 * n;
+            let m = count(line, at_ranges, "the range count", MAX_SENSORS, file)?;
+            let ranges = values(line, at_ranges, m, file)?;
+            if line.fields.len() != at_ranges + 1 + m {
+                return Err(field_count(
+                    line,
+                    at_ranges + 1 + m,
+                    "data time, pose count, poses, range count, ranges",
+                    file,
+                ));
+            }
+            reading.geometry(line.number, mounts);
+            reading.ranges(t, line.number, ranges, summary);
+        } else {
+            let p = pose(line, 6, file)?;
+            reading.odometry(t, line.number, p, summary);
+        }
+        Ok(())
+    }
+
+    /// Reads a line of Player 2 or later (message type and subtype in fields 5 and 6):
+    /// sonar ranges, sonar geometry, or a position. False for a message of another type
+    /// (left out).
+    fn read(
+        &self,
+        reading: &mut Reading,
+        summary: &mut ImportSummary,
+        file: &str,
+    ) -> Result<bool, ImportError> {
+        let (line, t, f) = (self.line, self.t, &self.line.fields);
         if f.len() < 7 {
             return Err(at(
                 file,
@@ -223,31 +295,31 @@ pub fn import_player(
             ));
         }
         let kind = (
-            count(&line, 5, "the message type", 255, file)?,
-            count(&line, 6, "the message subtype", 255, file)?,
+            count(line, 5, "the message type", 255, file)?,
+            count(line, 6, "the message subtype", 255, file)?,
         );
-        match (is_sonar, kind) {
+        match (self.is_sonar, kind) {
             (true, (1, 1)) => {
-                let n = count(&line, 7, "the range count", MAX_SENSORS, file)?;
-                let ranges = values(&line, 7, n, file)?;
+                let n = count(line, 7, "the range count", MAX_SENSORS, file)?;
+                let ranges = values(line, 7, n, file)?;
                 if f.len() != 8 + n {
                     return Err(field_count(
-                        &line,
+                        line,
                         8 + n,
                         "the range count then the ranges",
                         file,
                     ));
                 }
-                reading.ranges(t, line.number, ranges, &mut summary);
+                reading.ranges(t, line.number, ranges, summary);
             }
             (true, (1, 2)) | (true, (4, 1)) => {
-                let n = count(&line, 7, "the transducer pose count", MAX_SENSORS, file)?;
+                let n = count(line, 7, "the transducer pose count", MAX_SENSORS, file)?;
                 let rest = f.len() - 8;
                 let per = if rest == 6 * n && n > 0 { 6 } else { 3 };
-                let mounts = poses(&line, 8, n, per, file)?;
+                let mounts = poses(line, 8, n, per, file)?;
                 if 8 + per * n != f.len() {
                     return Err(field_count(
-                        &line,
+                        line,
                         8 + per * n,
                         "pose count then x y yaw per transducer",
                         file,
@@ -256,18 +328,13 @@ pub fn import_player(
                 reading.geometry(line.number, mounts);
             }
             (false, (1, 1)) => {
-                let p = pose(&line, 7, file)?;
-                reading.odometry(t, line.number, p, &mut summary);
+                let p = pose(line, 7, file)?;
+                reading.odometry(t, line.number, p, summary);
             }
-            _ => ignored += 1,
+            _ => return Ok(false),
         }
+        Ok(true)
     }
-    if ignored > 0 {
-        summary.warn(format!(
-            "{ignored} lines of other interfaces or message types were left out"
-        ));
-    }
-    build(reading, file, options, summary)
 }
 
 fn field_count(line: &Line, expected: usize, what: &str, file: &str) -> ImportError {

@@ -24,7 +24,7 @@
 
 use super::assemble::{assemble, sensor_with_max_range, Hardware, Place, RawSnapshot};
 use super::error::{at, ImportError};
-use super::options::{AngleUnit, ImportOptions};
+use super::options::{AngleUnit, ImportOptions, NamedBytes};
 use super::pose_track::PoseTrack;
 use super::sane;
 use super::summary::{Format, ImportSummary, Imported};
@@ -127,14 +127,7 @@ pub fn import_table(
         summary.warn("--poses is ignored: the table has its own pose columns");
     }
     if let Some(poses) = options.poses.as_ref().filter(|_| separate) {
-        let pf = poses.name.as_str();
-        let mut previous = f64::NEG_INFINITY;
-        for line in table_lines(utf8(&poses.bytes, pf)?, pf) {
-            let line = line?;
-            expect_fields(&line, 4, "t x y heading", pf)?;
-            let t = time(&line, &mut previous, pf)?;
-            track.push(t, pose(&line, units, heading, pf)?);
-        }
+        read_poses(poses, units, heading, &mut track)?;
     }
     let first_range = if separate { 1 } else { 4 };
     let form = if separate {
@@ -151,24 +144,7 @@ pub fn import_table(
         if !separate {
             track.push(t, pose(&line, units, heading, file)?);
         }
-        let mut ranges_m = Vec::with_capacity(n);
-        for i in first_range..first_range + n {
-            if is_no_echo(line.fields[i]) {
-                ranges_m.push(None);
-                continue;
-            }
-            let v = checked(&line, i, "a range, or - for no echo", file, |v, what| {
-                sane::length(v, units.metres_per_unit(), what, units.symbol())
-            })?;
-            if v < 0.0 {
-                return Err(at(
-                    file,
-                    format!("line {}, field {}", line.number, i + 1),
-                    format!("range {v} is negative: expected a range of at least 0"),
-                ));
-            }
-            ranges_m.push(Some(units.to_m(v)));
-        }
+        let ranges_m = ranges(&line, first_range, n, units, file)?;
         raw.push(RawSnapshot {
             t,
             place: Place::Line(line.number),
@@ -203,4 +179,52 @@ pub fn import_table(
         summary,
         format: Format::Table,
     })
+}
+
+/// Reads the `--poses` file (`t x y heading` lines) into `track`.
+fn read_poses(
+    poses: &NamedBytes,
+    units: Units,
+    heading: AngleUnit,
+    track: &mut PoseTrack,
+) -> Result<(), ImportError> {
+    let pf = poses.name.as_str();
+    let mut previous = f64::NEG_INFINITY;
+    for line in table_lines(utf8(&poses.bytes, pf)?, pf) {
+        let line = line?;
+        expect_fields(&line, 4, "t x y heading", pf)?;
+        let t = time(&line, &mut previous, pf)?;
+        track.push(t, pose(&line, units, heading, pf)?);
+    }
+    Ok(())
+}
+
+/// The `n` ranges of `line` from field `first` (in `units`), metres; `-` (or another
+/// no-echo mark) is no echo.
+fn ranges(
+    line: &Line,
+    first: usize,
+    n: usize,
+    units: Units,
+    file: &str,
+) -> Result<Vec<Option<f64>>, ImportError> {
+    let mut ranges_m = Vec::with_capacity(n);
+    for i in first..first + n {
+        if is_no_echo(line.fields[i]) {
+            ranges_m.push(None);
+            continue;
+        }
+        let v = checked(line, i, "a range, or - for no echo", file, |v, what| {
+            sane::length(v, units.metres_per_unit(), what, units.symbol())
+        })?;
+        if v < 0.0 {
+            return Err(at(
+                file,
+                format!("line {}, field {}", line.number, i + 1),
+                format!("range {v} is negative: expected a range of at least 0"),
+            ));
+        }
+        ranges_m.push(Some(units.to_m(v)));
+    }
+    Ok(ranges_m)
 }

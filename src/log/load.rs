@@ -2,7 +2,10 @@
 
 use super::duplicates::{check_duplicates, Found};
 use super::error::LogError;
-use super::file::{FloorPlanFile, LogFile, RobotFile, SensorFile, SonarsFile, LOG_FORMAT};
+use super::file::{
+    FloorPlanFile, LogFile, MountFile, RingFile, RobotFile, SensorFile, SnapshotFile, SonarsFile,
+    LOG_FORMAT,
+};
 use crate::geometry::{Point, Pose};
 use crate::import::sane;
 use crate::run::{Circle, FloorPlan, Run, Snapshot, Wall};
@@ -184,87 +187,100 @@ pub(crate) fn layout_from_robot(
         None => None,
     };
     let layout = match &robot.sonars {
-        SonarsFile::Ring(ring) => {
-            let path = format!("{at}.sonars.ring");
-            let count = ring.count;
-            if !(count.is_finite() && count.fract() == 0.0 && count >= 0.0) {
-                return Err(bad(
-                    file,
-                    format!("{path}.count"),
-                    count,
-                    "a whole number of sonars",
-                ));
-            }
-            if count == 0.0 {
-                return Err(bad(
-                    file,
-                    format!("{path}.count"),
-                    count,
-                    "at least one sonar",
-                ));
-            }
-            if count > MAX_SENSORS as f64 {
-                return Err(bad(
-                    file,
-                    format!("{path}.count"),
-                    count,
-                    "at most 10000 sonars",
-                ));
-            }
-            let spacing = heading(ring.spacing_deg, file, format!("{path}.spacing_deg"))?;
-            let first = heading(
-                ring.first_deg.unwrap_or(0.0),
-                file,
-                format!("{path}.first_deg"),
-            )?;
-            let Some(radius_m) = radius_m else {
-                return Err(bad(
-                    file,
-                    format!("{at}.radius"),
-                    "nothing",
-                    "the robot radius (required with the ring: it is the mount radius)",
-                ));
-            };
-            SensorLayout::ring(
-                count as usize,
-                spacing.to_radians(),
-                first.to_radians(),
-                radius_m,
-            )
-        }
-        SonarsFile::Mounts(mounts) => {
-            let path = format!("{at}.sonars");
-            if mounts.is_empty() {
-                return Err(LogError::Empty {
-                    file: file.to_string(),
-                    path,
-                    expected: "at least one sonar",
-                });
-            }
-            if mounts.len() > MAX_SENSORS {
-                return Err(bad(file, path, mounts.len(), "at most 10000 sonars"));
-            }
-            let mounts = mounts
-                .iter()
-                .enumerate()
-                .map(|(k, m)| {
-                    let u = units.metres_per_unit();
-                    Ok(SensorMount {
-                        x_m: units.to_m(length(m.x, u, file, format!("{path}[{k}].x"))?),
-                        y_m: units.to_m(length(m.y, u, file, format!("{path}[{k}].y"))?),
-                        heading_rad: heading(
-                            m.heading_deg,
-                            file,
-                            format!("{path}[{k}].heading_deg"),
-                        )?
-                        .to_radians(),
-                    })
-                })
-                .collect::<Result<Vec<_>, LogError>>()?;
-            SensorLayout { mounts }
-        }
+        SonarsFile::Ring(ring) => ring_layout(ring, radius_m, file, at)?,
+        SonarsFile::Mounts(mounts) => mounts_layout(mounts, units, file, at)?,
     };
     Ok((layout, radius_m))
+}
+
+/// The layout of a `sonars.ring` block: `count` sonars `spacing_deg` apart from
+/// `first_deg`, on the robot's rim (`radius_m`, required).
+fn ring_layout(
+    ring: &RingFile,
+    radius_m: Option<f64>,
+    file: &str,
+    at: &str,
+) -> Result<SensorLayout, LogError> {
+    let path = format!("{at}.sonars.ring");
+    let count = ring.count;
+    if !(count.is_finite() && count.fract() == 0.0 && count >= 0.0) {
+        return Err(bad(
+            file,
+            format!("{path}.count"),
+            count,
+            "a whole number of sonars",
+        ));
+    }
+    if count == 0.0 {
+        return Err(bad(
+            file,
+            format!("{path}.count"),
+            count,
+            "at least one sonar",
+        ));
+    }
+    if count > MAX_SENSORS as f64 {
+        return Err(bad(
+            file,
+            format!("{path}.count"),
+            count,
+            "at most 10000 sonars",
+        ));
+    }
+    let spacing = heading(ring.spacing_deg, file, format!("{path}.spacing_deg"))?;
+    let first = heading(
+        ring.first_deg.unwrap_or(0.0),
+        file,
+        format!("{path}.first_deg"),
+    )?;
+    let Some(radius_m) = radius_m else {
+        return Err(bad(
+            file,
+            format!("{at}.radius"),
+            "nothing",
+            "the robot radius (required with the ring: it is the mount radius)",
+        ));
+    };
+    Ok(SensorLayout::ring(
+        count as usize,
+        spacing.to_radians(),
+        first.to_radians(),
+        radius_m,
+    ))
+}
+
+/// The layout of a `sonars` list of mounts (in `units`), each checked.
+fn mounts_layout(
+    mounts: &[MountFile],
+    units: Units,
+    file: &str,
+    at: &str,
+) -> Result<SensorLayout, LogError> {
+    let path = format!("{at}.sonars");
+    if mounts.is_empty() {
+        return Err(LogError::Empty {
+            file: file.to_string(),
+            path,
+            expected: "at least one sonar",
+        });
+    }
+    if mounts.len() > MAX_SENSORS {
+        return Err(bad(file, path, mounts.len(), "at most 10000 sonars"));
+    }
+    let mounts = mounts
+        .iter()
+        .enumerate()
+        .map(|(k, m)| {
+            let u = units.metres_per_unit();
+            Ok(SensorMount {
+                x_m: units.to_m(length(m.x, u, file, format!("{path}[{k}].x"))?),
+                y_m: units.to_m(length(m.y, u, file, format!("{path}[{k}].y"))?),
+                heading_rad: heading(m.heading_deg, file, format!("{path}[{k}].heading_deg"))?
+                    .to_radians(),
+            })
+        })
+        .collect::<Result<Vec<_>, LogError>>()?;
+    Ok(SensorLayout { mounts })
 }
 
 /// The sensor of a `sensor` block (absent fields: the Polaroid 6500).
@@ -418,60 +434,14 @@ pub fn run_from_file(file: LogFile, source_name: &str) -> Result<Run, LogError> 
     let mut snapshots = Vec::with_capacity(file.snapshots.len());
     let mut previous_t = f64::NEG_INFINITY;
     for (i, s) in file.snapshots.into_iter().enumerate() {
-        let t = s.t.unwrap_or(i as f64);
-        sane::time(t, "").map_err(|_| {
-            bad(
-                f,
-                format!("$.snapshots[{i}].t"),
-                sane::show(t),
-                "a finite time within ±1e10 s",
-            )
-        })?;
-        if t < previous_t {
-            return Err(LogError::TimeDecreases {
-                file: f.to_string(),
-                snapshot: i,
-                t,
-                previous: previous_t,
-            });
-        }
-        previous_t = t;
-        let u = units.metres_per_unit();
-        let x = length(s.pose.x, u, f, format!("$.snapshots[{i}].pose.x"))?;
-        let y = length(s.pose.y, u, f, format!("$.snapshots[{i}].pose.y"))?;
-        let h = heading(
-            s.pose.heading_deg,
+        snapshots.push(snapshot_from_file(
+            i,
+            s,
+            units,
+            sensors,
+            &mut previous_t,
             f,
-            format!("$.snapshots[{i}].pose.heading_deg"),
-        )?;
-        if s.ranges.len() != sensors {
-            return Err(LogError::RangeCount {
-                file: f.to_string(),
-                snapshot: i,
-                found: s.ranges.len(),
-                expected: sensors,
-            });
-        }
-        let mut ranges = s.ranges;
-        for (k, r) in ranges.iter_mut().enumerate() {
-            if let Some(v) = r {
-                if !(v.is_finite() && *v >= 0.0) {
-                    return Err(LogError::BadRange {
-                        file: f.to_string(),
-                        snapshot: i,
-                        sensor: k,
-                        value: *v,
-                    });
-                }
-                length(*v, u, f, format!("$.snapshots[{i}].ranges[{k}]"))?;
-                *v = units.to_m(*v);
-            }
-        }
-        snapshots.push(Snapshot {
-            t,
-            pose: Pose::new(units.to_m(x), units.to_m(y), h.to_radians()),
-            ranges_m: ranges,
-        });
+        )?);
     }
     Ok(Run {
         name: file.name.unwrap_or_else(|| source_name.to_string()),
@@ -481,5 +451,71 @@ pub fn run_from_file(file: LogFile, source_name: &str) -> Result<Run, LogError> 
         sensor,
         floor_plan,
         snapshots,
+    })
+}
+
+/// Snapshot `i` in metres, checked: its time (not before `previous_t`, which becomes it), its
+/// pose, and its ranges (one per sensor of the `sensors`).
+fn snapshot_from_file(
+    i: usize,
+    s: SnapshotFile,
+    units: Units,
+    sensors: usize,
+    previous_t: &mut f64,
+    f: &str,
+) -> Result<Snapshot, LogError> {
+    let t = s.t.unwrap_or(i as f64);
+    sane::time(t, "").map_err(|_| {
+        bad(
+            f,
+            format!("$.snapshots[{i}].t"),
+            sane::show(t),
+            "a finite time within ±1e10 s",
+        )
+    })?;
+    if t < *previous_t {
+        return Err(LogError::TimeDecreases {
+            file: f.to_string(),
+            snapshot: i,
+            t,
+            previous: *previous_t,
+        });
+    }
+    *previous_t = t;
+    let u = units.metres_per_unit();
+    let x = length(s.pose.x, u, f, format!("$.snapshots[{i}].pose.x"))?;
+    let y = length(s.pose.y, u, f, format!("$.snapshots[{i}].pose.y"))?;
+    let h = heading(
+        s.pose.heading_deg,
+        f,
+        format!("$.snapshots[{i}].pose.heading_deg"),
+    )?;
+    if s.ranges.len() != sensors {
+        return Err(LogError::RangeCount {
+            file: f.to_string(),
+            snapshot: i,
+            found: s.ranges.len(),
+            expected: sensors,
+        });
+    }
+    let mut ranges = s.ranges;
+    for (k, r) in ranges.iter_mut().enumerate() {
+        if let Some(v) = r {
+            if !(v.is_finite() && *v >= 0.0) {
+                return Err(LogError::BadRange {
+                    file: f.to_string(),
+                    snapshot: i,
+                    sensor: k,
+                    value: *v,
+                });
+            }
+            length(*v, u, f, format!("$.snapshots[{i}].ranges[{k}]"))?;
+            *v = units.to_m(*v);
+        }
+    }
+    Ok(Snapshot {
+        t,
+        pose: Pose::new(units.to_m(x), units.to_m(y), h.to_radians()),
+        ranges_m: ranges,
     })
 }

@@ -12,6 +12,7 @@ mod build;
 mod declutter;
 pub mod figure;
 mod layer;
+mod marker;
 mod primitive;
 mod query;
 mod style;
@@ -19,7 +20,8 @@ pub mod svg;
 
 pub use build::{build_scene, SceneInput, ViewOptions};
 pub use layer::{Layer, LayerSet};
-pub use primitive::{MarkerShape, Primitive, SceneId, Shape, TextAlign};
+pub use marker::MarkerShape;
+pub use primitive::{Primitive, SceneId, Shape, TextAlign};
 pub use query::{LegendEntry, ViewRect};
 pub use style::{decision_marker, palette, Glyph, Rgba, Role, Style};
 

@@ -1,6 +1,7 @@
 //! The scene's vocabulary: world-space shapes with a layer, a style, a role and an id.
 
 use super::layer::Layer;
+use super::marker::MarkerShape;
 use super::style::{Role, Style};
 use crate::geometry::Point;
 use crate::mapping::SegmentId;
@@ -40,35 +41,6 @@ pub enum SceneId {
     Update(SegmentId),
     /// Correlation `i` of this step (`StepTrace::correlations`).
     Correlation(usize),
-}
-
-/// A marker glyph drawn at a point with a size in screen pixels.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum MarkerShape {
-    /// Filled disc.
-    Dot,
-    /// Hollow circle.
-    Ring,
-    /// Diagonal cross (×).
-    Cross,
-    /// Upright cross (+).
-    Plus,
-    /// Square.
-    Square,
-    /// Triangle pointing up.
-    Triangle,
-    /// Diamond.
-    Diamond,
-}
-
-impl MarkerShape {
-    /// True for glyphs drawn as lines only (no fill).
-    pub fn is_open(self) -> bool {
-        matches!(
-            self,
-            MarkerShape::Ring | MarkerShape::Cross | MarkerShape::Plus
-        )
-    }
 }
 
 /// Horizontal alignment of a text about its anchor.

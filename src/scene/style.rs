@@ -3,7 +3,7 @@
 //! differ in dash pattern and marker as well as colour.
 
 use super::layer::Layer;
-use super::primitive::MarkerShape;
+use super::marker::MarkerShape;
 
 /// An sRGB colour with straight alpha.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -5,7 +5,8 @@
 //! stroke widths, dashes, markers and texts are in screen pixels whatever the zoom, and the
 //! output needs nothing beyond basic SVG 1.1 (it renders identically in browsers and resvg).
 
-use super::primitive::{MarkerShape, Primitive, Shape, TextAlign};
+use super::marker::MarkerShape;
+use super::primitive::{Primitive, Shape, TextAlign};
 use super::query::ViewRect;
 use super::style::{Glyph, Rgba, Style};
 use super::{format_length, Layer, LayerSet, Scene};

@@ -223,7 +223,25 @@ pub fn plan_from_file(file: &PlanFile, source_name: &str) -> Result<Plan, LogErr
     let (layout, robot_radius_m) =
         layout_from_robot(file.robot.as_ref().unwrap_or(&nomad), units, f, "$.robot")?;
     let sensor = sensor_from_file(file.sensor.as_ref(), units, f, "$.sensor")?;
-    let s = file.sim.unwrap_or_default();
+    let sim = sim_settings(file.sim.unwrap_or_default(), units, f)?;
+    let poses = path_poses(file, units, f)?;
+    Ok(Plan {
+        name: file.name.clone().unwrap_or_else(|| source_name.to_string()),
+        note: file.note.clone(),
+        units,
+        floor_plan,
+        roughness_rad: roughness_deg.to_radians(),
+        robot_radius_m,
+        layout,
+        sensor,
+        poses,
+        sim,
+    })
+}
+
+/// The simulator's settings of a plan's `sim` (in `units`), each checked; defaults where
+/// absent.
+fn sim_settings(s: SimFile, units: Units, f: &str) -> Result<SimSettings, LogError> {
     let d = SimSettings::default();
     let prob = |v: Option<f64>, name: &str| match v {
         None => Ok(0.0),
@@ -245,7 +263,7 @@ pub fn plan_from_file(file: &PlanFile, source_name: &str) -> Result<Plan, LogErr
             "a finite number greater than 0",
         )),
     };
-    let sim = SimSettings {
+    Ok(SimSettings {
         resolution_m: positive(s.resolution, "resolution", d.resolution_m, &|x| {
             units.to_m(x)
         })?,
@@ -260,7 +278,12 @@ pub fn plan_from_file(file: &PlanFile, source_name: &str) -> Result<Plan, LogErr
             d.corner_tolerance_m,
             &|x| units.to_m(x),
         )?,
-    };
+    })
+}
+
+/// The poses of a plan's `path` (in `units`): its waypoints, checked, interpolated at its
+/// `step` and `turn_step_deg`; at most 10,000,000.
+fn path_poses(file: &PlanFile, units: Units, f: &str) -> Result<Vec<Pose>, LogError> {
     if file.path.is_empty() {
         return Err(LogError::Empty {
             file: f.to_string(),
@@ -310,18 +333,7 @@ pub fn plan_from_file(file: &PlanFile, source_name: &str) -> Result<Plan, LogErr
             "a path of at most 10,000,000 snapshots",
         ));
     }
-    Ok(Plan {
-        name: file.name.clone().unwrap_or_else(|| source_name.to_string()),
-        note: file.note.clone(),
-        units,
-        floor_plan,
-        roughness_rad: roughness_deg.to_radians(),
-        robot_radius_m,
-        layout,
-        sensor,
-        poses,
-        sim,
-    })
+    Ok(poses)
 }
 
 /// Cuts the path between waypoints into poses at most `step_m` apart and `turn_step_rad`

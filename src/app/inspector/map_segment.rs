@@ -119,7 +119,6 @@ fn details_ui(ui: &mut egui::Ui, ctx: &InspectCtx, seg: &Segment) {
 /// The segment's life up to the snapshot shown, one button an event: it goes to the snapshot
 /// and selects what the event names.
 fn lineage_ui(ui: &mut egui::Ui, ctx: &InspectCtx, id: SegmentId, commands: &mut Vec<Command>) {
-    use crate::lineage::{CorrelationResult, LineageEvent};
     let events = ctx.lineage.of(id, ctx.view.index);
     egui::CollapsingHeader::new(format!("Lineage ({} events)", events.len()))
         .id_salt(("lineage", id))
@@ -130,80 +129,7 @@ fn lineage_ui(ui: &mut egui::Ui, ctx: &InspectCtx, id: SegmentId, commands: &mut
                 .max_height(220.0)
                 .show(ui, |ui| {
                     for event in events {
-                        let (text, target) = match *event {
-                            LineageEvent::Created { new_segment, .. } => (
-                                format!("made by n{new_segment} (new face)"),
-                                SceneId::Decision {
-                                    new_segment,
-                                    existing: None,
-                                },
-                            ),
-                            LineageEvent::Updated {
-                                new_segment,
-                                outcome,
-                                refit,
-                                ..
-                            } => (
-                                format!(
-                                    "{} by n{new_segment}{}",
-                                    outcome_name(outcome),
-                                    if refit { ", refitted" } else { "" }
-                                ),
-                                SceneId::Update(id),
-                            ),
-                            LineageEvent::SplitOff { piece, .. } => (
-                                format!("its refit left piece #{piece}"),
-                                SceneId::MapSegment(piece),
-                            ),
-                            LineageEvent::SplitFrom { parent, .. } => (
-                                format!("a piece of #{parent}'s refit"),
-                                SceneId::MapSegment(parent),
-                            ),
-                            LineageEvent::Absorbed { segment, .. } => (
-                                format!("absorbed duplicate #{segment}"),
-                                SceneId::Update(id),
-                            ),
-                            LineageEvent::AbsorbedInto { into, .. } => {
-                                (format!("merged into #{into}"), SceneId::MapSegment(into))
-                            }
-                            LineageEvent::Unconfirmed { .. } => (
-                                "tentative again: its refit moved it off the line it was \
-                                 confirmed on"
-                                    .to_string(),
-                                SceneId::None,
-                            ),
-                            LineageEvent::Refuted { sensor, .. } => (
-                                format!("removed: sensor {sensor} saw through it (free space)"),
-                                SceneId::None,
-                            ),
-                            LineageEvent::CornerDiagonal { walls, .. } => (
-                                format!(
-                                    "removed: a diagonal of the corner of #{} and #{}",
-                                    walls[0], walls[1]
-                                ),
-                                SceneId::MapSegment(walls[0]),
-                            ),
-                            LineageEvent::LinkDropped { .. } => (
-                                "removed: a segment it joined left the map".to_string(),
-                                SceneId::None,
-                            ),
-                            LineageEvent::Correlated {
-                                other,
-                                correlation,
-                                result,
-                                ..
-                            } => (
-                                format!(
-                                    "{} with #{other}",
-                                    match result {
-                                        CorrelationResult::Corner => "corner",
-                                        CorrelationResult::Link => "connecting segment",
-                                        CorrelationResult::Shared => "shared end-point",
-                                    }
-                                ),
-                                SceneId::Correlation(correlation),
-                            ),
-                        };
+                        let (text, target) = lineage_row(event, id);
                         let label = format!("snapshot {}: {text}", event.snapshot());
                         if ui.button(label).clicked() {
                             commands.push(Command::Seek(event.snapshot()));
@@ -212,6 +138,85 @@ fn lineage_ui(ui: &mut egui::Ui, ctx: &InspectCtx, id: SegmentId, commands: &mut
                     }
                 });
         });
+}
+
+/// The text of a lineage event of segment `id`, and what a click on it selects.
+fn lineage_row(event: &crate::lineage::LineageEvent, id: SegmentId) -> (String, SceneId) {
+    use crate::lineage::{CorrelationResult, LineageEvent};
+    match *event {
+        LineageEvent::Created { new_segment, .. } => (
+            format!("made by n{new_segment} (new face)"),
+            SceneId::Decision {
+                new_segment,
+                existing: None,
+            },
+        ),
+        LineageEvent::Updated {
+            new_segment,
+            outcome,
+            refit,
+            ..
+        } => (
+            format!(
+                "{} by n{new_segment}{}",
+                outcome_name(outcome),
+                if refit { ", refitted" } else { "" }
+            ),
+            SceneId::Update(id),
+        ),
+        LineageEvent::SplitOff { piece, .. } => (
+            format!("its refit left piece #{piece}"),
+            SceneId::MapSegment(piece),
+        ),
+        LineageEvent::SplitFrom { parent, .. } => (
+            format!("a piece of #{parent}'s refit"),
+            SceneId::MapSegment(parent),
+        ),
+        LineageEvent::Absorbed { segment, .. } => (
+            format!("absorbed duplicate #{segment}"),
+            SceneId::Update(id),
+        ),
+        LineageEvent::AbsorbedInto { into, .. } => {
+            (format!("merged into #{into}"), SceneId::MapSegment(into))
+        }
+        LineageEvent::Unconfirmed { .. } => (
+            "tentative again: its refit moved it off the line it was \
+             confirmed on"
+                .to_string(),
+            SceneId::None,
+        ),
+        LineageEvent::Refuted { sensor, .. } => (
+            format!("removed: sensor {sensor} saw through it (free space)"),
+            SceneId::None,
+        ),
+        LineageEvent::CornerDiagonal { walls, .. } => (
+            format!(
+                "removed: a diagonal of the corner of #{} and #{}",
+                walls[0], walls[1]
+            ),
+            SceneId::MapSegment(walls[0]),
+        ),
+        LineageEvent::LinkDropped { .. } => (
+            "removed: a segment it joined left the map".to_string(),
+            SceneId::None,
+        ),
+        LineageEvent::Correlated {
+            other,
+            correlation,
+            result,
+            ..
+        } => (
+            format!(
+                "{} with #{other}",
+                match result {
+                    CorrelationResult::Corner => "corner",
+                    CorrelationResult::Link => "connecting segment",
+                    CorrelationResult::Shared => "shared end-point",
+                }
+            ),
+            SceneId::Correlation(correlation),
+        ),
+    }
 }
 
 /// `eval`'s verdict on a segment, with its numbers.

@@ -5,6 +5,7 @@ use super::context::InspectCtx;
 use super::names::reason_name;
 use super::widgets::{heading, kv, FAIL, PASS};
 use crate::app::command::Command;
+use crate::geometry::Pose;
 use crate::scene::SceneId;
 use egui::RichText;
 
@@ -40,27 +41,7 @@ pub(super) fn reading_ui(
     };
     egui::Grid::new("reading").num_columns(2).show(ui, |ui| {
         if let Some(pose) = trace.pose {
-            kv(
-                ui,
-                "robot pose",
-                format!(
-                    "{}  {:.1}°",
-                    ctx.point(&pose.position()),
-                    pose.heading_rad.to_degrees()
-                ),
-            );
-            if sensor < ctx.run.layout.len() {
-                let sp = ctx.run.layout.sensor_pose_in_world(&pose, sensor);
-                kv(
-                    ui,
-                    "sensor pose",
-                    format!(
-                        "{}  {:.1}°",
-                        ctx.point(&sp.position()),
-                        sp.heading_rad.to_degrees()
-                    ),
-                );
-            }
+            pose_rows(ui, ctx, &pose, sensor);
         }
         kv(
             ui,
@@ -91,6 +72,31 @@ pub(super) fn reading_ui(
         if ui.button(format!("Select cluster {c}")).clicked() {
             commands.push(Command::Select(SceneId::Cluster(c)));
         }
+    }
+}
+
+/// The grid rows of the robot's pose and of the sensor's, in the world.
+fn pose_rows(ui: &mut egui::Ui, ctx: &InspectCtx, pose: &Pose, sensor: usize) {
+    kv(
+        ui,
+        "robot pose",
+        format!(
+            "{}  {:.1}°",
+            ctx.point(&pose.position()),
+            pose.heading_rad.to_degrees()
+        ),
+    );
+    if sensor < ctx.run.layout.len() {
+        let sp = ctx.run.layout.sensor_pose_in_world(pose, sensor);
+        kv(
+            ui,
+            "sensor pose",
+            format!(
+                "{}  {:.1}°",
+                ctx.point(&sp.position()),
+                sp.heading_rad.to_degrees()
+            ),
+        );
     }
 }
 

@@ -132,7 +132,12 @@ mod tests {
         let algorithm = include_str!("../../../docs/algorithm.md");
         for e in ALL {
             let heading = format!("\n### {} ", e.section);
-            assert!(algorithm.contains(&heading), "{}: no §{}", e.parameter, e.section);
+            assert!(
+                algorithm.contains(&heading),
+                "{}: no §{}",
+                e.parameter,
+                e.section
+            );
             assert!(Params::paper_with(e.parameter).is_some(), "{}", e.parameter);
             assert!(
                 !Params::paper().is_on(e.parameter),

@@ -191,31 +191,21 @@ mod tests {
         assert!((Units::Inches.from_m(p.t_gap_m) - 42.0).abs() < 1e-9);
         assert!((Units::Inches.from_m(p.d_max_m) - 255.0).abs() < 1e-9);
         assert!((p.orientation_rad.to_degrees() - 15.0).abs() < 1e-9);
-        assert_eq!(p.memory_snapshots, 0);
-        assert!(!p.constant_depth);
-        assert!(!p.merge_duplicates);
-        assert_eq!(p.support_cap, 0, "the paper keeps every supporting point");
-        assert!(!p.corner_guard);
-        assert!(!p.arc_features && !p.explain_readings && !p.free_space && !p.confirm_segments);
-        assert!(!p.plane_gate && !p.echo_fit && p.min_piece_points == 0);
-        assert!(!p.corner_diagonals && !p.settled_walls && !p.round_reflectors);
-        assert!(!p.memory_stacks && !p.memory_joints);
-        assert!(!p.baseline_confirm && !p.refit_unconfirms);
         let e = Params::extended();
-        assert_eq!(e.support_cap, 64);
+        assert_eq!(
+            (p.support_cap, e.support_cap),
+            (0, 64),
+            "the paper keeps every point"
+        );
         assert_eq!(
             (p.fit, e.fit),
             (FitMode::EndPoints, FitMode::TotalLeastSquares)
         );
-        assert!(e.corner_guard);
-        assert_eq!(e.memory_snapshots, 10);
-        assert!(e.constant_depth);
-        assert!(e.merge_duplicates);
-        assert!(e.arc_features && e.explain_readings && e.free_space && e.confirm_segments);
-        assert!(e.plane_gate && e.echo_fit && e.min_piece_points == 3);
-        assert!(e.corner_diagonals && e.settled_walls && e.round_reflectors);
-        assert!(e.memory_stacks && e.memory_joints);
-        assert!(e.baseline_confirm && e.refit_unconfirms);
+        assert_eq!((p.memory_snapshots, e.memory_snapshots), (0, 10));
+        // Every flag and count the presets set apart is off in the paper and on in extended.
+        for q in Params::extension_parameters().filter(|q| q.name != "fit") {
+            assert!(!p.is_on(q.name) && e.is_on(q.name), "{}", q.name);
+        }
         assert!(p.validate().is_ok() && e.validate().is_ok());
     }
 

@@ -1,16 +1,14 @@
-//! `sonarmap convert` and [`load_any`]: reading recorded runs of any supported format from
-//! files (the importers themselves are pure, in `sonarmap::import`).
+//! `sonarmap convert`: a recording of any supported format to a run log.
 
-use crate::cli::write_atomic_with;
-use anyhow::{anyhow, Context, Result};
+use super::input::{import_file, read};
+use super::output::write_atomic_with;
+use anyhow::{anyhow, Result};
 use clap::{Args, ValueEnum};
 use sonarmap::geometry::Pose;
 use sonarmap::import::{
-    builtin_layout, import_any, parse_layout, AngleUnit, Format, ImportOptions, Imported, Layout,
-    NamedBytes, DEFAULT_WINDOW_S,
+    builtin_layout, parse_layout, AngleUnit, ImportOptions, Layout, NamedBytes, DEFAULT_WINDOW_S,
 };
 use sonarmap::log::write_run;
-use sonarmap::run::Run;
 use sonarmap::units::Units;
 use std::path::{Path, PathBuf};
 
@@ -67,10 +65,6 @@ pub enum HeadingArg {
     Rad,
 }
 
-fn read(path: &Path) -> Result<Vec<u8>> {
-    std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))
-}
-
 /// Reads a `--layout`: a file, or the name of a shipped layout.
 fn read_layout(arg: &str) -> Result<Layout> {
     let path = Path::new(arg);
@@ -80,28 +74,6 @@ fn read_layout(arg: &str) -> Result<Layout> {
         }
     }
     Ok(parse_layout(&read(path)?, arg)?)
-}
-
-/// Reads and imports a run of any supported format with `options`; says on stderr what an
-/// import (not a plain run log) did.
-pub fn import_file(path: &Path, options: &ImportOptions) -> Result<Imported> {
-    let name = path.display().to_string();
-    let imported = import_any(&read(path)?, &name, options)?;
-    Ok(imported)
-}
-
-/// Reads a run of any supported format (content decides), with no import options.
-pub fn load_any(path: &Path) -> Result<Run> {
-    let imported = import_file(path, &ImportOptions::default())?;
-    if imported.format != Format::SonarmapLog {
-        eprintln!(
-            "{}: imported as a {}: {}",
-            path.display(),
-            imported.format.name(),
-            imported.summary
-        );
-    }
-    Ok(imported.run)
 }
 
 /// Runs `sonarmap convert`.

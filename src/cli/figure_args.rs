@@ -123,6 +123,26 @@ impl FigureArgs {
     }
 }
 
+/// The layers of a paper figure: ground truth, both snapshots' points, balls, fitted and map
+/// segments, updates, decisions, correlations, the robot and labels; no beams or discarded
+/// readings (they would dwarf the room).
+pub fn paper_figure_layers() -> LayerSet {
+    LayerSet::all()
+        .with(Layer::Beams, false)
+        .with(Layer::Discarded, false)
+        .with(Layer::MapBefore, false)
+        .with(Layer::Clusters, false)
+}
+
+/// The SVG of `view` (a snapshot of `run`) as a paper figure (the whole content in view, the
+/// paper figure's layers, 1000×700 pixels, labels decluttered for the page).
+pub fn paper_figure_svg(run: &Run, view: &StepView) -> String {
+    FigureArgs::default()
+        .spec(paper_figure_layers())
+        .expect("the default figure options are valid")
+        .svg(run, view)
+}
+
 impl FigureSpec {
     /// The figure of `view` (a snapshot of `run`) as SVG.
     pub fn svg(&self, run: &Run, view: &StepView) -> String {

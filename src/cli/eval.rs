@@ -1,0 +1,121 @@
+//! `sonarmap eval`: the map of a log compared with its floor plan (or, with `--suite`, the
+//! generated scenes scored, [`super::suite`]).
+
+use super::input::{read, read_run};
+use super::map_run::map_run;
+use super::output::emit;
+use super::params::{read_params, ParamArgs, PresetArg};
+use super::suite::{suite_command, SuiteArgs};
+use anyhow::{anyhow, Context, Result};
+use clap::Args;
+use sonarmap::eval::{evaluate, EvalReport};
+use sonarmap::sim::load_plan;
+use std::path::PathBuf;
+
+/// The long help of `sonarmap eval`: what each figure means.
+pub const EVAL_HELP: &str = "Compare the map of a log with its floor plan; prints one JSON object.
+
+Only fitted segments count. The tolerance of an end-point with range D is the sonar resolution xi*D/100 (xi = the accuracy_pct parameter), at least 1 in.
+  segments             fitted segments in the map
+  true_segments        segments whose two end-points lie within their tolerance of one wall and whose angle to it is at most theta_o (orientation_deg), or whose end-points lie within tolerance of one pillar
+  spurious_fraction    1 - true_segments / segments
+  mean_endpoint_error  mean distance of true segments' end-points to their wall or pillar, in the log's units
+  mean_angle_error_deg mean angle between true segments and their walls
+  coverage             length of the walls covered by true segments (union of their end-points projected on their wall) over the total wall length
+  coverage_visible     covered length inside the visible part of the walls over the visible length. A wall is visible around each kept reading (an echo below max_range, within [min_range, d_max]) whose beam-axis point is within its tolerance of the wall: +- the tolerance around the projection, and marks no more than t_gap apart along the wall are joined.
+  wall_length, visible_length, covered_length  in the log's units";
+
+/// `sonarmap eval`.
+#[derive(Debug, Args)]
+pub struct EvalArgs {
+    /// The run log (none with --suite).
+    #[arg(required_unless_present = "suite", conflicts_with = "suite")]
+    pub log: Option<PathBuf>,
+    /// Score N generated family scenes instead, each simulated with both sensor models; one
+    /// JSON line per scene and model, then a summary line.
+    #[arg(long, value_name = "N")]
+    pub suite: Option<usize>,
+    /// Seed of the suite's first scene.
+    #[arg(long, default_value_t = 1, requires = "suite")]
+    pub seed: u64,
+    /// With --suite: also write each scene's plan (`sonarmap-plan` v1) into DIR as
+    /// FAMILY-SEED.plan.json, for another simulator.
+    #[arg(long, value_name = "DIR", requires = "suite")]
+    pub write_plans: Option<PathBuf>,
+    /// With --suite: also score each scene's log simulated elsewhere, DIR/FAMILY-SEED.log.json
+    /// when it exists (model "log").
+    #[arg(long, value_name = "DIR", requires = "suite")]
+    pub logs_from: Option<PathBuf>,
+    /// Mapping parameters.
+    #[command(flatten)]
+    pub params: ParamArgs,
+    /// Floor plan to compare with (default: the log's own `floor_plan`).
+    #[arg(long, value_name = "PLAN.json")]
+    pub plan: Option<PathBuf>,
+}
+
+/// The figures `eval` prints, with what produced them.
+#[derive(Debug, serde::Serialize)]
+struct EvalOutput {
+    log: String,
+    preset: &'static str,
+    snapshots: usize,
+    #[serde(flatten)]
+    report: EvalReport,
+    /// Point features (docs/algorithm.md §8.5), when the map has any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    point_features: Option<usize>,
+    /// Those on a wall junction or end.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    true_point_features: Option<usize>,
+    /// The figures of the confirmed segments alone, when segments must be confirmed
+    /// (docs/algorithm.md §8.7).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    confirmed: Option<EvalReport>,
+}
+
+/// Runs `sonarmap eval`.
+pub fn eval_command(args: &EvalArgs) -> Result<()> {
+    let params = read_params(&args.params)?;
+    let Some(log) = &args.log else {
+        let suite = SuiteArgs {
+            scenes: args.suite.unwrap_or(0),
+            seed: args.seed,
+            write_plans: args.write_plans.as_deref(),
+            logs_from: args.logs_from.as_deref(),
+        };
+        return suite_command(&suite, &params);
+    };
+    let run = read_run(log)?;
+    let floor_plan = match &args.plan {
+        Some(path) => load_plan(&read(path)?, &path.display().to_string())?.floor_plan,
+        None => run.floor_plan.clone().ok_or_else(|| {
+            anyhow!(
+                "{}: the log has no floor_plan; give one with --plan PLAN.json",
+                log.display()
+            )
+        })?,
+    };
+    let (mapper, _, summary) =
+        map_run(&run, params.clone(), None, false).with_context(|| log.display().to_string())?;
+    let map = mapper.map();
+    let report = evaluate(map, &run, &floor_plan, &params);
+    let features = map.confirmed_features().count();
+    let has_features = features > 0;
+    let out = EvalOutput {
+        log: log.display().to_string(),
+        preset: match args.params.preset {
+            PresetArg::Paper => "paper",
+            PresetArg::Extended => "extended",
+        },
+        snapshots: summary.snapshots,
+        report,
+        point_features: has_features.then_some(features),
+        true_point_features: has_features
+            .then(|| sonarmap::eval::true_point_features(map, &floor_plan, &params)),
+        confirmed: sonarmap::eval::confirmed_map(map)
+            .map(|m| evaluate(&m, &run, &floor_plan, &params)),
+    };
+    emit(&serde_json::to_string_pretty(&out)?)?;
+    Ok(())
+}

@@ -1,0 +1,127 @@
+//! Mapping a whole log: the mapper stepped through a run, with the traces of its steps (when
+//! kept) and the one-line [`Summary`] that `run` prints.
+
+use anyhow::{bail, Result};
+use sonarmap::mapping::{Mapper, Outcome, Params, StepTrace};
+use sonarmap::run::Run;
+
+/// Runs the mapper over snapshots `0..=until` and returns the mapper and the traces.
+pub fn map_run(
+    run: &Run,
+    params: Params,
+    until: Option<usize>,
+    keep_traces: bool,
+) -> Result<(Mapper, Vec<StepTrace>, Summary)> {
+    let mut mapping = Mapping::new(run, params, keep_traces);
+    mapping.step_to(run, last_snapshot(run, until)? + 1)?;
+    Ok(mapping.finish())
+}
+
+/// The last snapshot to map: `until`, checked against the run, or the run's last.
+pub fn last_snapshot(run: &Run, until: Option<usize>) -> Result<usize> {
+    let last = run.snapshots.len() - 1;
+    match until {
+        Some(n) if n > last => bail!("--until {n} is beyond the last snapshot, {last}"),
+        Some(n) => Ok(n),
+        None => Ok(last),
+    }
+}
+
+/// A mapper going through a run, with the summary and (when kept) the traces of its steps.
+pub struct Mapping {
+    /// The mapper.
+    pub mapper: Mapper,
+    traces: Vec<StepTrace>,
+    summary: Summary,
+}
+
+impl Mapping {
+    /// A mapper at the run's start; `keep_traces` keeps the full trace of every step.
+    pub fn new(run: &Run, params: Params, keep_traces: bool) -> Self {
+        // The summary needs only readings and decisions, which the slim trace keeps.
+        Self {
+            mapper: Mapper::new(params, run.layout.clone(), run.sensor).with_trace(keep_traces),
+            traces: Vec::new(),
+            summary: Summary::default(),
+        }
+    }
+
+    /// Steps the snapshots from the mapper's next one up to `end` (exclusive); a step that
+    /// fails ends the mapping with an error naming its snapshot.
+    pub fn step_to(&mut self, run: &Run, end: usize) -> Result<()> {
+        while self.mapper.next_snapshot() < end {
+            let trace = self
+                .mapper
+                .try_step(&run.snapshots[self.mapper.next_snapshot()])?;
+            self.record(trace);
+        }
+        Ok(())
+    }
+
+    /// The mapper, the kept traces and the summary (with the map's size).
+    pub fn finish(self) -> (Mapper, Vec<StepTrace>, Summary) {
+        let mut summary = self.summary;
+        summary.segments = self.mapper.map().segments.len();
+        (self.mapper, self.traces, summary)
+    }
+
+    /// Counts a step stepped outside [`Mapping::step_to`] (and keeps its trace when kept).
+    pub fn record(&mut self, trace: StepTrace) {
+        self.summary.add(&trace);
+        if self.mapper.records_trace() {
+            self.traces.push(trace);
+        }
+    }
+}
+
+/// Counts over a run, for the one-line summary.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Summary {
+    /// Snapshots applied.
+    pub snapshots: usize,
+    /// Readings kept.
+    pub kept: usize,
+    /// Readings discarded.
+    pub discarded: usize,
+    /// Segments in the map.
+    pub segments: usize,
+    /// Decisions by outcome.
+    pub matches: usize,
+    /// Extensions.
+    pub extensions: usize,
+    /// Dismissals.
+    pub dismissals: usize,
+    /// New faces.
+    pub new_faces: usize,
+}
+
+impl Summary {
+    fn add(&mut self, trace: &StepTrace) {
+        self.snapshots += 1;
+        for r in &trace.readings {
+            if r.discarded.is_some() {
+                self.discarded += 1;
+            } else {
+                self.kept += 1;
+            }
+        }
+        for d in &trace.decisions {
+            match d.outcome {
+                Outcome::Match => self.matches += 1,
+                Outcome::Extension => self.extensions += 1,
+                Outcome::Dismissed => self.dismissals += 1,
+                Outcome::NewFace => self.new_faces += 1,
+            }
+        }
+    }
+}
+
+impl std::fmt::Display for Summary {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        write!(
+            f,
+            "snapshots {}, readings kept {} discarded {}, segments {}, matches {}, extensions {}, dismissals {}, new faces {}",
+            self.snapshots, self.kept, self.discarded, self.segments, self.matches, self.extensions, self.dismissals, self.new_faces
+        )
+    }
+}

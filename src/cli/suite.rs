@@ -1,0 +1,72 @@
+//! `sonarmap eval --suite N`: generated family scenes scored ([`sonarmap::suite`]).
+
+use super::input::read_run;
+use super::output::{emit, write_atomic};
+use anyhow::{anyhow, Context, Result};
+use sonarmap::mapping::Params;
+use sonarmap::suite::SuiteLine;
+use std::path::Path;
+
+/// What `eval --suite N` scores and writes.
+pub struct SuiteArgs<'a> {
+    /// Scenes of each family.
+    pub scenes: usize,
+    /// Seed of the first scene.
+    pub seed: u64,
+    /// `--write-plans DIR`.
+    pub write_plans: Option<&'a Path>,
+    /// `--logs-from DIR`.
+    pub logs_from: Option<&'a Path>,
+}
+
+/// `eval --suite N`: one JSON line per scene and sensor model, then the summary
+/// ([`sonarmap::suite`]); with `--write-plans DIR`, the scenes' plans too.
+pub fn suite_command(args: &SuiteArgs, params: &Params) -> Result<()> {
+    if let Some(dir) = args.write_plans {
+        write_plans(dir, args.scenes, args.seed)?;
+    }
+    let mut lines = sonarmap::suite::run_suite(args.scenes, args.seed, params);
+    if let Some(dir) = args.logs_from {
+        lines.extend(logs_from(dir, args.scenes, args.seed, params)?);
+    }
+    for line in &lines {
+        emit(&serde_json::to_string(line)?)?;
+    }
+    emit(&serde_json::to_string(&sonarmap::suite::summarise(&lines))?)?;
+    Ok(())
+}
+
+/// Writes each scene's plan into `dir` as FAMILY-SEED.plan.json.
+fn write_plans(dir: &Path, scenes: usize, seed: u64) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    for (kind, seed, plan) in sonarmap::suite::suite_plans(scenes, seed) {
+        let path = dir.join(format!("{}-{seed}.plan.json", kind.name()));
+        let text = serde_json::to_string(&sonarmap::sim::plan_to_file(&plan))?;
+        write_atomic(&path, text)?;
+    }
+    Ok(())
+}
+
+/// The lines of the scenes' logs simulated elsewhere, DIR/FAMILY-SEED.log.json where they
+/// exist (model "log").
+fn logs_from(dir: &Path, scenes: usize, seed: u64, params: &Params) -> Result<Vec<SuiteLine>> {
+    let mut lines = Vec::new();
+    for (kind, seed, _) in sonarmap::suite::suite_plans(scenes, seed) {
+        let path = dir.join(format!("{}-{seed}.log.json", kind.name()));
+        if !path.exists() {
+            continue;
+        }
+        let run = read_run(&path)?;
+        let map = sonarmap::suite::map_of(&run, params);
+        let figures = sonarmap::suite::scene_figures(&map, &run, params)
+            .ok_or_else(|| anyhow!("{}: the log has no floor_plan", path.display()))?;
+        lines.push(SuiteLine {
+            family: kind.name(),
+            seed,
+            model: "log".to_string(),
+            snapshots: run.snapshots.len(),
+            figures,
+        });
+    }
+    Ok(lines)
+}
