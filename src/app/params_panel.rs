@@ -300,7 +300,7 @@ pub fn params_panel_ui(
         );
     }
     for unmet in info.params.unmet_needs() {
-        ui.add(egui::Label::new(RichText::new(format!("⚠ {unmet}")).color(CHANGED)).wrap());
+        ui.add(egui::Label::new(RichText::new(format!("warning: {unmet}")).color(CHANGED)).wrap());
     }
     egui::Grid::new("params_grid")
         .num_columns(3)

@@ -1110,3 +1110,23 @@ fn the_inspector_explains_a_joint_kept_in_point_memory() {
     let why = "the next piece along the chain shares it";
     assert_labels_shown(&h, k, "joint", &[&text, why]);
 }
+
+#[test]
+fn a_flag_switched_on_without_its_prerequisite_is_warned_about_in_the_panel() {
+    let run = sonarmap::assets::default_run().unwrap();
+    let mut h = harness(SonarApp::new(run, None));
+    h.run();
+    let warning = "parameter `settled_walls` acts only with `confirm_segments`";
+    assert!(h.query_by_label_contains(warning).is_none());
+    let alone = sonarmap::mapping::Params {
+        settled_walls: true,
+        ..sonarmap::mapping::Params::paper()
+    };
+    h.state_mut().push(Command::SetParams(alone));
+    settle(&mut h);
+    assert!(h.query_by_label_contains(warning).is_some());
+    let with_it = sonarmap::mapping::Params::paper_with("settled_walls").unwrap();
+    h.state_mut().push(Command::SetParams(with_it));
+    settle(&mut h);
+    assert!(h.query_by_label_contains(warning).is_none());
+}
