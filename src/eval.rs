@@ -22,6 +22,7 @@
 
 use crate::geometry::{distance_to_segment, line_angle_between, projection_param};
 use crate::mapping::{Map, Params, Segment, SegmentId, SegmentKind};
+use crate::pose_error::{pose_error, PoseError};
 use crate::run::{FloorPlan, Run, Wall};
 use crate::units::inches;
 use serde::{Deserialize, Serialize};
@@ -51,6 +52,10 @@ pub struct EvalReport {
     pub visible_length: f64,
     /// Covered wall length.
     pub covered_length: f64,
+    /// How far the poses mapped with lie from the true poses, when the log keeps them
+    /// (`true_pose`: a run given odometry error).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pose_error: Option<PoseError>,
 }
 
 /// Sorted, disjoint closed intervals of a wall's parameter in [0, 1].
@@ -332,6 +337,7 @@ pub fn evaluate(map: &Map, run: &Run, floor_plan: &FloorPlan, params: &Params) -
         wall_length: u.from_m(wall_length),
         visible_length: u.from_m(visible_length),
         covered_length: u.from_m(covered_length),
+        pose_error: pose_error(run),
     }
 }
 

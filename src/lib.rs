@@ -22,6 +22,7 @@ pub mod import;
 pub mod lineage;
 pub mod log;
 pub mod mapping;
+pub mod pose_error;
 pub mod replay;
 pub mod run;
 pub mod scene;

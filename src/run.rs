@@ -15,6 +15,11 @@ pub struct Snapshot {
     pub pose: Pose,
     /// `ranges_m[k]` belongs to sensor `k`; `None` is no echo. Metres.
     pub ranges_m: Vec<Option<f64>>,
+    /// Where the robot truly stood, when the run knows it apart from `pose` (a simulated run
+    /// given odometry error: `pose` is then the odometry). The engine never reads it; `eval`
+    /// measures the pose error with it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub true_pose: Option<Pose>,
 }
 
 /// A wall of the ground truth.

@@ -159,6 +159,7 @@ fn snapshot(s: RawSnapshot, pose: Pose, max_range_m: f64, summary: &mut ImportSu
         t: s.t,
         pose,
         ranges_m,
+        true_pose: None,
     }
 }
 

@@ -125,6 +125,10 @@ pub struct SnapshotFile {
     pub pose: PoseFile,
     /// One range per sensor; `null` is no echo.
     pub ranges: Vec<Option<f64>>,
+    /// Where the robot truly stood, when `pose` is odometry that drifted from it (simulated
+    /// runs given odometry error).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub true_pose: Option<PoseFile>,
 }
 
 /// A robot pose in the world.

@@ -490,6 +490,16 @@ fn snapshot_from_file(
         f,
         format!("$.snapshots[{i}].pose.heading_deg"),
     )?;
+    let true_pose = match &s.true_pose {
+        None => None,
+        Some(p) => {
+            let at = |field: &str| format!("$.snapshots[{i}].true_pose.{field}");
+            let x = length(p.x, u, f, at("x"))?;
+            let y = length(p.y, u, f, at("y"))?;
+            let h = heading(p.heading_deg, f, at("heading_deg"))?;
+            Some(Pose::new(units.to_m(x), units.to_m(y), h.to_radians()))
+        }
+    };
     if s.ranges.len() != sensors {
         return Err(LogError::RangeCount {
             file: f.to_string(),
@@ -517,5 +527,6 @@ fn snapshot_from_file(
         t,
         pose: Pose::new(units.to_m(x), units.to_m(y), h.to_radians()),
         ranges_m: ranges,
+        true_pose,
     })
 }

@@ -160,6 +160,11 @@ fn snapshot_to_file(s: &Snapshot, u: Units) -> SnapshotFile {
             heading_deg: deg(s.pose.heading_rad),
         },
         ranges: s.ranges_m.iter().map(|r| r.map(|v| len(u, v))).collect(),
+        true_pose: s.true_pose.map(|p| PoseFile {
+            x: len(u, p.x),
+            y: len(u, p.y),
+            heading_deg: deg(p.heading_rad),
+        }),
     }
 }
 

@@ -20,6 +20,7 @@ fn wall_run(n: usize) -> Run {
                 t: i as f64,
                 pose: Pose::new(inches(3.0 * i as f64), 0.0, 0.0),
                 ranges_m,
+                true_pose: None,
             }
         })
         .collect();

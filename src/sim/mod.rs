@@ -4,12 +4,14 @@
 mod beam;
 mod building;
 mod families;
+mod odometry;
 mod plan;
 mod simulate;
 
 pub use beam::{Hit, Model, World};
 pub use building::{building_plan, BuildingSpec};
 pub use families::{family_plan, repeat_laps, SceneKind};
+pub use odometry::{with_odometry, OdometryError};
 pub use plan::{
     interpolate_path, load_plan, plan_from_file, plan_to_file, Plan, PlanFile, SimFile,
     SimSettings, DEFAULT_ROUGHNESS_DEG, PLAN_FORMAT,

@@ -71,6 +71,7 @@ pub fn simulate(plan: &Plan, model: Model, seed: u64) -> Run {
                 t: i as f64,
                 pose: *pose,
                 ranges_m,
+                true_pose: None,
             }
         })
         .collect();

@@ -25,7 +25,12 @@ fn oblique_wall_snapshot(layout: &SensorLayout, pose: Pose, t: f64) -> Snapshot 
             (incidence <= 35f64.to_radians()).then(|| perpendicular / incidence.cos())
         })
         .collect();
-    Snapshot { t, pose, ranges_m }
+    Snapshot {
+        t,
+        pose,
+        ranges_m,
+        true_pose: None,
+    }
 }
 
 fn map_oblique_wall(params: Params) -> Mapper {

@@ -46,7 +46,12 @@ fn axis_snapshot(walls: &[Wall], layout: &SensorLayout, pose: Pose, t: f64) -> S
                 .map(|r| r * (1.0 + 0.004 * ((k as f64) * 1.7 + t).sin()))
         })
         .collect();
-    Snapshot { t, pose, ranges_m }
+    Snapshot {
+        t,
+        pose,
+        ranges_m,
+        true_pose: None,
+    }
 }
 
 fn run(walls: &[Wall], poses: &[Pose], params: Params) -> (Mapper, Vec<StepTrace>) {
@@ -239,6 +244,7 @@ fn single_sonar_run(params: Params) -> Mapper {
             t: i as f64,
             pose: pose_in(4.0 * i as f64, 0.0),
             ranges_m,
+            true_pose: None,
         });
     }
     mapper
@@ -284,6 +290,7 @@ fn first_memory_segment(params: Params) -> (Mapper, StepTrace) {
             t: i as f64,
             pose: pose_in(8.0 * i as f64, 0.0),
             ranges_m,
+            true_pose: None,
         });
         if !mapper.map().segments.is_empty() {
             return (mapper, trace);
@@ -333,6 +340,7 @@ fn constant_depth_turns_a_corner_arc_into_one_reading() {
         t: 0.0,
         pose: pose_in(0.0, 0.0),
         ranges_m,
+        true_pose: None,
     };
     let mut paper = Mapper::new(Params::paper(), layout.clone(), SensorSpec::default());
     let t = paper.step(&snapshot);

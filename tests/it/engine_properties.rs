@@ -33,7 +33,7 @@ proptest! {
         let n = layout.len();
         let mut mapper = Mapper::new(params, layout, SensorSpec::default());
         for (i, ((x, y, h), ranges)) in steps.into_iter().enumerate() {
-            let snapshot = Snapshot { t: i as f64, pose: Pose::new(x, y, h), ranges_m: ranges[..n].to_vec() };
+            let snapshot = Snapshot { t: i as f64, pose: Pose::new(x, y, h), ranges_m: ranges[..n].to_vec(), true_pose: None };
             let trace = mapper.step(&snapshot);
             prop_assert_eq!(trace.readings.len(), n);
             for (k, r) in trace.readings.iter().enumerate() {
@@ -103,6 +103,7 @@ fn step_both(
             t: i as f64,
             pose: Pose::new(x, y, h),
             ranges_m: ranges,
+            true_pose: None,
         };
         let (ta, tb) = (a.step(&snapshot), b.step(&snapshot));
         check(&ta, &tb, a, b)?;

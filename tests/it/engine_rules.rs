@@ -21,6 +21,7 @@ fn snapshot(t: f64, ranges_m: &[Option<f64>]) -> Snapshot {
         t,
         pose: Pose::new(0.0, 0.0, 0.0),
         ranges_m: ranges_m.to_vec(),
+        true_pose: None,
     }
 }
 
@@ -215,6 +216,7 @@ fn a_sonar_driven_square_on_to_a_wall_stacks_its_readings_instead_of_fitting_the
                     t: k as f64,
                     pose: Pose::new(0.0, y, 0.0),
                     ranges_m: vec![Some(5.0 - y)],
+                    true_pose: None,
                 })
             })
             .collect::<Vec<_>>()
@@ -278,6 +280,7 @@ fn a_wall_read_once_a_step_by_one_sonar_is_one_segment_with_joints_and_pieces_wi
                     t: k as f64,
                     pose: Pose::new(0.19 * k as f64, 0.0, 0.0),
                     ranges_m: vec![Some(2.0)],
+                    true_pose: None,
                 })
             })
             .collect();

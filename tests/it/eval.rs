@@ -78,6 +78,7 @@ fn eval_figures_of_a_hand_made_map() {
             t: i as f64,
             pose: Pose::new(*x, 1.0, 0.0),
             ranges_m: vec![Some(1.0)],
+            true_pose: None,
         })
         .collect();
     let run = Run {

@@ -296,3 +296,31 @@ fn the_embedded_default_run_loads() {
     assert_eq!(run.layout.len(), 16);
     assert!(run.floor_plan.is_some());
 }
+
+#[test]
+fn true_poses_round_trip_and_a_log_without_them_writes_none() {
+    let plan_file = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/tight_room.plan.json");
+    let plan = sonarmap::sim::load_plan(&std::fs::read(plan_file).unwrap(), "plan").unwrap();
+    let run = sonarmap::sim::simulate(&plan, sonarmap::sim::Model::Specular, 4);
+    assert!(!save_run(&run).contains("true_pose"));
+    let drifted = sonarmap::sim::with_odometry(&run, &sonarmap::sim::OdometryError::BAD, 4);
+    let text = save_run(&drifted);
+    assert!(text.contains("true_pose"));
+    let back = load_run(text.as_bytes(), "drifted").unwrap();
+    for (a, b) in drifted.snapshots.iter().zip(&back.snapshots) {
+        let (ta, tb) = (a.true_pose.unwrap(), b.true_pose.unwrap());
+        assert!(ta.distance_to(&tb) < 1e-9 && (ta.heading_rad - tb.heading_rad).abs() < 1e-9);
+        assert!(a.pose.distance_to(&b.pose) < 1e-9);
+    }
+    // A true pose that is no number is refused with its place.
+    let bad = text.replacen(
+        "\"true_pose\":{\"x\":",
+        "\"true_pose\":{\"x\":\"a\",\"old\":",
+        1,
+    );
+    assert_ne!(bad, text);
+    let e = load_run(bad.as_bytes(), "bad.json")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("bad.json") && e.contains("true_pose"), "{e}");
+}

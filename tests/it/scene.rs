@@ -101,6 +101,7 @@ fn run() -> Run {
                 t: k as f64,
                 pose: p,
                 ranges_m,
+                true_pose: None,
             }
         })
         .collect();

@@ -148,11 +148,13 @@ fn fixture_run() -> Run {
                 t: 0.0,
                 pose: Pose::new(-0.1, 0.0, 0.0),
                 ranges_m: vec![None; 4],
+                true_pose: None,
             },
             Snapshot {
                 t: 1.0,
                 pose: Pose::new(0.0, 0.0, 0.0),
                 ranges_m: vec![None; 4],
+                true_pose: None,
             },
         ],
     }

@@ -162,6 +162,7 @@ fn zoomed_out_a_path_over_the_same_ground_is_drawn_once_and_whole_without_a_view
             t: i as f64,
             pose: Pose::new(x, 0.0, 0.0),
             ranges_m: vec![None; 4],
+            true_pose: None,
         })
         .collect();
     let input = SceneInput {

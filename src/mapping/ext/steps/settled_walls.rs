@@ -110,6 +110,7 @@ mod tests {
             t: 1.0,
             pose: Pose::new(0.0, 0.0, 0.0),
             ranges_m: vec![Some(2.0)],
+            true_pose: None,
         });
         (trace, mapper.map().clone())
     }

@@ -1,0 +1,71 @@
+//! How far a run's poses (the odometry the engine maps with) lie from the truth its snapshots
+//! keep (`true_pose`, a simulated run given odometry error): the figures `eval` reports.
+
+use crate::run::Run;
+use serde::{Deserialize, Serialize};
+
+/// The pose error over the snapshots that know their true pose. Lengths in the log's units.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PoseError {
+    /// Snapshots with a true pose.
+    pub snapshots: usize,
+    /// Root mean square distance between pose and true pose.
+    pub rms_position: f64,
+    /// Largest distance.
+    pub max_position: f64,
+    /// Distance at the last such snapshot.
+    pub final_position: f64,
+    /// Root mean square heading difference, degrees.
+    pub rms_heading_deg: f64,
+    /// Largest heading difference, degrees.
+    pub max_heading_deg: f64,
+}
+
+/// The pose error of `run`; `None` when no snapshot knows its true pose.
+///
+/// ```
+/// use sonarmap::geometry::Pose;
+/// use sonarmap::pose_error::pose_error;
+/// let mut run = sonarmap::assets::default_run().unwrap();
+/// assert!(pose_error(&run).is_none());
+/// // 3 and 4 in off (5 in), then exact; 0.1 rad then 0 of heading.
+/// let p0 = run.snapshots[0].pose;
+/// run.snapshots[0].true_pose = Some(Pose::new(p0.x + 0.0762, p0.y + 0.1016, p0.heading_rad + 0.1));
+/// run.snapshots[1].true_pose = Some(run.snapshots[1].pose);
+/// let e = pose_error(&run).unwrap();
+/// assert_eq!(e.snapshots, 2);
+/// assert!((e.max_position - 5.0).abs() < 1e-9 && e.final_position.abs() < 1e-9);
+/// assert!((e.rms_position - (25.0f64 / 2.0).sqrt()).abs() < 1e-9);
+/// assert!((e.rms_heading_deg - 0.1f64.to_degrees() / 2f64.sqrt()).abs() < 1e-9);
+/// ```
+pub fn pose_error(run: &Run) -> Option<PoseError> {
+    let pairs: Vec<(f64, f64)> = run
+        .snapshots
+        .iter()
+        .filter_map(|s| {
+            let truth = s.true_pose?;
+            let turn = s.pose.heading_rad - truth.heading_rad;
+            Some((
+                s.pose.distance_to(&truth),
+                turn.sin().atan2(turn.cos()).abs(),
+            ))
+        })
+        .collect();
+    let n = pairs.len();
+    if n == 0 {
+        return None;
+    }
+    let rms = |f: &dyn Fn(&(f64, f64)) -> f64| {
+        (pairs.iter().map(|p| f(p).powi(2)).sum::<f64>() / n as f64).sqrt()
+    };
+    let max = |f: &dyn Fn(&(f64, f64)) -> f64| pairs.iter().map(f).fold(0.0, f64::max);
+    let u = run.units;
+    Some(PoseError {
+        snapshots: n,
+        rms_position: u.from_m(rms(&|p| p.0)),
+        max_position: u.from_m(max(&|p| p.0)),
+        final_position: u.from_m(pairs[n - 1].0),
+        rms_heading_deg: rms(&|p| p.1).to_degrees(),
+        max_heading_deg: max(&|p| p.1).to_degrees(),
+    })
+}
