@@ -416,6 +416,7 @@ mod tests {
                 pose: Pose::new(0.0, 0.0, 0.0),
                 ranges_m,
                 true_pose: None,
+                reading_dt_s: Vec::new(),
             }
         };
         Run {
@@ -499,6 +500,7 @@ mod tests {
             pose: Pose::new(0.0, 0.0, 0.0),
             ranges_m: ranges.iter().map(|&r| Some(r)).collect(),
             true_pose: None,
+            reading_dt_s: Vec::new(),
         };
         let mut snapshots = vec![snap(0.0, [2.0, 2.0, 2.0])];
         snapshots.extend((1..=6).map(|t| snap(f64::from(t), [1.9, 2.08, 2.26])));

@@ -11,7 +11,7 @@ pub type Point = Point2<f64>;
 pub type Vec2 = Vector2<f64>;
 
 /// A robot pose in the world frame: position and the heading of the robot's x axis.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Pose {
     /// World x of the robot centre.
     pub x: f64,
@@ -48,6 +48,45 @@ impl Pose {
     /// Distance between the positions of two poses.
     pub fn distance_to(&self, other: &Pose) -> f64 {
         (self.position() - other.position()).norm()
+    }
+
+    /// The pose `relative` (given in this pose's robot frame) in the world: `self ⊕ relative`.
+    pub fn compose(&self, relative: &Pose) -> Pose {
+        let at = self.world_from_robot(&relative.position());
+        Pose::new(at.x, at.y, self.heading_rad + relative.heading_rad)
+    }
+
+    /// `other` in this pose's robot frame: `self⁻¹ ⊕ other`, so that
+    /// `self.compose(&self.relative_to(other))` is `other`.
+    pub fn relative_to(&self, other: &Pose) -> Pose {
+        let (s, c) = self.heading_rad.sin_cos();
+        let (dx, dy) = (other.x - self.x, other.y - self.y);
+        Pose::new(
+            c * dx + s * dy,
+            -s * dx + c * dy,
+            wrap_pi(other.heading_rad - self.heading_rad),
+        )
+    }
+
+    /// The pose a fraction `f` of the way from this one to `to` (positions linearly, heading
+    /// the short way round); `f` outside 0..1 extrapolates at the same rate.
+    pub fn interpolate(&self, to: &Pose, f: f64) -> Pose {
+        Pose::new(
+            self.x + f * (to.x - self.x),
+            self.y + f * (to.y - self.y),
+            self.heading_rad + f * wrap_pi(to.heading_rad - self.heading_rad),
+        )
+    }
+}
+
+/// `a` (radians) in `(-π, π]`.
+pub fn wrap_pi(a: f64) -> f64 {
+    use std::f64::consts::{PI, TAU};
+    let r = (a + PI).rem_euclid(TAU) - PI;
+    if r <= -PI {
+        r + TAU
+    } else {
+        r
     }
 }
 

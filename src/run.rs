@@ -20,6 +20,11 @@ pub struct Snapshot {
     /// measures the pose error with it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub true_pose: Option<Pose>,
+    /// Each reading's own time minus `t`, seconds, one per sensor, for a run whose sonars fire
+    /// in sequence; empty when every reading was taken at `t`. The engine converts a reading
+    /// with the pose of its own moment ([`Snapshot::reading_fraction`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub reading_dt_s: Vec<f64>,
 }
 
 /// A wall of the ground truth.

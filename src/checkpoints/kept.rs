@@ -121,6 +121,7 @@ impl Kept {
         MapperState {
             map: self.state.map.with_segments_indexed(self.segments.to_vec()),
             last_pose: self.state.last_pose,
+            last_t_s: self.state.last_t_s,
             next_snapshot: self.state.next_snapshot,
         }
     }
@@ -146,7 +147,12 @@ pub(super) fn kept_alive_bytes(previous: Option<&Kept>, kept: &Kept) -> usize {
         + map.features.len() * size_of::<PointFeature>()
         + map.round_evidence.len() * size_of::<Beam>()
         + map.plane_support.len() * (size_of::<(SegmentId, PlaneSupport)>() + 16)
-        + map.recent_poses.len() * size_of::<(usize, Pose)>();
+        + map.recent_poses.len() * size_of::<(usize, Pose)>()
+        + map
+            .recent_reading_poses
+            .iter()
+            .map(|(_, own)| size_of::<(usize, Vec<Pose>)>() + own.len() * size_of::<Pose>())
+            .sum::<usize>();
     let empty = Vec::new();
     let old_faces = previous.map_or(&empty, |p| &p.state.map.faces);
     // The supporting-point chunks `previous` holds in the segments this state changed or

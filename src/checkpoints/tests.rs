@@ -38,6 +38,7 @@ fn state(map: Map) -> MapperState {
     MapperState {
         map,
         last_pose: None,
+        last_t_s: None,
         next_snapshot: 0,
     }
 }

@@ -160,6 +160,7 @@ fn snapshot(s: RawSnapshot, pose: Pose, max_range_m: f64, summary: &mut ImportSu
         pose,
         ranges_m,
         true_pose: None,
+        reading_dt_s: Vec::new(),
     }
 }
 

@@ -6,7 +6,6 @@
 //! unknown and the importer skips the snapshot, saying so.
 
 use crate::geometry::Pose;
-use std::f64::consts::{PI, TAU};
 
 /// How far before the first or after the last odometry sample a snapshot may take that
 /// sample's pose, seconds.
@@ -29,15 +28,7 @@ pub enum PoseAt {
     Unknown,
 }
 
-/// `a` in `(-π, π]`.
-pub fn wrap_pi(a: f64) -> f64 {
-    let r = (a + PI).rem_euclid(TAU) - PI;
-    if r <= -PI {
-        r + TAU
-    } else {
-        r
-    }
-}
+pub use crate::geometry::wrap_pi;
 
 impl PoseTrack {
     /// Adds a sample; refuses (returns false) one earlier than the last.
@@ -99,6 +90,7 @@ impl PoseTrack {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::PI;
 
     #[test]
     fn heading_is_interpolated_the_short_way_round() {

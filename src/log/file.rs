@@ -129,6 +129,10 @@ pub struct SnapshotFile {
     /// runs given odometry error).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub true_pose: Option<PoseFile>,
+    /// Each reading's own time minus `t`, seconds, one per sensor (sonars fired in sequence);
+    /// absent when every reading was taken at `t`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub reading_dt_s: Vec<f64>,
 }
 
 /// A robot pose in the world.

@@ -508,6 +508,7 @@ fn snapshot_from_file(
             expected: sensors,
         });
     }
+    let reading_dt_s = reading_times(i, s.reading_dt_s, sensors, f)?;
     let mut ranges = s.ranges;
     for (k, r) in ranges.iter_mut().enumerate() {
         if let Some(v) = r {
@@ -528,5 +529,40 @@ fn snapshot_from_file(
         pose: Pose::new(units.to_m(x), units.to_m(y), h.to_radians()),
         ranges_m: ranges,
         true_pose,
+        reading_dt_s,
     })
 }
+
+/// Snapshot `i`'s `reading_dt_s`, checked: none, or one finite offset within a minute per
+/// sensor of the `sensors`.
+fn reading_times(
+    i: usize,
+    reading_dt_s: Vec<f64>,
+    sensors: usize,
+    f: &str,
+) -> Result<Vec<f64>, LogError> {
+    if !reading_dt_s.is_empty() && reading_dt_s.len() != sensors {
+        return Err(bad(
+            f,
+            format!("$.snapshots[{i}].reading_dt_s"),
+            format!("{} offsets", reading_dt_s.len()),
+            "none, or one offset per sensor",
+        ));
+    }
+    if let Some((k, dt)) = reading_dt_s
+        .iter()
+        .enumerate()
+        .find(|(_, dt)| !(dt.is_finite() && dt.abs() <= MAX_READING_DT_S))
+    {
+        return Err(bad(
+            f,
+            format!("$.snapshots[{i}].reading_dt_s[{k}]"),
+            sane::show(*dt),
+            "a finite offset within ±60 s of the snapshot's t",
+        ));
+    }
+    Ok(reading_dt_s)
+}
+
+/// How far a reading's own time may lie from its snapshot's, seconds.
+const MAX_READING_DT_S: f64 = 60.0;

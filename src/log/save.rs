@@ -165,6 +165,7 @@ fn snapshot_to_file(s: &Snapshot, u: Units) -> SnapshotFile {
             y: len(u, p.y),
             heading_deg: deg(p.heading_rad),
         }),
+        reading_dt_s: s.reading_dt_s.clone(),
     }
 }
 

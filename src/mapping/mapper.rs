@@ -5,6 +5,7 @@ use crate::mapping::model::map::{Map, Segment};
 use crate::mapping::model::params::Params;
 use crate::mapping::model::trace::{StepTrace, Warning};
 use crate::mapping::paper::cluster::sensor_ranks;
+use crate::mapping::paper::reading_poses::{reading_poses, ReadingPlaces};
 use crate::mapping::recorded::RecordedDecision;
 use crate::mapping::step::StepBuffers;
 use crate::run::Snapshot;
@@ -12,6 +13,13 @@ use crate::sonar::{BeamAxis, SensorLayout, SensorSpec};
 
 mod fit_stage;
 mod match_stage;
+
+/// The pose of a step not begun.
+const ZERO_POSE: Pose = Pose {
+    x: 0.0,
+    y: 0.0,
+    heading_rad: 0.0,
+};
 
 /// Runs the paper's algorithm snapshot by snapshot.
 #[derive(Clone, Debug)]
@@ -25,6 +33,11 @@ pub struct Mapper {
     pub(super) beam_axes: Vec<BeamAxis>,
     pub(super) map: Map,
     pub(super) last_pose: Option<Pose>,
+    /// Time of the last snapshot applied, seconds.
+    pub(super) last_t_s: Option<f64>,
+    /// Each sensor's pose in the step, when its readings have their own times (§1.1); empty
+    /// otherwise.
+    pub(super) step_reading_poses: Vec<Pose>,
     /// The robot frame of the step's pose: a step's beams are turned into the world with it
     /// (one sine and cosine a step, not one a beam).
     pub(super) step_frame: Option<(Pose, RobotFrame)>,
@@ -42,6 +55,8 @@ pub struct MapperState {
     pub map: Map,
     /// Pose of the last snapshot applied.
     pub last_pose: Option<Pose>,
+    /// Time of the last snapshot applied, seconds.
+    pub last_t_s: Option<f64>,
     /// Index of the next snapshot.
     pub next_snapshot: usize,
 }
@@ -63,6 +78,8 @@ impl Mapper {
             beam_axes,
             map,
             last_pose: None,
+            last_t_s: None,
+            step_reading_poses: Vec::new(),
             step_frame: None,
             next_snapshot: 0,
             brute_force: false,
@@ -122,6 +139,7 @@ impl Mapper {
         MapperState {
             map: self.map.without_index(),
             last_pose: self.last_pose,
+            last_t_s: self.last_t_s,
             next_snapshot: self.next_snapshot,
         }
     }
@@ -133,6 +151,7 @@ impl Mapper {
         let state = MapperState {
             map: self.map.without_index_or_segments(),
             last_pose: self.last_pose,
+            last_t_s: self.last_t_s,
             next_snapshot: self.next_snapshot,
         };
         (state, &self.map.segments)
@@ -144,6 +163,7 @@ impl Mapper {
         self.buffers.linkage.forget();
         self.map = state.map;
         self.last_pose = state.last_pose;
+        self.last_t_s = state.last_t_s;
         self.next_snapshot = state.next_snapshot;
     }
 
@@ -153,7 +173,20 @@ impl Mapper {
         self.buffers.linkage.forget();
         self.map = state.map.with_index();
         self.last_pose = state.last_pose;
+        self.last_t_s = state.last_t_s;
         self.next_snapshot = state.next_snapshot;
+    }
+
+    /// Where the step's readings were taken from (§1.1).
+    pub(super) fn reading_places(&self) -> ReadingPlaces<'_> {
+        let step = self
+            .step_frame
+            .as_ref()
+            .map_or(&ZERO_POSE, |(pose, _)| pose);
+        ReadingPlaces {
+            step,
+            own: &self.step_reading_poses,
+        }
     }
 
     /// An empty vector for what a step traces: a new one (with room for `capacity`) when
@@ -200,7 +233,7 @@ impl Mapper {
         self.hook_fitted(&mut fitted, &mut trace, &mut buffers);
         let new_faces =
             self.match_and_update(&mut fitted.segments, recorded, &mut trace, &mut buffers);
-        self.hook_updated(snapshot, &fitted.segments, &mut trace, &buffers);
+        self.hook_updated(&fitted.segments, &mut trace, &buffers);
         self.buffers = buffers;
         if self.record_trace {
             trace.new_segments = fitted.segments;
@@ -208,7 +241,7 @@ impl Mapper {
         if self.params.correlate {
             self.correlate_new_faces(new_faces, &mut trace);
         }
-        self.hook_step_ending(snapshot, &mut trace);
+        self.hook_step_ending(&mut trace);
         // Kept in the slim trace too: the lineage of a link reads its removal there.
         trace.dropped_links = self.map.drop_dangling_links();
         trace
@@ -235,9 +268,24 @@ impl Mapper {
                 });
             }
         }
+        let previous = self.last_t_s.zip(self.last_pose);
         self.last_pose = Some(snapshot.pose);
-        self.step_frame = Some((snapshot.pose, snapshot.pose.robot_frame()));
-        self.hook_step_started(snapshot, index);
+        self.last_t_s = Some(snapshot.t);
+        let step_pose = snapshot.pose;
+        self.step_frame = Some((step_pose, step_pose.robot_frame()));
+        if snapshot.reading_dt_s.len() == self.layout.len() {
+            reading_poses(
+                previous,
+                snapshot.t,
+                &snapshot.pose,
+                &step_pose,
+                &snapshot.reading_dt_s,
+                &mut self.step_reading_poses,
+            );
+        } else {
+            self.step_reading_poses.clear();
+        }
+        self.hook_step_started(index);
         if snapshot.ranges_m.len() != self.layout.len() {
             trace.warnings.push(Warning::RangeCount {
                 given: snapshot.ranges_m.len(),

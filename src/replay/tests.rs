@@ -21,6 +21,7 @@ fn wall_run(n: usize) -> Run {
                 pose: Pose::new(inches(3.0 * i as f64), 0.0, 0.0),
                 ranges_m,
                 true_pose: None,
+                reading_dt_s: Vec::new(),
             }
         })
         .collect();

@@ -13,7 +13,7 @@
 //! usual one (a lap run carried back to its start) is passed on without error, keeping the
 //! drift so far.
 
-use crate::geometry::Pose;
+use crate::geometry::{wrap_pi, Pose};
 use crate::run::Run;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -125,7 +125,7 @@ pub fn with_odometry(run: &Run, error: &OdometryError, seed: u64) -> Run {
             let (dx, dy) = (to.x - from.x, to.y - from.y);
             // The true motion in the robot frame at `from`.
             let (ahead_m, aside_m) = (c * dx + sn * dy, -sn * dx + c * dy);
-            let turn_rad = wrap(to.heading_rad - from.heading_rad);
+            let turn_rad = wrap_pi(to.heading_rad - from.heading_rad);
             let (forward_m, measured_turn) = if from.distance_to(&to) > jump_m {
                 (ahead_m, turn_rad)
             } else {
@@ -143,7 +143,7 @@ pub fn with_odometry(run: &Run, error: &OdometryError, seed: u64) -> Run {
             pose = Pose::new(
                 pose.x + forward_m * cm - aside_m * sh,
                 pose.y + forward_m * sm + aside_m * ch,
-                wrap(pose.heading_rad + measured_turn),
+                wrap_pi(pose.heading_rad + measured_turn),
             );
         }
         s.true_pose = Some(truth[i]);
@@ -151,11 +151,6 @@ pub fn with_odometry(run: &Run, error: &OdometryError, seed: u64) -> Run {
         odometry = Some(pose);
     }
     out
-}
-
-/// `a` wrapped into (−π, π].
-fn wrap(a: f64) -> f64 {
-    a.sin().atan2(a.cos())
 }
 
 #[cfg(test)]
@@ -175,6 +170,7 @@ mod tests {
                 pose: Pose::new(i as f64 * step_m, 0.0, 0.0),
                 ranges_m: vec![None; run.layout.len()],
                 true_pose: None,
+                reading_dt_s: Vec::new(),
             })
             .collect();
         run

@@ -72,6 +72,7 @@ pub fn simulate(plan: &Plan, model: Model, seed: u64) -> Run {
                 pose: *pose,
                 ranges_m,
                 true_pose: None,
+                reading_dt_s: Vec::new(),
             }
         })
         .collect();

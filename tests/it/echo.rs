@@ -30,6 +30,7 @@ fn oblique_wall_snapshot(layout: &SensorLayout, pose: Pose, t: f64) -> Snapshot 
         pose,
         ranges_m,
         true_pose: None,
+        reading_dt_s: Vec::new(),
     }
 }
 

@@ -51,6 +51,7 @@ fn axis_snapshot(walls: &[Wall], layout: &SensorLayout, pose: Pose, t: f64) -> S
         pose,
         ranges_m,
         true_pose: None,
+        reading_dt_s: Vec::new(),
     }
 }
 
@@ -245,6 +246,7 @@ fn single_sonar_run(params: Params) -> Mapper {
             pose: pose_in(4.0 * i as f64, 0.0),
             ranges_m,
             true_pose: None,
+            reading_dt_s: Vec::new(),
         });
     }
     mapper
@@ -291,6 +293,7 @@ fn first_memory_segment(params: Params) -> (Mapper, StepTrace) {
             pose: pose_in(8.0 * i as f64, 0.0),
             ranges_m,
             true_pose: None,
+            reading_dt_s: Vec::new(),
         });
         if !mapper.map().segments.is_empty() {
             return (mapper, trace);
@@ -341,6 +344,7 @@ fn constant_depth_turns_a_corner_arc_into_one_reading() {
         pose: pose_in(0.0, 0.0),
         ranges_m,
         true_pose: None,
+        reading_dt_s: Vec::new(),
     };
     let mut paper = Mapper::new(Params::paper(), layout.clone(), SensorSpec::default());
     let t = paper.step(&snapshot);

@@ -33,7 +33,7 @@ proptest! {
         let n = layout.len();
         let mut mapper = Mapper::new(params, layout, SensorSpec::default());
         for (i, ((x, y, h), ranges)) in steps.into_iter().enumerate() {
-            let snapshot = Snapshot { t: i as f64, pose: Pose::new(x, y, h), ranges_m: ranges[..n].to_vec(), true_pose: None };
+            let snapshot = Snapshot { t: i as f64, pose: Pose::new(x, y, h), ranges_m: ranges[..n].to_vec(), true_pose: None, reading_dt_s: Vec::new() };
             let trace = mapper.step(&snapshot);
             prop_assert_eq!(trace.readings.len(), n);
             for (k, r) in trace.readings.iter().enumerate() {
@@ -104,6 +104,7 @@ fn step_both(
             pose: Pose::new(x, y, h),
             ranges_m: ranges,
             true_pose: None,
+            reading_dt_s: Vec::new(),
         };
         let (ta, tb) = (a.step(&snapshot), b.step(&snapshot));
         check(&ta, &tb, a, b)?;

@@ -22,6 +22,7 @@ fn snapshot(t: f64, ranges_m: &[Option<f64>]) -> Snapshot {
         pose: Pose::new(0.0, 0.0, 0.0),
         ranges_m: ranges_m.to_vec(),
         true_pose: None,
+        reading_dt_s: Vec::new(),
     }
 }
 
@@ -217,6 +218,7 @@ fn a_sonar_driven_square_on_to_a_wall_stacks_its_readings_instead_of_fitting_the
                     pose: Pose::new(0.0, y, 0.0),
                     ranges_m: vec![Some(5.0 - y)],
                     true_pose: None,
+                    reading_dt_s: Vec::new(),
                 })
             })
             .collect::<Vec<_>>()
@@ -281,6 +283,7 @@ fn a_wall_read_once_a_step_by_one_sonar_is_one_segment_with_joints_and_pieces_wi
                     pose: Pose::new(0.19 * k as f64, 0.0, 0.0),
                     ranges_m: vec![Some(2.0)],
                     true_pose: None,
+                    reading_dt_s: Vec::new(),
                 })
             })
             .collect();

@@ -79,6 +79,7 @@ fn eval_figures_of_a_hand_made_map() {
             pose: Pose::new(*x, 1.0, 0.0),
             ranges_m: vec![Some(1.0)],
             true_pose: None,
+            reading_dt_s: Vec::new(),
         })
         .collect();
     let run = Run {

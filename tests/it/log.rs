@@ -324,3 +324,57 @@ fn true_poses_round_trip_and_a_log_without_them_writes_none() {
         .to_string();
     assert!(e.contains("bad.json") && e.contains("true_pose"), "{e}");
 }
+
+#[test]
+fn reading_times_round_trip_are_checked_and_zero_offsets_map_as_none() {
+    use sonarmap::mapping::{Mapper, Params};
+    let plan_file = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/tight_room.plan.json");
+    let plan = sonarmap::sim::load_plan(&std::fs::read(plan_file).unwrap(), "plan").unwrap();
+    let run = sonarmap::sim::simulate(&plan, sonarmap::sim::Model::Specular, 4);
+    assert!(!save_run(&run).contains("reading_dt_s"));
+    let n = run.layout.len();
+    let mut zeroed = run.clone();
+    for s in &mut zeroed.snapshots {
+        s.reading_dt_s = vec![0.0; n];
+    }
+    let text = save_run(&zeroed);
+    let back = load_run(text.as_bytes(), "zeroed").unwrap();
+    assert!(back
+        .snapshots
+        .iter()
+        .all(|s| s.reading_dt_s == vec![0.0; n]));
+    // Offsets of zero put every reading at its snapshot's pose: the same map and trace.
+    for params in [Params::paper(), Params::extended()] {
+        let map_of = |run: &sonarmap::run::Run| {
+            let mut m = Mapper::new(params.clone(), run.layout.clone(), run.sensor);
+            let traces: Vec<String> = run
+                .snapshots
+                .iter()
+                .map(|s| format!("{:?}", m.step(s)))
+                .collect();
+            (format!("{:?}", m.map().segments), traces)
+        };
+        assert!(map_of(&run) == map_of(&zeroed));
+        let plain = load_run(save_run(&run).as_bytes(), "plain").unwrap();
+        assert!(map_of(&plain) == map_of(&back));
+    }
+    // One offset too few, and an offset that is no time, are refused with their place.
+    let first = format!("\"reading_dt_s\":[{}]", vec!["0.0"; n].join(","));
+    assert!(text.contains(&first), "{}", &text[..400]);
+    let short = text.replacen(&first, "\"reading_dt_s\":[0.0]", 1);
+    let e = load_run(short.as_bytes(), "short.json")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("short.json") && e.contains("snapshots[0].reading_dt_s"),
+        "{e}"
+    );
+    let far = text.replacen(&first, &first.replacen("0.0", "1e9", 1), 1);
+    let e = load_run(far.as_bytes(), "far.json")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("far.json") && e.contains("reading_dt_s[0]"),
+        "{e}"
+    );
+}

@@ -102,6 +102,7 @@ fn run() -> Run {
                 pose: p,
                 ranges_m,
                 true_pose: None,
+                reading_dt_s: Vec::new(),
             }
         })
         .collect();

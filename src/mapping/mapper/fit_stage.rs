@@ -21,7 +21,7 @@ impl Mapper {
     ) {
         trace.readings = convert_readings(
             trace.snapshot,
-            &snapshot.pose,
+            self.reading_places(),
             &snapshot.ranges_m,
             &self.beam_axes,
             self.sensor.max_range_m,
@@ -29,7 +29,7 @@ impl Mapper {
             &mut buffers.kept,
         );
         let (ranks, wraps) = (&self.bearing_ranks.0, self.bearing_ranks.1);
-        self.hook_readings_kept(snapshot, trace, buffers);
+        self.hook_readings_kept(trace, buffers);
         cluster_points(
             &buffers.kept,
             ranks,

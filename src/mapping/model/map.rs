@@ -129,6 +129,10 @@ pub struct Map {
     /// test of a remembered reading needs its sensor's place; docs/algorithm.md §8.7).
     #[serde(default)]
     pub recent_poses: Vec<(usize, Pose)>,
+    /// Each sensor's own pose in those of the recent snapshots whose sonars fired in sequence
+    /// (docs/algorithm.md §1.1), oldest first.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub recent_reading_poses: Vec<(usize, Vec<Pose>)>,
     /// Point features (corners and edges, docs/algorithm.md §8.5, and pillars, §8.14), ordered
     /// by id.
     #[serde(default)]
@@ -195,6 +199,7 @@ impl PartialEq for Map {
             && self.faces == other.faces
             && self.memory == other.memory
             && self.recent_poses == other.recent_poses
+            && self.recent_reading_poses == other.recent_reading_poses
             && self.features == other.features
             && self.round_evidence == other.round_evidence
             && self.next_feature_id == other.next_feature_id

@@ -15,6 +15,7 @@ pub mod fit;
 pub mod flip;
 pub mod matching;
 pub mod merge;
+pub mod reading_poses;
 pub mod readings;
 pub mod support_points;
 pub mod update;

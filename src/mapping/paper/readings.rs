@@ -1,9 +1,9 @@
 //! Readings to points (paper §2, §3.1; docs/algorithm.md §1).
 
-use crate::geometry::Pose;
 use crate::mapping::model::map::{ReadingRef, SupportPoint};
 use crate::mapping::model::params::Params;
 use crate::mapping::model::trace::{DiscardReason, ReadingTrace};
+use crate::mapping::paper::reading_poses::ReadingPlaces;
 use crate::sonar::{ball_radius, BeamAxis};
 
 /// Why a reading with range `range_m` is discarded, if it is (docs/algorithm.md §1):
@@ -23,12 +23,14 @@ pub fn discard_reason(
 }
 
 /// Converts one snapshot's ranges: returns a trace record per sensor and puts the kept points,
-/// in sensor order, in `kept` (its previous content is dropped). `beam_axes` are the layout's
+/// in sensor order, in `kept` (its previous content is dropped). Each reading is turned into
+/// the world with its own pose when `places` has one (§1.1), else with the step's. `beam_axes` are the layout's
 /// ([`crate::sonar::SensorLayout::beam_axes`]). Ranges beyond the sensor count are ignored;
 /// missing ones count as no echo.
 ///
 /// ```
 /// use sonarmap::geometry::Pose;
+/// use sonarmap::mapping::paper::reading_poses::ReadingPlaces;
 /// use sonarmap::mapping::paper::readings::convert_readings;
 /// use sonarmap::mapping::Params;
 /// use sonarmap::sonar::SensorLayout;
@@ -40,7 +42,8 @@ pub fn discard_reason(
 /// let ranges = [Some(0.1), Some(1.8), None, Some(7.0)];
 /// let mut kept = Vec::new();
 /// let pose = Pose::new(1.0, 0.0, std::f64::consts::FRAC_PI_2);
-/// let traces = convert_readings(3, &pose, &ranges, &layout.beam_axes(), 10.0, &Params::paper(), &mut kept);
+/// let places = ReadingPlaces { step: &pose, own: &[] };
+/// let traces = convert_readings(3, places, &ranges, &layout.beam_axes(), 10.0, &Params::paper(), &mut kept);
 /// assert_eq!(traces.len(), 4);
 /// assert_eq!(kept.len(), 1);
 /// assert!((kept[0].point.x + 1.0).abs() < 1e-12 && kept[0].point.y.abs() < 1e-12);
@@ -49,21 +52,24 @@ pub fn discard_reason(
 /// ```
 pub fn convert_readings(
     snapshot: usize,
-    pose: &Pose,
+    places: ReadingPlaces,
     ranges_m: &[Option<f64>],
     beam_axes: &[BeamAxis],
     sensor_max_range_m: f64,
     params: &Params,
     kept: &mut Vec<SupportPoint>,
 ) -> Vec<ReadingTrace> {
-    let robot = pose.robot_frame();
+    let robot = places.step.robot_frame();
     let mut traces = Vec::with_capacity(beam_axes.len());
     kept.clear();
     for (sensor, axis) in beam_axes.iter().enumerate() {
         let range_m = ranges_m.get(sensor).copied().flatten();
         let discarded = discard_reason(range_m, sensor_max_range_m, params);
         let finite = range_m.filter(|d| d.is_finite());
-        let point = finite.map(|d| robot.to_world(&axis.point_at(d)));
+        let point = finite.map(|d| match places.own_pose(sensor) {
+            None => robot.to_world(&axis.point_at(d)),
+            Some(own) => own.robot_frame().to_world(&axis.point_at(d)),
+        });
         let ball_radius_m = finite.map_or(0.0, |d| ball_radius(params.accuracy_pct, d));
         if let (None, Some(point), Some(range_m)) = (discarded, point, finite) {
             kept.push(SupportPoint {
@@ -87,7 +93,7 @@ pub fn convert_readings(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::Point;
+    use crate::geometry::{Point, Pose};
     use crate::sonar::SensorLayout;
     use crate::units::inches;
 
@@ -130,7 +136,10 @@ mod tests {
         }];
         let traces = convert_readings(
             7,
-            &pose,
+            ReadingPlaces {
+                step: &pose,
+                own: &[],
+            },
             &ranges,
             &layout.beam_axes(),
             inches(255.0),
@@ -143,5 +152,25 @@ mod tests {
         assert!((traces[0].ball_radius_m - inches(3.0)).abs() < 1e-12);
         assert_eq!(traces[4].discarded, Some(DiscardReason::BelowMinRange));
         assert_eq!(kept[0].reading, ReadingRef::new(7, 0));
+    }
+
+    #[test]
+    fn a_reading_fired_at_its_own_moment_is_converted_with_its_own_pose() {
+        // Two sonars at the robot centre facing ahead (0°) and left (90°); the step at
+        // (1, 0) facing +x. Sonar 1 fired from (0.9, 0) facing +y (10 cm and 90° back on the
+        // track): its 2 m echo lands at (0.9, 0) + 2·(−1, 0) = (−1.1, 0), not at (1, 2).
+        let layout = SensorLayout::ring(2, std::f64::consts::FRAC_PI_2, 0.0, 0.0);
+        let step = Pose::new(1.0, 0.0, 0.0);
+        let own = [step, Pose::new(0.9, 0.0, std::f64::consts::FRAC_PI_2)];
+        let mut kept = Vec::new();
+        let places = ReadingPlaces {
+            step: &step,
+            own: &own,
+        };
+        let ranges = [Some(2.0), Some(2.0)];
+        let axes = layout.beam_axes();
+        convert_readings(0, places, &ranges, &axes, 10.0, &Params::paper(), &mut kept);
+        assert!((kept[0].point - Point::new(3.0, 0.0)).norm() < 1e-12);
+        assert!((kept[1].point - Point::new(-1.1, 0.0)).norm() < 1e-12);
     }
 }

@@ -149,12 +149,14 @@ fn fixture_run() -> Run {
                 pose: Pose::new(-0.1, 0.0, 0.0),
                 ranges_m: vec![None; 4],
                 true_pose: None,
+                reading_dt_s: Vec::new(),
             },
             Snapshot {
                 t: 1.0,
                 pose: Pose::new(0.0, 0.0, 0.0),
                 ranges_m: vec![None; 4],
                 true_pose: None,
+                reading_dt_s: Vec::new(),
             },
         ],
     }

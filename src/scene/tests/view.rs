@@ -163,6 +163,7 @@ fn zoomed_out_a_path_over_the_same_ground_is_drawn_once_and_whole_without_a_view
             pose: Pose::new(x, 0.0, 0.0),
             ranges_m: vec![None; 4],
             true_pose: None,
+            reading_dt_s: Vec::new(),
         })
         .collect();
     let input = SceneInput {

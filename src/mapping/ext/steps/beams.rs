@@ -21,14 +21,22 @@ impl Mapper {
         self.params.echo_fit && self.sensor.echo == EchoModel::Cone
     }
 
-    /// The world beam of reading `q`, from the pose of its snapshot when that is among the
+    /// The world beam of reading `q`, from the pose it was taken from when that is among the
     /// recent ones the map keeps (docs/algorithm.md §8.7, §8.10).
     pub(in crate::mapping) fn recent_beam_of(&self, q: &SupportPoint) -> Option<Beam> {
-        let pose = self.map.recent_pose(q.reading.snapshot())?;
+        let pose = self.map.recent_reading_pose(q.reading)?;
         Some(self.beam_of(&pose, q))
     }
 
-    /// The world beam of kept point `q` of a snapshot at `pose`.
+    /// The world beam of kept point `q` of this step, from the pose of its own moment when the
+    /// sonars fired in sequence (§1.1), else the step's.
+    pub(in crate::mapping) fn step_beam_of(&self, q: &SupportPoint) -> Beam {
+        let places = self.reading_places();
+        let pose = places.own_pose(q.reading.sensor()).unwrap_or(places.step);
+        self.beam_of(pose, q)
+    }
+
+    /// The world beam of kept point `q` taken from `pose`.
     /// Its direction is the sensor's axis, wherever the point was placed (§8.10 moves points
     /// off their axes).
     pub(in crate::mapping) fn beam_of(&self, pose: &Pose, q: &SupportPoint) -> Beam {
@@ -44,11 +52,10 @@ impl Mapper {
         }
     }
 
-    /// Whether a reading among `points` (of the snapshot at `pose`) supports the segment
-    /// `a`–`b` as a plane (docs/algorithm.md §8.7).
+    /// Whether a reading among `points` (of this step) supports the segment `a`–`b` as a plane
+    /// (docs/algorithm.md §8.7).
     pub(in crate::mapping) fn supports_as_plane_now(
         &self,
-        pose: &Pose,
         points: &[SupportPoint],
         a: &Point,
         b: &Point,
@@ -56,6 +63,6 @@ impl Mapper {
         let (xi, half) = self.accuracy_and_half_beam();
         points
             .iter()
-            .any(|q| supports(&self.beam_of(pose, q), a, b, xi, half, self.cone_edges()).is_some())
+            .any(|q| supports(&self.step_beam_of(q), a, b, xi, half, self.cone_edges()).is_some())
     }
 }

@@ -11,14 +11,12 @@ use crate::mapping::model::map::{SegmentId, SupportPoint};
 use crate::mapping::model::support::ReadingRef;
 use crate::mapping::model::trace::{NewSegmentTrace, Outcome, StepTrace};
 use crate::mapping::Mapper;
-use crate::run::Snapshot;
 
 impl Mapper {
     /// §8.7 confirmation: each segment this step's new segments matched, extended or made
     /// hears of the plane support of their readings.
     pub(in crate::mapping) fn note_plane_support(
         &mut self,
-        snapshot: &Snapshot,
         new_segments: &[NewSegmentTrace],
         trace: &mut StepTrace,
     ) {
@@ -31,7 +29,7 @@ impl Mapper {
             .collect();
         for (ni, target) in targets {
             let now = |q: &&SupportPoint| q.reading.snapshot() == trace.snapshot;
-            let beam = |q: &SupportPoint| (q.reading.sensor(), self.beam_of(&snapshot.pose, q));
+            let beam = |q: &SupportPoint| (q.reading.sensor(), self.step_beam_of(q));
             let beams: Vec<(usize, Beam)> = match new_segments.get(ni) {
                 Some(n) if !n.points.is_empty() => n.points.iter().filter(now).map(beam).collect(),
                 // Untraced, a new face's points moved into the map segment.
@@ -91,7 +89,6 @@ impl Mapper {
     /// apart along it, within [`CONFIRMING_BASELINE_TURN_RAD`] of its direction.
     pub(in crate::mapping) fn note_baseline_support(
         &mut self,
-        snapshot: &Snapshot,
         memory_readings: &[ReadingRef],
         trace: &mut StepTrace,
     ) {
@@ -119,7 +116,7 @@ impl Mapper {
                 .iter()
                 .filter_map(|q| {
                     let beam = if q.reading.snapshot() == trace.snapshot {
-                        self.beam_of(&snapshot.pose, q)
+                        self.step_beam_of(q)
                     } else if memory_readings.contains(&q.reading) {
                         self.recent_beam_of(q)?
                     } else {

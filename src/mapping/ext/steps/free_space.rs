@@ -3,21 +3,16 @@
 use crate::mapping::ext::free_space::refuted_segments;
 use crate::mapping::model::trace::{RefutedTrace, StepTrace};
 use crate::mapping::Mapper;
-use crate::run::Snapshot;
 
 impl Mapper {
     /// §8.6 free space: the segments a kept reading of this snapshot saw past leave the map.
-    pub(in crate::mapping) fn remove_refuted(
-        &mut self,
-        snapshot: &Snapshot,
-        trace: &mut StepTrace,
-    ) {
+    pub(in crate::mapping) fn remove_refuted(&mut self, trace: &mut StepTrace) {
         let (xi, half) = self.accuracy_and_half_beam();
         let mut found = Vec::new();
         // §8.12: a settled reading has left `kept`; the space in front of its wall was swept.
         let kept = std::mem::take(&mut self.buffers.kept);
         for q in &kept {
-            let beam = self.beam_of(&snapshot.pose, q);
+            let beam = self.step_beam_of(q);
             refuted_segments(&self.map, &beam, xi, half, &mut found);
             // Kept in the slim trace too: the lineage of a segment reads its removal there.
             for &(segment, distance_m, off_axis_rad) in &found {

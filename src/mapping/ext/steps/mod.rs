@@ -15,16 +15,17 @@ use crate::mapping::model::map::{EndPoint, SegmentId, SupportPoint};
 use crate::mapping::model::trace::{NewSegmentTrace, StepTrace};
 use crate::mapping::step::{FittedStep, StepBuffers};
 use crate::mapping::Mapper;
-use crate::run::Snapshot;
 
 impl Mapper {
     /// At the step's start: the pose is kept while a remembered reading may need it (§8.7 plane
     /// gate, §8.10 echo placement, §8.7 baseline confirmation).
-    pub(in crate::mapping) fn hook_step_started(&mut self, snapshot: &Snapshot, index: usize) {
+    pub(in crate::mapping) fn hook_step_started(&mut self, index: usize) {
         let p = &self.params;
         if p.plane_gate || p.echo_fit || p.baseline_confirm {
             let keep = p.memory_snapshots + 1;
-            self.map.note_pose(index, snapshot.pose, keep);
+            let places = self.reading_places();
+            let (pose, own) = (*places.step, places.own.to_vec());
+            self.map.note_pose(index, pose, &own, keep);
         }
     }
 
@@ -32,20 +33,14 @@ impl Mapper {
     /// confirmed wall settles (§8.12) leave `buffers.kept`.
     pub(in crate::mapping) fn hook_readings_kept(
         &self,
-        snapshot: &Snapshot,
         trace: &mut StepTrace,
         buffers: &mut StepBuffers,
     ) {
         if self.params.explain_readings {
-            self.drop_explained_readings(
-                snapshot,
-                trace,
-                &mut buffers.kept,
-                &mut buffers.confirmed_features,
-            );
+            self.drop_explained_readings(trace, &mut buffers.kept, &mut buffers.confirmed_features);
         }
         if self.params.settled_walls {
-            self.set_aside_settled_readings(snapshot, trace, buffers);
+            self.set_aside_settled_readings(trace, buffers);
         }
     }
 
@@ -91,7 +86,7 @@ impl Mapper {
         !(pieces == 1
             && trace
                 .pose
-                .is_some_and(|pose| self.supports_as_plane_now(&pose, points, &a.point, &b.point)))
+                .is_some_and(|_| self.supports_as_plane_now(points, &a.point, &b.point)))
     }
 
     /// In §3, a piece about to become new segment `index`: echo placement (§8.10) moves its
@@ -140,7 +135,6 @@ impl Mapper {
     /// matches, extensions and new faces, and baseline confirmation of point memory's pieces.
     pub(in crate::mapping) fn hook_updated(
         &mut self,
-        snapshot: &Snapshot,
         new_segments: &[NewSegmentTrace],
         trace: &mut StepTrace,
         buffers: &StepBuffers,
@@ -151,21 +145,17 @@ impl Mapper {
         if self.params.refit_unconfirms {
             self.unconfirm_moved_refits(trace);
         }
-        self.note_plane_support(snapshot, new_segments, trace);
+        self.note_plane_support(new_segments, trace);
         if self.params.baseline_confirm && !buffers.memory_readings.is_empty() {
-            self.note_baseline_support(snapshot, &buffers.memory_readings, trace);
+            self.note_baseline_support(&buffers.memory_readings, trace);
         }
     }
 
     /// After §6: free space (§8.6) removes the segments a kept reading saw past, then corner
     /// diagonals (§8.11) leave the map.
-    pub(in crate::mapping) fn hook_step_ending(
-        &mut self,
-        snapshot: &Snapshot,
-        trace: &mut StepTrace,
-    ) {
+    pub(in crate::mapping) fn hook_step_ending(&mut self, trace: &mut StepTrace) {
         if self.params.free_space {
-            self.remove_refuted(snapshot, trace);
+            self.remove_refuted(trace);
         }
         if self.params.corner_diagonals {
             self.remove_corner_diagonals(trace);

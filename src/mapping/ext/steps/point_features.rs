@@ -13,7 +13,6 @@ use crate::mapping::model::ids::FeatureId;
 use crate::mapping::model::map::SupportPoint;
 use crate::mapping::model::trace::{ExplainedTrace, StepTrace};
 use crate::mapping::Mapper;
-use crate::run::Snapshot;
 use crate::sonar::EchoModel;
 
 /// Most confirmed point features §8.5's explained readings search one by one; more are
@@ -25,7 +24,6 @@ impl Mapper {
     /// `kept` (each looks only at the features filed near its own point).
     pub(in crate::mapping) fn drop_explained_readings(
         &self,
-        snapshot: &Snapshot,
         trace: &mut StepTrace,
         kept: &mut Vec<SupportPoint>,
         confirmed: &mut Vec<(FeatureId, Point, f64)>,
@@ -44,7 +42,7 @@ impl Mapper {
         let (xi, half) = self.accuracy_and_half_beam();
         let mut scratch = Vec::new();
         kept.retain(|q| {
-            let beam = self.beam_of(&snapshot.pose, q);
+            let beam = self.step_beam_of(q);
             let id = if confirmed.len() <= MAX_FEATURES_SEARCHED_DIRECTLY {
                 explaining_feature_among(confirmed, &beam, xi, half)
             } else {
@@ -79,14 +77,14 @@ impl Mapper {
         chain: &[SupportPoint],
         trace: &mut StepTrace,
     ) -> bool {
-        let Some(pose) = trace.pose else {
+        if trace.pose.is_none() {
             return false;
-        };
+        }
         // An arc takes two readings at least (`arc_point`); most clusters are one.
         if chain.len() < 2 {
             return false;
         }
-        let beams: Vec<Beam> = chain.iter().map(|q| self.beam_of(&pose, q)).collect();
+        let beams: Vec<Beam> = chain.iter().map(|q| self.step_beam_of(q)).collect();
         let sensors: Vec<usize> = chain.iter().map(|q| q.reading.sensor()).collect();
         let Some((at, range_m)) = arc_point(&beams, &sensors, self.params.accuracy_pct) else {
             return false;
@@ -94,7 +92,7 @@ impl Mapper {
         // A plane facing the sensors' bisector reads the same range to each of them too: an
         // arc whose chord a reading supports as a plane stays a line.
         let (first, last) = (chain[0].point, chain[chain.len() - 1].point);
-        if self.supports_as_plane_now(&pose, chain, &first, &last) {
+        if self.supports_as_plane_now(chain, &first, &last) {
             return false;
         }
         // With echo placement (§8.10) on for a cone sensor: a plane seen square-on by

@@ -6,7 +6,6 @@ use crate::mapping::ext::settled_walls::{
 use crate::mapping::model::trace::{SettledTrace, StepTrace};
 use crate::mapping::step::StepBuffers;
 use crate::mapping::Mapper;
-use crate::run::Snapshot;
 
 impl Mapper {
     /// §8.12 settled walls: the kept points a confirmed wall explains well inside its ends (at
@@ -14,7 +13,6 @@ impl Mapper {
     /// they join no cluster, no point memory and no free-space sweep.
     pub(in crate::mapping) fn set_aside_settled_readings(
         &self,
-        snapshot: &Snapshot,
         trace: &mut StepTrace,
         buffers: &mut StepBuffers,
     ) {
@@ -31,7 +29,7 @@ impl Mapper {
         let (near, settled_by) = (&mut buffers.near_walls, &mut buffers.settled_by);
         settled_by.resize(self.layout.len(), None);
         buffers.kept.retain(|q| {
-            let beam = self.beam_of(&snapshot.pose, q);
+            let beam = self.step_beam_of(q);
             let hint = settled_by.get(q.reading.sensor()).copied().flatten();
             // Traced, the wall that predicts the range best, for the trace; untraced, any.
             let segment = if self.record_trace {
@@ -104,6 +102,7 @@ mod tests {
         mapper.restore(&MapperState {
             map,
             last_pose: None,
+            last_t_s: None,
             next_snapshot: 1,
         });
         let trace = mapper.step(&Snapshot {
@@ -111,6 +110,7 @@ mod tests {
             pose: Pose::new(0.0, 0.0, 0.0),
             ranges_m: vec![Some(2.0)],
             true_pose: None,
+            reading_dt_s: Vec::new(),
         });
         (trace, mapper.map().clone())
     }

@@ -41,11 +41,37 @@ impl Map {
         dangling
     }
 
-    /// Notes the pose of `snapshot`, keeping the last `keep` poses.
-    pub(crate) fn note_pose(&mut self, snapshot: usize, pose: Pose, keep: usize) {
+    /// Notes the pose of `snapshot` and its sensors' own (`reading_poses`, empty when its
+    /// readings were taken at its pose), keeping the last `keep` snapshots'.
+    pub(crate) fn note_pose(
+        &mut self,
+        snapshot: usize,
+        pose: Pose,
+        reading_poses: &[Pose],
+        keep: usize,
+    ) {
         self.recent_poses.push((snapshot, pose));
         let excess = self.recent_poses.len().saturating_sub(keep);
         self.recent_poses.drain(..excess);
+        if !reading_poses.is_empty() {
+            self.recent_reading_poses
+                .push((snapshot, reading_poses.to_vec()));
+        }
+        let oldest = self.recent_poses.first().map_or(snapshot, |&(k, _)| k);
+        self.recent_reading_poses.retain(|(k, _)| *k >= oldest);
+    }
+
+    /// The pose reading `reading` was taken from, when its snapshot is among the recent ones:
+    /// its sensor's own, or its snapshot's.
+    pub fn recent_reading_pose(&self, reading: ReadingRef) -> Option<Pose> {
+        let snapshot = reading.snapshot();
+        let own = self
+            .recent_reading_poses
+            .iter()
+            .rev()
+            .find(|(k, _)| *k == snapshot)
+            .and_then(|(_, poses)| poses.get(reading.sensor()).copied());
+        own.or_else(|| self.recent_pose(snapshot))
     }
 
     /// The pose of `snapshot`, when it is among the recent ones.

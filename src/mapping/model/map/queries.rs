@@ -85,6 +85,7 @@ impl Map {
             faces: self.faces.clone(),
             memory: self.memory.clone(),
             recent_poses: self.recent_poses.clone(),
+            recent_reading_poses: self.recent_reading_poses.clone(),
             features: self.features.clone(),
             round_evidence: self.round_evidence.clone(),
             next_feature_id: self.next_feature_id,
