@@ -11,6 +11,7 @@ pub mod free_space;
 pub mod memory_linkage;
 pub mod point_features;
 pub mod point_memory;
+pub mod pose_correction;
 pub mod round_reflectors;
 pub mod settled_walls;
 mod steps;

@@ -1,0 +1,405 @@
+//! Pose correction against the confirmed map (docs/algorithm.md §8.17): the math, apart from
+//! the step that uses it (`steps/pose_correction.rs`).
+//!
+//! The pose is an estimate with a covariance, as in Leonard and Durrant-Whyte's EKF
+//! localisation (1991): odometry's increment predicts it and grows its covariance; ranges that
+//! a confirmed wall (the plane model: the echo from the foot of the perpendicular, Kleeman and
+//! Kuc) or a confirmed point feature explains within the paper's tolerance update it. The
+//! update is an iterated EKF (Gauss–Newton on the prior plus the range residuals), the segment
+//! map standing in for Crowley's (1989) matched line segments. A direction no range constrains
+//! keeps the prediction: a corridor fixes heading and lateral position, not the position along
+//! it.
+
+use crate::geometry::{Point, Pose, Vec2};
+use crate::mapping::ext::beam_geometry::{feature_tolerance_m, HalfCone};
+use crate::mapping::model::beam::Beam;
+use nalgebra::{Matrix3, SymmetricEigen, Vector3};
+
+/// Odometry's error per metre driven, as a standard deviation of position (3 %: the "bad" end
+/// of UMBmark's wheel errors, Borenstein and Feng 1996).
+pub const POSITION_NOISE_PER_M: f64 = 0.03;
+/// Odometry's heading error per metre driven, radians (5° a 10 m, the same "bad" end).
+pub const HEADING_NOISE_RAD_PER_M: f64 = 5.0 * std::f64::consts::PI / 180.0 / 10.0;
+/// Odometry's heading error per radian turned (5 %).
+pub const HEADING_NOISE_PER_RAD: f64 = 0.05;
+/// The noise of an increment however small (1 mm, 0.05°): a standing robot's pose can still be
+/// refined.
+pub const NOISE_FLOOR: (f64, f64) = (0.001, 0.05 * std::f64::consts::PI / 180.0);
+/// The largest standard deviation the estimate keeps (0.5 m, 10°): past it the map says no more
+/// than the odometry, and a correction that large is no correction.
+pub const MAX_SIGMA: (f64, f64) = (0.5, 10.0 * std::f64::consts::PI / 180.0);
+/// Iterations of the update (each re-associates the readings at the new pose).
+pub const ITERATIONS: usize = 3;
+/// Fewest readings the map must explain for a correction.
+pub const MIN_MATCHED_READINGS: usize = 2;
+/// The scale of heading in the observability figures: one radian counts as this many metres.
+pub const HEADING_SCALE_M: f64 = 1.0;
+
+/// The pose estimate carried from step to step: the transform from the odometry's frame into
+/// the map's (`map pose = odometry_to_map ⊕ odometry pose`) and the covariance of the map pose
+/// (x, y in metres, heading in radians).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PoseBelief {
+    /// The rigid transform from odometry into the map.
+    pub odometry_to_map: Pose,
+    /// The covariance of the map pose.
+    pub covariance: Matrix3<f64>,
+}
+
+impl Default for PoseBelief {
+    fn default() -> Self {
+        Self {
+            odometry_to_map: Pose::default(),
+            covariance: Matrix3::zeros(),
+        }
+    }
+}
+
+/// The covariance an odometry increment of `distance_m` and `turn_rad` adds.
+pub fn motion_noise(distance_m: f64, turn_rad: f64) -> Matrix3<f64> {
+    let sigma_xy = NOISE_FLOOR.0 + POSITION_NOISE_PER_M * distance_m;
+    let sigma_heading = NOISE_FLOOR.1
+        + HEADING_NOISE_RAD_PER_M * distance_m
+        + HEADING_NOISE_PER_RAD * turn_rad.abs();
+    Matrix3::from_diagonal(&Vector3::new(
+        sigma_xy * sigma_xy,
+        sigma_xy * sigma_xy,
+        sigma_heading * sigma_heading,
+    ))
+}
+
+/// `covariance` with its standard deviations held within [`MAX_SIGMA`].
+pub fn capped(covariance: Matrix3<f64>) -> Matrix3<f64> {
+    let mut c = covariance;
+    let limits = [MAX_SIGMA.0, MAX_SIGMA.0, MAX_SIGMA.1];
+    for (k, limit) in limits.iter().enumerate() {
+        let sigma = c[(k, k)].max(0.0).sqrt();
+        if sigma > *limit {
+            let scale = limit / sigma;
+            for j in 0..3 {
+                c[(k, j)] *= scale;
+                c[(j, k)] *= scale;
+            }
+        }
+    }
+    c
+}
+
+/// One range a confirmed target explains, linearised at the pose it was found at.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RangeObservation {
+    /// The range read, metres.
+    pub range_m: f64,
+    /// The range the target predicts, metres.
+    pub predicted_m: f64,
+    /// The predicted range's derivatives by the robot's x, y (per metre) and heading (per
+    /// radian).
+    pub jacobian: Vector3<f64>,
+    /// The range's standard deviation, metres: the paper's ball radius ξ·D (at least 1 in).
+    pub sigma_m: f64,
+}
+
+impl RangeObservation {
+    /// Read minus predicted, metres.
+    pub fn residual_m(&self) -> f64 {
+        self.range_m - self.predicted_m
+    }
+}
+
+/// The derivatives of a range from a sensor at `origin` along the unit vector `away` (from the
+/// target to the sensor), for a robot at `robot`: moving the robot moves the sensor with it,
+/// turning it swings the sensor about the robot's centre.
+fn range_jacobian(origin: &Point, robot: &Point, away: &Vec2) -> Vector3<f64> {
+    let lever = origin - robot;
+    Vector3::new(away.x, away.y, away.x * -lever.y + away.y * lever.x)
+}
+
+/// The range the wall `a`–`b` predicts for `beam`, when its normal lies inside the cone, the
+/// foot of the perpendicular on the wall (10 % slack), and it explains the range within the
+/// paper's tolerance `max(ξ·D/100, 1 in)`; linearised for a robot at `robot`. With `along_axis`
+/// (a sensor whose echo comes from its axis) the range is the distance along the axis to the
+/// wall's line; otherwise the plane model's, the distance to the foot.
+///
+/// ```
+/// use sonarmap::geometry::{Point, Vec2};
+/// use sonarmap::mapping::ext::beam_geometry::HalfCone;
+/// use sonarmap::mapping::ext::pose_correction::wall_observation;
+/// use sonarmap::mapping::model::beam::Beam;
+/// // A sensor 0.2 m ahead of the robot at the origin reads 1.82 m towards the wall x = 2:
+/// // predicted 1.8 m; moving the robot +x shortens the range (∂/∂x = −1).
+/// let beam = Beam { origin: Point::new(0.2, 0.0), direction: Vec2::new(1.0, 0.0), range_m: 1.82 };
+/// let half = HalfCone::new(12.5f64.to_radians());
+/// let o = wall_observation(&beam, &Point::new(2.0, -1.0), &Point::new(2.0, 1.0), &Point::origin(), 3.0, half, false).unwrap();
+/// assert!((o.predicted_m - 1.8).abs() < 1e-12 && (o.residual_m() - 0.02).abs() < 1e-12);
+/// assert!((o.jacobian.x + 1.0).abs() < 1e-12 && o.jacobian.z.abs() < 1e-12);
+/// ```
+pub fn wall_observation(
+    beam: &Beam,
+    a: &Point,
+    b: &Point,
+    robot: &Point,
+    accuracy_pct: f64,
+    half: HalfCone,
+    along_axis: bool,
+) -> Option<RangeObservation> {
+    let along = b - a;
+    let length2 = along.norm_squared();
+    if length2 <= 0.0 {
+        return None;
+    }
+    let t = (beam.origin - a).dot(&along) / length2;
+    if !(-0.1..=1.1).contains(&t) {
+        return None;
+    }
+    let foot = a + along * t;
+    let away = beam.origin - foot;
+    let distance_m = away.norm();
+    if distance_m <= 0.0 {
+        return None;
+    }
+    let away = away / distance_m;
+    let cos_off_normal = -away.dot(&beam.direction);
+    if cos_off_normal < half.cos {
+        return None;
+    }
+    let (predicted_m, jacobian) = if along_axis {
+        // h = d / c, c = −n·u: moving the robot moves d; turning it moves d and turns u.
+        let lever = beam.origin - robot;
+        let turned_u = Vec2::new(-beam.direction.y, beam.direction.x);
+        let dd_dtheta = away.x * -lever.y + away.y * lever.x;
+        let dc_dtheta = -away.dot(&turned_u);
+        let c = cos_off_normal;
+        let jacobian = Vector3::new(
+            away.x / c,
+            away.y / c,
+            dd_dtheta / c - distance_m * dc_dtheta / (c * c),
+        );
+        (distance_m / c, jacobian)
+    } else {
+        (distance_m, range_jacobian(&beam.origin, robot, &away))
+    };
+    let tolerance_m = feature_tolerance_m(accuracy_pct, beam.range_m);
+    ((predicted_m - beam.range_m).abs() <= tolerance_m).then_some(RangeObservation {
+        range_m: beam.range_m,
+        predicted_m,
+        jacobian,
+        sigma_m: tolerance_m,
+    })
+}
+
+/// The range a point feature at `at` (a pillar of radius `radius_m`, 0 for a corner or edge)
+/// predicts for `beam`, when it lies inside the cone and explains the range within the
+/// tolerance; linearised for a robot at `robot`.
+pub fn feature_observation(
+    beam: &Beam,
+    at: &Point,
+    radius_m: f64,
+    robot: &Point,
+    accuracy_pct: f64,
+    half: HalfCone,
+) -> Option<RangeObservation> {
+    let away = beam.origin - at;
+    let distance_m = away.norm();
+    let predicted_m = distance_m - radius_m;
+    let tolerance_m = feature_tolerance_m(accuracy_pct, beam.range_m);
+    if distance_m <= 0.0 || (predicted_m - beam.range_m).abs() > tolerance_m {
+        return None;
+    }
+    let away = away / distance_m;
+    (-away.dot(&beam.direction) >= half.cos).then(|| RangeObservation {
+        range_m: beam.range_m,
+        predicted_m,
+        jacobian: range_jacobian(&beam.origin, robot, &away),
+        sigma_m: tolerance_m,
+    })
+}
+
+/// The information the observations give about the pose: `Σ Hᵀ H / σ²`.
+pub fn information(observations: &[RangeObservation]) -> Matrix3<f64> {
+    observations.iter().fold(Matrix3::zeros(), |sum, o| {
+        sum + o.jacobian * o.jacobian.transpose() / (o.sigma_m * o.sigma_m)
+    })
+}
+
+/// One Gauss–Newton step of the iterated update from `estimate` (offset `from_prior` =
+/// estimate − prediction, as x, y, heading): minimises the prior's Mahalanobis distance plus
+/// the observations' squared residuals over their variances. Returns the step to add to the
+/// estimate, and the posterior covariance; `None` when the prior's covariance cannot be
+/// inverted.
+pub fn gauss_newton_step(
+    prior_covariance: &Matrix3<f64>,
+    from_prior: &Vector3<f64>,
+    observations: &[RangeObservation],
+) -> Option<(Vector3<f64>, Matrix3<f64>)> {
+    let prior_information = prior_covariance.try_inverse()?;
+    let a = prior_information + information(observations);
+    let b = observations.iter().fold(
+        -(prior_information * from_prior),
+        |sum, o| sum + o.jacobian * (o.residual_m() / (o.sigma_m * o.sigma_m)),
+    );
+    let posterior = a.try_inverse()?;
+    Some((posterior * b, posterior))
+}
+
+/// The pose `estimate` moved by `step` (x, y in metres, heading in radians).
+pub fn moved(estimate: &Pose, step: &Vector3<f64>) -> Pose {
+    Pose::new(
+        estimate.x + step.x,
+        estimate.y + step.y,
+        estimate.heading_rad + step.z,
+    )
+}
+
+/// `to − from` as x, y and heading (the short way round).
+pub fn difference(from: &Pose, to: &Pose) -> Vector3<f64> {
+    Vector3::new(
+        to.x - from.x,
+        to.y - from.y,
+        crate::geometry::wrap_pi(to.heading_rad - from.heading_rad),
+    )
+}
+
+/// The directions of the pose the observations' information constrains more than the prior
+/// does: eigenvectors of the information (heading scaled by [`HEADING_SCALE_M`]), each with its
+/// information, strongest first.
+pub fn observed_directions(
+    observations: &[RangeObservation],
+    prior_covariance: &Matrix3<f64>,
+) -> Vec<([f64; 3], f64, bool)> {
+    let scale = Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, 1.0 / HEADING_SCALE_M));
+    let info = scale * information(observations) * scale;
+    let prior = prior_covariance
+        .try_inverse()
+        .map(|p| scale * p * scale)
+        .unwrap_or_else(Matrix3::zeros);
+    let eigen = SymmetricEigen::new(info);
+    let mut directions: Vec<([f64; 3], f64, bool)> = (0..3)
+        .map(|k| {
+            let v: Vector3<f64> = eigen.eigenvectors.column(k).into_owned();
+            let v = if v.x + v.y + v.z < 0.0 { -v } else { v };
+            let prior_along = (v.transpose() * prior * v)[(0, 0)];
+            let value = eigen.eigenvalues[k].max(0.0);
+            ([v.x, v.y, v.z], value, value > prior_along)
+        })
+        .collect();
+    directions.sort_by(|p, q| q.1.total_cmp(&p.1));
+    directions
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn half() -> HalfCone {
+        HalfCone::new(12.5f64.to_radians())
+    }
+
+    /// Beams from a robot at `pose` along its own axes (sensor at the centre) at `headings`
+    /// (robot frame), reading the true ranges `true_ranges`.
+    fn beams(pose: &Pose, headings_deg: &[f64], true_ranges: &[f64]) -> Vec<Beam> {
+        headings_deg
+            .iter()
+            .zip(true_ranges)
+            .map(|(h, r)| {
+                let a = pose.heading_rad + h.to_radians();
+                Beam {
+                    origin: pose.position(),
+                    direction: Vec2::new(a.cos(), a.sin()),
+                    range_m: *r,
+                }
+            })
+            .collect()
+    }
+
+    /// Iterates the update from `prediction` with the walls, as the step does.
+    fn solve(prediction: Pose, prior: Matrix3<f64>, walls: &[(Point, Point)], beam_of: impl Fn(&Pose) -> Vec<Beam>) -> Pose {
+        let mut estimate = prediction;
+        for _ in 0..ITERATIONS {
+            let observations: Vec<RangeObservation> = beam_of(&estimate)
+                .iter()
+                .filter_map(|b| {
+                    walls.iter().find_map(|(a, w)| {
+                        wall_observation(b, a, w, &estimate.position(), 3.0, half(), true)
+                    })
+                })
+                .collect();
+            let from_prior = difference(&prediction, &estimate);
+            let (step, _) = gauss_newton_step(&prior, &from_prior, &observations).unwrap();
+            estimate = moved(&estimate, &step);
+        }
+        estimate
+    }
+
+    #[test]
+    fn two_walls_at_a_right_angle_fix_a_known_offset() {
+        // Walls x = 2 and y = 3 meet at a corner. The robot truly stands at (0, 0) facing +x
+        // and its sensors (at its centre, echoes along their axes) read each wall on its normal
+        // and 5° either side of it: 2 m and 2/cos 5° = 2.00764 m ahead, 3 m and 3/cos 5° =
+        // 3.01147 m to its left. Odometry says
+        // (0.05, −0.04), 1° off: the solved pose is the truth.
+        let walls = [
+            (Point::new(2.0, -5.0), Point::new(2.0, 5.0)),
+            (Point::new(-5.0, 3.0), Point::new(5.0, 3.0)),
+        ];
+        let c5 = 5f64.to_radians().cos();
+        let headings = [-5.0, 0.0, 5.0, 85.0, 90.0, 95.0];
+        let ranges = [2.0 / c5, 2.0, 2.0 / c5, 3.0 / c5, 3.0, 3.0 / c5];
+        let prediction = Pose::new(0.05, -0.04, 1f64.to_radians());
+        // A loose prior (1 m, 1 rad): the ranges decide. (One snapshot's readings 5° off the
+        // normals say little of heading: a 20° prior would keep a fifth of the 1°.)
+        let prior = Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, 1.0));
+        let solved = solve(prediction, prior, &walls, |p| beams(p, &headings, &ranges));
+        assert!(solved.x.abs() < 2e-3 && solved.y.abs() < 2e-3, "{solved:?}");
+        assert!(solved.heading_rad.abs() < 0.05f64.to_radians(), "{solved:?}");
+    }
+
+    #[test]
+    fn a_corridor_fixes_lateral_position_and_heading_and_leaves_the_along_position_to_the_prior()
+    {
+        // Walls y = ±1 along x. Truly at (0, 0), heading 0; readings at ±90° and ±85° (1 m and
+        // 1/cos 5°). Odometry says (0.3, 0.02), heading 1° (the ranges it predicts within the
+        // 3 % tolerance of those read): the x offset must stay, y and heading must go.
+        let walls = [
+            (Point::new(-10.0, 1.0), Point::new(10.0, 1.0)),
+            (Point::new(-10.0, -1.0), Point::new(10.0, -1.0)),
+        ];
+        let c5 = 5f64.to_radians().cos();
+        let headings = [85.0, 90.0, 95.0, -85.0, -90.0, -95.0];
+        let ranges = [1.0 / c5, 1.0, 1.0 / c5, 1.0 / c5, 1.0, 1.0 / c5];
+        let prediction = Pose::new(0.3, 0.02, 1f64.to_radians());
+        let prior = Matrix3::from_diagonal(&Vector3::new(0.01, 0.01, 1.0));
+        let solved = solve(prediction, prior, &walls, |p| beams(p, &headings, &ranges));
+        assert!((solved.x - 0.3).abs() < 1e-9, "along kept: {solved:?}");
+        assert!(solved.y.abs() < 2e-3, "lateral fixed: {solved:?}");
+        assert!(solved.heading_rad.abs() < 0.1f64.to_radians(), "{solved:?}");
+        // The information says which: y and heading observed, x not.
+        let observations: Vec<RangeObservation> = beams(&Pose::new(0.0, 0.0, 0.0), &headings, &ranges)
+            .iter()
+            .filter_map(|b| walls.iter().find_map(|(a, w)| wall_observation(b, a, w, &Point::origin(), 3.0, half(), true)))
+            .collect();
+        let directions = observed_directions(&observations, &prior);
+        let unobserved: Vec<_> = directions.iter().filter(|d| !d.2).collect();
+        assert_eq!(unobserved.len(), 1);
+        assert!(unobserved[0].0[0].abs() > 0.999, "{directions:?}");
+    }
+
+    #[test]
+    fn with_nothing_observed_the_step_is_zero() {
+        let prior = Matrix3::identity() * 0.01;
+        let (step, posterior) = gauss_newton_step(&prior, &Vector3::zeros(), &[]).unwrap();
+        assert_eq!(step, Vector3::zeros());
+        assert!((posterior - prior).norm() < 1e-15);
+    }
+
+    #[test]
+    fn motion_noise_grows_with_distance_and_turn() {
+        let still = motion_noise(0.0, 0.0);
+        assert!((still[(0, 0)].sqrt() - 0.001).abs() < 1e-15);
+        // 1 m: 1 mm + 3 cm.
+        assert!((motion_noise(1.0, 0.0)[(0, 0)].sqrt() - 0.031).abs() < 1e-12);
+        assert!(motion_noise(0.0, 1.0)[(2, 2)] > still[(2, 2)]);
+        let big = capped(Matrix3::identity() * 4.0);
+        assert!((big[(0, 0)].sqrt() - 0.5).abs() < 1e-12);
+        assert!((big[(2, 2)].sqrt() - MAX_SIGMA.1).abs() < 1e-12);
+    }
+}
