@@ -1,6 +1,7 @@
 //! How far a run's poses (the odometry the engine maps with) lie from the truth its snapshots
 //! keep (`true_pose`, a simulated run given odometry error): the figures `eval` reports.
 
+use crate::geometry::{wrap_pi, Pose};
 use crate::run::Run;
 use serde::{Deserialize, Serialize};
 
@@ -39,16 +40,20 @@ pub struct PoseError {
 /// assert!((e.rms_heading_deg - 0.1f64.to_degrees() / 2f64.sqrt()).abs() < 1e-9);
 /// ```
 pub fn pose_error(run: &Run) -> Option<PoseError> {
+    pose_error_of(run, run.snapshots.iter().map(|s| s.pose))
+}
+
+/// [`pose_error`] of `poses` (one per snapshot, in order: the poses the engine used, corrected
+/// or not) against the run's truth.
+pub fn pose_error_of(run: &Run, poses: impl IntoIterator<Item = Pose>) -> Option<PoseError> {
     let pairs: Vec<(f64, f64)> = run
         .snapshots
         .iter()
-        .filter_map(|s| {
+        .zip(poses)
+        .filter_map(|(s, pose)| {
             let truth = s.true_pose?;
-            let turn = s.pose.heading_rad - truth.heading_rad;
-            Some((
-                s.pose.distance_to(&truth),
-                turn.sin().atan2(turn.cos()).abs(),
-            ))
+            let turn = wrap_pi(pose.heading_rad - truth.heading_rad);
+            Some((pose.distance_to(&truth), turn.abs()))
         })
         .collect();
     let n = pairs.len();

@@ -122,6 +122,7 @@ impl Kept {
             map: self.state.map.with_segments_indexed(self.segments.to_vec()),
             last_pose: self.state.last_pose,
             last_t_s: self.state.last_t_s,
+            pose_belief: self.state.pose_belief,
             next_snapshot: self.state.next_snapshot,
         }
     }

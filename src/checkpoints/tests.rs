@@ -39,6 +39,7 @@ fn state(map: Map) -> MapperState {
         map,
         last_pose: None,
         last_t_s: None,
+        pose_belief: Default::default(),
         next_snapshot: 0,
     }
 }

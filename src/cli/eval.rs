@@ -62,6 +62,10 @@ struct EvalOutput {
     snapshots: usize,
     #[serde(flatten)]
     report: EvalReport,
+    /// The pose error of the poses the engine used (corrected by §8.17), when the log has the
+    /// truth and the poses were corrected.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    corrected_pose_error: Option<sonarmap::pose_error::PoseError>,
     /// Point features (docs/algorithm.md §8.5), when the map has any.
     #[serde(skip_serializing_if = "Option::is_none")]
     point_features: Option<usize>,
@@ -110,6 +114,10 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
         },
         snapshots: summary.snapshots,
         report,
+        corrected_pose_error: params
+            .pose_correction
+            .then(|| sonarmap::pose_error::pose_error_of(&run, summary.poses.iter().copied()))
+            .flatten(),
         point_features: has_features.then_some(features),
         true_point_features: has_features
             .then(|| sonarmap::eval::true_point_features(map, &floor_plan, &params)),

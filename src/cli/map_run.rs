@@ -93,11 +93,14 @@ pub struct Summary {
     pub dismissals: usize,
     /// New faces.
     pub new_faces: usize,
+    /// The pose each step used (corrected, with pose correction), in order.
+    pub poses: Vec<sonarmap::geometry::Pose>,
 }
 
 impl Summary {
     fn add(&mut self, trace: &StepTrace) {
         self.snapshots += 1;
+        self.poses.extend(trace.pose);
         for r in &trace.readings {
             if r.discarded.is_some() {
                 self.discarded += 1;

@@ -1,6 +1,7 @@
 //! The mapper: one snapshot in, the map updated and the step's trace out (paper §3).
 
 use crate::geometry::{Pose, RobotFrame};
+use crate::mapping::ext::pose_correction::PoseBelief;
 use crate::mapping::model::map::{Map, Segment};
 use crate::mapping::model::params::Params;
 use crate::mapping::model::trace::{StepTrace, Warning};
@@ -35,6 +36,8 @@ pub struct Mapper {
     pub(super) last_pose: Option<Pose>,
     /// Time of the last snapshot applied, seconds.
     pub(super) last_t_s: Option<f64>,
+    /// The pose estimate pose correction carries (docs/algorithm.md §8.17).
+    pub(super) pose_belief: PoseBelief,
     /// Each sensor's pose in the step, when its readings have their own times (§1.1); empty
     /// otherwise.
     pub(super) step_reading_poses: Vec<Pose>,
@@ -57,6 +60,8 @@ pub struct MapperState {
     pub last_pose: Option<Pose>,
     /// Time of the last snapshot applied, seconds.
     pub last_t_s: Option<f64>,
+    /// The pose estimate pose correction carries (docs/algorithm.md §8.17).
+    pub pose_belief: PoseBelief,
     /// Index of the next snapshot.
     pub next_snapshot: usize,
 }
@@ -79,6 +84,7 @@ impl Mapper {
             map,
             last_pose: None,
             last_t_s: None,
+            pose_belief: PoseBelief::default(),
             step_reading_poses: Vec::new(),
             step_frame: None,
             next_snapshot: 0,
@@ -140,6 +146,7 @@ impl Mapper {
             map: self.map.without_index(),
             last_pose: self.last_pose,
             last_t_s: self.last_t_s,
+            pose_belief: self.pose_belief,
             next_snapshot: self.next_snapshot,
         }
     }
@@ -152,6 +159,7 @@ impl Mapper {
             map: self.map.without_index_or_segments(),
             last_pose: self.last_pose,
             last_t_s: self.last_t_s,
+            pose_belief: self.pose_belief,
             next_snapshot: self.next_snapshot,
         };
         (state, &self.map.segments)
@@ -164,6 +172,7 @@ impl Mapper {
         self.map = state.map;
         self.last_pose = state.last_pose;
         self.last_t_s = state.last_t_s;
+        self.pose_belief = state.pose_belief;
         self.next_snapshot = state.next_snapshot;
     }
 
@@ -174,6 +183,7 @@ impl Mapper {
         self.map = state.map.with_index();
         self.last_pose = state.last_pose;
         self.last_t_s = state.last_t_s;
+        self.pose_belief = state.pose_belief;
         self.next_snapshot = state.next_snapshot;
     }
 
@@ -269,9 +279,10 @@ impl Mapper {
             }
         }
         let previous = self.last_t_s.zip(self.last_pose);
+        let step_pose = self.hook_step_pose(snapshot, previous, &mut trace);
+        trace.pose = Some(step_pose);
         self.last_pose = Some(snapshot.pose);
         self.last_t_s = Some(snapshot.t);
-        let step_pose = snapshot.pose;
         self.step_frame = Some((step_pose, step_pose.robot_frame()));
         if snapshot.reading_dt_s.len() == self.layout.len() {
             reading_poses(

@@ -17,6 +17,7 @@ mod import_hostile;
 mod lineage;
 mod log;
 mod peak;
+mod pose_correction;
 mod scene;
 mod sim;
 mod suite;

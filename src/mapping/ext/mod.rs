@@ -31,6 +31,11 @@ pub struct Extension {
 /// Every extension, in the order a step runs them (`steps/mod.rs`).
 pub const ALL: &[Extension] = &[
     Extension {
+        parameter: "pose_correction",
+        section: "8.17",
+        source: "Leonard and Durrant-Whyte 1991: EKF localisation on geometric beacons; Crowley 1989: the pose from the segment map",
+    },
+    Extension {
         parameter: "explain_readings",
         section: "8.5",
         source: "Leonard and Durrant-Whyte 1992: a point target explains its echoes",

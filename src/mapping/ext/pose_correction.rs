@@ -30,6 +30,14 @@ pub const NOISE_FLOOR: (f64, f64) = (0.001, 0.05 * std::f64::consts::PI / 180.0)
 pub const MAX_SIGMA: (f64, f64) = (0.5, 10.0 * std::f64::consts::PI / 180.0);
 /// Iterations of the update (each re-associates the readings at the new pose).
 pub const ITERATIONS: usize = 3;
+/// How much a correction must lower the sum of squared normalised residuals (prior included)
+/// to be taken: 0, it must not explain the readings worse than the prediction. (6, what
+/// fitting three numbers to noise gains twice over, refused nearly every step of the
+/// generated families: their specular walls give one reading a wall a step.)
+pub const MIN_CHI2_GAIN: f64 = 0.0;
+/// Shortest confirmed wall a reading is matched against (0.5 m): a short piece's direction is
+/// too uncertain to pull the pose.
+pub const MIN_WALL_LENGTH_M: f64 = 0.5;
 /// Fewest readings the map must explain for a correction.
 pub const MIN_MATCHED_READINGS: usize = 2;
 /// The scale of heading in the observability figures: one radian counts as this many metres.
@@ -233,10 +241,11 @@ pub fn gauss_newton_step(
 ) -> Option<(Vector3<f64>, Matrix3<f64>)> {
     let prior_information = prior_covariance.try_inverse()?;
     let a = prior_information + information(observations);
-    let b = observations.iter().fold(
-        -(prior_information * from_prior),
-        |sum, o| sum + o.jacobian * (o.residual_m() / (o.sigma_m * o.sigma_m)),
-    );
+    let b = observations
+        .iter()
+        .fold(-(prior_information * from_prior), |sum, o| {
+            sum + o.jacobian * (o.residual_m() / (o.sigma_m * o.sigma_m))
+        });
     let posterior = a.try_inverse()?;
     Some((posterior * b, posterior))
 }
@@ -312,7 +321,12 @@ mod tests {
     }
 
     /// Iterates the update from `prediction` with the walls, as the step does.
-    fn solve(prediction: Pose, prior: Matrix3<f64>, walls: &[(Point, Point)], beam_of: impl Fn(&Pose) -> Vec<Beam>) -> Pose {
+    fn solve(
+        prediction: Pose,
+        prior: Matrix3<f64>,
+        walls: &[(Point, Point)],
+        beam_of: impl Fn(&Pose) -> Vec<Beam>,
+    ) -> Pose {
         let mut estimate = prediction;
         for _ in 0..ITERATIONS {
             let observations: Vec<RangeObservation> = beam_of(&estimate)
@@ -350,12 +364,14 @@ mod tests {
         let prior = Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, 1.0));
         let solved = solve(prediction, prior, &walls, |p| beams(p, &headings, &ranges));
         assert!(solved.x.abs() < 2e-3 && solved.y.abs() < 2e-3, "{solved:?}");
-        assert!(solved.heading_rad.abs() < 0.05f64.to_radians(), "{solved:?}");
+        assert!(
+            solved.heading_rad.abs() < 0.05f64.to_radians(),
+            "{solved:?}"
+        );
     }
 
     #[test]
-    fn a_corridor_fixes_lateral_position_and_heading_and_leaves_the_along_position_to_the_prior()
-    {
+    fn a_corridor_fixes_lateral_position_and_heading_and_leaves_the_along_position_to_the_prior() {
         // Walls y = ±1 along x. Truly at (0, 0), heading 0; readings at ±90° and ±85° (1 m and
         // 1/cos 5°). Odometry says (0.3, 0.02), heading 1° (the ranges it predicts within the
         // 3 % tolerance of those read): the x offset must stay, y and heading must go.
@@ -373,10 +389,15 @@ mod tests {
         assert!(solved.y.abs() < 2e-3, "lateral fixed: {solved:?}");
         assert!(solved.heading_rad.abs() < 0.1f64.to_radians(), "{solved:?}");
         // The information says which: y and heading observed, x not.
-        let observations: Vec<RangeObservation> = beams(&Pose::new(0.0, 0.0, 0.0), &headings, &ranges)
-            .iter()
-            .filter_map(|b| walls.iter().find_map(|(a, w)| wall_observation(b, a, w, &Point::origin(), 3.0, half(), true)))
-            .collect();
+        let observations: Vec<RangeObservation> =
+            beams(&Pose::new(0.0, 0.0, 0.0), &headings, &ranges)
+                .iter()
+                .filter_map(|b| {
+                    walls.iter().find_map(|(a, w)| {
+                        wall_observation(b, a, w, &Point::origin(), 3.0, half(), true)
+                    })
+                })
+                .collect();
         let directions = observed_directions(&observations, &prior);
         let unobserved: Vec<_> = directions.iter().filter(|d| !d.2).collect();
         assert_eq!(unobserved.len(), 1);

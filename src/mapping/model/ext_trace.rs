@@ -240,3 +240,90 @@ pub struct ExplainedTrace {
     /// The feature's angle off the beam axis, radians.
     pub off_axis_rad: f64,
 }
+
+/// What a confirmed target explained in a step's pose correction (docs/algorithm.md §8.17).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CorrectionTarget {
+    /// A confirmed wall.
+    Wall(SegmentId),
+    /// A confirmed point feature.
+    Feature(crate::mapping::model::ids::FeatureId),
+}
+
+/// One reading a pose correction used.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CorrectionReading {
+    /// The sensor.
+    pub sensor: usize,
+    /// What explained it.
+    pub target: CorrectionTarget,
+    /// Read minus predicted range at the predicted pose, metres.
+    pub residual_before_m: f64,
+    /// The same at the corrected pose, metres.
+    pub residual_after_m: f64,
+    /// The range's standard deviation (its tolerance), metres.
+    pub sigma_m: f64,
+}
+
+/// A direction of the pose (x, y in metres, heading in radians scaled by 1 m) and how much the
+/// step's readings say of it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ObservedDirection {
+    /// Unit vector in (x, y, heading).
+    pub direction: [f64; 3],
+    /// The readings' information along it (1/m²).
+    pub information: f64,
+    /// Whether the readings say more of it than the prior does.
+    pub observed: bool,
+}
+
+/// Why a step's pose was not corrected (it kept the prediction).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", tag = "reason")]
+pub enum CorrectionRefusal {
+    /// The first step anchors the map.
+    FirstStep,
+    /// Fewer readings than needed were explained by the confirmed map.
+    TooFewReadings {
+        /// Readings explained.
+        matched: usize,
+        /// Readings needed.
+        needed: usize,
+    },
+    /// The correction went beyond its bound (three standard deviations of the prediction).
+    BeyondBound {
+        /// How far it would have moved the robot, metres.
+        shift_m: f64,
+        /// How far it would have turned it, degrees.
+        turn_deg: f64,
+    },
+    /// The corrected pose explained the readings no better than the prediction.
+    NoBetter,
+}
+
+/// A step's pose correction against the confirmed map (docs/algorithm.md §8.17).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CorrectionTrace {
+    /// The snapshot's odometry pose.
+    pub odometry: crate::geometry::Pose,
+    /// The pose the last correction and the odometry's increment predict.
+    pub predicted: crate::geometry::Pose,
+    /// The pose the step used: the corrected one, or the prediction when refused.
+    pub corrected: crate::geometry::Pose,
+    /// The readings used, with what explained them.
+    pub readings: Vec<CorrectionReading>,
+    /// RMS of the residuals over their sigmas at the prediction and at the corrected pose.
+    pub rms_before: f64,
+    /// See `rms_before`.
+    pub rms_after: f64,
+    /// The prediction's standard deviations (x m, y m, heading deg): the prior's weight.
+    pub prior_sigma: [f64; 3],
+    /// The corrected pose's standard deviations (x m, y m, heading deg).
+    pub posterior_sigma: [f64; 3],
+    /// The directions the readings observed, strongest first.
+    pub directions: Vec<ObservedDirection>,
+    /// Why the pose kept the prediction, if it did.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refused: Option<CorrectionRefusal>,
+}

@@ -9,6 +9,7 @@ mod echo_placement;
 mod free_space;
 mod point_features;
 mod point_memory;
+mod pose_correction;
 mod settled_walls;
 
 use crate::mapping::model::map::{EndPoint, SegmentId, SupportPoint};

@@ -103,6 +103,7 @@ mod tests {
             map,
             last_pose: None,
             last_t_s: None,
+            pose_belief: Default::default(),
             next_snapshot: 1,
         });
         let trace = mapper.step(&Snapshot {

@@ -438,6 +438,12 @@ parameters! {
     /// §8.12). Acts only with `confirm_segments`.
     settled_walls: bool, file settled_walls: bool, flag,
         paper false, extended true, needs ["confirm_segments"];
+    /// Before a step's readings are matched, its pose is corrected against the confirmed walls
+    /// and point features (docs/algorithm.md §8.17). Off in both presets: on the generated
+    /// families it helps mild drift and harms runs without drift (§8.17's figures). Acts only
+    /// with `confirm_segments`.
+    pose_correction: bool, file pose_correction: bool, flag,
+        paper false, extended false, needs ["confirm_segments"];
     /// A point-memory piece whose readings are one place read at changing ranges (a stack:
     /// a wall square-on to a sonar the robot drives towards or away from) makes no segment;
     /// its readings leave the memory (docs/algorithm.md §8.15). Acts only with point memory.

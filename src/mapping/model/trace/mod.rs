@@ -69,6 +69,9 @@ pub struct StepTrace {
     /// free-space sweep (docs/algorithm.md §8.12).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub settled: Vec<SettledTrace>,
+    /// The pose correction against the confirmed map (docs/algorithm.md §8.17).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub correction: Option<crate::mapping::model::ext_trace::CorrectionTrace>,
     /// Clusters the arc rule filed as point features instead of fitting them
     /// (docs/algorithm.md §8.5).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
