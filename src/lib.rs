@@ -30,4 +30,5 @@ pub mod sim;
 pub mod soak;
 pub mod sonar;
 pub mod suite;
+pub mod trajectory;
 pub mod units;

@@ -12,6 +12,7 @@ use clap::Args;
 use sonarmap::log::save_map;
 use sonarmap::mapping::{Params, StepTrace};
 use sonarmap::replay::StepView;
+use sonarmap::trajectory::tum_trajectory;
 use std::path::{Path, PathBuf};
 
 /// `sonarmap run`.
@@ -40,11 +41,15 @@ pub struct RunArgs {
     /// Write the step traces here (JSON, metres); one log only.
     #[arg(long, value_name = "T.json")]
     pub out_trace: Option<PathBuf>,
+    /// Write the poses the engine used (corrected, with pose_correction) here, as a TUM
+    /// trajectory (`timestamp tx ty tz qx qy qz qw`, metres), for evo; one log only.
+    #[arg(long, value_name = "P.tum")]
+    pub out_poses: Option<PathBuf>,
     /// Write an SVG of the map here; one log only.
     #[arg(long, value_name = "V.svg")]
     pub svg: Option<PathBuf>,
     /// Write every log's map and SVG (and trace, with --trace) into this directory.
-    #[arg(long, value_name = "DIR", conflicts_with_all = ["out_map", "out_trace", "svg"])]
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["out_map", "out_trace", "out_poses", "svg"])]
     pub out_dir: Option<PathBuf>,
     /// With --out-dir: also write each log's trace.
     #[arg(long, requires = "out_dir")]
@@ -59,6 +64,7 @@ pub struct RunArgs {
 struct RunOutputs {
     map: Option<PathBuf>,
     trace: Option<PathBuf>,
+    poses: Option<PathBuf>,
     svg: Option<PathBuf>,
     figure: Option<FigureSpec>,
 }
@@ -99,7 +105,10 @@ pub fn run_command(args: &RunArgs) -> Result<()> {
 fn outputs(args: &RunArgs) -> Result<Vec<RunOutputs>> {
     match &args.out_dir {
         None if args.logs.len() > 1
-            && (args.out_map.is_some() || args.out_trace.is_some() || args.svg.is_some()) =>
+            && (args.out_map.is_some()
+                || args.out_trace.is_some()
+                || args.out_poses.is_some()
+                || args.svg.is_some()) =>
         {
             bail!("with several logs, write the outputs with --out-dir DIR")
         }
@@ -107,6 +116,7 @@ fn outputs(args: &RunArgs) -> Result<Vec<RunOutputs>> {
             RunOutputs {
                 map: args.out_map.clone(),
                 trace: args.out_trace.clone(),
+                poses: args.out_poses.clone(),
                 svg: args.svg.clone(),
                 figure: None,
             };
@@ -140,6 +150,7 @@ fn out_dir_outputs(args: &RunArgs, dir: &Path) -> Result<Vec<RunOutputs>> {
         .map(|stem| RunOutputs {
             map: Some(dir.join(format!("{stem}.map.json"))),
             trace: args.trace.then(|| dir.join(format!("{stem}.trace.json"))),
+            poses: None,
             svg: Some(dir.join(format!("{stem}.svg"))),
             figure: None,
         })
@@ -179,6 +190,10 @@ fn run_one(path: &Path, params: &Params, until: Option<usize>, out: &RunOutputs)
     }
     if let Some(path) = &out.trace {
         write_trace(path, &traces)?;
+    }
+    if let Some(path) = &out.poses {
+        let times_s: Vec<f64> = run.snapshots.iter().map(|s| s.t).collect();
+        write_atomic(path, tum_trajectory(&times_s, &summary.poses))?;
     }
     if let (Some(path), Some(svg)) = (&out.svg, figure) {
         write_figure(path, &svg, out.figure.as_ref())?;

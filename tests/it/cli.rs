@@ -35,6 +35,34 @@ fn check_fails(args: &[&str], parts: &[&str]) {
 }
 
 #[test]
+fn run_writes_the_poses_it_mapped_with_as_a_tum_trajectory() {
+    let dir = tempfile::tempdir().unwrap();
+    let poses = dir.path().join("poses.tum");
+    let log = assets("tight_room.log.json");
+    let out = sonarmap(&[
+        "run",
+        log.to_str().unwrap(),
+        "--out-poses",
+        poses.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let run = sonarmap::log::load_run(&std::fs::read(&log).unwrap(), "log").unwrap();
+    let text = std::fs::read_to_string(&poses).unwrap();
+    let lines: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
+    assert_eq!(lines.len(), run.snapshots.len());
+    // Without pose correction, the poses are the log's, in metres, heading as a z rotation.
+    for (line, s) in lines.iter().zip(&run.snapshots) {
+        let v: Vec<f64> = line.split(' ').map(|f| f.parse().unwrap()).collect();
+        assert_eq!(v.len(), 8);
+        assert!((v[0] - s.t).abs() < 1e-9 && (v[1] - s.pose.x).abs() < 1e-9);
+        assert!((v[2] - s.pose.y).abs() < 1e-9 && v[3] == 0.0);
+        let heading = 2.0 * v[6].atan2(v[7]);
+        let off = sonarmap::geometry::wrap_pi(heading - s.pose.heading_rad);
+        assert!(off.abs() < 1e-6, "{line}");
+    }
+}
+
+#[test]
 fn run_writes_map_and_trace_and_prints_a_summary() {
     let dir = tempfile::tempdir().unwrap();
     let map = dir.path().join("map.json");
