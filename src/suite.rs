@@ -4,9 +4,11 @@
 //! [`crate::eval`]. The same `N`, `S` and parameters always give the same figures.
 
 use crate::eval::{confirmed_map, evaluate, map_verdicts, true_point_features, Verdict};
+use crate::geometry::Pose;
 use crate::mapping::{Map, Mapper, Params};
+use crate::pose_error::{pose_error, pose_error_of};
 use crate::run::Run;
-use crate::sim::{family_plan, simulate, Model, Plan, SceneKind};
+use crate::sim::{family_plan, simulate, with_odometry, Model, OdometryError, Plan, SceneKind};
 use crate::units::Units;
 use serde::Serialize;
 
@@ -67,6 +69,50 @@ pub struct SuiteLine {
     /// The figures of the map.
     #[serde(flatten)]
     pub figures: SceneFigures,
+    /// How far the poses lay from the truth, when the run keeps it (a drifting run).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pose: Option<PoseFigures>,
+}
+
+/// The pose error of a run that keeps its truth: the odometry's, and that of the poses the
+/// engine mapped with (the same unless pose correction, docs/algorithm.md §8.17, is on).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct PoseFigures {
+    /// RMS distance of the odometry pose from the true pose, metres.
+    pub odometry_rms_position_m: f64,
+    /// RMS heading error of the odometry, degrees.
+    pub odometry_rms_heading_deg: f64,
+    /// RMS distance of the mapped pose from the true pose, metres.
+    pub mapped_rms_position_m: f64,
+    /// RMS heading error of the mapped pose, degrees.
+    pub mapped_rms_heading_deg: f64,
+}
+
+impl PoseFigures {
+    /// The figures of `run` mapped with `mapped_poses` (one per snapshot); none without truth.
+    pub fn of(run: &Run, mapped_poses: &[Pose]) -> Option<PoseFigures> {
+        let odometry = pose_error(run)?;
+        let mapped = pose_error_of(run, mapped_poses.iter().copied())?;
+        let m = |length: f64| run.units.to_m(length);
+        Some(PoseFigures {
+            odometry_rms_position_m: m(odometry.rms_position),
+            odometry_rms_heading_deg: odometry.rms_heading_deg,
+            mapped_rms_position_m: m(mapped.rms_position),
+            mapped_rms_heading_deg: mapped.rms_heading_deg,
+        })
+    }
+
+    /// The mean of `figures`, none when empty.
+    fn mean(figures: &[PoseFigures]) -> Option<PoseFigures> {
+        let n = figures.len() as f64;
+        let mean = |f: fn(&PoseFigures) -> f64| figures.iter().map(f).sum::<f64>() / n;
+        (!figures.is_empty()).then(|| PoseFigures {
+            odometry_rms_position_m: mean(|f| f.odometry_rms_position_m),
+            odometry_rms_heading_deg: mean(|f| f.odometry_rms_heading_deg),
+            mapped_rms_position_m: mean(|f| f.mapped_rms_position_m),
+            mapped_rms_heading_deg: mean(|f| f.mapped_rms_heading_deg),
+        })
+    }
 }
 
 /// The figures of a whole suite.
@@ -94,6 +140,9 @@ pub struct SuiteSummary {
     pub point_features: usize,
     /// Point features on a wall junction or end.
     pub true_point_features: usize,
+    /// The mean pose error of the runs that keep their truth.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pose: Option<PoseFigures>,
     /// The summary of the confirmed segments alone, when segments must be confirmed.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub confirmed: Option<Box<SuiteSummary>>,
@@ -114,11 +163,18 @@ fn median(mut v: Vec<f64>) -> Option<f64> {
 
 /// Maps `run` with `params` (trace off) and returns the final map.
 pub fn map_of(run: &Run, params: &Params) -> Map {
+    map_and_poses_of(run, params).0
+}
+
+/// [`map_of`], with the pose each step mapped with (corrected, with pose correction).
+pub fn map_and_poses_of(run: &Run, params: &Params) -> (Map, Vec<Pose>) {
     let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor).with_trace(false);
-    for s in &run.snapshots {
-        mapper.step(s);
-    }
-    mapper.map().clone()
+    let poses = run
+        .snapshots
+        .iter()
+        .filter_map(|s| mapper.step(s).pose)
+        .collect();
+    (mapper.map().clone(), poses)
 }
 
 /// The suite figures of `map` against `run`'s floor plan (none without one).
@@ -159,11 +215,30 @@ pub fn scene_figures(map: &Map, run: &Run, params: &Params) -> Option<SceneFigur
 
 /// The lines of a suite: scene by scene, the specular model then the axis model.
 pub fn run_suite(scenes: usize, seed: u64, params: &Params) -> Vec<SuiteLine> {
+    run_suite_drifting(scenes, seed, params, None)
+}
+
+/// `run` given the odometry error `drift` (seeded with `seed`), or as it is without one.
+pub fn drifted(run: Run, drift: Option<&OdometryError>, seed: u64) -> Run {
+    match drift {
+        None => run,
+        Some(error) => with_odometry(&run, error, seed),
+    }
+}
+
+/// [`run_suite`] with every run given the odometry error `drift` (seeded by its scene's seed),
+/// scored against the floor plan in the true frame.
+pub fn run_suite_drifting(
+    scenes: usize,
+    seed: u64,
+    params: &Params,
+    drift: Option<&OdometryError>,
+) -> Vec<SuiteLine> {
     let mut lines = Vec::with_capacity(2 * scenes);
     for (kind, s, plan) in suite_plans(scenes, seed) {
         for (model, name) in [(Model::Specular, "specular"), (Model::Axis, "axis")] {
-            let run = simulate(&plan, model, s);
-            let map = map_of(&run, params);
+            let run = drifted(simulate(&plan, model, s), drift, s);
+            let (map, poses) = map_and_poses_of(&run, params);
             let figures = scene_figures(&map, &run, params).expect("a family plan has walls");
             lines.push(SuiteLine {
                 family: kind.name(),
@@ -171,6 +246,7 @@ pub fn run_suite(scenes: usize, seed: u64, params: &Params) -> Vec<SuiteLine> {
                 model: name.to_string(),
                 snapshots: run.snapshots.len(),
                 figures,
+                pose: PoseFigures::of(&run, &poses),
             });
         }
     }
@@ -185,6 +261,7 @@ pub fn summarise(lines: &[SuiteLine]) -> SuiteSummary {
             l.figures.confirmed.as_ref().map(|c| SuiteLine {
                 figures: (**c).clone(),
                 model: l.model.clone(),
+                pose: None,
                 ..*l
             })
         })
@@ -220,6 +297,7 @@ pub fn summarise(lines: &[SuiteLine]) -> SuiteSummary {
             .min(1.0),
         point_features: lines.iter().map(|l| l.figures.point_features).sum(),
         true_point_features: lines.iter().map(|l| l.figures.true_point_features).sum(),
+        pose: PoseFigures::mean(&lines.iter().filter_map(|l| l.pose).collect::<Vec<_>>()),
         confirmed: (!confirmed.is_empty()).then(|| Box::new(summarise(&confirmed))),
     }
 }

@@ -46,6 +46,11 @@ pub struct EvalArgs {
     /// when it exists (model "log").
     #[arg(long, value_name = "DIR", requires = "suite")]
     pub logs_from: Option<PathBuf>,
+    /// With --suite: give each scene's run (and each log from --logs-from) the odometry of a
+    /// differential-drive robot, as `simulate --drift` does, seeded by the scene's seed; the
+    /// maps are scored against the floor plan, in the true frame.
+    #[arg(long, value_enum, default_value = "none", requires = "suite")]
+    pub drift: super::simulate::DriftArg,
     /// Mapping parameters.
     #[command(flatten)]
     pub params: ParamArgs,
@@ -87,6 +92,7 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
             seed: args.seed,
             write_plans: args.write_plans.as_deref(),
             logs_from: args.logs_from.as_deref(),
+            drift: args.drift.error(),
         };
         return suite_command(&suite, &params);
     };

@@ -5,7 +5,7 @@ use super::output::write_atomic;
 use anyhow::Result;
 use clap::{Args, ValueEnum};
 use sonarmap::log::save_run;
-use sonarmap::sim::{load_plan, simulate, with_odometry, Model, OdometryError};
+use sonarmap::sim::{load_plan, simulate, Model, OdometryError};
 use std::path::PathBuf;
 
 /// `sonarmap simulate`.
@@ -50,6 +50,17 @@ pub enum ModelArg {
     Axis,
 }
 
+impl DriftArg {
+    /// The odometry error, none for [`DriftArg::None`] (the run is left as it is).
+    pub fn error(self) -> Option<OdometryError> {
+        match self {
+            DriftArg::None => None,
+            DriftArg::Mild => Some(OdometryError::MILD),
+            DriftArg::Bad => Some(OdometryError::BAD),
+        }
+    }
+}
+
 /// Runs `sonarmap simulate`.
 pub fn simulate_command(args: &SimulateArgs) -> Result<()> {
     let plan = load_plan(&read(&args.plan)?, &args.plan.display().to_string())?;
@@ -58,10 +69,6 @@ pub fn simulate_command(args: &SimulateArgs) -> Result<()> {
         ModelArg::Axis => Model::Axis,
     };
     let run = simulate(&plan, model, args.seed);
-    let run = match args.drift {
-        DriftArg::None => run,
-        DriftArg::Mild => with_odometry(&run, &OdometryError::MILD, args.seed),
-        DriftArg::Bad => with_odometry(&run, &OdometryError::BAD, args.seed),
-    };
+    let run = sonarmap::suite::drifted(run, args.drift.error().as_ref(), args.seed);
     write_atomic(&args.out, save_run(&run))
 }

@@ -17,6 +17,8 @@ pub struct SuiteArgs<'a> {
     pub write_plans: Option<&'a Path>,
     /// `--logs-from DIR`.
     pub logs_from: Option<&'a Path>,
+    /// `--drift`: the odometry error given to every run, if any.
+    pub drift: Option<sonarmap::sim::OdometryError>,
 }
 
 /// `eval --suite N`: one JSON line per scene and sensor model, then the summary
@@ -25,9 +27,10 @@ pub fn suite_command(args: &SuiteArgs, params: &Params) -> Result<()> {
     if let Some(dir) = args.write_plans {
         write_plans(dir, args.scenes, args.seed)?;
     }
-    let mut lines = sonarmap::suite::run_suite(args.scenes, args.seed, params);
+    let drift = args.drift.as_ref();
+    let mut lines = sonarmap::suite::run_suite_drifting(args.scenes, args.seed, params, drift);
     if let Some(dir) = args.logs_from {
-        lines.extend(logs_from(dir, args.scenes, args.seed, params)?);
+        lines.extend(logs_from(dir, args.scenes, args.seed, params, drift)?);
     }
     for line in &lines {
         emit(&serde_json::to_string(line)?)?;
@@ -49,15 +52,21 @@ fn write_plans(dir: &Path, scenes: usize, seed: u64) -> Result<()> {
 
 /// The lines of the scenes' logs simulated elsewhere, DIR/FAMILY-SEED.log.json where they
 /// exist (model "log").
-fn logs_from(dir: &Path, scenes: usize, seed: u64, params: &Params) -> Result<Vec<SuiteLine>> {
+fn logs_from(
+    dir: &Path,
+    scenes: usize,
+    seed: u64,
+    params: &Params,
+    drift: Option<&sonarmap::sim::OdometryError>,
+) -> Result<Vec<SuiteLine>> {
     let mut lines = Vec::new();
     for (kind, seed, _) in sonarmap::suite::suite_plans(scenes, seed) {
         let path = dir.join(format!("{}-{seed}.log.json", kind.name()));
         if !path.exists() {
             continue;
         }
-        let run = read_run(&path)?;
-        let map = sonarmap::suite::map_of(&run, params);
+        let run = sonarmap::suite::drifted(read_run(&path)?, drift, seed);
+        let (map, poses) = sonarmap::suite::map_and_poses_of(&run, params);
         let figures = sonarmap::suite::scene_figures(&map, &run, params)
             .ok_or_else(|| anyhow!("{}: the log has no floor_plan", path.display()))?;
         lines.push(SuiteLine {
@@ -66,6 +75,7 @@ fn logs_from(dir: &Path, scenes: usize, seed: u64, params: &Params) -> Result<Ve
             model: "log".to_string(),
             snapshots: run.snapshots.len(),
             figures,
+            pose: sonarmap::suite::PoseFigures::of(&run, &poses),
         });
     }
     Ok(lines)

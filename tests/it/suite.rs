@@ -125,3 +125,22 @@ fn a_replay_catching_up_with_recorded_decisions_gives_the_maps_of_a_plain_run() 
         }
     }
 }
+
+#[test]
+fn a_drifting_suite_reports_its_pose_error_and_without_drift_is_the_plain_suite() {
+    use sonarmap::sim::OdometryError;
+    use sonarmap::suite::run_suite_drifting;
+    let p = Params::extended();
+    let plain = run_suite(2, 4, &p);
+    assert_eq!(run_suite_drifting(2, 4, &p, None), plain);
+    assert!(plain.iter().all(|l| l.pose.is_none()));
+    let bad = run_suite_drifting(2, 4, &p, Some(&OdometryError::BAD));
+    for line in &bad {
+        let pose = line.pose.expect("a drifting run keeps its truth");
+        assert!(pose.odometry_rms_position_m > 0.0, "{line:?}");
+        // Correction is off in `extended`: the engine maps with the odometry.
+        assert_eq!(pose.mapped_rms_position_m, pose.odometry_rms_position_m);
+    }
+    assert!(summarise(&bad).pose.is_some());
+    assert_ne!(bad, plain);
+}
