@@ -6,7 +6,7 @@ use anyhow::{anyhow, Result};
 use clap::{Args, ValueEnum};
 use sonarmap::geometry::Pose;
 use sonarmap::import::{
-    builtin_layout, parse_layout, AngleUnit, ImportOptions, Layout, NamedBytes, DEFAULT_WINDOW_S,
+    builtin_layout, parse_layout, AngleUnit, ImportOptions, Layout, NamedBytes, TableForm,
 };
 use sonarmap::log::write_run;
 use sonarmap::units::Units;
@@ -32,9 +32,14 @@ pub struct ConvertArgs {
     /// Heading unit of tables.
     #[arg(long, value_enum, default_value = "deg")]
     pub heading_unit: HeadingArg,
-    /// MCAP: the longest firing cycle of the ring, seconds.
-    #[arg(long, value_name = "S", default_value_t = DEFAULT_WINDOW_S)]
-    pub window: f64,
+    /// MCAP and firing tables: the longest firing cycle of the ring, seconds (default 0.1 for
+    /// MCAP, 1 for firing tables).
+    #[arg(long, value_name = "S")]
+    pub window: Option<f64>,
+    /// Tables: a ring a line, or one reading a line (`t sensor range [x y heading]`); default:
+    /// read off the file.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub table: TableArg,
     /// Tables: the poses file (`t x y heading`).
     #[arg(long, value_name = "FILE")]
     pub poses: Option<PathBuf>,
@@ -54,6 +59,17 @@ pub enum UnitsArg {
     Cm,
     /// Metres.
     M,
+}
+
+/// A table form on the command line.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum TableArg {
+    /// Read off the file.
+    Auto,
+    /// A whole ring a line.
+    Ring,
+    /// One reading a line.
+    Firings,
 }
 
 /// A heading unit on the command line.
@@ -123,6 +139,11 @@ pub fn convert_command(args: &ConvertArgs) -> Result<()> {
         window_s: args.window,
         fixed_pose,
         poses,
+        table: match args.table {
+            TableArg::Auto => TableForm::Auto,
+            TableArg::Ring => TableForm::Ring,
+            TableArg::Firings => TableForm::Firings,
+        },
     };
     let imported = import_file(&args.input, &options)?;
     write_atomic_with(&args.out, |f| write_run(&imported.run, f))?;

@@ -35,6 +35,8 @@ pub(crate) struct RawSnapshot {
     pub place: Place,
     /// One per sensor, metres; `None` is no echo.
     pub ranges_m: Vec<Option<f64>>,
+    /// Each reading's own time minus `t`, seconds; empty when all were taken at `t`.
+    pub reading_dt_s: Vec<f64>,
 }
 
 /// The robot and the run's metadata.
@@ -160,7 +162,7 @@ fn snapshot(s: RawSnapshot, pose: Pose, max_range_m: f64, summary: &mut ImportSu
         pose,
         ranges_m,
         true_pose: None,
-        reading_dt_s: Vec::new(),
+        reading_dt_s: s.reading_dt_s,
     }
 }
 

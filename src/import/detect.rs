@@ -66,7 +66,7 @@ pub fn import_any(
     match detect(bytes) {
         Some(Format::Mcap) => import_mcap(bytes, file, options),
         Some(Format::Player) => import_player(bytes, file, options),
-        Some(Format::Table) => import_table(bytes, file, options),
+        Some(Format::Table | Format::FiringTable) => import_table(bytes, file, options),
         Some(Format::SonarmapLog) => {
             let run = load_run(bytes, file)?;
             let summary = ImportSummary {

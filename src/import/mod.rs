@@ -5,7 +5,8 @@
 //!
 //! - [`player`]: Player 1.x/2/3 `writelog` lines (`sonar`, `position2d`, `position`).
 //! - [`ros2`]: `sensor_msgs/msg/Range`, `nav_msgs/msg/Odometry`, `/tf_static` in MCAP.
-//! - [`table`]: `t x y heading r...` or `t r...` plus `t x y heading`.
+//! - [`table`]: `t x y heading r...` or `t r...` plus `t x y heading`; `firings`: one
+//!   reading a line, `t sensor range [x y heading]`, cut into firing cycles (`cycles`).
 //! - [`layout`]: the `sonarmap-layout` file that `--layout` reads, and the shipped layouts.
 //!
 //! Every input ends one of two ways (issue 18): it is refused with an [`ImportError`] naming
@@ -18,8 +19,10 @@
 
 mod assemble;
 pub mod cdr;
+mod cycles;
 mod detect;
 mod error;
+mod firings;
 pub mod layout;
 mod mcap_check;
 mod options;
@@ -29,12 +32,15 @@ pub mod ros2;
 pub mod sane;
 mod summary;
 pub mod table;
+mod table_fields;
 mod text;
 
 pub use detect::{detect, import_any};
 pub use error::ImportError;
 pub use layout::{builtin_layout, parse_layout, Layout, LAYOUT_FORMAT};
-pub use options::{AngleUnit, ImportOptions, NamedBytes, DEFAULT_WINDOW_S};
+pub use options::{
+    AngleUnit, ImportOptions, NamedBytes, TableForm, DEFAULT_FIRINGS_WINDOW_S, DEFAULT_WINDOW_S,
+};
 pub use player::import_player;
 pub use ros2::import_mcap;
 pub use summary::{Format, ImportSummary, Imported, Skipped};

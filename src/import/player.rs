@@ -123,6 +123,7 @@ impl Reading {
             t,
             place: Place::Line(line),
             ranges_m,
+            reading_dt_s: Vec::new(),
         });
     }
 }

@@ -13,8 +13,10 @@ pub enum Format {
     Player,
     /// A ROS 2 MCAP recording.
     Mcap,
-    /// A plain table of numbers.
+    /// A plain table of numbers, a ring a line.
     Table,
+    /// A plain table of numbers, one reading a line.
+    FiringTable,
 }
 
 impl Format {
@@ -25,6 +27,7 @@ impl Format {
             Format::Player => "Player/Stage text log",
             Format::Mcap => "ROS 2 MCAP",
             Format::Table => "table",
+            Format::FiringTable => "table of firings (one reading a line)",
         }
     }
 }

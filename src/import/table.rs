@@ -22,14 +22,17 @@
 //! newline (the file was cut short), and values no robot produces (see [`super::sane`]):
 //! times beyond ±1e10 s, positions and ranges beyond 10 km, headings beyond ±1e5 rad.
 
-use super::assemble::{assemble, sensor_with_max_range, Hardware, Place, RawSnapshot};
-use super::error::{at, ImportError};
-use super::options::{AngleUnit, ImportOptions, NamedBytes};
+use super::assemble::{assemble, Hardware, Place, RawSnapshot};
+use super::error::ImportError;
+use super::firings::import_firings;
+use super::options::{ImportOptions, TableForm};
 use super::pose_track::PoseTrack;
 use super::sane;
 use super::summary::{Format, ImportSummary, Imported};
-use super::text::{checked, lines, utf8, Line};
-use crate::geometry::Pose;
+use super::table_fields::{
+    expect_fields, is_no_echo, pose, ranges, read_poses, table_lines, time, TableSetup,
+};
+use super::text::{lines, utf8};
 use crate::units::Units;
 
 /// True when the first content line (after an optional header) is all numbers: detection.
@@ -40,68 +43,46 @@ pub fn looks_like_table(fields: &[&str]) -> bool {
             .all(|f| f.parse::<f64>().is_ok() || is_no_echo(f))
 }
 
-fn is_no_echo(field: &str) -> bool {
-    matches!(
-        field.to_ascii_lowercase().as_str(),
-        "-" | "nan" | "null" | "none" | "inf" | "+inf" | "infinity"
-    )
-}
+/// Lines looked at to tell a ring table from a firing table.
+const LINES_LOOKED_AT: usize = 20;
 
-/// The content lines, one at a time, the header left out.
-fn table_lines<'a>(
-    text: &'a str,
-    file: &'a str,
-) -> impl Iterator<Item = Result<Line<'a>, ImportError>> + 'a {
-    lines(text, true, file)
-        .enumerate()
-        .filter(|(i, l)| {
-            !(*i == 0
-                && l.as_ref()
-                    .is_ok_and(|l| l.fields[0].parse::<f64>().is_err()))
-        })
-        .map(|(_, l)| l)
-}
-
-fn expect_fields(line: &Line, expected: usize, form: &str, file: &str) -> Result<(), ImportError> {
-    if line.fields.len() != expected {
-        return Err(at(
-            file,
-            format!("line {}", line.number),
-            format!("{} fields: expected {expected} ({form})", line.fields.len()),
-        ));
+/// Whether `text` is a table of one reading a line: `--table` says so, or (automatic) a
+/// header names a `sensor` column, or the first lines are not all of one ring form (`1 + n`
+/// or `4 + n` fields) and all of a firing form (3, 4 or 6 fields, not all odometry lines).
+fn is_firing_table(text: &str, n: usize, form: TableForm, file: &str) -> bool {
+    match form {
+        TableForm::Ring => return false,
+        TableForm::Firings => return true,
+        TableForm::Auto => {}
     }
-    Ok(())
-}
-
-fn time(line: &Line, previous: &mut f64, file: &str) -> Result<f64, ImportError> {
-    let t = checked(line, 0, "the time in seconds", file, sane::time)?;
-    if t < *previous {
-        return Err(at(
-            file,
-            format!("line {}, field 1", line.number),
-            format!("time {t} is earlier than the previous line's {previous}: expected times that do not decrease"),
-        ));
-    }
-    *previous = t;
-    Ok(t)
-}
-
-/// The pose columns `x y heading` (fields 2 to 4) of a line, held to the bounds of [`sane`].
-fn pose(line: &Line, units: Units, heading: AngleUnit, file: &str) -> Result<Pose, ImportError> {
-    let length =
-        |v: f64, what: &str| sane::length(v, units.metres_per_unit(), what, units.symbol());
-    let angle = |v: f64, what: &str| match heading {
-        AngleUnit::Degrees => sane::heading_deg(v, what),
-        AngleUnit::Radians => sane::heading_rad(v, what),
+    let mut content = lines(text, true, file).map_while(Result::ok);
+    let Some(first) = content.next() else {
+        return false;
     };
-    Ok(Pose::new(
-        units.to_m(checked(line, 1, "x", file, length)?),
-        units.to_m(checked(line, 2, "y", file, length)?),
-        heading.to_rad(checked(line, 3, "the heading", file, angle)?),
-    ))
+    let header = first.fields[0].parse::<f64>().is_err();
+    if header
+        && first
+            .fields
+            .iter()
+            .any(|f| f.to_ascii_lowercase().starts_with("sensor"))
+    {
+        return true;
+    }
+    let counts: Vec<usize> = std::iter::once(first)
+        .filter(|l| l.fields[0].parse::<f64>().is_ok())
+        .chain(content)
+        .take(LINES_LOOKED_AT)
+        .map(|l| l.fields.len())
+        .collect();
+    let one_ring_form = counts.windows(2).all(|w| w[0] == w[1])
+        && matches!(counts.first(), Some(&c) if c == 1 + n || c == 4 + n);
+    !one_ring_form
+        && counts.iter().all(|c| matches!(c, 3 | 4 | 6))
+        && counts.iter().any(|&c| c != 4)
 }
 
-/// Imports a table (and the poses table of `options.poses`). `file` names it in errors. Pure.
+/// Imports a table (and the poses table of `options.poses`): a ring a line, or one reading a
+/// line ([`super::firings`]). `file` names it in errors. Pure.
 pub fn import_table(
     bytes: &[u8],
     file: &str,
@@ -118,6 +99,15 @@ pub fn import_table(
     let units = options.units.unwrap_or(Units::Metres);
     let heading = options.heading;
     let text = utf8(bytes, file)?;
+    if is_firing_table(text, n, options.table, file) {
+        return import_firings(
+            text,
+            file,
+            layout,
+            options,
+            TableSetup { n, units, heading },
+        );
+    }
     let mut summary = ImportSummary::default();
     let mut track = PoseTrack::default();
     let mut body = table_lines(text, file).peekable();
@@ -133,7 +123,7 @@ pub fn import_table(
     let form = if separate {
         format!("t then {n} ranges, one per sensor of the layout, as on the first line")
     } else {
-        format!("t x y heading then {n} ranges, one per sensor of the layout (or t then {n} ranges, with the poses in --poses)")
+        format!("t x y heading then {n} ranges, one per sensor of the layout (or t then {n} ranges, with the poses in --poses; or one reading a line, t sensor range [x y heading], with --table firings)")
     };
     let mut raw = Vec::new();
     let mut previous = f64::NEG_INFINITY;
@@ -142,22 +132,17 @@ pub fn import_table(
         expect_fields(&line, first_range + n, &form, file)?;
         let t = time(&line, &mut previous, file)?;
         if !separate {
-            track.push(t, pose(&line, units, heading, file)?);
+            track.push(t, pose(&line, 1, units, heading, file)?);
         }
         let ranges_m = ranges(&line, first_range, n, units, file)?;
         raw.push(RawSnapshot {
             t,
             place: Place::Line(line.number),
             ranges_m,
+            reading_dt_s: Vec::new(),
         });
     }
-    let hw = Hardware {
-        name: file.to_string(),
-        units,
-        layout: layout.layout.clone(),
-        robot_radius_m: layout.robot_radius_m,
-        sensor: sensor_with_max_range(Some(layout), options.max_range_m, None),
-    };
+    let hw = Hardware::of_table(file, units, layout, options);
     let what_odometry = match &options.poses {
         Some(p) if separate => format!(
             "the --poses file {} has no pose lines",
@@ -179,52 +164,4 @@ pub fn import_table(
         summary,
         format: Format::Table,
     })
-}
-
-/// Reads the `--poses` file (`t x y heading` lines) into `track`.
-fn read_poses(
-    poses: &NamedBytes,
-    units: Units,
-    heading: AngleUnit,
-    track: &mut PoseTrack,
-) -> Result<(), ImportError> {
-    let pf = poses.name.as_str();
-    let mut previous = f64::NEG_INFINITY;
-    for line in table_lines(utf8(&poses.bytes, pf)?, pf) {
-        let line = line?;
-        expect_fields(&line, 4, "t x y heading", pf)?;
-        let t = time(&line, &mut previous, pf)?;
-        track.push(t, pose(&line, units, heading, pf)?);
-    }
-    Ok(())
-}
-
-/// The `n` ranges of `line` from field `first` (in `units`), metres; `-` (or another
-/// no-echo mark) is no echo.
-fn ranges(
-    line: &Line,
-    first: usize,
-    n: usize,
-    units: Units,
-    file: &str,
-) -> Result<Vec<Option<f64>>, ImportError> {
-    let mut ranges_m = Vec::with_capacity(n);
-    for i in first..first + n {
-        if is_no_echo(line.fields[i]) {
-            ranges_m.push(None);
-            continue;
-        }
-        let v = checked(line, i, "a range, or - for no echo", file, |v, what| {
-            sane::length(v, units.metres_per_unit(), what, units.symbol())
-        })?;
-        if v < 0.0 {
-            return Err(at(
-                file,
-                format!("line {}, field {}", line.number, i + 1),
-                format!("range {v} is negative: expected a range of at least 0"),
-            ));
-        }
-        ranges_m.push(Some(units.to_m(v)));
-    }
-    Ok(ranges_m)
 }

@@ -391,7 +391,7 @@ fn mcap_cycle_window_splits_and_layout_frames_map() {
     .unwrap();
     let o = ImportOptions {
         layout: Some(layout),
-        window_s: 0.03,
+        window_s: Some(0.03),
         ..ImportOptions::default()
     };
     let i = import_mcap(&bytes, "run.mcap", &o).unwrap();
@@ -404,6 +404,14 @@ fn mcap_cycle_window_splits_and_layout_frames_map() {
         i.run.snapshots[1].ranges_m[2].map(|r| (r * 10.0).round()),
         Some(12.0)
     );
+    // Each reading keeps its own moment: sonars 0 and 1 at 0 and 20 ms, the cycle at 10 ms;
+    // sonar 2 alone in its cycle, at the cycle's moment.
+    let dt = &i.run.snapshots[0].reading_dt_s;
+    assert!(
+        close(dt[0], -0.01, 1e-9) && close(dt[1], 0.01, 1e-9),
+        "{dt:?}"
+    );
+    assert!(i.run.snapshots[1].reading_dt_s.is_empty());
 }
 
 #[test]

@@ -8,6 +8,7 @@
 //! - Player/Stage logs: field-level mutations (numbers of every magnitude, NaN, infinities,
 //!   truncated fields, fields added or removed), lines swapped or dropped, files cut short;
 //! - tables: ragged columns, cells of every magnitude, headers, separators, the poses file;
+//! - tables of one reading a line: the same, with pose columns, odometry lines or a poses file;
 //! - MCAP: valid records with corrupted lengths, opcodes and CRCs, messages in chunks, CDR
 //!   messages with corrupted string lengths, sequence counts and floats, files cut short.
 //!
@@ -26,7 +27,7 @@ use rand_chacha::ChaCha8Rng;
 use sonarmap::geometry::Pose;
 use sonarmap::import::{
     builtin_layout, import_any, import_mcap, import_player, import_table, parse_layout, AngleUnit,
-    ImportOptions, Layout, NamedBytes,
+    ImportOptions, Layout, NamedBytes, TableForm,
 };
 use sonarmap::units::Units;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -68,6 +69,7 @@ impl Tally {
 static PLAYER: Tally = Tally::new("player");
 static TABLE: Tally = Tally::new("table");
 static MCAP: Tally = Tally::new("mcap");
+static FIRINGS: Tally = Tally::new("firings");
 static BYTES: Tally = Tally::new("bytes");
 
 fn cases() -> u32 {
@@ -451,6 +453,221 @@ fn table_case(seed: u64) {
     TABLE.count(&[&table, &any]);
 }
 
+// ------------------------------------------------------------------ tables of firings
+
+/// How a firing table gives its poses.
+#[derive(Clone, Copy, PartialEq)]
+enum FiringPoses {
+    /// `t sensor range x y heading`.
+    Columns,
+    /// `t sensor range` lines between `t x y heading` odometry lines.
+    OdometryLines,
+    /// `t sensor range` lines and a `--poses` file.
+    PosesFile,
+}
+
+/// A valid table of firings: its rows, its poses file's rows, and each firing as it should be
+/// imported (time, sensor, range in metres, parsed back from the text).
+struct FiringTable {
+    rows: Vec<Vec<String>>,
+    poses: Vec<Vec<String>>,
+    form: FiringPoses,
+    firings: Vec<(f64, usize, Option<f64>)>,
+    n: usize,
+    units: Units,
+}
+
+fn firing_table(r: &mut ChaCha8Rng) -> FiringTable {
+    let n = [1, 3, 16][r.random_range(0..3)];
+    let units = [Units::Metres, Units::Inches, Units::Millimetres][r.random_range(0..3)];
+    let scale = 1.0 / units.metres_per_unit();
+    let form = [
+        FiringPoses::Columns,
+        FiringPoses::OdometryLines,
+        FiringPoses::PosesFile,
+    ][r.random_range(0..3)];
+    let mut rows = Vec::new();
+    let mut poses = Vec::new();
+    let mut firings = Vec::new();
+    if r.random_bool(0.5) {
+        let mut h: Vec<String> = ["t", "sensor", "range"].map(String::from).to_vec();
+        if form == FiringPoses::Columns {
+            h.extend(["x", "y", "heading"].map(String::from));
+        }
+        rows.push(h);
+    }
+    let mut t: f64 = r.random_range(0.0..1e5);
+    let pose_at = |r: &mut ChaCha8Rng, t: f64| {
+        vec![
+            format!("{t:.3}"),
+            f(r.random_range(-30.0..30.0) * scale),
+            f(r.random_range(-30.0..30.0) * scale),
+            f(r.random_range(-170.0..170.0)),
+        ]
+    };
+    if form != FiringPoses::Columns {
+        let p = pose_at(r, t);
+        if form == FiringPoses::PosesFile {
+            poses.push(p);
+        } else {
+            rows.push(p);
+        }
+    }
+    for _ in 0..r.random_range(1..12) {
+        // A cycle: most of the sensors, in a shuffled order, a few at a moment.
+        let mut order: Vec<usize> = (0..n).collect();
+        for i in (1..n).rev() {
+            order.swap(i, r.random_range(0..=i));
+        }
+        // At least half the ring: an importer refuses cycles that read a quarter of it on
+        // average (a hostile file must not make a million near-empty cycles).
+        order.truncate(r.random_range(n.div_ceil(2)..=n));
+        for k in order {
+            if r.random_bool(0.5) {
+                t += r.random_range(0.0..0.08);
+            }
+            let text = match r.random_range(0..10) {
+                0 => "-".to_string(),
+                _ => f(r.random_range(0.05..6.0) * scale),
+            };
+            let range_m = text
+                .parse::<f64>()
+                .ok()
+                .map(|v| units.to_m(v))
+                .filter(|&m| m < 5.0);
+            let t_text = format!("{t:.3}");
+            firings.push((t_text.parse().unwrap(), k, range_m));
+            let mut row = vec![t_text, k.to_string(), text];
+            if form == FiringPoses::Columns {
+                row.extend(pose_at(r, t)[1..].iter().cloned());
+            }
+            rows.push(row);
+        }
+        t += r.random_range(0.0..0.5);
+        if form != FiringPoses::Columns && r.random_bool(0.7) {
+            let p = pose_at(r, t);
+            if form == FiringPoses::PosesFile {
+                poses.push(p);
+            } else {
+                rows.push(p);
+            }
+        }
+    }
+    // Odometry after the last firing (a firing more than a second beyond the odometry is
+    // skipped, as it should be).
+    if form != FiringPoses::Columns {
+        let p = pose_at(r, t);
+        if form == FiringPoses::PosesFile {
+            poses.push(p);
+        } else {
+            rows.push(p);
+        }
+    }
+    FiringTable {
+        rows,
+        poses,
+        form,
+        firings,
+        n,
+        units,
+    }
+}
+
+fn firing_options(r: &mut ChaCha8Rng, table: &FiringTable, poses: Vec<u8>) -> ImportOptions {
+    ImportOptions {
+        layout: Some(ring_layout(table.n).clone()),
+        units: Some(table.units),
+        poses: (table.form == FiringPoses::PosesFile).then(|| NamedBytes {
+            name: "fuzz-poses.csv".into(),
+            bytes: poses,
+        }),
+        table: if r.random_bool(0.5) || table.n < 4 {
+            TableForm::Firings
+        } else {
+            TableForm::Auto
+        },
+        ..ImportOptions::default()
+    }
+}
+
+fn firings_case(seed: u64) {
+    let mut r = ChaCha8Rng::seed_from_u64(seed);
+    let mut table = firing_table(&mut r);
+    let mutations = r.random_range(1..5);
+    mutate_fields(&mut r, &mut table.rows, mutations);
+    if table.form == FiringPoses::PosesFile && r.random_bool(0.3) {
+        let m = r.random_range(1..3);
+        mutate_fields(&mut r, &mut table.poses, m);
+    }
+    let sep = [",", " ", "\t", " , "][r.random_range(0..4)];
+    let bytes = to_text(&mut r, &table.rows, sep);
+    let poses = to_text(&mut r, &table.poses, sep);
+    let mut o = firing_options(&mut r, &table, poses);
+    o.window_s = r.random_bool(0.3).then(|| r.random_range(0.0..2.0));
+    let check =
+        |result: &Result<sonarmap::import::Imported, sonarmap::import::ImportError>| match result {
+            Err(e) if e.to_string().starts_with("fuzz-poses.csv") => {
+                check_contract(result, "fuzz-poses.csv")
+            }
+            _ => check_contract(result, "fuzz.csv"),
+        };
+    let imported = import_table(&bytes, "fuzz.csv", &o);
+    check(&imported);
+    let any = import_any(&bytes, "fuzz.csv", &o);
+    check(&any);
+    FIRINGS.count(&[&imported, &any]);
+}
+
+/// A valid table of firings imports, and every reading comes out once, with its sensor, its
+/// range (or no echo) and its own moment (the snapshot's `t` plus its `reading_dt_s`); no
+/// cycle is longer than the window.
+fn valid_firings_case(seed: u64) {
+    let mut r = ChaCha8Rng::seed_from_u64(seed);
+    let table = firing_table(&mut r);
+    let text = |rows: &[Vec<String>]| -> Vec<u8> {
+        rows.iter()
+            .flat_map(|row| format!("{}\n", row.join(" ")).into_bytes())
+            .collect()
+    };
+    let (bytes, poses) = (text(&table.rows), text(&table.poses));
+    let o = firing_options(&mut r, &table, poses);
+    let imported = import_table(&bytes, "valid.csv", &o)
+        .unwrap_or_else(|e| panic!("a valid firing table is refused: {e}"));
+    let run = &imported.run;
+    let mut out = Vec::new();
+    for s in &run.snapshots {
+        let read_at = |k: usize| s.t + s.reading_dt_s.get(k).copied().unwrap_or(0.0);
+        let times: Vec<f64> = (0..table.n).map(read_at).collect();
+        let span = times.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+            - times.iter().cloned().fold(f64::INFINITY, f64::min);
+        assert!(
+            span <= 1.0 + 1e-9,
+            "a cycle spans {span} s, beyond the 1 s window"
+        );
+        for (k, range) in s.ranges_m.iter().enumerate() {
+            out.push((read_at(k), k, *range));
+        }
+    }
+    for (t, k, range) in &table.firings {
+        let found = out.iter().position(|(ot, ok, or)| {
+            ok == k
+                && (ot - t).abs() < 1e-6
+                && match (or, range) {
+                    (Some(a), Some(b)) => (a - b).abs() < 1e-9,
+                    (None, None) => true,
+                    _ => false,
+                }
+        });
+        let i = found.unwrap_or_else(|| {
+            panic!("firing ({t}, sensor {k}, {range:?}) is not in the run: {out:?}")
+        });
+        out.swap_remove(i);
+    }
+    // What is left is the slots of sensors silent in their cycle: no echo.
+    assert!(out.iter().all(|(_, _, r)| r.is_none()), "{out:?}");
+    assert_eq!(imported.format, sonarmap::import::Format::FiringTable);
+}
+
 // ------------------------------------------------------------------ MCAP
 
 fn range_cdr(r: &mut ChaCha8Rng, t: f64, frame: &str) -> Vec<u8> {
@@ -742,7 +959,7 @@ fn mcap_case(seed: u64) {
         _ => {}
     }
     if r.random_bool(0.2) {
-        o.window_s = [0.0, 0.01, 0.05, 1.0, 10.0][r.random_range(0..5)];
+        o.window_s = Some([0.0, 0.01, 0.05, 1.0, 10.0][r.random_range(0..5)]);
     }
     if r.random_bool(0.1) {
         o.fixed_pose = Some(Pose::new(0.0, 0.0, 0.0));
@@ -808,6 +1025,16 @@ proptest! {
     #[test]
     fn tables_with_ragged_columns_and_numbers_of_every_magnitude(seed in any::<u64>()) {
         table_case(seed);
+    }
+
+    #[test]
+    fn firing_tables_mutated_field_by_field(seed in any::<u64>()) {
+        firings_case(seed);
+    }
+
+    #[test]
+    fn a_valid_firing_table_keeps_every_reading_at_its_own_moment(seed in any::<u64>()) {
+        valid_firings_case(seed);
     }
 
     #[test]

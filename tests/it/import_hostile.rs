@@ -44,8 +44,22 @@ pub(super) fn check_run(run: &sonarmap::run::Run) {
             "{m:?}"
         );
     }
+    for w in run.snapshots.windows(2) {
+        assert!(
+            w[0].t <= w[1].t,
+            "time goes back: {} then {}",
+            w[0].t,
+            w[1].t
+        );
+    }
     for s in &run.snapshots {
         assert!(s.t.is_finite() && s.t.abs() <= 1e10, "t {}", s.t);
+        assert!(
+            s.reading_dt_s.is_empty() || s.reading_dt_s.len() == run.layout.len(),
+            "{} offsets for {} sensors",
+            s.reading_dt_s.len(),
+            run.layout.len()
+        );
         assert!(sane(s.pose.x) && sane(s.pose.y) && s.pose.heading_rad.is_finite());
         assert_eq!(s.ranges_m.len(), run.layout.len());
         for r in s.ranges_m.iter().flatten() {
@@ -541,7 +555,7 @@ fn player_absurd_values_are_refused_with_line_and_field() {
 #[test]
 fn negative_window_is_refused_for_player_logs_too() {
     let o = ImportOptions {
-        window_s: -1.0,
+        window_s: Some(-1.0),
         ..ImportOptions::default()
     };
     let text = player_with("0.1 1 6665 sonar 00 1 1 2 1 1");
@@ -549,9 +563,9 @@ fn negative_window_is_refused_for_player_logs_too() {
     assert!(e.to_string().contains("--window"), "{e}");
     let e = import_any(text.as_bytes(), "p.log", &o).unwrap_err();
     assert!(e.to_string().contains("--window"), "{e}");
-    for bad in [f64::NAN, f64::INFINITY, 1e300] {
+    for bad in [f64::NAN, f64::INFINITY, 1e300, 60.5] {
         let o = ImportOptions {
-            window_s: bad,
+            window_s: Some(bad),
             ..ImportOptions::default()
         };
         assert!(import_player(text.as_bytes(), "p.log", &o).is_err());

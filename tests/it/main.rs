@@ -12,6 +12,7 @@ mod eval;
 mod figure;
 mod golden;
 mod import;
+mod import_firings;
 mod import_fuzz;
 mod import_hostile;
 mod lineage;

@@ -2,12 +2,12 @@
 //! and the sensor's ranges and beam.
 
 use super::collect::Collected;
-use super::cycles::{firing_cycles, Reading};
 use super::messages::{place, RangeMsg};
 use super::sensors::{layout, Keys, SensorOf};
-use crate::import::assemble::{assemble, sensor_with_max_range, Hardware};
+use crate::import::assemble::{assemble, sensor_with_max_range, Hardware, Place};
+use crate::import::cycles::{firing_cycles, Reading};
 use crate::import::error::ImportError;
-use crate::import::options::ImportOptions;
+use crate::import::options::{ImportOptions, DEFAULT_WINDOW_S};
 use crate::import::sane;
 use crate::import::summary::{Format, ImportSummary, Imported};
 use crate::units::Units;
@@ -58,8 +58,14 @@ pub(super) fn assemble_mcap(
     let (mut readings, limits) = readings(&ranges, keys, &sensor_of, n, &mut summary);
     drop(sensor_of);
     drop(ranges);
-    readings.sort_by(|a, b| a.t.total_cmp(&b.t).then(a.index.cmp(&b.index)));
-    let (raw, missing) = firing_cycles(&readings, n, options.window_s, file)?;
+    // A stable sort: readings at one time keep their message order.
+    readings.sort_by(|a, b| a.t.total_cmp(&b.t));
+    let (raw, missing) = firing_cycles(
+        &readings,
+        n,
+        options.window_s.unwrap_or(DEFAULT_WINDOW_S),
+        file,
+    )?;
     if missing > 0 {
         summary.warn(format!(
             "{missing} readings were missing from their firing cycle and are no echo"
@@ -163,7 +169,7 @@ fn readings(
             t: m.t,
             sensor: k,
             range_m: echo.then_some(m.range as f64),
-            index: m.index,
+            place: Place::Cycle(m.index),
         });
     }
     (readings, limits)

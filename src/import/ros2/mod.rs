@@ -24,8 +24,10 @@
 //! - Snapshots: the readings, sorted by time, are cut into firing cycles of the ring. A cycle
 //!   starts at a reading and takes the following ones until a sensor repeats or a reading comes
 //!   more than the window (`--window`, default 0.1 s) after the cycle's first; then the next
-//!   cycle starts. The snapshot's time is the mean of its readings' times, its pose interpolated
-//!   there; a sensor silent in a cycle is no echo (counted in a warning).
+//!   cycle starts (`crate::import::cycles`, shared with one-reading-a-line tables). The
+//!   snapshot's time is the mean of its readings' times, its pose interpolated there, and each
+//!   reading keeps its own moment as an offset (`reading_dt_s`); a sensor silent in a cycle is
+//!   no echo (counted in a warning).
 //! - A reading or odometry message earlier than the previous one of the same sensor or odometry
 //!   topic is skipped with a warning. No odometry: refused unless a fixed pose is given.
 //!
@@ -44,14 +46,13 @@
 //!
 //! # Code
 //! `collect` reads the messages (`messages` decodes and checks each type), `sensors` names
-//! the sonars and finds their layout (`tf`: the `/tf_static` chains), `cycles` cuts the
-//! readings into firing cycles and `assembly` puts the run together; `contain` keeps a panic
+//! the sonars and finds their layout (`tf`: the `/tf_static` chains) and `assembly` cuts the
+//! readings into firing cycles and puts the run together; `contain` keeps a panic
 //! in the `mcap` crate from escaping.
 
 mod assembly;
 mod collect;
 mod contain;
-mod cycles;
 mod messages;
 mod sensors;
 mod tf;
