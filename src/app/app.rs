@@ -350,7 +350,8 @@ impl SonarApp {
         };
         let input = SceneInput::from_view(run, view)
             .with_truth(truth)
-            .with_support_of(support_of);
+            .with_support_of(support_of)
+            .with_corrected_path(self.loaded.replay.step_poses());
         build_scene(&input, options)
     }
 

@@ -294,7 +294,10 @@ impl SonarApp {
             .as_ref()
             .ok_or_else(|| "nothing to export".to_owned())?;
         let truth = self.truth.as_ref().map(|t| t.verdicts.as_slice());
-        let input = SceneInput::from_view(self.loaded.replay.run(), view).with_truth(truth);
+        let replay = &self.loaded.replay;
+        let input = SceneInput::from_view(replay.run(), view)
+            .with_truth(truth)
+            .with_corrected_path(replay.step_poses());
         let (w, h) = self.map_view.size_px;
         let figure = Figure {
             view: self.map_view.visible_m,

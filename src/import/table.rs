@@ -99,15 +99,24 @@ pub fn import_table(
     let units = options.units.unwrap_or(Units::Metres);
     let heading = options.heading;
     let text = utf8(bytes, file)?;
+    let setup = TableSetup { n, units, heading };
     if is_firing_table(text, n, options.table, file) {
-        return import_firings(
-            text,
-            file,
-            layout,
-            options,
-            TableSetup { n, units, heading },
-        );
+        import_firings(text, file, layout, options, setup)
+    } else {
+        import_rings(text, file, layout, options, setup)
     }
+}
+
+/// A table of one firing cycle a line: `t x y heading` then a range per sensor, or `t` then
+/// the ranges with the poses in `--poses`.
+fn import_rings(
+    text: &str,
+    file: &str,
+    layout: &super::layout::Layout,
+    options: &ImportOptions,
+    setup: TableSetup,
+) -> Result<Imported, ImportError> {
+    let TableSetup { n, units, heading } = setup;
     let mut summary = ImportSummary::default();
     let mut track = PoseTrack::default();
     let mut body = table_lines(text, file).peekable();

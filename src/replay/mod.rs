@@ -25,7 +25,7 @@ mod summary;
 mod tests;
 mod view;
 
-pub use summary::{StepSummary, TruthSample, TRUTH_SAMPLES};
+pub use summary::{StepPose, StepSummary, TruthSample, TRUTH_SAMPLES};
 pub use view::StepView;
 
 use crate::checkpoints::{Checkpoints, DEFAULT_CHECKPOINT_BUDGET_BYTES};
@@ -75,6 +75,8 @@ pub struct Replay {
     failure: Option<StepFailure>,
     lineage: Arc<Lineage>,
     truth_curve: Vec<TruthSample>,
+    /// Every step's pose with pose correction on (empty otherwise).
+    poses: Vec<StepPose>,
 }
 
 /// The build was cancelled by its progress callback.
@@ -155,6 +157,7 @@ impl Replay {
             failure,
             lineage: Arc::new(records.lineage),
             truth_curve: records.truth_curve,
+            poses: records.poses,
         };
         replay.final_map = if replay.failure.is_some() {
             // The failed step may have left the mapper half-way: replay up to the last good one.
@@ -172,6 +175,12 @@ impl Replay {
     /// [`TRUTH_SAMPLES`] times, and at the last step (with a floor plan; empty without).
     pub fn truth_curve(&self) -> &[TruthSample] {
         &self.truth_curve
+    }
+
+    /// Every step's pose and correction when pose correction is on, one per step; empty
+    /// otherwise.
+    pub fn step_poses(&self) -> &[StepPose] {
+        &self.poses
     }
 
     /// Every map segment's life, as the replay recorded it.

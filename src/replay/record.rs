@@ -2,7 +2,7 @@
 //! up from a checkpoint takes them again), the segments' lineage and, now and then, the map's
 //! figures against the floor plan.
 
-use super::summary::{StepSummary, TruthSample, TRUTH_SAMPLES};
+use super::summary::{StepPose, StepSummary, TruthSample, TRUTH_SAMPLES};
 use crate::eval::{map_verdicts, truth_figures};
 use crate::lineage::Lineage;
 use crate::mapping::model::trace::StepTrace;
@@ -17,6 +17,8 @@ pub(super) struct StepRecords {
     pub decisions_from: Vec<u32>,
     pub lineage: Lineage,
     pub truth_curve: Vec<TruthSample>,
+    /// Every step's pose, when pose correction is on (empty otherwise).
+    pub poses: Vec<StepPose>,
     /// Steps between samples of the truth curve.
     truth_every: usize,
 }
@@ -31,6 +33,7 @@ impl StepRecords {
             decisions_from: vec![0u32],
             lineage: Lineage::default(),
             truth_curve: Vec::new(),
+            poses: Vec::new(),
             truth_every: interval.max(run.snapshots.len().div_ceil(TRUTH_SAMPLES)),
         }
     }
@@ -62,6 +65,7 @@ impl StepRecords {
             }
         }
         self.summaries.push(summary);
+        self.poses.extend(StepPose::of(trace));
         let recorded = trace.decisions.iter();
         self.decisions
             .extend(recorded.map(|d| RecordedDecision::of(d, &trace.updates)));

@@ -112,3 +112,36 @@ pub struct TruthSample {
     /// Covered wall length over total wall length.
     pub coverage: f64,
 }
+
+/// Where a step placed the robot with pose correction on (docs/algorithm.md §8.17), for the
+/// corrected path and the correction plot; the replay keeps one per step only then.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepPose {
+    /// The pose the step mapped with, metres and radians.
+    pub mapped: crate::geometry::Pose,
+    /// Distance from the odometry pose, metres: the drift the corrections have taken out.
+    pub from_odometry_m: f32,
+    /// This step's correction: distance from the predicted pose, metres.
+    pub correction_m: f32,
+    /// RMS of the used readings' residuals over their sigmas, at the prediction.
+    pub rms_before: f32,
+    /// The same at the corrected pose.
+    pub rms_after: f32,
+}
+
+impl StepPose {
+    /// The pose of a step whose trace carries a correction record; none without one.
+    pub fn of(trace: &StepTrace) -> Option<StepPose> {
+        let c = trace.correction.as_ref()?;
+        let distance = |a: &crate::geometry::Pose, b: &crate::geometry::Pose| {
+            (a.x - b.x).hypot(a.y - b.y) as f32
+        };
+        Some(StepPose {
+            mapped: c.corrected,
+            from_odometry_m: distance(&c.corrected, &c.odometry),
+            correction_m: distance(&c.corrected, &c.predicted),
+            rms_before: c.rms_before as f32,
+            rms_after: c.rms_after as f32,
+        })
+    }
+}

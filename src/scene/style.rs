@@ -200,8 +200,12 @@ pub enum Role {
     Robot,
     /// The robot at the previous snapshot.
     RobotPrevious,
-    /// The path so far.
+    /// The path so far (odometry).
     RobotPath,
+    /// The path so far as pose correction placed it (docs/algorithm.md §8.17).
+    RobotPathCorrected,
+    /// The true path so far, when the run keeps it.
+    RobotPathTrue,
     /// A label (segment id, gap distance).
     Label,
 }
@@ -239,7 +243,11 @@ impl Role {
             | Role::DecisionNewFace
             | Role::DecisionFailed => Layer::Decisions,
             Role::Corner => Layer::Correlations,
-            Role::Robot | Role::RobotPrevious | Role::RobotPath => Layer::Robot,
+            Role::Robot
+            | Role::RobotPrevious
+            | Role::RobotPath
+            | Role::RobotPathCorrected
+            | Role::RobotPathTrue => Layer::Robot,
             Role::Label => Layer::Labels,
         }
     }
@@ -297,6 +305,8 @@ impl Role {
             Role::Robot => Style::line(BLUE, 2.0).filled(BLUE.with_alpha(30)),
             Role::RobotPrevious => Style::line(VERMILLION, 1.0).dashed(DOT).faded(0.8),
             Role::RobotPath => Style::line(GREY, 1.5).sized(4.0).filled(GREY),
+            Role::RobotPathCorrected => Style::line(BLUE, 1.5),
+            Role::RobotPathTrue => Style::line(BLUISH_GREEN, 1.5).dashed(DASH),
             Role::Label => Style {
                 fill: Some(GREY),
                 ..Style::line(GREY, 0.0)
@@ -341,7 +351,9 @@ impl Role {
             Role::Corner => "corner",
             Role::Robot => "robot",
             Role::RobotPrevious => "robot, previous",
-            Role::RobotPath => "path",
+            Role::RobotPath => "path (odometry)",
+            Role::RobotPathCorrected => "path, corrected",
+            Role::RobotPathTrue => "path, true",
             Role::Label => return None,
         })
     }

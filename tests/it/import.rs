@@ -577,6 +577,7 @@ fn write_png(run: &Run, mapper: &Mapper, traces: &[StepTrace]) {
         truth: None,
         support_of: None,
         figure_labels: false,
+        corrected_path: &[],
     };
     let scene = build_scene(&input, &ViewOptions::default());
     let svg = to_svg(

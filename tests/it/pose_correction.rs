@@ -59,3 +59,35 @@ fn without_the_flag_no_step_records_a_correction_and_the_pose_is_the_odometry() 
         assert_eq!(trace.pose, Some(s.pose));
     }
 }
+
+/// The inspector's map draws three paths on a drifting run with correction on: the odometry's
+/// (the log's `pose`), the corrected one (the replay's step poses, which are the poses the
+/// steps mapped with) and the true one; without correction, the corrected path is not drawn.
+#[test]
+fn a_drifting_run_shows_its_odometry_corrected_and_true_paths() {
+    use sonarmap::replay::Replay;
+    use sonarmap::scene::{build_scene, Role, SceneInput, ViewOptions};
+    use std::sync::Arc;
+    let run = Arc::new(with_odometry(
+        &family_run(SceneKind::ALL[0], 3, 120),
+        &OdometryError::BAD,
+        3,
+    ));
+    for (params, corrected) in [(corrected_params(), true), (Params::extended(), false)] {
+        let replay = Replay::build(run.clone(), params, 32, &mut |_| true).unwrap();
+        let last = run.snapshots.len() - 1;
+        let view = replay.view(last).unwrap();
+        assert_eq!(
+            replay.step_poses().len(),
+            if corrected { run.snapshots.len() } else { 0 }
+        );
+        if corrected {
+            assert_eq!(Some(replay.step_poses()[last].mapped), view.trace.pose);
+        }
+        let input = SceneInput::from_view(&run, &view).with_corrected_path(replay.step_poses());
+        let scene = build_scene(&input, &ViewOptions::all());
+        let drawn = |role: Role| scene.primitives.iter().any(|p| p.role == role);
+        assert!(drawn(Role::RobotPath) && drawn(Role::RobotPathTrue));
+        assert_eq!(drawn(Role::RobotPathCorrected), corrected);
+    }
+}

@@ -430,6 +430,7 @@ fn blue_room_scene(b: &BlueRoom, options: &ViewOptions) -> Scene {
         truth: None,
         support_of: None,
         figure_labels: false,
+        corrected_path: &[],
     };
     build_scene(&input, options)
 }

@@ -7,10 +7,12 @@
 //!
 //! Files: `overview` (nothing selected, the robot, the floor plan), `reading`, `segment` (a
 //! cluster and its new segments), `decision` (candidates, baseline, outcome), `map_segment`
-//! (a map segment or update, "compare with…"), `correlation`; `context` (what the pages
+//! (a map segment or update, "compare with…"), `correlation`, `correction` (the step's pose
+//! correction); `context` (what the pages
 //! read), `widgets` and `names` are shared.
 
 mod context;
+mod correction;
 mod correlation;
 mod decision;
 mod extensions;

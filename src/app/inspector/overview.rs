@@ -21,6 +21,7 @@ pub(super) fn nothing_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
         .weak(),
     );
     warnings_ui(ui, ctx);
+    super::correction::correction_ui(ui, ctx);
     super::extensions::extensions_ui(ui, ctx);
 }
 
@@ -61,6 +62,7 @@ pub(super) fn robot_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
         });
     }
     warnings_ui(ui, ctx);
+    super::correction::correction_ui(ui, ctx);
 }
 
 /// The robot's hover text.

@@ -71,23 +71,12 @@ pub(super) fn assemble_mcap(
             "{missing} readings were missing from their firing cycle and are no echo"
         ));
     }
-    let default_max = (limits.largest_max > 0.0).then_some(limits.largest_max);
-    let mut sensor =
-        sensor_with_max_range(options.layout.as_ref(), options.max_range_m, default_max);
-    if options.layout.is_none() {
-        if limits.smallest_min.is_finite() {
-            sensor.min_range_m = limits.smallest_min;
-        }
-        if let Some(f) = limits.fov {
-            sensor.beam_width_rad = f;
-        }
-    }
     let hw = Hardware {
         name: file.to_string(),
         units: options.units.unwrap_or(Units::Metres),
         robot_radius_m: options.layout.as_ref().and_then(|l| l.robot_radius_m),
         layout,
-        sensor,
+        sensor: sensor_of_messages(options, &limits),
     };
     let run = assemble(
         file,
@@ -103,6 +92,23 @@ pub(super) fn assemble_mcap(
         summary,
         format: Format::Mcap,
     })
+}
+
+/// The sensor model: the layout's when one is given, else the messages' own limits (largest
+/// max range, smallest min range, field of view), with `--max-range` over both.
+fn sensor_of_messages(options: &ImportOptions, limits: &RangeLimits) -> crate::sonar::SensorSpec {
+    let default_max = (limits.largest_max > 0.0).then_some(limits.largest_max);
+    let mut sensor =
+        sensor_with_max_range(options.layout.as_ref(), options.max_range_m, default_max);
+    if options.layout.is_none() {
+        if limits.smallest_min.is_finite() {
+            sensor.min_range_m = limits.smallest_min;
+        }
+        if let Some(f) = limits.fov {
+            sensor.beam_width_rad = f;
+        }
+    }
+    sensor
 }
 
 /// The readings of `ranges` (in message order) with a sensor among the `n` of the layout and

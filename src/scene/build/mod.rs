@@ -47,6 +47,9 @@ pub struct SceneInput<'a> {
     /// Figure style: map segments are labelled only when selected (`support_of`) or met by
     /// this step's decisions.
     pub figure_labels: bool,
+    /// Every step's pose with pose correction on (the replay's; empty otherwise): the
+    /// corrected path.
+    pub corrected_path: &'a [crate::replay::StepPose],
 }
 
 impl<'a> SceneInput<'a> {
@@ -62,6 +65,15 @@ impl<'a> SceneInput<'a> {
             truth: None,
             support_of: None,
             figure_labels: false,
+            corrected_path: &[],
+        }
+    }
+
+    /// The input with the corrected path of `poses` (the replay's step poses).
+    pub fn with_corrected_path(self, poses: &'a [crate::replay::StepPose]) -> Self {
+        SceneInput {
+            corrected_path: poses,
+            ..self
         }
     }
 

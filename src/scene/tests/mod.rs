@@ -256,6 +256,7 @@ fn build(f: &Fixture, options: &ViewOptions, with_previous: bool) -> Scene {
         truth: None,
         support_of: None,
         figure_labels: false,
+        corrected_path: &[],
     };
     build_scene(&input, options)
 }

@@ -176,6 +176,7 @@ fn zoomed_out_a_path_over_the_same_ground_is_drawn_once_and_whole_without_a_view
         truth: None,
         support_of: None,
         figure_labels: false,
+        corrected_path: &[],
     };
     let path = |options: &ViewOptions| -> Vec<Vec<Point>> {
         (build_scene(&input, options).layer(Layer::Robot))

@@ -1,0 +1,120 @@
+//! The step's pose correction against the confirmed map (docs/algorithm.md §8.17), with its
+//! numbers: odometry, prediction and corrected pose, the residuals before and after, the
+//! prior's weight, the observed directions, each reading used, or why it was refused; and the
+//! true pose when the run keeps it.
+
+use super::context::InspectCtx;
+use super::widgets::{heading, kv, FAIL};
+use crate::geometry::Pose;
+use crate::mapping::model::ext_trace::{CorrectionRefusal, CorrectionTarget};
+use egui::RichText;
+
+/// `pose` as position and heading.
+fn pose_text(ctx: &InspectCtx, pose: &Pose) -> String {
+    format!(
+        "{}  {:.2}°",
+        ctx.point(&pose.position()),
+        pose.heading_rad.to_degrees()
+    )
+}
+
+/// How far `b` lies from `a`: distance and turn.
+fn offset_text(ctx: &InspectCtx, a: &Pose, b: &Pose) -> String {
+    let turn = crate::geometry::wrap_pi(b.heading_rad - a.heading_rad).to_degrees();
+    format!("{}  {turn:+.2}°", ctx.len((b.x - a.x).hypot(b.y - a.y)))
+}
+
+fn refusal_text(refusal: &CorrectionRefusal) -> String {
+    match refusal {
+        CorrectionRefusal::FirstStep => "the first step anchors the map".to_string(),
+        CorrectionRefusal::TooFewReadings { matched, needed } => format!(
+            "the confirmed map explained {matched} readings, {needed} needed: the pose keeps \
+             the prediction"
+        ),
+        CorrectionRefusal::BeyondBound { shift_m, turn_deg } => format!(
+            "the correction would move the robot {shift_m:.3} m and turn it {turn_deg:.2}°, \
+             beyond three standard deviations of the prediction"
+        ),
+        CorrectionRefusal::NoBetter => {
+            "the corrected pose explained the readings no better than the prediction".to_string()
+        }
+    }
+}
+
+/// The step's correction; nothing when pose correction is off.
+pub(super) fn correction_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
+    let Some(c) = &ctx.view.trace.correction else {
+        return;
+    };
+    heading(ui, "Pose correction (§8.17)");
+    egui::Grid::new("pose_correction")
+        .num_columns(2)
+        .show(ui, |ui| {
+            kv(ui, "odometry", pose_text(ctx, &c.odometry));
+            kv(ui, "predicted", pose_text(ctx, &c.predicted));
+            kv(ui, "corrected", pose_text(ctx, &c.corrected));
+            kv(
+                ui,
+                "correction",
+                offset_text(ctx, &c.predicted, &c.corrected),
+            );
+            kv(
+                ui,
+                "from odometry",
+                offset_text(ctx, &c.odometry, &c.corrected),
+            );
+            if let Some(truth) = ctx
+                .run
+                .snapshots
+                .get(ctx.view.index)
+                .and_then(|s| s.true_pose)
+            {
+                kv(ui, "true pose", pose_text(ctx, &truth));
+                kv(ui, "error", offset_text(ctx, &truth, &c.corrected));
+            }
+            kv(
+                ui,
+                "residual RMS / σ",
+                format!("{:.2} before, {:.2} after", c.rms_before, c.rms_after),
+            );
+            let [x, y, h] = c.prior_sigma;
+            kv(ui, "prior σ", format!("x {x:.3} m, y {y:.3} m, {h:.2}°"));
+            let [x, y, h] = c.posterior_sigma;
+            kv(
+                ui,
+                "posterior σ",
+                format!("x {x:.3} m, y {y:.3} m, {h:.2}°"),
+            );
+        });
+    if let Some(refusal) = &c.refused {
+        ui.label(RichText::new(format!("refused: {}", refusal_text(refusal))).color(FAIL));
+    }
+    for d in &c.directions {
+        let [x, y, h] = d.direction;
+        ui.label(
+            RichText::new(format!(
+                "direction (x {x:+.2}, y {y:+.2}, heading {h:+.2}): information {:.0} /m², {}",
+                d.information,
+                if d.observed {
+                    "observed"
+                } else {
+                    "left to the prior"
+                }
+            ))
+            .weak(),
+        );
+    }
+    for r in &c.readings {
+        let target = match r.target {
+            CorrectionTarget::Wall(id) => format!("wall {id}"),
+            CorrectionTarget::Feature(id) => format!("feature {id}"),
+        };
+        ui.label(format!(
+            "sensor {} on {target}: residual {} → {} (σ {})",
+            r.sensor,
+            ctx.len(r.residual_before_m),
+            ctx.len(r.residual_after_m),
+            ctx.len(r.sigma_m)
+        ));
+    }
+}
