@@ -78,8 +78,12 @@ pub struct InspectorFigures {
     pub checkpoint_spacing_min: usize,
     /// The longest (early in such a run), snapshots.
     pub checkpoint_spacing_max: usize,
-    /// Heap held by the checkpoints, bytes (0 without the counting allocator).
+    /// Heap the checkpoints alone keep alive: freed when they are dropped and the rest of the
+    /// replay kept, bytes (0 without the counting allocator).
     pub checkpoint_bytes: usize,
+    /// Heap the whole replay holds once built (checkpoints, the final map, step summaries,
+    /// decisions, lineage, truth curve), bytes (0 without the counting allocator).
+    pub replay_heap_bytes: usize,
     /// The checkpoints' own estimate of the bytes they keep alive, and their budget.
     pub checkpoint_estimated_bytes: usize,
     /// The budget the spacing was chosen from, bytes.
@@ -315,12 +319,14 @@ fn bench_inspector(
     );
     let replay_build_s = start.elapsed().as_secs_f64();
     alloc_count::stop_counting();
-    let replay = replay?;
+    let replay_heap_bytes = alloc_count::counted_bytes().max(0) as usize;
+    let mut replay = replay?;
     let lineage_ms_max = time_lineages(&replay, n);
-    let checkpoint_bytes = alloc_count::counted_bytes().max(0) as usize;
     let (checkpoints, spacing_min, spacing_max) = replay.checkpoint_spacing();
     let seeks = time_seeks(run, &replay);
     let plot_frames = time_plots(&replay, n);
+    let (checkpoint_estimated_bytes, checkpoint_budget_bytes) = replay.checkpoint_bytes();
+    let checkpoint_bytes = checkpoints_alone_bytes(&mut replay);
     Ok(InspectorFigures {
         load_s: median(loads),
         load_peak_memory_over_file_size: peak as f64 / json.len() as f64,
@@ -333,8 +339,9 @@ fn bench_inspector(
         checkpoint_spacing_min: spacing_min,
         checkpoint_spacing_max: spacing_max,
         checkpoint_bytes,
-        checkpoint_estimated_bytes: replay.checkpoint_bytes().0,
-        checkpoint_budget_bytes: replay.checkpoint_bytes().1,
+        replay_heap_bytes,
+        checkpoint_estimated_bytes,
+        checkpoint_budget_bytes,
         frame_ms_median: median(seeks.frames),
         scene_build_ms_median: median(seeks.builds),
         frame_reusing_scene_ms_median: median(seeks.reused_frames),
@@ -345,6 +352,16 @@ fn bench_inspector(
         lineage_ms_max,
         plots_frame_ms_median: median(plot_frames),
     })
+}
+
+/// The heap `replay`'s checkpoints alone keep alive: what dropping them frees, the rest of
+/// the replay (its final map sharing their segments) kept. Leaves `replay` without them.
+fn checkpoints_alone_bytes(replay: &mut Replay) -> usize {
+    let checkpoints = replay.take_checkpoints();
+    alloc_count::start_counting();
+    drop(checkpoints);
+    alloc_count::stop_counting();
+    (-alloc_count::counted_bytes()).max(0) as usize
 }
 
 /// Loading the saved run `json`, `repeats` times: the seconds of each, and the peak memory
