@@ -18,6 +18,7 @@ mod run;
 mod simulate;
 mod soak;
 mod suite;
+mod support_growth;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};

@@ -77,6 +77,11 @@ impl Progress {
         self
     }
 
+    /// Prints `warning: MESSAGE` on stderr, above the bar.
+    pub fn warn(&self, message: &str) {
+        self.bar.suspend(|| eprintln!("warning: {message}"));
+    }
+
     /// Sets the count done to `done`; `Err` once Ctrl-C was pressed.
     pub fn set(&self, done: usize) -> Result<(), Interrupted> {
         self.bar.set_position(done as u64);
