@@ -5,7 +5,7 @@ use crate::alloc_count;
 use crate::app::{HeadlessMapView, PREVIEW_SNAPSHOTS};
 use crate::log::{load_run, save_run};
 use crate::mapping::{Mapper, Params};
-use crate::replay::Replay;
+use crate::replay::{Cancelled, Replay};
 use crate::run::Run;
 use crate::scene::svg::{default_view, to_svg};
 use crate::scene::{build_scene, SceneInput, ViewOptions};
@@ -78,8 +78,12 @@ pub struct InspectorFigures {
     pub checkpoint_spacing_min: usize,
     /// The longest (early in such a run), snapshots.
     pub checkpoint_spacing_max: usize,
-    /// Heap held by the checkpoints, bytes (0 without the counting allocator).
+    /// Heap the checkpoints alone keep alive: freed when they are dropped and the rest of the
+    /// replay kept, bytes (0 without the counting allocator).
     pub checkpoint_bytes: usize,
+    /// Heap the whole replay holds once built (checkpoints, the final map, step summaries,
+    /// decisions, lineage, truth curve), bytes (0 without the counting allocator).
+    pub replay_heap_bytes: usize,
     /// The checkpoints' own estimate of the bytes they keep alive, and their budget.
     pub checkpoint_estimated_bytes: usize,
     /// The budget the spacing was chosen from, bytes.
@@ -158,8 +162,14 @@ struct EnginePass {
     final_segments: usize,
 }
 
-/// Steps a mapper over `run` with the trace on or off.
-fn time_engine(run: &Run, params: &Params, trace: bool) -> EnginePass {
+/// Steps a mapper over `run` with the trace on or off, calling `progress(steps)` after every
+/// step; returning `false` cancels.
+fn time_engine(
+    run: &Run,
+    params: &Params,
+    trace: bool,
+    progress: &mut dyn FnMut(usize) -> bool,
+) -> Result<EnginePass, Cancelled> {
     let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor).with_trace(trace);
     let n = run.snapshots.len();
     let tenth = (n / 10).max(1);
@@ -186,13 +196,16 @@ fn time_engine(run: &Run, params: &Params, trace: bool) -> EnginePass {
         if k + 1 == n - tenth {
             mark = Instant::now();
         }
+        if !progress(k + 1) {
+            return Err(Cancelled);
+        }
     }
     if n >= 2 * tenth {
         pass.last_s = mark.elapsed().as_secs_f64();
     }
     pass.total_s = start.elapsed().as_secs_f64();
     pass.final_segments = mapper.map().segments.len();
-    pass
+    Ok(pass)
 }
 
 fn ratio(num: f64, den: f64) -> f64 {
@@ -203,25 +216,44 @@ fn ratio(num: f64, den: f64) -> f64 {
     }
 }
 
-/// The engine's figures on `run` (`repeats` runs each, medians).
-pub fn bench_engine(run: &Run, params: &Params, repeats: usize) -> EngineFigures {
+/// The steps [`bench`] reports to its progress callback on a run of `snapshots`: every
+/// engine pass (trace off and on, `repeats` each) and, unless `engine_only`, the replay.
+pub fn bench_steps(snapshots: usize, repeats: usize, engine_only: bool) -> usize {
+    let engine = 2 * repeats.max(1) * snapshots;
+    if engine_only {
+        engine
+    } else {
+        engine + snapshots
+    }
+}
+
+/// The engine's figures on `run` (`repeats` runs each, medians), calling `progress(steps)`
+/// after every step of every pass; returning `false` cancels.
+pub fn bench_engine(
+    run: &Run,
+    params: &Params,
+    repeats: usize,
+    progress: &mut dyn FnMut(usize) -> bool,
+) -> Result<EngineFigures, Cancelled> {
     let n = run.snapshots.len();
     let tenth = (n / 10).max(1) as f64;
     let (mut off, mut on, mut tenths, mut per_candidate) = (vec![], vec![], vec![], vec![]);
     let mut last_pass = None;
-    for _ in 0..repeats.max(1) {
-        let pass = time_engine(run, params, false);
+    for repeat in 0..repeats.max(1) {
+        let done = 2 * repeat * n;
+        let pass = time_engine(run, params, false, &mut |k| progress(done + k))?;
         off.push(n as f64 / pass.total_s);
         tenths.push(ratio(pass.last_s, pass.first_s));
         per_candidate.push(ratio(
             pass.last_s / pass.last_candidates.max(1) as f64,
             pass.first_s / pass.first_candidates.max(1) as f64,
         ));
-        on.push(n as f64 / time_engine(run, params, true).total_s);
+        let traced = time_engine(run, params, true, &mut |k| progress(done + n + k))?;
+        on.push(n as f64 / traced.total_s);
         last_pass = Some(pass);
     }
     let pass = last_pass.expect("at least one repeat");
-    EngineFigures {
+    Ok(EngineFigures {
         engine_snapshots_per_s_trace_off: median(off),
         engine_snapshots_per_s_trace_on: median(on),
         engine_last_tenth_over_first_tenth: median(tenths),
@@ -229,36 +261,50 @@ pub fn bench_engine(run: &Run, params: &Params, repeats: usize) -> EngineFigures
         candidates_per_snapshot_last_tenth: pass.last_candidates as f64 / tenth,
         cost_per_candidate_last_tenth_over_first_tenth: median(per_candidate),
         final_segments: pass.final_segments,
-    }
+    })
 }
 
 /// Measures everything on `run` (`repeats` runs each; the median is reported), the replay's
 /// checkpoints at least `checkpoint_interval` snapshots apart; with `engine_only`, the engine
-/// alone.
+/// alone. `progress(steps)` hears of the steps done ([`bench_steps`] in all); returning
+/// `false` cancels.
 pub fn bench(
     run: &Run,
     params: &Params,
     repeats: usize,
     checkpoint_interval: usize,
     engine_only: bool,
-) -> BenchReport {
-    BenchReport {
+    progress: &mut dyn FnMut(usize) -> bool,
+) -> Result<BenchReport, Cancelled> {
+    let engine = bench_engine(run, params, repeats, progress)?;
+    let done = bench_steps(run.snapshots.len(), repeats, true);
+    let inspector = match engine_only {
+        true => None,
+        false => Some(bench_inspector(
+            run,
+            params,
+            repeats,
+            checkpoint_interval,
+            &mut |k| progress(done + k),
+        )?),
+    };
+    Ok(BenchReport {
         params: params.to_file(crate::units::Units::Metres),
         cores: std::thread::available_parallelism().map_or(1, |c| c.get()),
         snapshots: run.snapshots.len(),
-        engine: bench_engine(run, params, repeats),
-        inspector: (!engine_only)
-            .then(|| bench_inspector(run, params, repeats, checkpoint_interval)),
-    }
+        engine,
+        inspector,
+    })
 }
 
-/// The inspector's figures on `run`.
+/// The inspector's figures on `run`, the replay's steps told to `progress`.
 fn bench_inspector(
     run: &Run,
     params: &Params,
     repeats: usize,
     checkpoint_interval: usize,
-) -> InspectorFigures {
+    progress: &mut dyn FnMut(usize) -> bool,
+) -> Result<InspectorFigures, Cancelled> {
     let n = run.snapshots.len();
     let json = save_run(run);
     let (loads, peak) = time_loads(&json, repeats);
@@ -269,17 +315,19 @@ fn bench_inspector(
         Arc::new(run.clone()),
         params.clone(),
         checkpoint_interval,
-        &mut |_| true,
-    )
-    .expect("never cancelled");
+        progress,
+    );
     let replay_build_s = start.elapsed().as_secs_f64();
     alloc_count::stop_counting();
+    let replay_heap_bytes = alloc_count::counted_bytes().max(0) as usize;
+    let mut replay = replay?;
     let lineage_ms_max = time_lineages(&replay, n);
-    let checkpoint_bytes = alloc_count::counted_bytes().max(0) as usize;
     let (checkpoints, spacing_min, spacing_max) = replay.checkpoint_spacing();
     let seeks = time_seeks(run, &replay);
     let plot_frames = time_plots(&replay, n);
-    InspectorFigures {
+    let (checkpoint_estimated_bytes, checkpoint_budget_bytes) = replay.checkpoint_bytes();
+    let checkpoint_bytes = checkpoints_alone_bytes(&mut replay);
+    Ok(InspectorFigures {
         load_s: median(loads),
         load_peak_memory_over_file_size: peak as f64 / json.len() as f64,
         file_bytes: json.len(),
@@ -291,8 +339,9 @@ fn bench_inspector(
         checkpoint_spacing_min: spacing_min,
         checkpoint_spacing_max: spacing_max,
         checkpoint_bytes,
-        checkpoint_estimated_bytes: replay.checkpoint_bytes().0,
-        checkpoint_budget_bytes: replay.checkpoint_bytes().1,
+        replay_heap_bytes,
+        checkpoint_estimated_bytes,
+        checkpoint_budget_bytes,
         frame_ms_median: median(seeks.frames),
         scene_build_ms_median: median(seeks.builds),
         frame_reusing_scene_ms_median: median(seeks.reused_frames),
@@ -302,7 +351,17 @@ fn bench_inspector(
         replay_build_s,
         lineage_ms_max,
         plots_frame_ms_median: median(plot_frames),
-    }
+    })
+}
+
+/// The heap `replay`'s checkpoints alone keep alive: what dropping them frees, the rest of
+/// the replay (its final map sharing their segments) kept. Leaves `replay` without them.
+fn checkpoints_alone_bytes(replay: &mut Replay) -> usize {
+    let checkpoints = replay.take_checkpoints();
+    alloc_count::start_counting();
+    drop(checkpoints);
+    alloc_count::stop_counting();
+    (-alloc_count::counted_bytes()).max(0) as usize
 }
 
 /// Loading the saved run `json`, `repeats` times: the seconds of each, and the peak memory

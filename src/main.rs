@@ -93,6 +93,10 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if cli::interrupt::is_interruption(&e) => {
+            eprintln!("interrupted");
+            ExitCode::from(cli::interrupt::EXIT_STATUS)
+        }
         Err(e) => {
             // Control characters from a file's content (a frame id, a JSON string) must not
             // reach the terminal raw.

@@ -5,6 +5,7 @@
 //! after every step.
 
 use crate::mapping::{Map, Mapper, Params};
+use crate::replay::Cancelled;
 use crate::run::Run;
 use crate::sim::{family_plan, repeat_laps, simulate, Model, SceneKind};
 
@@ -81,6 +82,16 @@ pub struct CheckedRun {
 /// checked ([`Map::check_invariants`]) after every step, or, with `every_step` false, as often
 /// as [`SEGMENT_CHECKS_PER_STEP`] allows, and after the last.
 pub fn map_checked(run: &Run, params: &Params, every_step: bool) -> CheckedRun {
+    map_checked_with(run, params, every_step, &mut |_| true).expect("never cancelled")
+}
+
+/// [`map_checked`], calling `progress(steps)` after every step; returning `false` cancels.
+pub fn map_checked_with(
+    run: &Run,
+    params: &Params,
+    every_step: bool,
+    progress: &mut dyn FnMut(usize) -> bool,
+) -> Result<CheckedRun, Cancelled> {
     let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor).with_trace(false);
     let mut out = CheckedRun {
         steps: 0,
@@ -106,9 +117,12 @@ pub fn map_checked(run: &Run, params: &Params, every_step: bool) -> CheckedRun {
                 break;
             }
         }
+        if !progress(out.steps) {
+            return Err(Cancelled);
+        }
     }
     out.map = mapper.map().clone();
-    out
+    Ok(out)
 }
 
 /// The lap run of scene `kind` drawn from `seed`, repeated to `snapshots`; every other seed
@@ -124,35 +138,46 @@ pub fn family_run(kind: SceneKind, seed: u64, snapshots: usize) -> Run {
 }
 
 /// Drives `runs_per_kind` scenes of every kind (seeds from `first_seed` on), each
-/// `snapshots` long, through every [`soak_variants`] parameter set. `progress` hears of
-/// each run as it ends.
+/// `snapshots` long, through every [`soak_variants`] parameter set. `progress(done)` hears
+/// of the snapshots done after every step (a run that fails counts as done, all its
+/// snapshots); returning `false` cancels.
 pub fn soak(
     runs_per_kind: usize,
     snapshots: usize,
     first_seed: u64,
-    progress: impl FnMut(&SoakReport),
-) -> SoakReport {
+    progress: &mut dyn FnMut(usize) -> bool,
+) -> Result<SoakReport, Cancelled> {
     soak_variants_named(runs_per_kind, snapshots, first_seed, &[], progress)
 }
 
-/// [`soak`] with only the parameter sets named in `only` (all when it is empty).
+/// The parameter sets named in `only` (all when it is empty), in [`soak_variants`] order.
+pub fn soak_variants_only(only: &[String]) -> Vec<(String, Params)> {
+    let mut variants = soak_variants();
+    if !only.is_empty() {
+        variants.retain(|(name, _)| only.iter().any(|o| o == name));
+    }
+    variants
+}
+
+/// [`soak`] with only the parameter sets named in `only` ([`soak_variants_only`]).
 pub fn soak_variants_named(
     runs_per_kind: usize,
     snapshots: usize,
     first_seed: u64,
     only: &[String],
-    mut progress: impl FnMut(&SoakReport),
-) -> SoakReport {
+    progress: &mut dyn FnMut(usize) -> bool,
+) -> Result<SoakReport, Cancelled> {
     let mut report = SoakReport::default();
-    let mut variants = soak_variants();
-    if !only.is_empty() {
-        variants.retain(|(name, _)| only.iter().any(|o| o == name));
-    }
+    let variants = soak_variants_only(only);
+    let mut runs_done = 0;
     for seed in first_seed..first_seed + runs_per_kind as u64 {
         for kind in SceneKind::ALL {
             let run = family_run(kind, seed, snapshots);
             for (variant, params) in &variants {
-                let checked = map_checked(&run, params, false);
+                let before = runs_done * snapshots;
+                let checked =
+                    map_checked_with(&run, params, false, &mut |steps| progress(before + steps))?;
+                runs_done += 1;
                 report.runs += 1;
                 report.snapshots += checked.steps;
                 report.invariant_checks += checked.checks;
@@ -172,9 +197,8 @@ pub fn soak_variants_named(
                         panicked,
                     });
                 }
-                progress(&report);
             }
         }
     }
-    report
+    Ok(report)
 }

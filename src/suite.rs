@@ -7,6 +7,7 @@ use crate::eval::{confirmed_map, evaluate, map_verdicts, true_point_features, Ve
 use crate::geometry::Pose;
 use crate::mapping::{Map, Mapper, Params};
 use crate::pose_error::{pose_error, pose_error_of};
+use crate::replay::Cancelled;
 use crate::run::Run;
 use crate::sim::{family_plan, simulate, with_odometry, Model, OdometryError, Plan, SceneKind};
 use crate::units::Units;
@@ -234,6 +235,18 @@ pub fn run_suite_drifting(
     params: &Params,
     drift: Option<&OdometryError>,
 ) -> Vec<SuiteLine> {
+    run_suite_with(scenes, seed, params, drift, &mut |_| true).expect("never cancelled")
+}
+
+/// [`run_suite_drifting`], calling `progress(runs)` after every run (a scene in one model);
+/// returning `false` cancels.
+pub fn run_suite_with(
+    scenes: usize,
+    seed: u64,
+    params: &Params,
+    drift: Option<&OdometryError>,
+    progress: &mut dyn FnMut(usize) -> bool,
+) -> Result<Vec<SuiteLine>, Cancelled> {
     let mut lines = Vec::with_capacity(2 * scenes);
     for (kind, s, plan) in suite_plans(scenes, seed) {
         for (model, name) in [(Model::Specular, "specular"), (Model::Axis, "axis")] {
@@ -248,9 +261,12 @@ pub fn run_suite_drifting(
                 figures,
                 pose: PoseFigures::of(&run, &poses),
             });
+            if !progress(lines.len()) {
+                return Err(Cancelled);
+            }
         }
     }
-    lines
+    Ok(lines)
 }
 
 /// The summary of `lines`.

@@ -390,16 +390,14 @@ impl SonarApp {
             ui.separator();
             if let Some(job) = &self.background {
                 ui.spinner();
-                let (done, total) = (job.task.done(), job.task.total().max(1));
-                let fraction = done as f32 / total as f32;
+                let (done, total) = (job.task.done(), job.task.total());
+                let elapsed_s = job.started.elapsed().as_secs_f64();
                 // The share first: a long label is cut at the bar's end.
                 ui.add(
-                    egui::ProgressBar::new(fraction)
-                        .desired_width(300.0)
-                        .text(format!(
-                            "{:.0} % · {done} / {total} · {}",
-                            100.0 * fraction,
-                            job.label
+                    egui::ProgressBar::new(job.task.fraction())
+                        .desired_width(420.0)
+                        .text(super::jobs::progress_text(
+                            done, total, elapsed_s, &job.label,
                         )),
                 );
                 ui.separator();

@@ -117,6 +117,37 @@ impl JobKind {
     }
 }
 
+/// What the status bar says of a job `done` of `total` snapshots in, `elapsed_s` seconds after
+/// it started: the share, the count, the rate and the time left (as the command line's
+/// progress bars do), then `label`.
+pub(super) fn progress_text(done: usize, total: usize, elapsed_s: f64, label: &str) -> String {
+    let share = 100.0 * done as f64 / total.max(1) as f64;
+    let rate = if elapsed_s > 0.0 {
+        done as f64 / elapsed_s
+    } else {
+        0.0
+    };
+    let left = if rate > 0.0 {
+        format!(
+            "{} left",
+            seconds_text(total.saturating_sub(done) as f64 / rate)
+        )
+    } else {
+        "time left unknown".to_owned()
+    };
+    format!("{share:.0} % · {done} / {total} · {rate:.0} snapshots/s · {left} · {label}")
+}
+
+/// `s` seconds as `42 s` or `3 min 05 s`.
+fn seconds_text(s: f64) -> String {
+    let s = s.round() as u64;
+    if s < 60 {
+        format!("{s} s")
+    } else {
+        format!("{} min {:02} s", s / 60, s % 60)
+    }
+}
+
 /// A replay being built on a thread.
 pub(super) struct ReplayJob {
     pub(super) kind: JobKind,
@@ -153,4 +184,25 @@ pub(super) fn start_diff(run: Arc<Run>, baseline: Params, current: Params) -> Di
     Task::spawn(run.snapshots.len(), move |report| {
         Some(diff_run(&run, &baseline, &current, report))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::progress_text;
+
+    #[test]
+    fn the_status_bar_gives_the_rate_and_the_time_left() {
+        assert_eq!(
+            progress_text(25_000, 100_000, 10.0, "replaying big.log"),
+            "25 % · 25000 / 100000 · 2500 snapshots/s · 30 s left · replaying big.log"
+        );
+        assert_eq!(
+            progress_text(1_000, 100_000, 2.0, "x"),
+            "1 % · 1000 / 100000 · 500 snapshots/s · 3 min 18 s left · x"
+        );
+        assert_eq!(
+            progress_text(0, 10, 0.0, "x"),
+            "0 % · 0 / 10 · 0 snapshots/s · time left unknown · x"
+        );
+    }
 }

@@ -2,8 +2,10 @@
 //! building floor ([`sonarmap::bench`]).
 
 use super::input::read_run;
+use super::interrupt::Interrupted;
 use super::output::{emit, emit_each, write_atomic};
 use super::params::{read_params, ParamArgs, PresetArg};
+use super::progress::Progress;
 use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
 use sonarmap::bench::BenchReport;
@@ -116,7 +118,7 @@ pub fn bench_command(args: &BenchArgs) -> Result<()> {
                     lines.push(line(
                         &path.display().to_string(),
                         *preset,
-                        &measure(args, &run, params),
+                        &measure(args, &path.display().to_string(), &run, params)?,
                     )?);
                 }
                 Ok(lines.join("\n"))
@@ -140,10 +142,12 @@ fn bench_one(args: &BenchArgs, presets: &[(PresetArg, Params)]) -> Result<()> {
         write_atomic(path, save_run(&run))?;
     }
     if let [(_, params)] = presets {
-        return emit(&serde_json::to_string_pretty(&measure(args, &run, params))?);
+        return emit(&serde_json::to_string_pretty(&measure(
+            args, &name, &run, params,
+        )?)?);
     }
     for (preset, params) in presets {
-        emit(&line(&name, *preset, &measure(args, &run, params))?)?;
+        emit(&line(&name, *preset, &measure(args, &name, &run, params)?)?)?;
     }
     Ok(())
 }
@@ -160,15 +164,20 @@ fn prepare(args: &BenchArgs, run: Run) -> Result<Run> {
     Ok(run)
 }
 
-/// `run` measured with `params` and the options of `args`.
-fn measure(args: &BenchArgs, run: &Run, params: &Params) -> BenchReport {
-    sonarmap::bench::bench(
+/// `run` (the log `name`) measured with `params` and the options of `args`, its progress
+/// shown.
+fn measure(args: &BenchArgs, name: &str, run: &Run, params: &Params) -> Result<BenchReport> {
+    let steps = sonarmap::bench::bench_steps(run.snapshots.len(), args.repeats, args.engine_only);
+    let progress = Progress::new(&format!("bench {name}"), steps, "steps");
+    let report = sonarmap::bench::bench(
         run,
         params,
         args.repeats,
         args.checkpoint_interval,
         args.engine_only,
-    )
+        &mut progress.callback(),
+    );
+    Ok(report.map_err(|_| Interrupted)?)
 }
 
 /// One measurement as a JSON line.

@@ -2,6 +2,7 @@
 
 use super::input::{import_file, read};
 use super::output::write_atomic_with;
+use super::progress::Progress;
 use anyhow::{anyhow, Result};
 use clap::{Args, ValueEnum};
 use sonarmap::geometry::Pose;
@@ -146,7 +147,9 @@ pub fn convert_command(args: &ConvertArgs) -> Result<()> {
         },
     };
     let imported = import_file(&args.input, &options)?;
+    let writing = Progress::spinner(&format!("writing {}", args.out.display()));
     write_atomic_with(&args.out, |f| write_run(&imported.run, f))?;
+    drop(writing);
     println!(
         "{} ({}): {}",
         args.input.display(),

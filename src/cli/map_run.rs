@@ -1,19 +1,23 @@
 //! Mapping a whole log: the mapper stepped through a run, with the traces of its steps (when
 //! kept) and the one-line [`Summary`] that `run` prints.
 
+use super::progress::Progress;
+use super::support_growth::SupportGrowth;
 use anyhow::{bail, Result};
 use sonarmap::mapping::{Mapper, Outcome, Params, StepTrace};
 use sonarmap::run::Run;
 
-/// Runs the mapper over snapshots `0..=until` and returns the mapper and the traces.
+/// Runs the mapper over snapshots `0..=until` (its progress on stderr) and returns the mapper
+/// and the traces.
 pub fn map_run(
     run: &Run,
     params: Params,
     until: Option<usize>,
     keep_traces: bool,
 ) -> Result<(Mapper, Vec<StepTrace>, Summary)> {
+    let end = last_snapshot(run, until)? + 1;
     let mut mapping = Mapping::new(run, params, keep_traces);
-    mapping.step_to(run, last_snapshot(run, until)? + 1)?;
+    mapping.step_to(run, end, &Progress::new(&run.name, end, "snapshots"))?;
     Ok(mapping.finish())
 }
 
@@ -33,6 +37,7 @@ pub struct Mapping {
     pub mapper: Mapper,
     traces: Vec<StepTrace>,
     summary: Summary,
+    growth: SupportGrowth,
 }
 
 impl Mapping {
@@ -40,20 +45,31 @@ impl Mapping {
     pub fn new(run: &Run, params: Params, keep_traces: bool) -> Self {
         // The summary needs only readings and decisions, which the slim trace keeps.
         Self {
+            growth: SupportGrowth::new(&params),
             mapper: Mapper::new(params, run.layout.clone(), run.sensor).with_trace(keep_traces),
             traces: Vec::new(),
             summary: Summary::default(),
         }
     }
 
-    /// Steps the snapshots from the mapper's next one up to `end` (exclusive); a step that
-    /// fails ends the mapping with an error naming its snapshot.
-    pub fn step_to(&mut self, run: &Run, end: usize) -> Result<()> {
+    /// Steps the snapshots from the mapper's next one up to `end` (exclusive), showing the
+    /// snapshots done on `progress` and warning there when steps keep getting dearer
+    /// ([`SupportGrowth`]); a step that fails ends the mapping with an error naming its
+    /// snapshot, and Ctrl-C with [`super::interrupt::Interrupted`].
+    pub fn step_to(&mut self, run: &Run, end: usize, progress: &Progress) -> Result<()> {
+        let mut report = progress.callback();
         while self.mapper.next_snapshot() < end {
             let trace = self
                 .mapper
                 .try_step(&run.snapshots[self.mapper.next_snapshot()])?;
+            let points = self.mapper.support_points_updated(&trace);
+            if let Some(warning) = self.growth.note(points) {
+                progress.warn(&warning);
+            }
             self.record(trace);
+            if !report(self.mapper.next_snapshot()) {
+                return Err(super::interrupt::Interrupted.into());
+            }
         }
         Ok(())
     }

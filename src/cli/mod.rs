@@ -8,14 +8,17 @@ mod diff;
 mod eval;
 mod figure_args;
 mod input;
+pub mod interrupt;
 mod map_run;
 mod output;
 mod parallel;
 mod params;
+mod progress;
 mod run;
 mod simulate;
 mod soak;
 mod suite;
+mod support_growth;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -56,8 +59,9 @@ pub enum Command {
     Soak(soak::SoakArgs),
 }
 
-/// Runs a subcommand.
+/// Runs a subcommand; Ctrl-C stops it with [`interrupt::Interrupted`].
 pub fn execute(command: &Command) -> Result<()> {
+    interrupt::install();
     match command {
         Command::Run(a) => run::run_command(a),
         Command::Simulate(a) => simulate::simulate_command(a),

@@ -3,10 +3,12 @@
 
 use super::figure_args::{paper_figure_layers, paper_figure_svg, FigureArgs, FigureSpec};
 use super::input::read_run;
+use super::interrupt;
 use super::map_run::{last_snapshot, Mapping};
 use super::output::{emit, emit_each, write_atomic};
 use super::parallel::parallel_map;
 use super::params::{read_params, ParamArgs};
+use super::progress::Progress;
 use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
 use sonarmap::log::save_map;
@@ -82,8 +84,8 @@ pub fn run_command(args: &RunArgs) -> Result<()> {
     }
     // A bug that panics on one log must not take the process (or a sweep's other results)
     // with it; the steps themselves are guarded and name their snapshot.
-    let guarded = |i: usize| {
-        let one = || run_one(&args.logs[i], &params, args.until, &outputs[i]);
+    let guarded = |i: usize, sweep: Option<&Progress>| {
+        let one = || run_one(&args.logs[i], &params, args.until, &outputs[i], sweep);
         std::panic::catch_unwind(std::panic::AssertUnwindSafe(one)).unwrap_or_else(|_| {
             Err(anyhow!(
                 "{}: the mapper panicked on this log",
@@ -92,11 +94,17 @@ pub fn run_command(args: &RunArgs) -> Result<()> {
         })
     };
     if args.logs.len() == 1 {
-        return emit(&guarded(0)?);
+        return emit(&guarded(0, None)?);
     }
+    let sweep = Progress::sweep(args.logs.len());
     let results = parallel_map(args.logs.len(), |i| {
-        guarded(i).map(|summary| format!("{}: {summary}", args.logs[i].display()))
+        let result = guarded(i, Some(&sweep));
+        let _ = sweep.inc();
+        result.map(|summary| format!("{}: {summary}", args.logs[i].display()))
     });
+    drop(sweep);
+    // The logs that finished before Ctrl-C keep their outputs; none is printed.
+    interrupt::check()?;
     emit_each(args.logs.iter().map(PathBuf::as_path).zip(results))
 }
 
@@ -157,16 +165,25 @@ fn out_dir_outputs(args: &RunArgs, dir: &Path) -> Result<Vec<RunOutputs>> {
         .collect())
 }
 
-/// Maps one log and writes what `out` asks; returns its summary line. The log is mapped once:
-/// the figure's two snapshots are the run's last steps, traced in full.
-fn run_one(path: &Path, params: &Params, until: Option<usize>, out: &RunOutputs) -> Result<String> {
+/// Maps one log and writes what `out` asks, its progress shown (under `sweep`'s in a sweep);
+/// returns its summary line. The log is mapped once: the figure's two snapshots are the run's
+/// last steps, traced in full.
+fn run_one(
+    path: &Path,
+    params: &Params,
+    until: Option<usize>,
+    out: &RunOutputs,
+    sweep: Option<&Progress>,
+) -> Result<String> {
+    interrupt::check()?;
     let run = read_run(path)?;
     let until = last_snapshot(&run, until)?;
+    let progress = Progress::within(sweep, &path.display().to_string(), until + 1, "snapshots");
     let mut mapping = Mapping::new(&run, params.clone(), out.trace.is_some());
     let figure = match &out.svg {
         Some(_) => {
             mapping
-                .step_to(&run, until.saturating_sub(1))
+                .step_to(&run, until.saturating_sub(1), &progress)
                 .with_context(|| path.display().to_string())?;
             let view = StepView::by_stepping(&mut mapping.mapper, &run.snapshots, until);
             for trace in view.previous.iter().chain([&view.trace]) {
@@ -179,11 +196,12 @@ fn run_one(path: &Path, params: &Params, until: Option<usize>, out: &RunOutputs)
         }
         None => {
             mapping
-                .step_to(&run, until + 1)
+                .step_to(&run, until + 1, &progress)
                 .with_context(|| path.display().to_string())?;
             None
         }
     };
+    drop(progress);
     let (mapper, traces, summary) = mapping.finish();
     if let Some(path) = &out.map {
         write_atomic(path, save_map(mapper.map(), run.units, until))?;

@@ -1,7 +1,9 @@
 //! `sonarmap soak`: long lap runs over generated scenes in every parameter set, the map's
 //! invariants checked after every step ([`sonarmap::soak`]).
 
+use super::interrupt::Interrupted;
 use super::output::emit;
+use super::progress::Progress;
 use anyhow::{bail, Result};
 use clap::Args;
 
@@ -68,21 +70,19 @@ pub fn soak_command(args: &SoakArgs) -> Result<()> {
             known.join(", ")
         );
     }
+    let runs = args.runs_per_kind
+        * sonarmap::sim::SceneKind::ALL.len()
+        * sonarmap::soak::soak_variants_only(&args.only).len();
+    let progress = Progress::new("soak", runs * args.snapshots, "snapshots");
     let report = sonarmap::soak::soak_variants_named(
         args.runs_per_kind,
         args.snapshots,
         args.seed,
         &args.only,
-        |r| {
-            eprint!(
-                "\r{} runs, {} snapshots, {} failures",
-                r.runs,
-                r.snapshots,
-                r.failures.len()
-            );
-        },
-    );
-    eprintln!();
+        &mut progress.callback(),
+    )
+    .map_err(|_| Interrupted)?;
+    drop(progress);
     let failed = !report.failures.is_empty();
     let out = SoakOutput {
         runs: report.runs,

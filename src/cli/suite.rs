@@ -1,11 +1,13 @@
 //! `sonarmap eval --suite N`: generated family scenes scored ([`sonarmap::suite`]).
 
 use super::input::read_run;
+use super::interrupt::Interrupted;
 use super::output::{emit, write_atomic};
+use super::progress::Progress;
 use anyhow::{anyhow, Context, Result};
 use sonarmap::mapping::Params;
 use sonarmap::suite::SuiteLine;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// What `eval --suite N` scores and writes.
 pub struct SuiteArgs<'a> {
@@ -28,10 +30,22 @@ pub fn suite_command(args: &SuiteArgs, params: &Params) -> Result<()> {
         write_plans(dir, args.scenes, args.seed)?;
     }
     let drift = args.drift.as_ref();
-    let mut lines = sonarmap::suite::run_suite_drifting(args.scenes, args.seed, params, drift);
-    if let Some(dir) = args.logs_from {
-        lines.extend(logs_from(dir, args.scenes, args.seed, params, drift)?);
+    let elsewhere = match args.logs_from {
+        Some(dir) => logs_in(dir, args.scenes, args.seed),
+        None => Vec::new(),
+    };
+    let generated = 2 * args.scenes;
+    let progress = Progress::new("suite", generated + elsewhere.len(), "runs");
+    let mut lines =
+        sonarmap::suite::run_suite_with(args.scenes, args.seed, params, drift, &mut |runs| {
+            progress.set(runs).is_ok()
+        })
+        .map_err(|_| Interrupted)?;
+    for (i, (family, seed, path)) in elsewhere.into_iter().enumerate() {
+        lines.push(log_line(family, seed, &path, params, drift)?);
+        progress.set(generated + i + 1)?;
     }
+    drop(progress);
     for line in &lines {
         emit(&serde_json::to_string(line)?)?;
     }
@@ -50,33 +64,37 @@ fn write_plans(dir: &Path, scenes: usize, seed: u64) -> Result<()> {
     Ok(())
 }
 
-/// The lines of the scenes' logs simulated elsewhere, DIR/FAMILY-SEED.log.json where they
-/// exist (model "log").
-fn logs_from(
-    dir: &Path,
-    scenes: usize,
+/// The scenes' logs simulated elsewhere: family, seed and DIR/FAMILY-SEED.log.json of each
+/// scene whose log exists.
+fn logs_in(dir: &Path, scenes: usize, seed: u64) -> Vec<(&'static str, u64, PathBuf)> {
+    sonarmap::suite::suite_plans(scenes, seed)
+        .into_iter()
+        .map(|(kind, seed, _)| {
+            let path = dir.join(format!("{}-{seed}.log.json", kind.name()));
+            (kind.name(), seed, path)
+        })
+        .filter(|(_, _, path)| path.exists())
+        .collect()
+}
+
+/// The line of a scene's log simulated elsewhere (model "log").
+fn log_line(
+    family: &'static str,
     seed: u64,
+    path: &Path,
     params: &Params,
     drift: Option<&sonarmap::sim::OdometryError>,
-) -> Result<Vec<SuiteLine>> {
-    let mut lines = Vec::new();
-    for (kind, seed, _) in sonarmap::suite::suite_plans(scenes, seed) {
-        let path = dir.join(format!("{}-{seed}.log.json", kind.name()));
-        if !path.exists() {
-            continue;
-        }
-        let run = sonarmap::suite::drifted(read_run(&path)?, drift, seed);
-        let (map, poses) = sonarmap::suite::map_and_poses_of(&run, params);
-        let figures = sonarmap::suite::scene_figures(&map, &run, params)
-            .ok_or_else(|| anyhow!("{}: the log has no floor_plan", path.display()))?;
-        lines.push(SuiteLine {
-            family: kind.name(),
-            seed,
-            model: "log".to_string(),
-            snapshots: run.snapshots.len(),
-            figures,
-            pose: sonarmap::suite::PoseFigures::of(&run, &poses),
-        });
-    }
-    Ok(lines)
+) -> Result<SuiteLine> {
+    let run = sonarmap::suite::drifted(read_run(path)?, drift, seed);
+    let (map, poses) = sonarmap::suite::map_and_poses_of(&run, params);
+    let figures = sonarmap::suite::scene_figures(&map, &run, params)
+        .ok_or_else(|| anyhow!("{}: the log has no floor_plan", path.display()))?;
+    Ok(SuiteLine {
+        family,
+        seed,
+        model: "log".to_string(),
+        snapshots: run.snapshots.len(),
+        figures,
+        pose: sonarmap::suite::PoseFigures::of(&run, &poses),
+    })
 }

@@ -43,11 +43,12 @@ pub enum ImportError {
         why: String,
     },
     /// The content matches no known format.
-    #[error("{file}: not a recognised run: expected an MCAP file, a `sonarmap-log` JSON object, a Player/Stage text log (`time host robot interface index ...` lines) or a table of numbers; {detail}")]
+    #[error("{file}: not a recognised run: {detail}")]
     Unrecognised {
         /// The file's name.
         file: String,
-        /// What the start of the file looked like.
+        /// Why no importer reads it: the line none could read and what each expected there,
+        /// or that the file is empty or not text.
         detail: String,
     },
     /// An option that cannot be used.

@@ -55,18 +55,40 @@ pub const PLAYER_DEFAULT_MAX_RANGE_M: f64 = 5.0;
 
 /// True when `line` looks like a Player log line (used by content detection).
 pub fn looks_like_player_line(fields: &[&str]) -> bool {
-    fields.len() >= 6
-        && fields[0].parse::<f64>().is_ok_and(f64::is_finite)
-        && fields[1].parse::<u64>().is_ok()
-        && fields[2].parse::<u64>().is_ok()
+    player_line_problem(fields).is_none()
+}
+
+/// Why `fields` (a content line) is not a Player log line `time host robot interface index
+/// ...`, or `None` when it looks like one.
+pub fn player_line_problem(fields: &[&str]) -> Option<String> {
+    if fields.len() < 6 {
+        return Some(format!("{} fields, fewer than 6", fields.len()));
+    }
+    let whole = |f: &str| f.parse::<u64>().is_ok();
+    let interface = fields[3]
+        .chars()
+        .next()
+        .is_some_and(|c| c.is_ascii_alphabetic())
         && fields[3]
             .chars()
-            .next()
-            .is_some_and(|c| c.is_ascii_alphabetic())
-        && fields[3]
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || c == '_')
-        && fields[4].parse::<u64>().is_ok()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_');
+    let (field, what) = if !fields[0].parse::<f64>().is_ok_and(f64::is_finite) {
+        (1, "a time")
+    } else if !whole(fields[1]) {
+        (2, "a host number")
+    } else if !whole(fields[2]) {
+        (3, "a robot (port) number")
+    } else if !interface {
+        (4, "an interface name")
+    } else if !whole(fields[4]) {
+        (5, "an index")
+    } else {
+        return None;
+    };
+    Some(format!(
+        "field {field} {:?} is not {what}",
+        fields[field - 1]
+    ))
 }
 
 /// What the lines gave so far, read in one pass (nothing per line is kept but the snapshots).

@@ -37,10 +37,17 @@ use crate::units::Units;
 
 /// True when the first content line (after an optional header) is all numbers: detection.
 pub fn looks_like_table(fields: &[&str]) -> bool {
-    !fields.is_empty()
-        && fields
-            .iter()
-            .all(|f| f.parse::<f64>().is_ok() || is_no_echo(f))
+    !fields.is_empty() && table_line_problem(fields).is_none()
+}
+
+/// Why `fields` (a content line) is not a line of a table, or `None` when every field is a
+/// number or a no-echo mark.
+pub fn table_line_problem(fields: &[&str]) -> Option<String> {
+    let (i, field) = fields
+        .iter()
+        .enumerate()
+        .find(|(_, f)| f.parse::<f64>().is_err() && !is_no_echo(f))?;
+    Some(format!("field {} {field:?} is not a number", i + 1))
 }
 
 /// Lines looked at to tell a ring table from a firing table.

@@ -135,6 +135,18 @@ impl Mapper {
         self.buffers.candidates.len()
     }
 
+    /// The supporting points of the map segments that `trace` (this mapper's last step)
+    /// updated, summed: what the step's merges read, the part of its cost that grows while
+    /// support lists grow (docs/performance.md, replay checkpoints).
+    pub fn support_points_updated(&self, trace: &StepTrace) -> usize {
+        trace
+            .updates
+            .iter()
+            .filter_map(|u| self.map.segment(u.segment))
+            .map(|s| s.points.len())
+            .sum()
+    }
+
     /// Index the next step will get.
     pub fn next_snapshot(&self) -> usize {
         self.next_snapshot

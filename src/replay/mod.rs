@@ -129,11 +129,7 @@ impl Replay {
             match mapper.try_step(snapshot) {
                 Ok(trace) => {
                     // What catching up through this step will cost, for the checkpoints.
-                    let updated = trace
-                        .updates
-                        .iter()
-                        .filter_map(|u| mapper.map().segment(u.segment));
-                    checkpoints.note_step(updated.map(|s| s.points.len()).sum());
+                    checkpoints.note_step(mapper.support_points_updated(&trace));
                     records.record(k, &trace, &mapper, &run, &params);
                 }
                 Err(f) => {
@@ -246,6 +242,16 @@ impl Replay {
     /// The checkpoints' estimated bytes and their budget.
     pub fn checkpoint_bytes(&self) -> (usize, usize) {
         (self.checkpoints.bytes(), self.checkpoints.budget_bytes())
+    }
+
+    /// Takes the checkpoints out, leaving none (the replay can then show only what needs no
+    /// checkpoint): `bench` drops them to count the heap they alone keep alive.
+    pub(crate) fn take_checkpoints(&mut self) -> Checkpoints {
+        let empty = Checkpoints::new(
+            self.checkpoints.min_interval(),
+            self.checkpoints.budget_bytes(),
+        );
+        std::mem::replace(&mut self.checkpoints, empty)
     }
 
     /// Steps `mapper` untraced until it stands before snapshot `k`, each step taking the

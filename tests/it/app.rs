@@ -366,6 +366,8 @@ fn a_large_run_shows_its_first_snapshots_at_once_and_the_rest_once_replayed() {
     assert_eq!(h.state().current(), 0);
     h.step();
     h.get_by_label_contains("(the first 256 while replaying)");
+    // The status bar's progress: the share, the count, the rate and the time left.
+    h.get_by_label_contains("snapshots/s ·");
     h.key_press(egui::Key::ArrowRight);
     h.key_press(egui::Key::ArrowRight);
     h.step();

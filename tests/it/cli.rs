@@ -506,6 +506,35 @@ fn bench_over_several_logs_prints_one_json_line_each() {
 }
 
 #[test]
+fn bench_counts_the_checkpoints_apart_from_the_replays_whole_heap() {
+    let tight = assets("tight_room.log.json");
+    let out = sonarmap(&[
+        "bench",
+        tight.to_str().unwrap(),
+        "--laps",
+        "600",
+        "--repeats",
+        "1",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let l: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let bytes = |key: &str| l[key].as_u64().unwrap_or_else(|| panic!("{key}: {l}"));
+    assert!(bytes("checkpoints") > 2, "{l}");
+    // The checkpoints share their segments with the final map: what they alone keep alive is
+    // a part of the replay's heap, and within their budget.
+    assert!(bytes("checkpoint_bytes") > 0, "{l}");
+    assert!(
+        bytes("checkpoint_bytes") < bytes("replay_heap_bytes"),
+        "{l}"
+    );
+    assert!(
+        bytes("checkpoint_bytes") <= bytes("checkpoint_budget_bytes"),
+        "{l}"
+    );
+    assert!(bytes("checkpoint_estimated_bytes") > 0, "{l}");
+}
+
+#[test]
 fn bench_with_laps_and_every_preset_prints_one_engine_line_per_preset() {
     let blue = assets("blue_room.log.json");
     let out = sonarmap(&[

@@ -167,7 +167,7 @@ fn every_scene_kind_in_every_parameter_set_keeps_the_map_consistent_over_laps() 
     // Six kinds × every parameter set (both presets, each extension flag alone), the map
     // checked after every step (these maps stay under SEGMENT_CHECKS_PER_STEP segments); the
     // report counts what failed.
-    let report = sonarmap::soak::soak(1, LAP_RUN_SNAPSHOTS, 3, |_| {});
+    let report = sonarmap::soak::soak(1, LAP_RUN_SNAPSHOTS, 3, &mut |_| true).unwrap();
     let variants = sonarmap::soak::soak_variants().len();
     assert_eq!(report.runs, 6 * variants);
     assert_eq!(report.snapshots, 6 * variants * LAP_RUN_SNAPSHOTS);

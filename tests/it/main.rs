@@ -17,6 +17,7 @@ mod import_fuzz;
 mod import_hostile;
 mod lineage;
 mod log;
+mod long_runs;
 mod peak;
 mod pose_correction;
 mod scene;
