@@ -20,6 +20,7 @@
 //!   `coverage_visible` is the covered length inside the visible part over the visible length
 //!   (`null` when no wall is visible).
 
+use crate::alignment::{align, Alignment, Search};
 use crate::geometry::{distance_to_segment, line_angle_between, projection_param};
 use crate::mapping::{Map, Params, Segment, SegmentId, SegmentKind};
 use crate::pose_error::{pose_error, PoseError};
@@ -56,6 +57,59 @@ pub struct EvalReport {
     /// (`true_pose`: a run given odometry error).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pose_error: Option<PoseError>,
+    /// The rigid transform the map was scored after (`eval --align`), when it was aligned.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alignment: Option<AlignmentReport>,
+}
+
+/// How a map was laid on its floor plan before scoring ([`crate::alignment`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AlignmentReport {
+    /// The transform of the whole map.
+    #[serde(flatten)]
+    pub whole: Alignment,
+    /// The rotation that aligns the segments made in the run's first quarter of snapshots
+    /// alone, degrees (`null` without any): drift shows as a difference from the last's.
+    pub first_quarter_rotation_deg: Option<f64>,
+    /// The same for the segments made in its last quarter.
+    pub last_quarter_rotation_deg: Option<f64>,
+}
+
+/// [`evaluate`] after laying `map` on `floor_plan` by the best rigid transform found by
+/// `search` ([`crate::alignment::align`]); the plan is moved into the map's frame, so that the
+/// readings and the poses keep theirs. The quarters are aligned near the whole's transform.
+/// Without fitted segments the map is scored where it is.
+pub fn evaluate_aligned(
+    map: &Map,
+    run: &Run,
+    floor_plan: &FloorPlan,
+    params: &Params,
+    search: Search,
+) -> EvalReport {
+    let Some(whole) = align(map.segments.iter().map(|s| &**s), floor_plan, search) else {
+        return evaluate(map, run, floor_plan, params);
+    };
+    let snapshots = run.snapshots.len();
+    let quarter_rotation = |in_quarter: &dyn Fn(usize) -> bool| {
+        align(
+            map.segments
+                .iter()
+                .filter(|s| in_quarter(s.created))
+                .map(|s| &**s),
+            floor_plan,
+            Search::Near(Some(whole)),
+        )
+        .map(|a| a.rotation_deg)
+    };
+    let alignment = AlignmentReport {
+        whole,
+        first_quarter_rotation_deg: quarter_rotation(&|created| created * 4 < snapshots),
+        last_quarter_rotation_deg: quarter_rotation(&|created| created * 4 >= snapshots * 3),
+    };
+    EvalReport {
+        alignment: Some(alignment),
+        ..evaluate(map, run, &whole.plan_in_map_frame(floor_plan), params)
+    }
 }
 
 /// Sorted, disjoint closed intervals of a wall's parameter in [0, 1].
@@ -338,6 +392,7 @@ pub fn evaluate(map: &Map, run: &Run, floor_plan: &FloorPlan, params: &Params) -
         visible_length: u.from_m(visible_length),
         covered_length: u.from_m(covered_length),
         pose_error: pose_error(run),
+        alignment: None,
     }
 }
 

@@ -8,6 +8,7 @@
 //! scene → map view or SVG.
 #![warn(missing_docs)]
 
+pub mod alignment;
 pub mod alloc_count;
 pub mod app;
 pub mod assets;

@@ -8,7 +8,8 @@ use super::params::{read_params, ParamArgs, PresetArg};
 use super::suite::{suite_command, SuiteArgs};
 use anyhow::{anyhow, Context, Result};
 use clap::Args;
-use sonarmap::eval::{evaluate, EvalReport};
+use sonarmap::alignment::Search;
+use sonarmap::eval::{evaluate, evaluate_aligned, EvalReport};
 use sonarmap::sim::load_plan;
 use std::path::PathBuf;
 
@@ -57,6 +58,21 @@ pub struct EvalArgs {
     /// Floor plan to compare with (default: the log's own `floor_plan`).
     #[arg(long, value_name = "PLAN.json")]
     pub plan: Option<PathBuf>,
+    /// Score the map after the rigid transform that best lays it on the floor plan (a real run
+    /// whose odometry turned it, or whose plan sits in another frame); the transform and the
+    /// rotations that align the run's first and last quarters are printed as `alignment`.
+    /// `near` (the default) looks within 15° of the plan's frame, `anywhere` over the whole turn.
+    #[arg(long, value_enum, value_name = "SEARCH", num_args = 0..=1, default_missing_value = "near", conflicts_with = "suite")]
+    pub align: Option<AlignArg>,
+}
+
+/// Where `eval --align` looks for the transform.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum AlignArg {
+    /// Within 15° of the plan's own frame: a plan drawn in roughly the map's frame.
+    Near,
+    /// Over the whole turn: a plan in any frame.
+    Anywhere,
 }
 
 /// The figures `eval` prints, with what produced them.
@@ -109,7 +125,19 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
     let (mapper, _, summary) =
         map_run(&run, params.clone(), None, false).with_context(|| log.display().to_string())?;
     let map = mapper.map();
-    let report = evaluate(map, &run, &floor_plan, &params);
+    let score = |m: &sonarmap::mapping::Map| match args.align {
+        Some(AlignArg::Near) => evaluate_aligned(m, &run, &floor_plan, &params, Search::Near(None)),
+        Some(AlignArg::Anywhere) => {
+            evaluate_aligned(m, &run, &floor_plan, &params, Search::Anywhere)
+        }
+        None => evaluate(m, &run, &floor_plan, &params),
+    };
+    let report = score(map);
+    // Point features are judged against the plan the whole map was scored on.
+    let scored_plan = match &report.alignment {
+        Some(a) => a.whole.plan_in_map_frame(&floor_plan),
+        None => floor_plan.clone(),
+    };
     let features = map.confirmed_features().count();
     let has_features = features > 0;
     let out = EvalOutput {
@@ -126,9 +154,8 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
             .flatten(),
         point_features: has_features.then_some(features),
         true_point_features: has_features
-            .then(|| sonarmap::eval::true_point_features(map, &floor_plan, &params)),
-        confirmed: sonarmap::eval::confirmed_map(map)
-            .map(|m| evaluate(&m, &run, &floor_plan, &params)),
+            .then(|| sonarmap::eval::true_point_features(map, &scored_plan, &params)),
+        confirmed: sonarmap::eval::confirmed_map(map).map(|m| score(&m)),
     };
     emit(&serde_json::to_string_pretty(&out)?)?;
     Ok(())

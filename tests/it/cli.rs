@@ -271,6 +271,38 @@ fn eval_prints_one_json_object_with_the_figures() {
 }
 
 #[test]
+fn eval_align_on_a_simulated_run_finds_almost_no_turn_and_scores_no_worse() {
+    // A simulated run without drift is drawn in its plan's frame: the alignment is a small
+    // correction, and scoring after it keeps at least the true segments' share.
+    let log = assets("building.log.json");
+    let score = |extra: &[&str]| {
+        let mut args = vec!["eval", log.to_str().unwrap(), "--preset", "extended"];
+        args.extend_from_slice(extra);
+        let out = sonarmap(&args);
+        assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+        serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+    };
+    let plain = score(&[]);
+    let aligned = score(&["--align"]);
+    assert!(plain.get("alignment").is_none());
+    let a = &aligned["alignment"];
+    assert!(a["rotation_deg"].as_f64().unwrap().abs() < 0.5, "{a}");
+    assert!(a["inlier_fraction"].as_f64().unwrap() > 0.5, "{a}");
+    for quarter in ["first_quarter_rotation_deg", "last_quarter_rotation_deg"] {
+        assert!(a.get(quarter).is_some(), "{a}");
+    }
+    let spurious = |v: &serde_json::Value| v["spurious_fraction"].as_f64().unwrap();
+    assert!(
+        spurious(&aligned) <= spurious(&plain) + 0.1,
+        "{plain} {aligned}"
+    );
+    check_fails(
+        &["eval", log.to_str().unwrap(), "--align", "sideways"],
+        &["sideways"],
+    );
+}
+
+#[test]
 fn eval_with_a_plan_and_params_file() {
     let dir = tempfile::tempdir().unwrap();
     let params = dir.path().join("p.json");

@@ -153,3 +153,144 @@ fn the_replays_truth_curve_samples_evals_figures_every_checkpoint_interval() {
         (spurious, coverage)
     );
 }
+
+/// A room of four walls with a pillar-free stub that breaks its symmetry, metres.
+fn room_plan() -> FloorPlan {
+    let wall = |a: (f64, f64), b: (f64, f64)| Wall {
+        a: Point::new(a.0, a.1),
+        b: Point::new(b.0, b.1),
+        roughness_rad: None,
+    };
+    FloorPlan {
+        walls: vec![
+            wall((0.0, 0.0), (6.0, 0.0)),
+            wall((6.0, 0.0), (6.0, 4.0)),
+            wall((6.0, 4.0), (0.0, 4.0)),
+            wall((0.0, 4.0), (0.0, 0.0)),
+            wall((2.0, 0.0), (2.0, 1.5)),
+        ],
+        circles: vec![],
+    }
+}
+
+/// The plan's walls drawn as map segments after `p ↦ R(turn_deg)·p + shift`, each made at
+/// snapshot `created`.
+fn moved_walls(plan: &FloorPlan, turn_deg: f64, shift: (f64, f64), created: usize) -> Vec<Segment> {
+    let (s, c) = turn_deg.to_radians().sin_cos();
+    let moved = |p: &Point| (c * p.x - s * p.y + shift.0, s * p.x + c * p.y + shift.1);
+    plan.walls
+        .iter()
+        .enumerate()
+        .map(|(i, w)| Segment {
+            created,
+            ..segment(i as u32, SegmentKind::Fitted, moved(&w.a), moved(&w.b), 1.0)
+        })
+        .collect()
+}
+
+/// A run of `n` snapshots standing still with no reading (alignment needs only their count).
+fn still_run(n: usize, plan: &FloorPlan) -> Run {
+    Run {
+        name: "still".into(),
+        units: Units::Metres,
+        robot_radius_m: None,
+        layout: SensorLayout { mounts: vec![] },
+        sensor: SensorSpec::default(),
+        floor_plan: Some(plan.clone()),
+        snapshots: (0..n)
+            .map(|i| Snapshot {
+                t: i as f64,
+                pose: Pose::new(3.0, 2.0, 0.0),
+                ranges_m: vec![],
+                true_pose: None,
+                reading_dt_s: Vec::new(),
+            })
+            .collect(),
+    }
+}
+
+#[test]
+fn alignment_undoes_a_known_turn_and_shift() {
+    use sonarmap::alignment::{align, Search};
+    let plan = room_plan();
+    // The map is the plan turned by −4° and shifted by (0.3, −0.2) m: aligning turns it back
+    // by +4° and lays every end-point on its wall's.
+    let segments = moved_walls(&plan, -4.0, (0.3, -0.2), 0);
+    let a = align(segments.iter(), &plan, Search::Near(None)).expect("aligned");
+    assert!((a.rotation_deg - 4.0).abs() < 1e-6, "{a:?}");
+    for (s, w) in segments.iter().zip(&plan.walls) {
+        assert!((a.map_to_plan(&s.a.point) - w.a).norm() < 1e-6, "{a:?}");
+        assert!((a.map_to_plan(&s.b.point) - w.b).norm() < 1e-6, "{a:?}");
+        assert!((a.plan_to_map(&w.a) - s.a.point).norm() < 1e-6);
+    }
+    assert_eq!(a.inlier_fraction, 1.0);
+    assert!(a.inlier_rms_m < 1e-6);
+    // 6 + 4 + 6 + 4 + 1.5 m at 5 cm: 120 + 80 + 120 + 80 + 30 pieces, one more point each.
+    assert_eq!(a.samples, 435);
+}
+
+#[test]
+fn a_plan_in_another_frame_is_found_over_the_whole_turn_not_near_its_own() {
+    use sonarmap::alignment::{align, Search};
+    let plan = room_plan();
+    let segments = moved_walls(&plan, 100.0, (-5.0, 7.0), 0);
+    let anywhere = align(segments.iter(), &plan, Search::Anywhere).expect("aligned");
+    assert!((anywhere.rotation_deg + 100.0).abs() < 1e-6, "{anywhere:?}");
+    for (s, w) in segments.iter().zip(&plan.walls) {
+        assert!(
+            (anywhere.map_to_plan(&s.a.point) - w.a).norm() < 1e-6,
+            "{anywhere:?} {w:?}"
+        );
+    }
+    assert_eq!(anywhere.inlier_fraction, 1.0, "{anywhere:?}");
+    let near = align(segments.iter(), &plan, Search::Near(None)).expect("aligned");
+    assert!(near.inlier_fraction < 0.5, "{near:?}");
+}
+
+#[test]
+fn an_aligned_map_scores_as_the_map_drawn_in_the_plans_frame_and_its_quarters_show_the_drift() {
+    use sonarmap::alignment::Search;
+    use sonarmap::eval::evaluate_aligned;
+    let plan = room_plan();
+    // The first quarter's walls (made at snapshot 0 of 100) turned by −1°, the last
+    // quarter's (made at 90) by −5°: the drift of a heading that wandered 4°.
+    let mut map = Map::default();
+    for s in moved_walls(&plan, -1.0, (0.0, 0.0), 0)
+        .into_iter()
+        .chain(moved_walls(&plan, -5.0, (0.0, 0.0), 90))
+    {
+        map.push_segment(Segment {
+            id: s.id + if s.created == 0 { 0 } else { 10 },
+            ..s
+        });
+    }
+    let run = still_run(100, &plan);
+    let unaligned = evaluate(&map, &run, &plan, &Params::paper());
+    let aligned = evaluate_aligned(&map, &run, &plan, &Params::paper(), Search::Near(None));
+    let alignment = aligned.alignment.as_ref().expect("aligned");
+    assert!((alignment.first_quarter_rotation_deg.unwrap() - 1.0).abs() < 1e-6);
+    assert!((alignment.last_quarter_rotation_deg.unwrap() - 5.0).abs() < 1e-6);
+    // The whole map's rotation lies between the two.
+    let whole = alignment.whole.rotation_deg;
+    assert!(whole > 1.0 - 1e-6 && whole < 5.0 + 1e-6, "{whole}");
+    assert!(unaligned.alignment.is_none());
+    assert_eq!(aligned.segments, 10);
+    // A map drawn in the plan's frame needs no alignment and scores every wall true.
+    let mut exact = Map::default();
+    for s in moved_walls(&plan, 0.0, (0.0, 0.0), 0) {
+        exact.push_segment(s);
+    }
+    let exact_aligned = evaluate_aligned(&exact, &run, &plan, &Params::paper(), Search::Near(None));
+    assert!(
+        exact_aligned
+            .alignment
+            .as_ref()
+            .unwrap()
+            .whole
+            .rotation_deg
+            .abs()
+            < 1e-9
+    );
+    assert_eq!(exact_aligned.true_segments, 5);
+    assert_eq!(exact_aligned.coverage, 1.0);
+}
