@@ -506,7 +506,12 @@ fn time_plots(replay: &Replay, n: usize) -> Vec<f64> {
     for plot in crate::app::RunPlot::ALL {
         for _ in 0..3 {
             let start = Instant::now();
-            plots.frame(plot, replay.summaries(), replay.truth_curve(), n - 1);
+            let curves = crate::app::RunCurves {
+                summaries: replay.summaries(),
+                truth: replay.truth_curve(),
+                poses: replay.step_poses(),
+            };
+            plots.frame(plot, curves, n - 1);
             plot_frames.push(start.elapsed().as_secs_f64() * 1e3);
         }
     }

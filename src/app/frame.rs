@@ -17,7 +17,7 @@ use super::map_view::{map_toolbar_ui, map_view_ui, MapPlot};
 use super::marks::MarkKind;
 use super::menu::{handle_shortcuts, menu_bar_ui, shortcuts_window_ui};
 use super::params_panel::{params_panel_ui, BaselineSummary, ParamsPanelInfo};
-use super::run_plots::run_plots_ui;
+use super::run_plots::{run_plots_ui, RunCurves};
 use super::settings::{InspectorDock, LeftTab, PanelLayout, RightTab, SETTINGS_KEY};
 use super::timeline::{timeline_ui, TimelineInfo};
 use crate::geometry::Point;
@@ -134,11 +134,16 @@ impl SonarApp {
                         .filter(|b| b.diff.is_some())
                         .map(|b| b.replay.summaries());
                     let current = self.current();
+                    let replay = &self.loaded.replay;
+                    let curves = RunCurves {
+                        summaries: replay.summaries(),
+                        truth: replay.truth_curve(),
+                        poses: replay.step_poses(),
+                    };
                     commands.extend(run_plots_ui(
                         ui,
                         &mut self.settings.run_plot,
-                        self.loaded.replay.summaries(),
-                        self.loaded.replay.truth_curve(),
+                        curves,
                         baseline,
                         current,
                     ));

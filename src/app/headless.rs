@@ -4,8 +4,7 @@
 
 use super::map_view::{map_view_ui, MapViewState, ViewRequest};
 use super::run_plot::RunPlot;
-use super::run_plots::run_plots_ui;
-use crate::replay::{StepSummary, TruthSample};
+use super::run_plots::{run_plots_ui, RunCurves};
 use crate::scene::{Scene, SceneId};
 use crate::units::Units;
 
@@ -70,17 +69,11 @@ impl HeadlessRunPlots {
         }
     }
 
-    /// One frame of the panel showing `plot` of `summaries` (and `truth`) at snapshot `current`.
-    pub fn frame(
-        &mut self,
-        plot: RunPlot,
-        summaries: &[StepSummary],
-        truth: &[TruthSample],
-        current: usize,
-    ) -> FrameStats {
+    /// One frame of the panel showing `plot` of `curves` at snapshot `current`.
+    pub fn frame(&mut self, plot: RunPlot, curves: RunCurves, current: usize) -> FrameStats {
         let mut shown = plot;
         tessellated_frame(&self.ctx, self.size_px, |ui| {
-            run_plots_ui(ui, &mut shown, summaries, truth, None, current);
+            run_plots_ui(ui, &mut shown, curves, None, current);
         })
     }
 }

@@ -66,6 +66,7 @@ pub use map_view::{MapPlot, MapViewState, ViewRequest};
 pub use marks::MarkKind;
 pub use params_panel::{format_number, ParamsPanelState};
 pub use run_plot::RunPlot;
+pub use run_plots::RunCurves;
 pub use settings::{InspectorDock, LeftTab, PanelLayout, RightTab, Settings, SETTINGS_KEY};
 pub use timeline::snapshot_label;
 pub use truth::TruthView;

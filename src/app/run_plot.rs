@@ -1,10 +1,13 @@
 //! Which curves the run plots show: a persisted setting, chosen in the plots' menu.
 
-use crate::replay::StepSummary;
+use crate::replay::{StepPose, StepSummary};
 use serde::{Deserialize, Serialize};
 
 /// A curve: its name and its value at a step.
 type Series = (&'static str, fn(&StepSummary) -> u32);
+
+/// A curve of the pose correction: its name and its value at a step.
+type PoseSeries = (&'static str, fn(&StepPose) -> f32);
 
 /// What the plots show.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -24,17 +27,23 @@ pub enum RunPlot {
     /// The map's spurious fraction and coverage (with a floor plan; sampled every checkpoint
     /// interval).
     Truth,
+    /// Pose correction (§8.17): each step's correction and the drift taken out, metres.
+    Correction,
+    /// Pose correction's residual RMS before and after, in sigmas.
+    Residual,
 }
 
 impl RunPlot {
     /// Every plot.
-    pub const ALL: [RunPlot; 6] = [
+    pub const ALL: [RunPlot; 8] = [
         RunPlot::Segments,
         RunPlot::Decisions,
         RunPlot::Readings,
         RunPlot::StepCost,
         RunPlot::Spurious,
         RunPlot::Truth,
+        RunPlot::Correction,
+        RunPlot::Residual,
     ];
 
     /// The plot's name in the menu.
@@ -46,6 +55,8 @@ impl RunPlot {
             RunPlot::StepCost => "Step cost",
             RunPlot::Spurious => "Spurious new faces",
             RunPlot::Truth => "Spurious fraction, coverage",
+            RunPlot::Correction => "Pose correction",
+            RunPlot::Residual => "Correction residuals",
         }
     }
 
@@ -62,7 +73,27 @@ impl RunPlot {
             RunPlot::Readings => vec![("kept", |s| s.kept), ("discarded", |s| s.discarded)],
             RunPlot::StepCost => vec![("candidates offered", |s| s.candidates)],
             RunPlot::Spurious => vec![("spurious new faces", |s| s.spurious_new_faces)],
-            RunPlot::Truth => Vec::new(),
+            RunPlot::Truth | RunPlot::Correction | RunPlot::Residual => Vec::new(),
         }
+    }
+
+    /// The curves of the pose correction: name and value per step.
+    pub(super) fn pose_series(self) -> Vec<PoseSeries> {
+        match self {
+            RunPlot::Correction => vec![
+                ("correction, m", |p| p.correction_m),
+                ("corrected from odometry, m", |p| p.from_odometry_m),
+            ],
+            RunPlot::Residual => vec![
+                ("residual RMS before, σ", |p| p.rms_before),
+                ("residual RMS after, σ", |p| p.rms_after),
+            ],
+            _ => Vec::new(),
+        }
+    }
+
+    /// True for the plots of the pose correction (empty on a run mapped without it).
+    pub(super) fn needs_correction(self) -> bool {
+        matches!(self, RunPlot::Correction | RunPlot::Residual)
     }
 }

@@ -5,25 +5,32 @@
 
 use super::command::Command;
 use super::run_plot::RunPlot;
-use crate::replay::{StepSummary, TruthSample};
+use crate::replay::{StepPose, StepSummary, TruthSample};
 use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints, VLine};
 
-/// At most `columns` points of `value` over `summaries`: each the largest value of its bucket
-/// of snapshots (so a spike is never thinned away), at the bucket's first snapshot.
-pub fn thinned(
-    summaries: &[StepSummary],
-    value: fn(&StepSummary) -> u32,
-    columns: usize,
-) -> Vec<[f64; 2]> {
-    let bucket = summaries.len().div_ceil(columns.max(1)).max(1);
-    summaries
+/// At most `columns` points of `value` over `steps`: each the largest value of its bucket of
+/// snapshots (so a spike is never thinned away), at the bucket's first snapshot.
+pub fn thinned<T>(steps: &[T], value: impl Fn(&T) -> f64, columns: usize) -> Vec<[f64; 2]> {
+    let bucket = steps.len().div_ceil(columns.max(1)).max(1);
+    steps
         .chunks(bucket)
         .enumerate()
         .map(|(i, chunk)| {
-            let top = chunk.iter().map(value).max().unwrap_or(0);
-            [(i * bucket) as f64, f64::from(top)]
+            let top = chunk.iter().map(&value).fold(0.0, f64::max);
+            [(i * bucket) as f64, top]
         })
         .collect()
+}
+
+/// What the run plots draw: the replay's per-step figures.
+#[derive(Clone, Copy)]
+pub struct RunCurves<'a> {
+    /// One summary a step.
+    pub summaries: &'a [StepSummary],
+    /// The map against its floor plan, every checkpoint interval.
+    pub truth: &'a [TruthSample],
+    /// One pose a step when the run was mapped with pose correction, else none.
+    pub poses: &'a [StepPose],
 }
 
 /// Draws the plots of `summaries` (and of the baseline's, dashed); `current` is the snapshot
@@ -31,11 +38,15 @@ pub fn thinned(
 pub fn run_plots_ui(
     ui: &mut egui::Ui,
     shown: &mut RunPlot,
-    summaries: &[StepSummary],
-    truth: &[TruthSample],
+    curves: RunCurves,
     baseline: Option<&[StepSummary]>,
     current: usize,
 ) -> Vec<Command> {
+    let RunCurves {
+        summaries,
+        truth,
+        poses,
+    } = curves;
     let mut commands = Vec::new();
     ui.horizontal(|ui| {
         ui.label("Plot");
@@ -43,6 +54,12 @@ pub fn run_plots_ui(
             ui.selectable_value(shown, p, p.label());
         }
         ui.label(egui::RichText::new("click: go to the snapshot").weak());
+        if shown.needs_correction() && poses.is_empty() {
+            ui.label(
+                egui::RichText::new("this run was mapped without pose correction (§8.17)")
+                    .color(ui.visuals().warn_fg_color),
+            );
+        }
     });
     let columns = ui.available_width().max(100.0) as usize;
     let plot = Plot::new("run_plots")
@@ -55,15 +72,19 @@ pub fn run_plots_ui(
         .include_y(0.0);
     let response = plot.show(ui, |plot_ui| {
         for (name, value) in shown.series() {
-            let points = PlotPoints::from(thinned(summaries, value, columns));
+            let points = PlotPoints::from(thinned(summaries, |s| f64::from(value(s)), columns));
             plot_ui.line(Line::new(name, points));
             if let Some(b) = baseline {
-                let points = PlotPoints::from(thinned(b, value, columns));
+                let points = PlotPoints::from(thinned(b, |s| f64::from(value(s)), columns));
                 plot_ui.line(
                     Line::new(format!("{name} (baseline)"), points)
                         .style(LineStyle::dashed_loose()),
                 );
             }
+        }
+        for (name, value) in shown.pose_series() {
+            let points = thinned(poses, |p| f64::from(value(p)), columns);
+            plot_ui.line(Line::new(name, PlotPoints::from(points)));
         }
         if *shown == RunPlot::Truth {
             let curve = |f: fn(&TruthSample) -> f64| {
@@ -106,9 +127,12 @@ mod tests {
             .collect();
         // Buckets of 4: [0..4) peak 3, [4..8) peak 100 (the spike at 7), [8..10) peak 9.
         assert_eq!(
-            thinned(&summaries, |s| s.segments, 3),
+            thinned(&summaries, |s| f64::from(s.segments), 3),
             vec![[0.0, 3.0], [4.0, 100.0], [8.0, 9.0]]
         );
-        assert_eq!(thinned(&summaries, |s| s.segments, 100).len(), 10);
+        assert_eq!(
+            thinned(&summaries, |s| f64::from(s.segments), 100).len(),
+            10
+        );
     }
 }

@@ -1,6 +1,7 @@
 //! Pose correction (docs/algorithm.md §8.17) on generated families given odometry drift: what
 //! it may and may not do to a step's pose, and the map's invariants with it on.
 
+use egui_kittest::kittest::Queryable;
 use proptest::prelude::*;
 use sonarmap::mapping::{Mapper, Params};
 use sonarmap::sim::{with_odometry, OdometryError, SceneKind};
@@ -90,4 +91,36 @@ fn a_drifting_run_shows_its_odometry_corrected_and_true_paths() {
         assert!(drawn(Role::RobotPath) && drawn(Role::RobotPathTrue));
         assert_eq!(drawn(Role::RobotPathCorrected), corrected);
     }
+}
+
+#[test]
+fn the_app_plots_a_drifting_runs_correction_and_shows_the_steps_numbers() {
+    use super::support::{harness, settle};
+    use sonarmap::app::{Command, RunPlot, SonarApp};
+    let run = with_odometry(
+        &family_run(SceneKind::ALL[0], 3, 120),
+        &OdometryError::BAD,
+        3,
+    );
+    let mut h = harness(SonarApp::new(run, None));
+    settle(&mut h);
+    let mapped_without = "this run was mapped without pose correction (§8.17)";
+    h.state_mut().push(Command::SetParams(Params::extended()));
+    settle(&mut h);
+    h.get_by_label("Plots").click();
+    h.run();
+    h.get_by_label("Pose correction").click();
+    h.run();
+    assert_eq!(h.state().settings().run_plot, RunPlot::Correction);
+    assert!(h.query_by_label(mapped_without).is_some());
+    h.state_mut().push(Command::SetParams(corrected_params()));
+    settle(&mut h);
+    assert!(h.query_by_label(mapped_without).is_none());
+    h.get_by_label("Correction residuals").click();
+    h.run();
+    assert_eq!(h.state().settings().run_plot, RunPlot::Residual);
+    // The overview (nothing selected) shows the shown step's correction.
+    h.state_mut().push(Command::Seek(60));
+    h.run();
+    assert!(h.query_by_label("Pose correction (§8.17)").is_some());
 }

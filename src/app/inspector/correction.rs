@@ -110,7 +110,7 @@ pub(super) fn correction_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             CorrectionTarget::Feature(id) => format!("feature {id}"),
         };
         ui.label(format!(
-            "sensor {} on {target}: residual {} → {} (σ {})",
+            "sensor {} on {target}: residual {} before, {} after (σ {})",
             r.sensor,
             ctx.len(r.residual_before_m),
             ctx.len(r.residual_after_m),
