@@ -77,14 +77,10 @@ pub(super) fn correction_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
                 "residual RMS / σ",
                 format!("{:.2} before, {:.2} after", c.rms_before, c.rms_after),
             );
-            let [x, y, h] = c.prior_sigma;
-            kv(ui, "prior σ", format!("x {x:.3} m, y {y:.3} m, {h:.2}°"));
-            let [x, y, h] = c.posterior_sigma;
-            kv(
-                ui,
-                "posterior σ",
-                format!("x {x:.3} m, y {y:.3} m, {h:.2}°"),
-            );
+            let sigma =
+                |[x, y, h]: [f64; 3]| format!("x {}, y {}, {h:.2}°", ctx.len(x), ctx.len(y));
+            kv(ui, "prior σ", sigma(c.prior_sigma));
+            kv(ui, "posterior σ", sigma(c.posterior_sigma));
         });
     if let Some(refusal) = &c.refused {
         ui.label(RichText::new(format!("refused: {}", refusal_text(refusal))).color(FAIL));
