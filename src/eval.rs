@@ -21,8 +21,9 @@
 //!   (`null` when no wall is visible).
 
 use crate::alignment::{align, Alignment, Search};
-use crate::geometry::{distance_to_segment, line_angle_between, projection_param};
+use crate::geometry::{distance_to_segment, line_angle_between, projection_param, Point};
 use crate::mapping::{Map, Params, Segment, SegmentId, SegmentKind};
+use crate::near_path::{near_path_spans, NEAR_PATH_M};
 use crate::pose_error::{pose_error, PoseError};
 use crate::run::{FloorPlan, Run, Wall};
 use crate::units::inches;
@@ -53,6 +54,11 @@ pub struct EvalReport {
     pub visible_length: f64,
     /// Covered wall length.
     pub covered_length: f64,
+    /// Covered length of the walls within 1.5 m of the robot's path (the snapshots' poses)
+    /// over that length (`null` when no wall is that near).
+    pub coverage_near_path: Option<f64>,
+    /// Length of the walls within 1.5 m of the path.
+    pub near_path_length: f64,
     /// How far the poses mapped with lie from the true poses, when the log keeps them
     /// (`true_pose`: a run given odometry error).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -360,6 +366,12 @@ pub fn evaluate(map: &Map, run: &Run, floor_plan: &FloorPlan, params: &Params) -
     let mut marks = visibility_marks(run, walls, params, &tol);
     let (mut wall_length, mut covered_length, mut visible_length, mut covered_visible) =
         (0.0, 0.0, 0.0, 0.0);
+    let (mut near_length, mut covered_near) = (0.0, 0.0);
+    let path: Vec<Point> = run
+        .snapshots
+        .iter()
+        .map(|s| Point::new(s.pose.x, s.pose.y))
+        .collect();
     for (i, w) in walls.iter().enumerate() {
         let len = (w.b - w.a).norm();
         if len <= 0.0 {
@@ -373,6 +385,9 @@ pub fn evaluate(map: &Map, run: &Run, floor_plan: &FloorPlan, params: &Params) -
         let visible = visible_spans(m, len, params.t_gap_m);
         visible_length += measure(&visible) * len;
         covered_visible += intersection_measure(&cov, &visible) * len;
+        let near = near_path_spans(&w.a, &w.b, &path, NEAR_PATH_M);
+        near_length += measure(&near) * len;
+        covered_near += intersection_measure(&cov, &near) * len;
     }
     let u = run.units;
     EvalReport {
@@ -391,6 +406,8 @@ pub fn evaluate(map: &Map, run: &Run, floor_plan: &FloorPlan, params: &Params) -
         wall_length: u.from_m(wall_length),
         visible_length: u.from_m(visible_length),
         covered_length: u.from_m(covered_length),
+        coverage_near_path: (near_length > 0.0).then(|| covered_near / near_length),
+        near_path_length: u.from_m(near_length),
         pose_error: pose_error(run),
         alignment: None,
     }

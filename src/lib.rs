@@ -23,6 +23,7 @@ pub mod import;
 pub mod lineage;
 pub mod log;
 pub mod mapping;
+pub mod near_path;
 pub mod pose_error;
 pub mod replay;
 pub mod run;

@@ -24,7 +24,8 @@ Only fitted segments count. The tolerance of an end-point with range D is the so
   mean_angle_error_deg mean angle between true segments and their walls
   coverage             length of the walls covered by true segments (union of their end-points projected on their wall) over the total wall length
   coverage_visible     covered length inside the visible part of the walls over the visible length. A wall is visible around each kept reading (an echo below max_range, within [min_range, d_max]) whose beam-axis point is within its tolerance of the wall: +- the tolerance around the projection, and marks no more than t_gap apart along the wall are joined.
-  wall_length, visible_length, covered_length  in the log's units";
+  coverage_near_path   covered length of the walls within 1.5 m of the robot's path (the snapshots' poses) over that length (near_path_length)
+  wall_length, visible_length, covered_length, near_path_length  in the log's units";
 
 /// `sonarmap eval`.
 #[derive(Debug, Args)]

@@ -106,6 +106,11 @@ fn eval_figures_of_a_hand_made_map() {
         r.visible_length
     );
     assert!((r.coverage_visible.unwrap() - 2.0 / 3.0).abs() < 1e-9);
+    // Near the path (poses 1 m from the wall, 1.5 m around each): three chords of
+    // 2·sqrt(1.5² − 1²) m, two inside the covered span.
+    let chord = 2.0 * (1.5f64 * 1.5 - 1.0).sqrt();
+    assert!((r.near_path_length - 3.0 * chord).abs() < 1e-9);
+    assert!((r.coverage_near_path.unwrap() - 2.0 / 3.0).abs() < 1e-9);
     assert_eq!(r.units, "m");
 }
 
