@@ -216,6 +216,8 @@ fn plan_centroid(plan: &FloorPlan) -> Option<Vector2<f64>> {
 
 /// Samples used by the starts' coarse search; the best starts are then refined on all.
 const COARSE_SAMPLES: usize = 400;
+/// Samples of the final refinement at most (every k-th of a larger map's).
+pub const MAX_SAMPLES: usize = 20_000;
 /// Starts refined on all the samples.
 const FINALISTS: usize = 4;
 
@@ -239,7 +241,13 @@ pub fn align<'a>(
     plan: &FloorPlan,
     search: Search,
 ) -> Option<Alignment> {
-    let samples = segment_samples(segments);
+    let all = segment_samples(segments);
+    // A large map is thinned evenly: the transform has three unknowns.
+    let samples: Vec<Point> = all
+        .iter()
+        .step_by(all.len().div_ceil(MAX_SAMPLES).max(1))
+        .copied()
+        .collect();
     let plan_centre = plan_centroid(plan)?;
     if samples.is_empty() {
         return None;
