@@ -299,3 +299,28 @@ fn an_aligned_map_scores_as_the_map_drawn_in_the_plans_frame_and_its_quarters_sh
     assert_eq!(exact_aligned.true_segments, 5);
     assert_eq!(exact_aligned.coverage, 1.0);
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(48))]
+    /// Any turn within the near search's reach and any shift under half a metre of a map drawn
+    /// from the plan is undone, wherever the asymmetric stub stands.
+    #[test]
+    fn alignment_undoes_any_near_turn_and_shift(
+        turn_deg in -12.0f64..12.0,
+        dx in -0.5f64..0.5,
+        dy in -0.5f64..0.5,
+        stub_x in 1.0f64..5.0,
+    ) {
+        use sonarmap::alignment::{align, Search};
+        let mut plan = room_plan();
+        plan.walls[4].a.x = stub_x;
+        plan.walls[4].b.x = stub_x;
+        let segments = moved_walls(&plan, turn_deg, (dx, dy), 0);
+        let a = align(segments.iter(), &plan, Search::Near(None)).expect("aligned");
+        proptest::prop_assert!((a.rotation_deg + turn_deg).abs() < 1e-5, "{:?}", a);
+        for (s, w) in segments.iter().zip(&plan.walls) {
+            proptest::prop_assert!((a.map_to_plan(&s.a.point) - w.a).norm() < 1e-5, "{:?}", a);
+        }
+        proptest::prop_assert_eq!(a.inlier_fraction, 1.0);
+    }
+}
