@@ -22,6 +22,7 @@
 
 use crate::alignment::{align, Alignment, Search};
 use crate::geometry::{distance_to_segment, line_angle_between, projection_param, Point};
+use crate::intervals::{intersection_measure, measure, union};
 use crate::mapping::{Map, Params, Segment, SegmentId, SegmentKind};
 use crate::near_path::{near_path_spans, NEAR_PATH_M};
 use crate::pose_error::{pose_error, PoseError};
@@ -116,41 +117,6 @@ pub fn evaluate_aligned(
         alignment: Some(alignment),
         ..evaluate(map, run, &whole.plan_in_map_frame(floor_plan), params)
     }
-}
-
-/// Sorted, disjoint closed intervals of a wall's parameter in [0, 1].
-fn union(mut intervals: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
-    intervals.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut out: Vec<(f64, f64)> = Vec::new();
-    for (lo, hi) in intervals {
-        match out.last_mut() {
-            Some(last) if lo <= last.1 => last.1 = last.1.max(hi),
-            _ => out.push((lo, hi)),
-        }
-    }
-    out
-}
-
-fn measure(intervals: &[(f64, f64)]) -> f64 {
-    intervals.iter().map(|(lo, hi)| hi - lo).sum()
-}
-
-/// Length of the intersection of two sorted disjoint interval lists.
-fn intersection_measure(a: &[(f64, f64)], b: &[(f64, f64)]) -> f64 {
-    let (mut i, mut j, mut total) = (0, 0, 0.0);
-    while i < a.len() && j < b.len() {
-        let lo = a[i].0.max(b[j].0);
-        let hi = a[i].1.min(b[j].1);
-        if hi > lo {
-            total += hi - lo;
-        }
-        if a[i].1 < b[j].1 {
-            i += 1;
-        } else {
-            j += 1;
-        }
-    }
-    total
 }
 
 /// What `eval` says of one fitted map segment.

@@ -20,6 +20,7 @@ pub mod eval;
 pub mod export;
 pub mod geometry;
 pub mod import;
+pub mod intervals;
 pub mod lineage;
 pub mod log;
 pub mod mapping;

@@ -3,6 +3,7 @@
 //! "coverage near the path", wall length within [`NEAR_PATH_M`] of the path).
 
 use crate::geometry::Point;
+use crate::intervals::union;
 
 /// How near the path a wall's point must lie to count, metres.
 pub const NEAR_PATH_M: f64 = 1.5;
@@ -33,15 +34,7 @@ pub fn near_path_spans(a: &Point, b: &Point, path: &[Point], radius_m: f64) -> V
             spans.push((lo, hi));
         }
     }
-    spans.sort_by(|x, y| x.0.total_cmp(&y.0));
-    let mut out: Vec<(f64, f64)> = Vec::new();
-    for (lo, hi) in spans {
-        match out.last_mut() {
-            Some(last) if lo <= last.1 => last.1 = last.1.max(hi),
-            _ => out.push((lo, hi)),
-        }
-    }
-    out
+    union(spans)
 }
 
 #[cfg(test)]
