@@ -253,7 +253,7 @@ pub fn align<'a>(
         return None;
     }
     let pivot = samples.iter().map(|p| p.coords).sum::<Vector2<f64>>() / samples.len() as f64;
-    let starts = |rotation_deg: f64, translation: Vector2<f64>| Alignment {
+    let start_at = |rotation_deg: f64, translation: Vector2<f64>| Alignment {
         rotation_deg,
         translation_m: [translation.x, translation.y],
         pivot_m: [pivot.x, pivot.y],
@@ -283,7 +283,7 @@ pub fn align<'a>(
     let coarse: Vec<Point> = samples.iter().step_by(stride).copied().collect();
     let mut tried: Vec<(f64, Alignment)> = candidates
         .into_iter()
-        .map(|(r, t)| refine(&coarse, plan, starts(r, t)))
+        .map(|(r, t)| refine(&coarse, plan, start_at(r, t)))
         .map(|a| (cost(&coarse, plan, &a), a))
         .collect();
     tried.sort_by(|x, y| x.0.total_cmp(&y.0));

@@ -6,6 +6,7 @@
 
 use super::assemble::{Place, RawSnapshot};
 use super::error::ImportError;
+use super::summary::ImportSummary;
 
 /// A reading kept for the snapshots.
 #[derive(Clone, Copy)]
@@ -18,6 +19,23 @@ pub(crate) struct Reading {
     pub range_m: Option<f64>,
     /// Where the reading came from; a cycle takes its first reading's place.
     pub place: Place,
+}
+
+/// [`firing_cycles`], with a warning in `summary` when sensors were silent in their cycle.
+pub(crate) fn cut_into_cycles(
+    readings: &[Reading],
+    n: usize,
+    window_s: f64,
+    file: &str,
+    summary: &mut ImportSummary,
+) -> Result<Vec<RawSnapshot>, ImportError> {
+    let (raw, missing) = firing_cycles(readings, n, window_s, file)?;
+    if missing > 0 {
+        summary.warn(format!(
+            "{missing} readings were missing from their firing cycle and are no echo"
+        ));
+    }
+    Ok(raw)
 }
 
 /// The firing cycles of `readings` (sorted by time): a cycle starts at a reading and takes the

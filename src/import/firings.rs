@@ -23,15 +23,16 @@
 //! count, firings (or odometry lines) whose time decreases, and everything a ring table
 //! refuses ([`super::table`]).
 
-use super::assemble::{assemble, Hardware, Place};
-use super::cycles::{firing_cycles, Reading};
+use super::assemble::Place;
+use super::cycles::{cut_into_cycles, Reading};
 use super::error::{at, ImportError};
 use super::layout::Layout;
 use super::options::{ImportOptions, DEFAULT_FIRINGS_WINDOW_S};
 use super::pose_track::PoseTrack;
-use super::sane;
 use super::summary::{Format, ImportSummary, Imported};
-use super::table_fields::{pose, ranges, read_poses, table_lines, time, TableSetup};
+use super::table_fields::{
+    finish_table, pose, ranges, read_poses, table_lines, time, TableRead, TableSetup,
+};
 use super::text::count;
 
 /// What each field count of a firing table means, for errors.
@@ -58,34 +59,17 @@ pub(crate) fn import_firings(
         None => {}
     }
     let window_s = options.window_s.unwrap_or(DEFAULT_FIRINGS_WINDOW_S);
-    let (raw, missing) = firing_cycles(&readings, n, window_s, file)?;
+    let raw = cut_into_cycles(&readings, n, window_s, file, &mut summary)?;
     drop(readings);
-    if missing > 0 {
-        summary.warn(format!(
-            "{missing} readings were missing from their firing cycle and are no echo"
-        ));
-    }
-    let what_odometry = match &options.poses {
-        Some(p) if !own_odometry => format!(
-            "the --poses file {} has no pose lines",
-            sane::quote(&p.name)
-        ),
-        _ => "the table has no pose columns, no odometry lines and no --poses file".to_string(),
-    };
-    let run = assemble(
-        file,
+    let read = TableRead {
         raw,
-        &track,
-        options.fixed_pose,
-        &what_odometry,
-        Hardware::of_table(file, units, layout, options),
-        &mut summary,
-    )?;
-    Ok(Imported {
-        run,
+        track,
+        poses_file_read: options.poses.is_some() && !own_odometry,
+        without_odometry: "the table has no pose columns, no odometry lines and no --poses file",
         summary,
         format: Format::FiringTable,
-    })
+    };
+    finish_table(read, file, layout, options, units)
 }
 
 /// The firings of `text` in file order; odometry (its lines and the firings' pose columns)

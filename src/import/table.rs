@@ -22,15 +22,15 @@
 //! newline (the file was cut short), and values no robot produces (see [`super::sane`]):
 //! times beyond ±1e10 s, positions and ranges beyond 10 km, headings beyond ±1e5 rad.
 
-use super::assemble::{assemble, Hardware, Place, RawSnapshot};
+use super::assemble::{Place, RawSnapshot};
 use super::error::ImportError;
 use super::firings::import_firings;
 use super::options::{ImportOptions, TableForm};
 use super::pose_track::PoseTrack;
-use super::sane;
 use super::summary::{Format, ImportSummary, Imported};
 use super::table_fields::{
-    expect_fields, is_no_echo, pose, ranges, read_poses, table_lines, time, TableSetup,
+    expect_fields, finish_table, is_no_echo, pose, ranges, read_poses, table_lines, time,
+    TableRead, TableSetup,
 };
 use super::text::{lines, utf8};
 use crate::units::Units;
@@ -158,26 +158,13 @@ fn import_rings(
             reading_dt_s: Vec::new(),
         });
     }
-    let hw = Hardware::of_table(file, units, layout, options);
-    let what_odometry = match &options.poses {
-        Some(p) if separate => format!(
-            "the --poses file {} has no pose lines",
-            sane::quote(&p.name)
-        ),
-        _ => "the table has no pose columns and no --poses file".to_string(),
-    };
-    let run = assemble(
-        file,
+    let read = TableRead {
         raw,
-        &track,
-        options.fixed_pose,
-        &what_odometry,
-        hw,
-        &mut summary,
-    )?;
-    Ok(Imported {
-        run,
+        track,
+        poses_file_read: separate && options.poses.is_some(),
+        without_odometry: "the table has no pose columns and no --poses file",
         summary,
         format: Format::Table,
-    })
+    };
+    finish_table(read, file, layout, options, units)
 }

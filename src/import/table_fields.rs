@@ -2,12 +2,13 @@
 //! one reading a line ([`super::firings`]): content lines without the header, times that do
 //! not decrease, pose columns, ranges, the `--poses` file and the robot of a table.
 
-use super::assemble::{sensor_with_max_range, Hardware};
+use super::assemble::{assemble, sensor_with_max_range, Hardware, RawSnapshot};
 use super::error::{at, ImportError};
 use super::layout::Layout;
 use super::options::{AngleUnit, ImportOptions, NamedBytes};
 use super::pose_track::PoseTrack;
 use super::sane;
+use super::summary::{Format, ImportSummary, Imported};
 use super::text::{checked, lines, utf8, Line};
 use crate::geometry::Pose;
 use crate::units::Units;
@@ -164,4 +165,59 @@ pub(super) fn ranges(
         ranges_m.push(Some(units.to_m(v)));
     }
     Ok(ranges_m)
+}
+
+/// What a table's reader gathered, for [`finish_table`].
+pub(super) struct TableRead {
+    /// The snapshots, in time order.
+    pub raw: Vec<RawSnapshot>,
+    /// The odometry: the table's own, or the `--poses` file's.
+    pub track: PoseTrack,
+    /// True when `track` came from the `--poses` file.
+    pub poses_file_read: bool,
+    /// What the table lacks when it has no odometry and no `--poses` file.
+    pub without_odometry: &'static str,
+    /// The warnings so far.
+    pub summary: ImportSummary,
+    /// Which table it was.
+    pub format: Format,
+}
+
+/// The run of a table: its snapshots posed by the odometry, with the layout's robot.
+pub(super) fn finish_table(
+    read: TableRead,
+    file: &str,
+    layout: &Layout,
+    options: &ImportOptions,
+    units: Units,
+) -> Result<Imported, ImportError> {
+    let TableRead {
+        raw,
+        track,
+        poses_file_read,
+        without_odometry,
+        mut summary,
+        format,
+    } = read;
+    let what_odometry = match &options.poses {
+        Some(p) if poses_file_read => format!(
+            "the --poses file {} has no pose lines",
+            sane::quote(&p.name)
+        ),
+        _ => without_odometry.to_string(),
+    };
+    let run = assemble(
+        file,
+        raw,
+        &track,
+        options.fixed_pose,
+        &what_odometry,
+        Hardware::of_table(file, units, layout, options),
+        &mut summary,
+    )?;
+    Ok(Imported {
+        run,
+        summary,
+        format,
+    })
 }

@@ -437,20 +437,24 @@ fn table_case(seed: u64) {
         max_range_m: r.random_bool(0.2).then(|| r.random_range(0.5..8.0)),
         ..ImportOptions::default()
     };
-    let check = |result: &Result<sonarmap::import::Imported, sonarmap::import::ImportError>| {
-        // A refusal may name the poses file instead.
-        match result {
-            Err(e) if e.to_string().starts_with("fuzz-poses.csv") => {
-                check_contract(result, "fuzz-poses.csv")
-            }
-            _ => check_contract(result, "fuzz.csv"),
-        }
-    };
     let table = import_table(&bytes, "fuzz.csv", &o);
-    check(&table);
+    check_table_contract(&table);
     let any = import_any(&bytes, "fuzz.csv", &o);
-    check(&any);
+    check_table_contract(&any);
     TABLE.count(&[&table, &any]);
+}
+
+/// The importers' contract for a table `fuzz.csv` with its poses in `fuzz-poses.csv`: a
+/// refusal may name the poses file instead.
+fn check_table_contract(
+    result: &Result<sonarmap::import::Imported, sonarmap::import::ImportError>,
+) {
+    match result {
+        Err(e) if e.to_string().starts_with("fuzz-poses.csv") => {
+            check_contract(result, "fuzz-poses.csv")
+        }
+        _ => check_contract(result, "fuzz.csv"),
+    }
 }
 
 // ------------------------------------------------------------------ tables of firings
@@ -604,17 +608,10 @@ fn firings_case(seed: u64) {
     let poses = to_text(&mut r, &table.poses, sep);
     let mut o = firing_options(&mut r, &table, poses);
     o.window_s = r.random_bool(0.3).then(|| r.random_range(0.0..2.0));
-    let check =
-        |result: &Result<sonarmap::import::Imported, sonarmap::import::ImportError>| match result {
-            Err(e) if e.to_string().starts_with("fuzz-poses.csv") => {
-                check_contract(result, "fuzz-poses.csv")
-            }
-            _ => check_contract(result, "fuzz.csv"),
-        };
     let imported = import_table(&bytes, "fuzz.csv", &o);
-    check(&imported);
+    check_table_contract(&imported);
     let any = import_any(&bytes, "fuzz.csv", &o);
-    check(&any);
+    check_table_contract(&any);
     FIRINGS.count(&[&imported, &any]);
 }
 

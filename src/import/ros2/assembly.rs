@@ -5,7 +5,7 @@ use super::collect::Collected;
 use super::messages::{place, RangeMsg};
 use super::sensors::{layout, Keys, SensorOf};
 use crate::import::assemble::{assemble, sensor_with_max_range, Hardware, Place};
-use crate::import::cycles::{firing_cycles, Reading};
+use crate::import::cycles::{cut_into_cycles, Reading};
 use crate::import::error::ImportError;
 use crate::import::options::{ImportOptions, DEFAULT_WINDOW_S};
 use crate::import::sane;
@@ -60,17 +60,13 @@ pub(super) fn assemble_mcap(
     drop(ranges);
     // A stable sort: readings at one time keep their message order.
     readings.sort_by(|a, b| a.t.total_cmp(&b.t));
-    let (raw, missing) = firing_cycles(
+    let raw = cut_into_cycles(
         &readings,
         n,
         options.window_s.unwrap_or(DEFAULT_WINDOW_S),
         file,
+        &mut summary,
     )?;
-    if missing > 0 {
-        summary.warn(format!(
-            "{missing} readings were missing from their firing cycle and are no echo"
-        ));
-    }
     let hw = Hardware {
         name: file.to_string(),
         units: options.units.unwrap_or(Units::Metres),
