@@ -7,7 +7,8 @@
 use crate::mapping::{Map, Mapper, Params};
 use crate::replay::Cancelled;
 use crate::run::Run;
-use crate::sim::{family_plan, repeat_laps, simulate, Model, SceneKind};
+use crate::sim::{family_plan, repeat_laps, simulate_paced, Model, SceneKind};
+use crate::suite::{drifted, Conditions};
 
 /// The parameter sets a soak drives: both presets, then the paper with each parameter the
 /// presets set apart at its `extended` value, with what it acts only with
@@ -128,13 +129,29 @@ pub fn map_checked_with(
 /// The lap run of scene `kind` drawn from `seed`, repeated to `snapshots`; every other seed
 /// uses the simulator's axis model instead of the specular one.
 pub fn family_run(kind: SceneKind, seed: u64, snapshots: usize) -> Run {
+    family_run_under(kind, seed, snapshots, &Conditions::PLAIN)
+}
+
+/// [`family_run`] simulated at `conditions.pace` and, repeated, given `conditions.drift`
+/// (seeded with `seed`): the odometry drifts on over the laps.
+pub fn family_run_under(
+    kind: SceneKind,
+    seed: u64,
+    snapshots: usize,
+    conditions: &Conditions,
+) -> Run {
     let plan = family_plan(kind, seed);
     let model = if seed.is_multiple_of(2) {
         Model::Specular
     } else {
         Model::Axis
     };
-    repeat_laps(&simulate(&plan, model, seed), snapshots)
+    let lap = simulate_paced(&plan, model, seed, &conditions.pace);
+    drifted(
+        repeat_laps(&lap, snapshots),
+        conditions.drift.as_ref(),
+        seed,
+    )
 }
 
 /// Drives `runs_per_kind` scenes of every kind (seeds from `first_seed` on), each
@@ -147,7 +164,8 @@ pub fn soak(
     first_seed: u64,
     progress: &mut dyn FnMut(usize) -> bool,
 ) -> Result<SoakReport, Cancelled> {
-    soak_variants_named(runs_per_kind, snapshots, first_seed, &[], progress)
+    let plain = &Conditions::PLAIN;
+    soak_variants_named(runs_per_kind, snapshots, first_seed, &[], plain, progress)
 }
 
 /// The parameter sets named in `only` (all when it is empty), in [`soak_variants`] order.
@@ -159,12 +177,14 @@ pub fn soak_variants_only(only: &[String]) -> Vec<(String, Params)> {
     variants
 }
 
-/// [`soak`] with only the parameter sets named in `only` ([`soak_variants_only`]).
+/// [`soak`] with only the parameter sets named in `only` ([`soak_variants_only`]), every run
+/// driven under `conditions` ([`family_run_under`]).
 pub fn soak_variants_named(
     runs_per_kind: usize,
     snapshots: usize,
     first_seed: u64,
     only: &[String],
+    conditions: &Conditions,
     progress: &mut dyn FnMut(usize) -> bool,
 ) -> Result<SoakReport, Cancelled> {
     let mut report = SoakReport::default();
@@ -172,7 +192,7 @@ pub fn soak_variants_named(
     let mut runs_done = 0;
     for seed in first_seed..first_seed + runs_per_kind as u64 {
         for kind in SceneKind::ALL {
-            let run = family_run(kind, seed, snapshots);
+            let run = family_run_under(kind, seed, snapshots, conditions);
             for (variant, params) in &variants {
                 let before = runs_done * snapshots;
                 let checked =

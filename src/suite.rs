@@ -9,7 +9,9 @@ use crate::mapping::{Map, Mapper, Params};
 use crate::pose_error::{pose_error, pose_error_of};
 use crate::replay::Cancelled;
 use crate::run::Run;
-use crate::sim::{family_plan, simulate, with_odometry, Model, OdometryError, Plan, SceneKind};
+use crate::sim::{
+    family_plan, simulate_paced, with_odometry, Model, OdometryError, Pace, Plan, SceneKind,
+};
 use crate::units::Units;
 use serde::Serialize;
 
@@ -235,22 +237,44 @@ pub fn run_suite_drifting(
     params: &Params,
     drift: Option<&OdometryError>,
 ) -> Vec<SuiteLine> {
-    run_suite_with(scenes, seed, params, drift, &mut |_| true).expect("never cancelled")
+    let conditions = Conditions {
+        drift: drift.copied(),
+        ..Conditions::PLAIN
+    };
+    run_suite_with(scenes, seed, params, &conditions, &mut |_| true).expect("never cancelled")
 }
 
-/// [`run_suite_drifting`], calling `progress(runs)` after every run (a scene in one model);
-/// returning `false` cancels.
+/// How a suite's runs are driven: the odometry's error and the robot's pace and firing order.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Conditions {
+    /// The odometry error given to every run (seeded by its scene's seed), if any.
+    pub drift: Option<OdometryError>,
+    /// The pace and firing order every run is simulated at.
+    pub pace: Pace,
+}
+
+impl Conditions {
+    /// The plans' own paths, the ring fired at once, the odometry the truth.
+    pub const PLAIN: Conditions = Conditions {
+        drift: None,
+        pace: Pace::PLAN,
+    };
+}
+
+/// [`run_suite`] under `conditions`, calling `progress(runs)` after every run (a scene in one
+/// model); returning `false` cancels.
 pub fn run_suite_with(
     scenes: usize,
     seed: u64,
     params: &Params,
-    drift: Option<&OdometryError>,
+    conditions: &Conditions,
     progress: &mut dyn FnMut(usize) -> bool,
 ) -> Result<Vec<SuiteLine>, Cancelled> {
     let mut lines = Vec::with_capacity(2 * scenes);
     for (kind, s, plan) in suite_plans(scenes, seed) {
         for (model, name) in [(Model::Specular, "specular"), (Model::Axis, "axis")] {
-            let run = drifted(simulate(&plan, model, s), drift, s);
+            let run = simulate_paced(&plan, model, s, &conditions.pace);
+            let run = drifted(run, conditions.drift.as_ref(), s);
             let (map, poses) = map_and_poses_of(&run, params);
             let figures = scene_figures(&map, &run, params).expect("a family plan has walls");
             lines.push(SuiteLine {

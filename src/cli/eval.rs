@@ -53,6 +53,9 @@ pub struct EvalArgs {
     /// maps are scored against the floor plan, in the true frame.
     #[arg(long, value_enum, default_value = "none", requires = "suite")]
     pub drift: super::simulate::DriftArg,
+    /// With --suite: the pace and firing order every scene is simulated at.
+    #[command(flatten)]
+    pub pace: super::simulate::PaceArgs,
     /// Mapping parameters.
     #[command(flatten)]
     pub params: ParamArgs,
@@ -109,7 +112,10 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
             seed: args.seed,
             write_plans: args.write_plans.as_deref(),
             logs_from: args.logs_from.as_deref(),
-            drift: args.drift.error(),
+            conditions: sonarmap::suite::Conditions {
+                drift: args.drift.error(),
+                pace: args.pace.pace()?,
+            },
         };
         return suite_command(&suite, &params);
     };

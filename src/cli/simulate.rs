@@ -5,7 +5,7 @@ use super::output::write_atomic;
 use anyhow::Result;
 use clap::{Args, ValueEnum};
 use sonarmap::log::save_run;
-use sonarmap::sim::{load_plan, simulate, Model, OdometryError};
+use sonarmap::sim::{load_plan, simulate_paced, Model, OdometryError, Pace};
 use std::path::PathBuf;
 
 /// `sonarmap simulate`.
@@ -27,6 +27,48 @@ pub struct SimulateArgs {
     /// 0.06 % apart (about 1 deg per 10 m), wheelbase 1 % off; bad: 0.3 % (5 deg per 10 m), 3 %.
     #[arg(long, value_enum, default_value = "none")]
     pub drift: DriftArg,
+    /// The robot's pace and firing order.
+    #[command(flatten)]
+    pub pace: PaceArgs,
+}
+
+/// The robot's pace and its sonars' firing order (`simulate`, `eval --suite`).
+#[derive(Debug, Args)]
+pub struct PaceArgs {
+    /// Re-cut the plan's path into firing cycles this many metres apart (a crawl: 0.015; the
+    /// paper's pace: 0.254); default: the plan's own poses.
+    #[arg(long, value_name = "M")]
+    pub cycle_step_m: Option<f64>,
+    /// With --cycle-step-m, the largest turn in one cycle, degrees.
+    #[arg(long, value_name = "DEG", default_value_t = 5.0)]
+    pub cycle_turn_deg: f64,
+    /// One firing cycle's duration, seconds.
+    #[arg(long, value_name = "S", default_value_t = 1.0)]
+    pub cycle_s: f64,
+    /// Fire the sensors in this many groups across a cycle (sensor k in group k mod G), each
+    /// reading from the pose of its own moment and logged with its offset (`reading_dt_s`);
+    /// 1: the whole ring at once.
+    #[arg(long, value_name = "G", default_value_t = 1)]
+    pub firing_groups: usize,
+}
+
+impl PaceArgs {
+    /// The pace, checked.
+    pub fn pace(&self) -> Result<Pace> {
+        let positive = |v: f64| v.is_finite() && v > 0.0;
+        if !self.cycle_step_m.is_none_or(positive) {
+            anyhow::bail!("--cycle-step-m must be a length greater than 0");
+        }
+        if !positive(self.cycle_turn_deg) || !positive(self.cycle_s) || self.firing_groups == 0 {
+            anyhow::bail!("--cycle-turn-deg, --cycle-s and --firing-groups must be greater than 0");
+        }
+        Ok(Pace {
+            cycle_step_m: self.cycle_step_m,
+            cycle_turn_rad: self.cycle_turn_deg.to_radians(),
+            cycle_s: self.cycle_s,
+            firing_groups: self.firing_groups,
+        })
+    }
 }
 
 /// The odometry error of `simulate --drift`.
@@ -68,7 +110,7 @@ pub fn simulate_command(args: &SimulateArgs) -> Result<()> {
         ModelArg::Specular => Model::Specular,
         ModelArg::Axis => Model::Axis,
     };
-    let run = simulate(&plan, model, args.seed);
+    let run = simulate_paced(&plan, model, args.seed, &args.pace.pace()?);
     let run = sonarmap::suite::drifted(run, args.drift.error().as_ref(), args.seed);
     write_atomic(&args.out, save_run(&run))
 }

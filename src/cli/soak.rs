@@ -31,6 +31,13 @@ pub struct SoakArgs {
     /// paper+settled_walls, ...; an unknown name lists them all); default all.
     #[arg(long, value_delimiter = ',')]
     pub only: Vec<String>,
+    /// The odometry error of every run (a differential-drive robot's, as `simulate --drift`
+    /// gives), drifting on over its laps.
+    #[arg(long, value_enum, default_value = "none")]
+    pub drift: super::simulate::DriftArg,
+    /// The pace and firing order every lap is simulated at.
+    #[command(flatten)]
+    pub pace: super::simulate::PaceArgs,
 }
 
 /// A failed run, as printed.
@@ -79,6 +86,10 @@ pub fn soak_command(args: &SoakArgs) -> Result<()> {
         args.snapshots,
         args.seed,
         &args.only,
+        &sonarmap::suite::Conditions {
+            drift: args.drift.error(),
+            pace: args.pace.pace()?,
+        },
         &mut progress.callback(),
     )
     .map_err(|_| Interrupted)?;

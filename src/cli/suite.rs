@@ -19,8 +19,8 @@ pub struct SuiteArgs<'a> {
     pub write_plans: Option<&'a Path>,
     /// `--logs-from DIR`.
     pub logs_from: Option<&'a Path>,
-    /// `--drift`: the odometry error given to every run, if any.
-    pub drift: Option<sonarmap::sim::OdometryError>,
+    /// `--drift` and the pace: how every run is driven.
+    pub conditions: sonarmap::suite::Conditions,
 }
 
 /// `eval --suite N`: one JSON line per scene and sensor model, then the summary
@@ -29,18 +29,21 @@ pub fn suite_command(args: &SuiteArgs, params: &Params) -> Result<()> {
     if let Some(dir) = args.write_plans {
         write_plans(dir, args.scenes, args.seed)?;
     }
-    let drift = args.drift.as_ref();
+    let drift = args.conditions.drift.as_ref();
     let elsewhere = match args.logs_from {
         Some(dir) => logs_in(dir, args.scenes, args.seed),
         None => Vec::new(),
     };
     let generated = 2 * args.scenes;
     let progress = Progress::new("suite", generated + elsewhere.len(), "runs");
-    let mut lines =
-        sonarmap::suite::run_suite_with(args.scenes, args.seed, params, drift, &mut |runs| {
-            progress.set(runs).is_ok()
-        })
-        .map_err(|_| Interrupted)?;
+    let mut lines = sonarmap::suite::run_suite_with(
+        args.scenes,
+        args.seed,
+        params,
+        &args.conditions,
+        &mut |runs| progress.set(runs).is_ok(),
+    )
+    .map_err(|_| Interrupted)?;
     for (i, (family, seed, path)) in elsewhere.into_iter().enumerate() {
         lines.push(log_line(family, seed, &path, params, drift)?);
         progress.set(generated + i + 1)?;

@@ -283,6 +283,7 @@ impl Mapper {
         };
         if let Some(last) = self.last_pose {
             let step_m = last.distance_to(&snapshot.pose);
+            self.map.travelled_m += step_m;
             if step_m > self.params.max_step_m {
                 trace.warnings.push(Warning::MaxStep {
                     step_m,

@@ -5,6 +5,7 @@ mod beam;
 mod building;
 mod families;
 mod odometry;
+mod pace;
 mod plan;
 mod simulate;
 
@@ -12,8 +13,9 @@ pub use beam::{Hit, Model, World};
 pub use building::{building_plan, BuildingSpec};
 pub use families::{family_plan, repeat_laps, SceneKind};
 pub use odometry::{with_odometry, OdometryError};
+pub use pace::{pose_at, resample_path, Pace};
 pub use plan::{
     interpolate_path, load_plan, plan_from_file, plan_to_file, Plan, PlanFile, SimFile,
     SimSettings, DEFAULT_ROUGHNESS_DEG, PLAN_FORMAT,
 };
-pub use simulate::simulate;
+pub use simulate::{simulate, simulate_paced};

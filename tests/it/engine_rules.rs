@@ -227,9 +227,11 @@ fn a_sonar_driven_square_on_to_a_wall_stacks_its_readings_instead_of_fitting_the
     let memory = traces[2].memory.as_ref().expect("point memory is on");
     assert_eq!(memory.stacked.len(), 3, "the first three readings stack");
     assert!(traces.iter().all(|t| t.new_segments.is_empty()));
-    // Without the rule the memory fits the three readings of one place into a new segment.
+    // Without the rule (nor a shortest span, which holds a place 0 m long in the memory) the
+    // memory fits the three readings of one place into a new segment.
     let traces = run(Params {
         memory_stacks: false,
+        memory_min_span_m: 0.0,
         ..Params::extended()
     });
     assert!(matches!(

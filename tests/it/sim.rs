@@ -326,3 +326,74 @@ mod pillar_echo_properties {
         }
     }
 }
+
+#[test]
+fn sonars_fired_in_groups_read_from_the_pose_of_their_own_moment() {
+    use sonarmap::sim::{family_plan, pose_at, simulate_paced, Pace, SceneKind};
+    // A room at a crawl (2 cm a cycle, 0.3 s), the ring fired in 4 groups: every reading is the
+    // echo the axis model gives from the true pose of its own moment, within the sensor's
+    // accuracy and the range's rounding; and it is logged with that moment's offset.
+    let mut plan = family_plan(SceneKind::Room, 2);
+    (plan.sim.dropout, plan.sim.ghost) = (0.0, 0.0);
+    let pace = Pace {
+        cycle_step_m: Some(0.02),
+        cycle_s: 0.3,
+        firing_groups: 4,
+        ..Pace::PLAN
+    };
+    let run = simulate_paced(&plan, Model::Axis, 5, &pace);
+    let poses = pace.cycle_poses(&plan.poses);
+    assert_eq!(run.snapshots.len(), poses.len());
+    assert!(
+        poses.len() > 5 * plan.poses.len(),
+        "a crawl has more cycles"
+    );
+    let world = World::new(
+        &plan.floor_plan,
+        plan.roughness_rad,
+        plan.sim.corner_tolerance_m,
+    );
+    let (mut compared, mut moved_apart) = (0, 0);
+    for (i, s) in run.snapshots.iter().enumerate() {
+        assert!((s.t - 0.3 * i as f64).abs() < 1e-9);
+        assert_eq!(s.reading_dt_s.len(), plan.layout.len());
+        for (k, range) in s.ranges_m.iter().enumerate() {
+            let dt_s = s.reading_dt_s[k];
+            assert!((dt_s + 0.3 * (3 - k % 4) as f64 / 4.0).abs() < 1e-12);
+            let Some(range) = range else { continue };
+            let at = pose_at(&poses, i, dt_s, 0.3);
+            let sensor = plan.layout.sensor_pose_in_world(&at, k);
+            let truth = world
+                .echo_range(
+                    &sensor,
+                    plan.sensor.beam_width_rad,
+                    plan.sim.ray_step_rad,
+                    Model::Axis,
+                )
+                .expect("a reading has an echo");
+            let tolerance = truth * plan.sensor.accuracy_pct / 100.0 + plan.sim.resolution_m;
+            assert!(
+                (range - truth).abs() <= tolerance,
+                "{i}/{k}: {range} vs {truth}"
+            );
+            compared += 1;
+            moved_apart += usize::from(at.distance_to(&s.pose) > 1e-6);
+        }
+    }
+    assert!(
+        compared > 100 && moved_apart > compared / 2,
+        "{compared} {moved_apart}"
+    );
+}
+
+#[test]
+fn the_plans_pace_simulates_as_before() {
+    use sonarmap::sim::{family_plan, simulate_paced, Pace, SceneKind};
+    let plan = family_plan(SceneKind::Desks, 3);
+    let plain = simulate(&plan, Model::Specular, 4);
+    assert_eq!(
+        save_run(&plain),
+        save_run(&simulate_paced(&plan, Model::Specular, 4, &Pace::PLAN))
+    );
+    assert!(plain.snapshots.iter().all(|s| s.reading_dt_s.is_empty()));
+}

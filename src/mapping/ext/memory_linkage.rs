@@ -198,7 +198,7 @@ impl Linkage {
 mod tests {
     use super::*;
     use crate::mapping::ext::point_memory::tests::paper_with_memory;
-    use crate::mapping::ext::point_memory::{memory_step, MemoryPiece};
+    use crate::mapping::ext::point_memory::{memory_step, MemoryClock, MemoryPiece};
     use crate::mapping::model::map::MemoryPoint;
     use crate::mapping::model::map::{ReadingRef, SupportPoint};
     use crate::mapping::model::params::Params;
@@ -288,8 +288,8 @@ mod tests {
                     })
                     .collect();
                 afresh_linkage.forget();
-                let (t1, p1) = memory_step(&mut kept, &singles, snapshot, &params, true, &mut kept_linkage);
-                let (t2, p2) = memory_step(&mut afresh, &singles, snapshot, &params, true, &mut afresh_linkage);
+                let (t1, p1) = memory_step(&mut kept, &singles, MemoryClock::standing(snapshot), &params, true, &mut kept_linkage);
+                let (t2, p2) = memory_step(&mut afresh, &singles, MemoryClock::standing(snapshot), &params, true, &mut afresh_linkage);
                 proptest::prop_assert_eq!(&t1, &t2);
                 let points = |p: &[MemoryPiece]| p.iter().map(|q| (q.group, q.points.clone())).collect::<Vec<_>>();
                 proptest::prop_assert_eq!(points(&p1), points(&p2));
@@ -312,17 +312,36 @@ mod tests {
             sp(0, 1, 5.0, 0.0, 1.0),
             sp(0, 2, 9.0, 0.0, 1.0),
         ];
-        let (trace, _) = memory_step(&mut lone, &far, 0, &params, true, &mut linkage);
+        let (trace, _) = memory_step(
+            &mut lone,
+            &far,
+            MemoryClock::standing(0),
+            &params,
+            true,
+            &mut linkage,
+        );
         assert!(trace.groups.is_empty() && lone.len() == 3);
         let v = [
             sp(0, 0, 0.0, 0.0, 1.0),
             sp(0, 1, 0.2, 0.2, 1.0),
             sp(0, 2, 0.4, 0.0, 1.0),
         ];
-        let mut memory: Vec<MemoryPoint> =
-            v.iter().map(|&support| MemoryPoint { support }).collect();
+        let mut memory: Vec<MemoryPoint> = v
+            .iter()
+            .map(|&support| MemoryPoint {
+                support,
+                travelled_m: 0.0,
+            })
+            .collect();
         linkage.forget();
-        let (trace, pieces) = memory_step(&mut memory, &[], 1, &params, true, &mut linkage);
+        let (trace, pieces) = memory_step(
+            &mut memory,
+            &[],
+            MemoryClock::standing(1),
+            &params,
+            true,
+            &mut linkage,
+        );
         assert_eq!(trace.groups.len(), 1);
         assert_eq!(trace.groups[0].pieces, vec![[0, 1], [1, 2]]);
         assert!(pieces.is_empty() && memory.len() == 3);

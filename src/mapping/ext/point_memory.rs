@@ -56,7 +56,7 @@ fn is_stack(readings: &[SupportPoint], accuracy_pct: f64) -> bool {
 pub fn memory_step(
     memory: &mut Vec<MemoryPoint>,
     singles: &[SupportPoint],
-    snapshot: usize,
+    now: MemoryClock,
     params: &Params,
     record: bool,
     linkage: &mut Linkage,
@@ -71,7 +71,7 @@ pub fn memory_step(
     let kept = expire_and_add(
         memory,
         singles,
-        snapshot,
+        now,
         params,
         seeds.as_mut(),
         &mut trace,
@@ -146,21 +146,66 @@ struct Taken {
     pieces: Vec<MemoryPiece>,
 }
 
+/// Where a step stands on point memory's clock: its snapshot, and how far the robot had driven
+/// by then ([`crate::mapping::Map::travelled_m`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MemoryClock {
+    /// The step's snapshot.
+    pub snapshot: usize,
+    /// The distance driven since the first snapshot, metres.
+    pub travelled_m: f64,
+}
+
+impl MemoryClock {
+    /// Snapshot `snapshot` of a robot that has not moved.
+    pub fn standing(snapshot: usize) -> Self {
+        MemoryClock {
+            snapshot,
+            travelled_m: 0.0,
+        }
+    }
+
+    /// Whether a reading remembered at `m` is still within the memory's span: taken less than
+    /// `memory_snapshots` snapshots ago and, with `memory_travel` on, less than that distance
+    /// driven ago (docs/algorithm.md §8.1).
+    ///
+    /// ```
+    /// use sonarmap::mapping::ext::point_memory::MemoryClock;
+    /// use sonarmap::mapping::Params;
+    /// let p = Params { memory_snapshots: 400, memory_travel_m: 2.54, ..Params::extended() };
+    /// let taken = MemoryClock { snapshot: 10, travelled_m: 1.0 };
+    /// // 2.5 m and 150 snapshots later: kept; 2.6 m later: driven past the span.
+    /// assert!(MemoryClock { snapshot: 160, travelled_m: 3.5 }.keeps(&taken, &p));
+    /// assert!(!MemoryClock { snapshot: 160, travelled_m: 3.6 }.keeps(&taken, &p));
+    /// // Standing still, 400 snapshots later: too old.
+    /// assert!(!MemoryClock { snapshot: 410, travelled_m: 1.0 }.keeps(&taken, &p));
+    /// ```
+    pub fn keeps(&self, taken: &MemoryClock, params: &Params) -> bool {
+        let age = self.snapshot - taken.snapshot.min(self.snapshot);
+        let driven_m = self.travelled_m - taken.travelled_m;
+        age < params.memory_snapshots
+            && (params.memory_travel_m <= 0.0 || driven_m < params.memory_travel_m)
+    }
+}
+
 /// Readings older than the memory's span leave it (and their seed flags with them), then the
 /// step's `singles` join it. Returns how many old readings stayed.
 fn expire_and_add(
     memory: &mut Vec<MemoryPoint>,
     singles: &[SupportPoint],
-    snapshot: usize,
+    now: MemoryClock,
     params: &Params,
     mut seeds: Option<&mut Vec<bool>>,
     trace: &mut MemoryTrace,
     record: bool,
 ) -> usize {
-    let horizon = params.memory_snapshots;
     let (mut i, mut kept) = (0, 0);
     memory.retain(|m| {
-        let keep = snapshot - m.support.reading.snapshot().min(snapshot) < horizon;
+        let taken = MemoryClock {
+            snapshot: m.support.reading.snapshot(),
+            travelled_m: m.travelled_m,
+        };
+        let keep = now.keeps(&taken, params);
         if !keep && record {
             trace.expired.push(m.support.reading);
         }
@@ -170,7 +215,10 @@ fn expire_and_add(
         (i, kept) = (i + 1, kept + usize::from(keep));
         keep
     });
-    memory.extend(singles.iter().map(|s| MemoryPoint { support: *s }));
+    memory.extend(singles.iter().map(|s| MemoryPoint {
+        support: *s,
+        travelled_m: now.travelled_m,
+    }));
     if record {
         trace.added.extend(singles.iter().map(|s| s.reading));
     }
@@ -238,6 +286,10 @@ fn fit_group(
             continue;
         }
         let stack = params.memory_stacks && is_stack(piece, params.accuracy_pct);
+        if !stack && too_short(piece, params) {
+            piece_segments.push(None);
+            continue;
+        }
         let joint = (params.memory_joints && !stack)
             .then(|| joint_end(piece))
             .flatten();
@@ -272,6 +324,15 @@ fn fit_group(
         piece_segments,
         stacks,
     })
+}
+
+/// Whether a piece's end readings lie closer than `memory_min_span` (§8.1): at a crawl, a few
+/// centimetres of wall read by one sonar, too short to fix a direction within `θ_o`.
+fn too_short(piece: &[SupportPoint], params: &Params) -> bool {
+    match (piece.first(), piece.last()) {
+        (Some(a), Some(b)) => (b.point - a.point).norm() < params.memory_min_span_m,
+        _ => true,
+    }
 }
 
 /// The readings the step's pieces took leave the memory (traced as used by a segment or
@@ -338,205 +399,4 @@ fn joint_end(piece: &[SupportPoint]) -> Option<usize> {
 }
 
 #[cfg(test)]
-pub(super) mod tests {
-    use super::*;
-    use crate::mapping::model::map::ReadingRef;
-
-    fn sp(snapshot: usize, sensor: usize, x: f64, y: f64, d: f64) -> SupportPoint {
-        SupportPoint {
-            point: Point::new(x, y),
-            range_m: d,
-            reading: ReadingRef::new(snapshot, sensor),
-        }
-    }
-
-    /// `paper` with `extended`'s point memory: 10 snapshots, a 12 in gap, three readings.
-    pub(in crate::mapping::ext) fn paper_with_memory() -> Params {
-        Params {
-            memory_snapshots: 10,
-            memory_gap_m: 0.3048,
-            memory_min_points: 3,
-            ..Params::paper()
-        }
-    }
-
-    #[test]
-    fn a_stack_is_one_place_read_at_ranges_the_ball_test_tells_apart() {
-        // ξ = 3. Ranges 2.0 and 2.2 at points 0.10 apart: the places pass the ball test
-        // (0.10 ≤ 0.03·4.2 = 0.126) and the ranges fail it (0.2 > 0.126): a stack.
-        let near = sp(0, 0, 0.0, 2.0, 2.0);
-        assert!(is_stack(&[near, sp(1, 0, 0.10, 2.0, 2.2)], 3.0));
-        // 0.13 apart, the places fail too: two places.
-        assert!(!is_stack(&[near, sp(1, 0, 0.13, 2.0, 2.2)], 3.0));
-        // Ranges 2.0 and 2.1 pass (0.1 ≤ 0.123): one depth, as a sensor standing still or
-        // moving along a wall reads it; not a stack.
-        assert!(!is_stack(&[near, sp(1, 0, 0.10, 2.0, 2.1)], 3.0));
-        // Every two readings must share the place: 0.0, 0.1, 0.2 at 2.0, 2.2, 2.4 pass
-        // pairwise neighbour to neighbour (0.1 ≤ 0.126, 0.1 ≤ 0.138) but not end to end
-        // (0.2 > 0.03·4.4 = 0.132).
-        let spread = [near, sp(1, 0, 0.1, 2.0, 2.2), sp(2, 0, 0.2, 2.0, 2.4)];
-        assert!(!is_stack(&spread, 3.0));
-    }
-
-    #[test]
-    fn a_sonar_driven_square_on_to_a_wall_leaves_a_stack_not_a_segment() {
-        // One sonar reads the same foot (0, 5) from 4.0, 3.8 and 3.6 m as the robot drives
-        // towards the wall: the third snapshot groups the three (0 apart, within 12 in).
-        let stacks_on = Params {
-            memory_stacks: true,
-            ..paper_with_memory()
-        };
-        let readings = [
-            sp(0, 0, 0.0, 5.0, 4.0),
-            sp(1, 0, 0.0, 5.0, 3.8),
-            sp(2, 0, 0.0, 5.0, 3.6),
-        ];
-        let run = |p: &Params| {
-            let (mut memory, mut linkage) = (Vec::new(), Linkage::default());
-            let mut last = None;
-            for (k, q) in readings.iter().enumerate() {
-                last = Some(memory_step(&mut memory, &[*q], k, p, true, &mut linkage));
-            }
-            (last.expect("three steps"), memory.len())
-        };
-        let ((t, pieces), held) = run(&stacks_on);
-        assert!(pieces.is_empty(), "a stack makes no segment");
-        assert_eq!(held, 0, "its readings leave the memory");
-        assert_eq!(t.stacked.len(), 3);
-        assert!(t.used.is_empty());
-        assert_eq!(t.groups[0].stacks, vec![0]);
-        assert_eq!(t.groups[0].piece_segments, vec![None]);
-        // Without the rule, the paper's memory fits the three into a piece (a line through
-        // one place, whichever way the noise turns it).
-        let stacks_off = Params {
-            memory_stacks: false,
-            ..stacks_on
-        };
-        let ((t, pieces), held) = run(&stacks_off);
-        assert_eq!(pieces.len(), 1);
-        assert_eq!((held, t.used.len()), (0, 3));
-        assert!(t.stacked.is_empty());
-    }
-
-    #[test]
-    fn a_joint_is_the_newest_end_reading_of_a_growing_piece() {
-        let piece = |snapshots: [usize; 3]| {
-            [
-                sp(snapshots[0], 0, 0.0, 5.0, 2.0),
-                sp(snapshots[1], 0, 0.2, 5.0, 2.0),
-                sp(snapshots[2], 0, 0.4, 5.0, 2.0),
-            ]
-        };
-        assert_eq!(joint_end(&piece([3, 4, 5])), Some(2));
-        assert_eq!(joint_end(&piece([5, 4, 3])), Some(0));
-        // The newest reading inside the piece, or both ends of one snapshot: no joint.
-        assert_eq!(joint_end(&piece([3, 5, 4])), None);
-        assert_eq!(joint_end(&piece([5, 4, 5])), None);
-        // A reading inside of the same snapshot as the newer end: that end is the joint.
-        assert_eq!(joint_end(&piece([3, 5, 5])), Some(2));
-        assert_eq!(joint_end(&[]), None);
-    }
-
-    #[test]
-    fn pieces_of_a_chain_read_one_step_at_a_time_share_their_joints() {
-        // One sonar reads the wall y = 5 at x = 0, 0.2, …, one reading a snapshot. The first
-        // three make a piece; its newest end (x = 0.4, snapshot 2) stays as its joint, so the
-        // next piece is x = 0.4, 0.6, 0.8: the two overlap at the joint. Without joints the next
-        // piece starts at x = 0.6, a reading spacing past the first.
-        let run = |joints: bool| {
-            let p = Params {
-                memory_joints: joints,
-                ..paper_with_memory()
-            };
-            let (mut memory, mut linkage) = (Vec::new(), Linkage::default());
-            let mut pieces = Vec::new();
-            let mut traces = Vec::new();
-            for k in 0..5 {
-                let q = sp(k, 0, 0.2 * k as f64, 5.0, 2.0);
-                let (t, out) = memory_step(&mut memory, &[q], k, &p, true, &mut linkage);
-                pieces.extend(out.into_iter().map(|piece| {
-                    piece
-                        .points
-                        .iter()
-                        .map(|q| q.reading.snapshot())
-                        .collect::<Vec<_>>()
-                }));
-                traces.push(t);
-            }
-            (pieces, traces, memory)
-        };
-        let (pieces, traces, memory) = run(true);
-        assert_eq!(pieces, vec![vec![0, 1, 2], vec![2, 3, 4]]);
-        assert_eq!(traces[2].joints, vec![ReadingRef::new(2, 0)]);
-        assert_eq!(traces[2].used.len(), 2, "the other two readings left");
-        // The second piece took the first's joint, which left with it; its own (snapshot 4)
-        // is held.
-        let snapshots = |rs: &[ReadingRef]| rs.iter().map(|r| r.snapshot()).collect::<Vec<_>>();
-        assert_eq!(snapshots(&traces[4].used), vec![2, 3]);
-        assert_eq!(traces[4].joints, vec![ReadingRef::new(4, 0)]);
-        assert_eq!(memory.len(), 1);
-        assert_eq!(memory[0].support.reading, ReadingRef::new(4, 0));
-        let (pieces, _, memory) = run(false);
-        assert_eq!(pieces, vec![vec![0, 1, 2]]);
-        assert_eq!(memory.len(), 2, "snapshots 3 and 4 wait for a third");
-    }
-
-    #[test]
-    fn a_corner_two_pieces_keep_as_their_joint_is_held_once() {
-        // An L: (−0.4, 0) and (−0.2, 0) of snapshots 0 and 1, (0, 0.2) and (0, 0.4) of 2 and
-        // 3, linked at 0.2 m (the 0.25 m gap keeps the arms apart, 0.283 m) until the corner
-        // (0, 0) of snapshot 4 joins them. The fit splits at the corner into two pieces of
-        // three; the corner is the newest end of both, so both keep it as their joint.
-        let p = Params {
-            memory_gap_m: 0.25,
-            memory_joints: true,
-            ..paper_with_memory()
-        };
-        let (mut memory, mut linkage) = (Vec::new(), Linkage::default());
-        let readings = [
-            sp(0, 0, -0.4, 0.0, 2.0),
-            sp(1, 0, -0.2, 0.0, 2.0),
-            sp(2, 0, 0.0, 0.2, 2.0),
-            sp(3, 0, 0.0, 0.4, 2.0),
-            sp(4, 0, 0.0, 0.0, 2.0),
-        ];
-        let mut last = None;
-        for (k, q) in readings.iter().enumerate() {
-            last = Some(memory_step(&mut memory, &[*q], k, &p, true, &mut linkage));
-        }
-        let (t, pieces) = last.expect("five steps");
-        assert_eq!(t.groups[0].pieces, vec![[0, 2], [2, 4]]);
-        assert_eq!(pieces.len(), 2);
-        assert_eq!(t.joints, vec![ReadingRef::new(4, 0)]);
-        assert_eq!(t.used.len(), 4);
-        assert_eq!(memory.len(), 1);
-        assert_eq!(memory[0].support.reading, ReadingRef::new(4, 0));
-    }
-
-    #[test]
-    fn memory_fits_remembered_singles_and_expires_old_ones() {
-        let p = Params {
-            memory_snapshots: 3,
-            memory_gap_m: 1.5,
-            memory_min_points: 3,
-            ..Params::paper()
-        };
-        let mut memory = Vec::new();
-        let step = |memory: &mut Vec<MemoryPoint>, points: &[SupportPoint], snapshot| {
-            memory_step(memory, points, snapshot, &p, true, &mut Linkage::default())
-        };
-        let (t, pieces) = step(&mut memory, &[sp(0, 2, 0.0, 5.0, 50.0)], 0);
-        assert!(pieces.is_empty() && t.held_after == 1);
-        let (_, pieces) = step(&mut memory, &[sp(1, 2, 1.0, 5.0, 50.0)], 1);
-        assert!(pieces.is_empty());
-        let (t, pieces) = step(&mut memory, &[sp(2, 2, 2.0, 5.0, 50.0)], 2);
-        assert_eq!(pieces.len(), 1);
-        assert_eq!(pieces[0].points.len(), 3);
-        assert_eq!(t.used.len(), 3);
-        assert_eq!(t.held_after, 0);
-        // A lone reading expires after memory_snapshots.
-        step(&mut memory, &[sp(3, 0, 50.0, 50.0, 50.0)], 3);
-        let (t, _) = step(&mut memory, &[], 6);
-        assert_eq!(t.expired, vec![ReadingRef::new(3, 0)]);
-    }
-}
+pub(super) mod tests;

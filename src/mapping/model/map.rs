@@ -114,6 +114,9 @@ pub struct Face {
 pub struct MemoryPoint {
     /// The reading, its point and range.
     pub support: SupportPoint,
+    /// How far the robot had driven when the reading was taken ([`Map::travelled_m`]).
+    #[serde(default)]
+    pub travelled_m: f64,
 }
 
 /// The map after some snapshots.
@@ -125,6 +128,10 @@ pub struct Map {
     pub faces: Vec<Arc<Face>>,
     /// Readings held by point memory.
     pub memory: Vec<MemoryPoint>,
+    /// The distance the robot has driven since the first snapshot, metres: the odometry's
+    /// steps summed (point memory's span, docs/algorithm.md §8.1).
+    #[serde(default)]
+    pub travelled_m: f64,
     /// The poses of the last snapshots, oldest first, as many as point memory spans (the plane
     /// test of a remembered reading needs its sensor's place; docs/algorithm.md §8.7).
     #[serde(default)]
@@ -198,6 +205,7 @@ impl PartialEq for Map {
         self.segments == other.segments
             && self.faces == other.faces
             && self.memory == other.memory
+            && self.travelled_m == other.travelled_m
             && self.recent_poses == other.recent_poses
             && self.recent_reading_poses == other.recent_reading_poses
             && self.features == other.features

@@ -19,11 +19,20 @@ use crate::mapping::Mapper;
 
 impl Mapper {
     /// At the step's start: the pose is kept while a remembered reading may need it (§8.7 plane
-    /// gate, §8.10 echo placement, §8.7 baseline confirmation).
+    /// gate, §8.10 echo placement, §8.7 baseline confirmation): the last `memory_snapshots + 1`
+    /// poses or, when the memory spans a distance (§8.1), those back to its oldest reading.
     pub(in crate::mapping) fn hook_step_started(&mut self, index: usize) {
         let p = &self.params;
         if p.plane_gate || p.echo_fit || p.baseline_confirm {
-            let keep = p.memory_snapshots + 1;
+            let mut keep = p.memory_snapshots + 1;
+            if p.memory_travel_m > 0.0 {
+                let oldest = self
+                    .map
+                    .memory
+                    .first()
+                    .map(|m| m.support.reading.snapshot());
+                keep = keep.min(index - oldest.unwrap_or(index).min(index) + 1);
+            }
             let places = self.reading_places();
             let (pose, own) = (*places.step, places.own.to_vec());
             self.map.note_pose(index, pose, &own, keep);

@@ -1,7 +1,7 @@
 //! The mapper's point-memory stage (docs/algorithm.md §8.1, §8.15, §8.16).
 
 use crate::mapping::ext::memory_linkage::Linkage;
-use crate::mapping::ext::point_memory::memory_step;
+use crate::mapping::ext::point_memory::{memory_step, MemoryClock};
 use crate::mapping::model::support::ReadingRef;
 use crate::mapping::model::trace::{NewSegmentTrace, SegmentSource, StepTrace};
 use crate::mapping::paper::fit::piece_end_points;
@@ -21,7 +21,10 @@ impl Mapper {
         let (memory_trace, pieces) = memory_step(
             &mut self.map.memory,
             &fitted.singles,
-            trace.snapshot,
+            MemoryClock {
+                snapshot: trace.snapshot,
+                travelled_m: self.map.travelled_m,
+            },
             &self.params,
             self.record_trace,
             linkage,

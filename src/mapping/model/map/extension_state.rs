@@ -67,20 +67,25 @@ impl Map {
         let snapshot = reading.snapshot();
         let own = self
             .recent_reading_poses
-            .iter()
-            .rev()
-            .find(|(k, _)| *k == snapshot)
-            .and_then(|(_, poses)| poses.get(reading.sensor()).copied());
+            .binary_search_by_key(&snapshot, |(k, _)| *k)
+            .ok()
+            .and_then(|i| {
+                self.recent_reading_poses[i]
+                    .1
+                    .get(reading.sensor())
+                    .copied()
+            });
         own.or_else(|| self.recent_pose(snapshot))
     }
 
     /// The pose of `snapshot`, when it is among the recent ones.
     pub fn recent_pose(&self, snapshot: usize) -> Option<Pose> {
-        self.recent_poses
-            .iter()
-            .rev()
-            .find(|(k, _)| *k == snapshot)
-            .map(|(_, p)| *p)
+        // Oldest first, one a snapshot.
+        let i = self
+            .recent_poses
+            .binary_search_by_key(&snapshot, |&(k, _)| k)
+            .ok()?;
+        Some(self.recent_poses[i].1)
     }
 
     /// Whether segment `id` is tentative: segments must be confirmed and it is not

@@ -84,6 +84,7 @@ impl Map {
             segments: Vec::new(),
             faces: self.faces.clone(),
             memory: self.memory.clone(),
+            travelled_m: self.travelled_m,
             recent_poses: self.recent_poses.clone(),
             recent_reading_poses: self.recent_reading_poses.clone(),
             features: self.features.clone(),

@@ -4,7 +4,7 @@
 //! parameters panel, the soak and the prerequisite check read) and the accessors by name are
 //! all generated from the one table at the end of this file.
 
-use super::{FitMode, SplitMode, EXTENDED_SUPPORT_CAP};
+use super::{FitMode, SplitMode, EXTENDED_MEMORY_SNAPSHOTS, EXTENDED_SUPPORT_CAP};
 use crate::units::{inches, Units};
 use serde::{Deserialize, Serialize};
 
@@ -363,15 +363,27 @@ parameters! {
     /// Correlation of new faces (§3.3.3) on or off.
     correlate: bool, file correlate: bool, flag,
         paper true, extended true, needs [];
-    /// Point memory length in snapshots; 0 is off (docs/algorithm.md §8.1).
+    /// Point memory on (above 0) and the most snapshots a reading stays in it (docs/algorithm.md
+    /// §8.1): its span is the distance driven (`memory_travel`), and this bounds a robot that
+    /// stands still.
     memory_snapshots: usize, file memory_snapshots: usize, count,
-        paper 0, extended 10, needs [];
+        paper 0, extended EXTENDED_MEMORY_SNAPSHOTS, needs [];
+    /// Point memory's span in distance driven: a remembered reading leaves once the robot has
+    /// driven this far since it was taken, whatever its pace; 0 leaves the span to
+    /// `memory_snapshots` alone (docs/algorithm.md §8.1).
+    memory_travel_m: f64, file memory_travel: f64, length,
+        paper inches(100.0), extended inches(100.0), needs [];
     /// Link distance of remembered points (§8.1).
     memory_gap_m: f64, file memory_gap: f64, length,
         paper inches(12.0), extended inches(12.0), needs [];
     /// Fewest points of a memory segment (§8.1).
     memory_min_points: usize, file memory_min_points: usize, count,
         paper 3, extended 3, needs [];
+    /// Shortest memory segment: a piece whose end readings lie closer than this stays in the
+    /// memory to grow, however many readings it has (a crawling robot's readings of a few
+    /// centimetres of wall fix no direction); 0 is off (docs/algorithm.md §8.1).
+    memory_min_span_m: f64, file memory_min_span: f64, length,
+        paper inches(12.0), extended inches(12.0), needs [];
     /// Constant-depth groups on or off (docs/algorithm.md §8.2).
     constant_depth: bool, file constant_depth: bool, flag,
         paper false, extended true, needs [];

@@ -34,6 +34,11 @@ pub enum FitMode {
 /// driving as after a minute.
 pub const EXTENDED_SUPPORT_CAP: usize = 64;
 
+/// `memory_snapshots` of the `extended` preset, where `memory_travel` spans the memory: the
+/// most snapshots a reading stays while the robot stands still or crawls (2.54 m at 6 mm a
+/// cycle).
+pub const EXTENDED_MEMORY_SNAPSHOTS: usize = 400;
+
 /// A named parameter set.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -92,6 +97,8 @@ impl Params {
         non_negative("t_gap", self.t_gap_m)?;
         non_negative("max_step", self.max_step_m)?;
         non_negative("memory_gap", self.memory_gap_m)?;
+        non_negative("memory_travel", self.memory_travel_m)?;
+        non_negative("memory_min_span", self.memory_min_span_m)?;
         if !(self.orientation_rad.is_finite()
             && (0.0..=std::f64::consts::FRAC_PI_2).contains(&self.orientation_rad))
         {
@@ -201,7 +208,10 @@ mod tests {
             (p.fit, e.fit),
             (FitMode::EndPoints, FitMode::TotalLeastSquares)
         );
-        assert_eq!((p.memory_snapshots, e.memory_snapshots), (0, 10));
+        assert_eq!(
+            (p.memory_snapshots, e.memory_snapshots),
+            (0, EXTENDED_MEMORY_SNAPSHOTS)
+        );
         // Every flag and count the presets set apart is off in the paper and on in extended.
         for q in Params::extension_parameters().filter(|q| q.name != "fit") {
             assert!(!p.is_on(q.name) && e.is_on(q.name), "{}", q.name);
@@ -247,11 +257,11 @@ mod tests {
         assert!((p.t_gap_m - 1.0).abs() < 1e-12);
         assert_eq!(p.split, SplitMode::Fixed(0.02));
         assert_eq!(p.fit, FitMode::TotalLeastSquares);
-        assert_eq!(p.memory_snapshots, 10);
+        assert_eq!(p.memory_snapshots, EXTENDED_MEMORY_SNAPSHOTS);
         let back = Params::paper()
             .with_file(&p.to_file(Units::Millimetres))
             .unwrap();
         assert!((back.t_gap_m - p.t_gap_m).abs() < 1e-12);
-        assert_eq!(back.memory_snapshots, 10);
+        assert_eq!(back.memory_snapshots, EXTENDED_MEMORY_SNAPSHOTS);
     }
 }

@@ -74,6 +74,7 @@ impl Params {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mapping::model::params::EXTENDED_MEMORY_SNAPSHOTS;
 
     #[test]
     fn a_flag_whose_prerequisite_is_off_is_named_and_the_presets_have_none() {
@@ -111,7 +112,10 @@ mod tests {
         assert_eq!(p, expected);
         assert!(p.unmet_needs().is_empty());
         let p = Params::paper_with("memory_joints").unwrap();
-        assert_eq!((p.memory_snapshots, p.memory_joints), (10, true));
+        assert_eq!(
+            (p.memory_snapshots, p.memory_joints),
+            (EXTENDED_MEMORY_SNAPSHOTS, true)
+        );
         assert!(Params::paper_with("no_such_parameter").is_none());
     }
 
