@@ -335,6 +335,7 @@ mod tests {
             PlaneSupport {
                 snapshots: CONFIRMING_SNAPSHOTS,
                 last_snapshot: 0,
+                ..Default::default()
             },
         );
     }

@@ -169,6 +169,7 @@ mod tests {
             crate::mapping::model::plane_supports::PlaneSupport {
                 snapshots: crate::mapping::model::plane_supports::CONFIRMING_SNAPSHOTS,
                 last_snapshot: 0,
+                ..Default::default()
             },
         );
         refuted_segments(&confirmed, &beam, 3.0, 12.5f64.to_radians(), &mut out);

@@ -292,6 +292,7 @@ mod tests {
             PlaneSupport {
                 snapshots: 2,
                 last_snapshot: 1,
+                ..Default::default()
             },
         );
     }

@@ -123,7 +123,7 @@ fn ranges_no_plane_explains_are_left_on_their_axes() {
 
 #[test]
 fn an_echo_point_beyond_a_confirmed_wall_is_behind_it_and_one_before_it_is_not() {
-    use crate::mapping::ext::confirm::note_plane_support;
+    use crate::mapping::ext::confirm::{note_plane_support, View};
     use crate::mapping::model::map::test_wall;
     // A wall y = 1 from x = -1 to 1; a sensor at the origin reads 2 m (tolerance 0.06 m).
     let mut map = Map::from_segments(vec![test_wall(0, (-1.0, 1.0), (1.0, 1.0), 1.0)]);
@@ -134,7 +134,15 @@ fn an_echo_point_beyond_a_confirmed_wall_is_behind_it_and_one_before_it_is_not()
     assert!(!echo_behind_confirmed_wall(&map, &far, &echo, 3.0));
     for snapshot in 0..2 {
         let straight = beam(0.0, 0.0, 90.0, 1.0);
-        note_plane_support(&mut map, 0, &[(0, straight)], snapshot, 3.0, HALF, false);
+        note_plane_support(
+            &mut map,
+            0,
+            &[(0, straight)],
+            View::of(snapshot),
+            3.0,
+            HALF,
+            false,
+        );
     }
     assert!(map.is_confirmed(0));
     // The ray to (0.3, 1.977) crosses the wall at y = 1, 1.1 m before the range: behind.

@@ -2,7 +2,7 @@
 //! confirmation, refits that unconfirm, and the plane gate on a new face.
 
 use crate::mapping::ext::confirm::{
-    baseline_pair, note_baseline_support, note_plane_support, refit_moved_off, supports,
+    baseline_pair, note_baseline_support, note_plane_support, refit_moved_off, supports, View,
     CONFIRMING_BASELINE_M, CONFIRMING_BASELINE_TURN_RAD,
 };
 use crate::mapping::model::beam::Beam;
@@ -42,7 +42,10 @@ impl Mapper {
                 &mut self.map,
                 target,
                 &beams,
-                trace.snapshot,
+                View {
+                    snapshot: trace.snapshot,
+                    spacing_m: self.params.confirm_spacing_m,
+                },
                 xi,
                 half,
                 cone_edges,

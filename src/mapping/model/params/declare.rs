@@ -413,10 +413,15 @@ parameters! {
     /// (docs/algorithm.md §8.6).
     free_space: bool, file free_space: bool, flag,
         paper false, extended true, needs [];
-    /// Segments are tentative until readings of two snapshots support them as a plane
+    /// Segments are tentative until readings of two views support them as a plane
     /// (docs/algorithm.md §8.7).
     confirm_segments: bool, file confirm_segments: bool, flag,
         paper false, extended true, needs [];
+    /// How far a sensor must have moved since the last view that supported a segment for its
+    /// snapshot to count as another view (docs/algorithm.md §8.7): views, not snapshots,
+    /// confirm, whatever the pace. 0: every distinct snapshot counts.
+    confirm_spacing_m: f64, file confirm_spacing: f64, length,
+        paper inches(8.0), extended inches(8.0), needs [];
     /// A segment made in one step from readings of several snapshots (a point-memory piece)
     /// is confirmed when two of them, of distinct snapshots, support it as a plane from
     /// sensors 8 in or more apart along it (docs/algorithm.md §8.7). Acts only with
