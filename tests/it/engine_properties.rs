@@ -176,6 +176,44 @@ fn every_scene_kind_in_every_parameter_set_keeps_the_map_consistent_over_laps() 
     assert_eq!(report.failures, vec![], "panics or broken invariants");
 }
 
+#[test]
+fn drifting_lap_runs_at_a_crawl_keep_the_map_consistent() {
+    // Every kind crawling 2 cm a cycle, the sonars fired in four groups, with the bad drift of
+    // a differential-drive robot carried over the laps, in both presets and with pose
+    // correction (docs/algorithm.md §8.17).
+    let conditions = sonarmap::suite::Conditions {
+        drift: Some(sonarmap::sim::OdometryError::BAD),
+        pace: sonarmap::sim::Pace {
+            cycle_step_m: Some(0.02),
+            cycle_s: 0.3,
+            firing_groups: 4,
+            ..sonarmap::sim::Pace::PLAN
+        },
+    };
+    let only = ["paper", "extended"].map(String::from);
+    let report = sonarmap::soak::soak_variants_named(
+        1,
+        LAP_RUN_SNAPSHOTS,
+        7,
+        &only,
+        &conditions,
+        &mut |_| true,
+    )
+    .unwrap();
+    assert_eq!(report.runs, 6 * only.len());
+    assert_eq!(report.invariant_checks, report.snapshots);
+    assert_eq!(report.failures, vec![], "panics or broken invariants");
+    let corrected = Params {
+        pose_correction: true,
+        ..Params::extended()
+    };
+    for kind in sonarmap::sim::SceneKind::ALL {
+        let run = sonarmap::soak::family_run_under(kind, 7, LAP_RUN_SNAPSHOTS, &conditions);
+        let checked = sonarmap::soak::map_checked(&run, &corrected, true);
+        assert_eq!(checked.failure, None, "{kind:?} with pose correction");
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(8))]
     #[test]
