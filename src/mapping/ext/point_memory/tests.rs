@@ -11,6 +11,28 @@ fn sp(snapshot: usize, sensor: usize, x: f64, y: f64, d: f64) -> SupportPoint {
     }
 }
 
+/// Steps the memory through `readings`, one a snapshot of a robot standing still (snapshot `k`
+/// for the `k`-th); what the last step returned.
+fn feed(
+    memory: &mut Vec<MemoryPoint>,
+    linkage: &mut Linkage,
+    readings: &[SupportPoint],
+    p: &Params,
+) -> Option<(MemoryTrace, Vec<MemoryPiece>)> {
+    let mut last = None;
+    for (k, q) in readings.iter().enumerate() {
+        last = Some(memory_step(
+            memory,
+            &[*q],
+            MemoryClock::standing(k),
+            p,
+            true,
+            linkage,
+        ));
+    }
+    last
+}
+
 /// `paper` with `extended`'s point memory: 10 snapshots, a 12 in gap, three readings.
 pub(in crate::mapping::ext) fn paper_with_memory() -> Params {
     Params {
@@ -54,17 +76,7 @@ fn a_sonar_driven_square_on_to_a_wall_leaves_a_stack_not_a_segment() {
     ];
     let run = |p: &Params| {
         let (mut memory, mut linkage) = (Vec::new(), Linkage::default());
-        let mut last = None;
-        for (k, q) in readings.iter().enumerate() {
-            last = Some(memory_step(
-                &mut memory,
-                &[*q],
-                MemoryClock::standing(k),
-                p,
-                true,
-                &mut linkage,
-            ));
-        }
+        let last = feed(&mut memory, &mut linkage, &readings, p);
         (last.expect("three steps"), memory.len())
     };
     let ((t, pieces), held) = run(&stacks_on);
@@ -216,17 +228,7 @@ fn a_corner_two_pieces_keep_as_their_joint_is_held_once() {
         sp(3, 0, 0.0, 0.4, 2.0),
         sp(4, 0, 0.0, 0.0, 2.0),
     ];
-    let mut last = None;
-    for (k, q) in readings.iter().enumerate() {
-        last = Some(memory_step(
-            &mut memory,
-            &[*q],
-            MemoryClock::standing(k),
-            &p,
-            true,
-            &mut linkage,
-        ));
-    }
+    let last = feed(&mut memory, &mut linkage, &readings, &p);
     let (t, pieces) = last.expect("five steps");
     assert_eq!(t.groups[0].pieces, vec![[0, 2], [2, 4]]);
     assert_eq!(pieces.len(), 2);
