@@ -47,8 +47,9 @@ pub struct Mapper {
     pub(super) next_snapshot: usize,
     pub(super) brute_force: bool,
     pub(super) record_trace: bool,
-    /// Buffers each step fills and the next reuses.
-    pub(super) buffers: StepBuffers,
+    /// Buffers each step fills and the next reuses (boxed: a step takes them out and puts them
+    /// back, which moves a pointer, not the buffers). `None` before the first step.
+    pub(super) buffers: Option<Box<StepBuffers>>,
 }
 
 /// The mutable state a checkpoint needs to resume a [`Mapper`].
@@ -90,7 +91,7 @@ impl Mapper {
             next_snapshot: 0,
             brute_force: false,
             record_trace: true,
-            buffers: StepBuffers::default(),
+            buffers: None,
         }
     }
 
@@ -132,7 +133,7 @@ impl Mapper {
     /// The map segments the last step offered its new segments as candidates, summed over them:
     /// the step's matching work (what grows with a map that piles up copies of its walls).
     pub fn last_step_candidates(&self) -> usize {
-        self.buffers.candidates.len()
+        self.buffers.as_ref().map_or(0, |b| b.candidates.len())
     }
 
     /// The supporting points of the map segments that `trace` (this mapper's last step)
@@ -180,7 +181,7 @@ impl Mapper {
     /// Resumes from `state`, whose map has its spatial index built (a checkpoint made live:
     /// [`crate::checkpoints::Checkpoints::live_before`]).
     pub fn resume(&mut self, state: MapperState) {
-        self.buffers.linkage.forget();
+        self.forget_linkage();
         self.map = state.map;
         self.last_pose = state.last_pose;
         self.last_t_s = state.last_t_s;
@@ -191,7 +192,7 @@ impl Mapper {
     /// Resumes from a state taken by [`Mapper::state`] (its map shared, not moved: see
     /// [`Map::with_index`]); the replay's checkpoints resume through [`Mapper::resume`].
     pub fn restore(&mut self, state: &MapperState) {
-        self.buffers.linkage.forget();
+        self.forget_linkage();
         self.map = state.map.with_index();
         self.last_pose = state.last_pose;
         self.last_t_s = state.last_t_s;
@@ -201,13 +202,13 @@ impl Mapper {
 
     /// Where the step's readings were taken from (§1.1).
     pub(super) fn reading_places(&self) -> ReadingPlaces<'_> {
-        let step = self
-            .step_frame
-            .as_ref()
-            .map_or(&ZERO_POSE, |(pose, _)| pose);
-        ReadingPlaces {
-            step,
-            own: &self.step_reading_poses,
+        match &self.step_frame {
+            Some((step, frame)) => ReadingPlaces {
+                step,
+                frame: *frame,
+                own: &self.step_reading_poses,
+            },
+            None => ReadingPlaces::new(&ZERO_POSE, &self.step_reading_poses),
         }
     }
 
@@ -248,15 +249,23 @@ impl Mapper {
         snapshot: &Snapshot,
         recorded: Option<&[RecordedDecision]>,
     ) -> StepTrace {
-        let mut trace = self.begin_step(snapshot);
-        let mut buffers = std::mem::take(&mut self.buffers);
+        // Built here and filled in place: a trace is large, and returned once, not moved through
+        // the stages.
+        let mut trace = StepTrace {
+            snapshot: self.next_snapshot,
+            t: snapshot.t,
+            pose: Some(snapshot.pose),
+            ..Default::default()
+        };
+        self.begin_step(snapshot, &mut trace);
+        let mut buffers = self.buffers.take().unwrap_or_default();
         self.readings_and_clusters(snapshot, &mut trace, &mut buffers);
         let mut fitted = self.fit_clusters(&mut trace, &mut buffers);
         self.hook_fitted(&mut fitted, &mut trace, &mut buffers);
         let new_faces =
             self.match_and_update(&mut fitted.segments, recorded, &mut trace, &mut buffers);
         self.hook_updated(&fitted.segments, &mut trace, &buffers);
-        self.buffers = buffers;
+        self.buffers = Some(buffers);
         if self.record_trace {
             trace.new_segments = fitted.segments;
         }
@@ -269,18 +278,12 @@ impl Mapper {
         trace
     }
 
-    /// A step's trace with its snapshot, and the warnings of §4: the robot moved more than
-    /// `max_step` (the paper's matching is valid only below it), or the snapshot has another
-    /// number of ranges than the layout has sensors.
-    fn begin_step(&mut self, snapshot: &Snapshot) -> StepTrace {
+    /// Starts the step whose `trace` holds its snapshot: the warnings of §4 (the robot moved
+    /// more than `max_step`, the paper's matching being valid only below it, or the snapshot
+    /// has another number of ranges than the layout has sensors) and the step's pose.
+    fn begin_step(&mut self, snapshot: &Snapshot, trace: &mut StepTrace) {
         let index = self.next_snapshot;
         self.next_snapshot += 1;
-        let mut trace = StepTrace {
-            snapshot: index,
-            t: snapshot.t,
-            pose: Some(snapshot.pose),
-            ..Default::default()
-        };
         if let Some(last) = self.last_pose {
             let step_m = last.distance_to(&snapshot.pose);
             self.map.travelled_m += step_m;
@@ -292,7 +295,7 @@ impl Mapper {
             }
         }
         let previous = self.last_t_s.zip(self.last_pose);
-        let step_pose = self.hook_step_pose(snapshot, previous, &mut trace);
+        let step_pose = self.hook_step_pose(snapshot, previous, trace);
         trace.pose = Some(step_pose);
         self.last_pose = Some(snapshot.pose);
         self.last_t_s = Some(snapshot.t);
@@ -316,6 +319,12 @@ impl Mapper {
                 expected: self.layout.len(),
             });
         }
-        trace
+    }
+
+    /// Point memory's linkage (§8.1) forgets what it had linked: the map it linked is replaced.
+    fn forget_linkage(&mut self) {
+        if let Some(buffers) = &mut self.buffers {
+            buffers.linkage.forget();
+        }
     }
 }

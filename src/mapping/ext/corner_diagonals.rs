@@ -182,6 +182,10 @@ fn corner_diagonals_listing(
     min_turn_rad: f64,
     max_listed: usize,
 ) -> Vec<DiagonalTrace> {
+    // Most steps of a long run make no new corner: nothing to gather, no limit to set up.
+    if new_corners.is_empty() {
+        return Vec::new();
+    }
     // Only fitted segments no longer than `2·radius_m` can be diagonals ([`corner_diagonal`]).
     let short =
         |ws: &IndexedSegment| ws.fitted && (ws.b.point - ws.a.point).norm() <= 2.0 * radius_m;

@@ -3,7 +3,7 @@
 //! the pose of its own moment, read off the odometry track between the previous snapshot and
 //! this one.
 
-use crate::geometry::Pose;
+use crate::geometry::{Pose, RobotFrame};
 
 /// Where a step's readings were taken from: the step's pose, and each sensor's own when the
 /// sonars fired in sequence (`own` is then one pose per sensor; empty otherwise).
@@ -11,11 +11,22 @@ use crate::geometry::Pose;
 pub struct ReadingPlaces<'a> {
     /// The step's pose.
     pub step: &'a Pose,
+    /// The step pose's robot frame (`step.robot_frame()`, which the mapper computes once a step).
+    pub frame: RobotFrame,
     /// Each sensor's pose at its own moment, or none.
     pub own: &'a [Pose],
 }
 
-impl ReadingPlaces<'_> {
+impl<'a> ReadingPlaces<'a> {
+    /// The places of readings taken from `step`, or each from its `own` pose.
+    pub fn new(step: &'a Pose, own: &'a [Pose]) -> Self {
+        Self {
+            step,
+            frame: step.robot_frame(),
+            own,
+        }
+    }
+
     /// Sensor `sensor`'s own pose, when the readings have theirs.
     pub fn own_pose(&self, sensor: usize) -> Option<&Pose> {
         self.own.get(sensor)

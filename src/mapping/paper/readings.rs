@@ -42,7 +42,7 @@ pub fn discard_reason(
 /// let ranges = [Some(0.1), Some(1.8), None, Some(7.0)];
 /// let mut kept = Vec::new();
 /// let pose = Pose::new(1.0, 0.0, std::f64::consts::FRAC_PI_2);
-/// let places = ReadingPlaces { step: &pose, own: &[] };
+/// let places = ReadingPlaces::new(&pose, &[]);
 /// let traces = convert_readings(3, places, &ranges, &layout.beam_axes(), 10.0, &Params::paper(), &mut kept);
 /// assert_eq!(traces.len(), 4);
 /// assert_eq!(kept.len(), 1);
@@ -59,7 +59,7 @@ pub fn convert_readings(
     params: &Params,
     kept: &mut Vec<SupportPoint>,
 ) -> Vec<ReadingTrace> {
-    let robot = places.step.robot_frame();
+    let robot = places.frame;
     let mut traces = Vec::with_capacity(beam_axes.len());
     kept.clear();
     for (sensor, axis) in beam_axes.iter().enumerate() {
@@ -136,10 +136,7 @@ mod tests {
         }];
         let traces = convert_readings(
             7,
-            ReadingPlaces {
-                step: &pose,
-                own: &[],
-            },
+            ReadingPlaces::new(&pose, &[]),
             &ranges,
             &layout.beam_axes(),
             inches(255.0),
@@ -163,10 +160,7 @@ mod tests {
         let step = Pose::new(1.0, 0.0, 0.0);
         let own = [step, Pose::new(0.9, 0.0, std::f64::consts::FRAC_PI_2)];
         let mut kept = Vec::new();
-        let places = ReadingPlaces {
-            step: &step,
-            own: &own,
-        };
+        let places = ReadingPlaces::new(&step, &own);
         let ranges = [Some(2.0), Some(2.0)];
         let axes = layout.beam_axes();
         convert_readings(0, places, &ranges, &axes, 10.0, &Params::paper(), &mut kept);

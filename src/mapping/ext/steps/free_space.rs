@@ -10,8 +10,8 @@ impl Mapper {
         let (xi, half) = self.accuracy_and_half_beam();
         let mut found = Vec::new();
         // §8.12: a settled reading has left `kept`; the space in front of its wall was swept.
-        let kept = std::mem::take(&mut self.buffers.kept);
-        for q in &kept {
+        let buffers = self.buffers.take().unwrap_or_default();
+        for q in &buffers.kept {
             let beam = self.step_beam_of(q);
             refuted_segments(&self.map, &beam, xi, half, &mut found);
             // Kept in the slim trace too: the lineage of a segment reads its removal there.
@@ -26,6 +26,6 @@ impl Mapper {
                 });
             }
         }
-        self.buffers.kept = kept;
+        self.buffers = Some(buffers);
     }
 }

@@ -29,12 +29,16 @@ impl Mapper {
         confirmed: &mut Vec<(FeatureId, Point, f64)>,
     ) {
         // Only a confirmed feature explains a reading. A few are searched through directly,
-        // many through the grid.
+        // many through the grid (gathered no further than one past the few: the grid's turn).
         confirmed.clear();
+        if kept.is_empty() {
+            return;
+        }
         confirmed.extend(
             self.map
                 .confirmed_features()
-                .map(|f| (f.id, f.at, f.radius_m)),
+                .map(|f| (f.id, f.at, f.radius_m))
+                .take(MAX_FEATURES_SEARCHED_DIRECTLY + 1),
         );
         if confirmed.is_empty() {
             return;
