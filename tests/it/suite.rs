@@ -152,7 +152,7 @@ fn extended_holds_at_a_crawl_what_it_maps_at_the_papers_pace() {
     // The same four scenes at the plans' pace and crawling 15 mm a cycle, the sonars fired in
     // three groups (docs/algorithm.md §8.1, §8.7: the memory's span and confirmation stated in
     // distances, not snapshots). Measured (seed 13, confirmed, spurious / coverage): the plans'
-    // pace 0.100 / 0.623; at the crawl 0.159 / 0.513, where the rules counted in snapshots (point
+    // pace 0.118 / 0.624; at the crawl 0.164 / 0.588, where the rules counted in snapshots (point
     // memory of 10 snapshots, any 3 readings a piece, any two snapshots a confirmation) gave
     // 0.270 / 0.379.
     let crawl = Conditions {

@@ -4,7 +4,7 @@
 
 use crate::geometry::{fit_line_tls, AlongLine, Point};
 use crate::mapping::ext::constant_depth::same_depth;
-use crate::mapping::ext::memory_linkage::{Linkage, Seeds};
+use crate::mapping::ext::memory_linkage::{Linkage, Seeds, NO_GROUP};
 use crate::mapping::model::map::{MemoryPoint, ReadingRef, SupportPoint};
 use crate::mapping::model::params::Params;
 use crate::mapping::model::trace::{MemoryGroupTrace, MemoryTrace};
@@ -66,8 +66,7 @@ pub fn memory_step(
     let mut seeds = linkage
         .seeds
         .take()
-        .filter(|s| s.flags.len() == memory.len() && s.ends == memory_ends(memory))
-        .map(|s| s.flags);
+        .filter(|s| s.flags.len() == memory.len() && s.ends == memory_ends(memory));
     let kept = expire_and_add(
         memory,
         singles,
@@ -77,12 +76,18 @@ pub fn memory_step(
         &mut trace,
         record,
     );
-    group_memory(memory, seeds.as_mut(), kept, params, linkage);
+    let (mut flags, mut dormant) = match seeds {
+        Some(s) => (Some(s.flags), s.dormant),
+        None => (None, Vec::new()),
+    };
+    group_memory(memory, flags.as_mut(), kept, params, linkage);
     let n = memory.len();
-    // Next step's seeds: the readings of the groups fitted now that stay.
-    let mut next_seeds = seeds.unwrap_or_default();
+    // Next step's seeds: the readings of the groups fitted now that stay and lost a reading;
+    // those of a group fitted whole for nothing are dormant.
+    let mut next_seeds = flags.unwrap_or_default();
     next_seeds.clear();
     next_seeds.resize(n, false);
+    dormant.resize(n, NO_GROUP);
     let mut taken = Taken {
         used: std::mem::take(&mut linkage.used),
         in_segment: if record { vec![false; n] } else { Vec::new() },
@@ -97,10 +102,16 @@ pub fn memory_step(
     });
     let fitted = groups.filter(|m| m.len() >= params.memory_min_points);
     for (group_index, group) in fitted.enumerate() {
-        for &i in group {
-            next_seeds[i] = true;
-        }
         let group_trace = fit_group(memory, group, group_index, params, record, &mut taken);
+        let lost_any = group.iter().any(|&i| taken.used[i]);
+        let tag = linkage.next_dormant_tag;
+        if !lost_any {
+            linkage.next_dormant_tag = tag.wrapping_add(1) % NO_GROUP;
+        }
+        for &i in group {
+            next_seeds[i] = lost_any;
+            dormant[i] = if lost_any { NO_GROUP } else { tag };
+        }
         if let Some(g) = group_trace {
             trace.groups.push(g);
         }
@@ -115,10 +126,18 @@ pub fn memory_step(
             .joints
             .extend(kept.map(|&i| memory[i].support.reading));
     }
-    release_taken(memory, &taken, &mut next_seeds, &mut trace, record);
+    release_taken(
+        memory,
+        &taken,
+        &mut next_seeds,
+        &mut dormant,
+        &mut trace,
+        record,
+    );
     linkage.used = taken.used;
     linkage.seeds = Some(Seeds {
         flags: next_seeds,
+        dormant,
         ends: memory_ends(memory),
     });
     trace.held_after = memory.len();
@@ -188,18 +207,21 @@ impl MemoryClock {
     }
 }
 
-/// Readings older than the memory's span leave it (and their seed flags with them), then the
-/// step's `singles` join it. Returns how many old readings stayed.
+/// Readings older than the memory's span leave it (and their seed flags and dormant groups
+/// with them), then the step's `singles` join it. A dormant group that lost a reading wakes:
+/// its readings are seeds again, as are every dormant group's on a traced step. Returns how
+/// many old readings stayed.
 fn expire_and_add(
     memory: &mut Vec<MemoryPoint>,
     singles: &[SupportPoint],
     now: MemoryClock,
     params: &Params,
-    mut seeds: Option<&mut Vec<bool>>,
+    mut seeds: Option<&mut Seeds>,
     trace: &mut MemoryTrace,
     record: bool,
 ) -> usize {
     let (mut i, mut kept) = (0, 0);
+    let mut woken = Vec::new();
     memory.retain(|m| {
         let taken = MemoryClock {
             snapshot: m.support.reading.snapshot(),
@@ -209,12 +231,25 @@ fn expire_and_add(
         if !keep && record {
             trace.expired.push(m.support.reading);
         }
-        if let (Some(seeds), true) = (seeds.as_mut(), keep) {
-            seeds[kept] = seeds[i];
+        if let Some(seeds) = seeds.as_mut() {
+            if keep {
+                seeds.flags[kept] = seeds.flags[i];
+                seeds.dormant[kept] = seeds.dormant[i];
+            } else if seeds.dormant[i] != NO_GROUP {
+                woken.push(seeds.dormant[i]);
+            }
         }
         (i, kept) = (i + 1, kept + usize::from(keep));
         keep
     });
+    if let Some(seeds) = seeds {
+        seeds.dormant.truncate(kept);
+        for (flag, group) in seeds.flags.iter_mut().zip(&mut seeds.dormant) {
+            if *group != NO_GROUP && (record || woken.contains(group)) {
+                (*flag, *group) = (true, NO_GROUP);
+            }
+        }
+    }
     memory.extend(singles.iter().map(|s| MemoryPoint {
         support: *s,
         travelled_m: now.travelled_m,
@@ -341,6 +376,7 @@ fn release_taken(
     memory: &mut Vec<MemoryPoint>,
     taken: &Taken,
     next_seeds: &mut Vec<bool>,
+    dormant: &mut Vec<u32>,
     trace: &mut MemoryTrace,
     record: bool,
 ) {
@@ -356,11 +392,13 @@ fn release_taken(
         }
         if keep {
             next_seeds[kept] = next_seeds[i];
+            dormant[kept] = dormant[i];
         }
         (i, kept) = (i + 1, kept + usize::from(keep));
         keep
     });
     next_seeds.truncate(kept);
+    dormant.truncate(kept);
 }
 
 /// Orders `points` along their principal (total-least-squares) axis, equal places by reading

@@ -184,7 +184,7 @@ fn two_snapshots_of_plane_support_confirm_a_segment_once_each() {
 #[test]
 fn a_second_view_counts_only_from_a_sensor_that_moved_the_spacing() {
     // The wall y = 2 read straight on at 2.02 m from x = 0 (snapshot 0), then from x = 0.1 m
-    // (snapshot 1: 0.1 m < 8 in = 0.2032 m, the same view) and from x = 0.25 m (snapshot 2:
+    // (snapshot 1: 0.1 m < 6 in = 0.1524 m, the same view) and from x = 0.25 m (snapshot 2:
     // 0.25 m from the first view's sensor, another view: confirmed).
     let mut map = Map::from_segments(vec![test_wall(0, (-1.0, 2.0), (1.0, 2.0), 2.0)]);
     map.confirms_segments = true;
@@ -196,7 +196,7 @@ fn a_second_view_counts_only_from_a_sensor_that_moved_the_spacing() {
     };
     let view = |snapshot| View {
         snapshot,
-        spacing_m: 0.2032,
+        spacing_m: 0.1524,
     };
     let first = note_plane_support(&mut map, 0, &[(1, at(0.0))], view(0), 3.0, half, false);
     assert_eq!(first.map(|t| t.snapshots), Some(1));

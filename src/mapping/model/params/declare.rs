@@ -421,7 +421,7 @@ parameters! {
     /// snapshot to count as another view (docs/algorithm.md §8.7): views, not snapshots,
     /// confirm, whatever the pace. 0: every distinct snapshot counts.
     confirm_spacing_m: f64, file confirm_spacing: f64, length,
-        paper inches(8.0), extended inches(8.0), needs [];
+        paper inches(6.0), extended inches(6.0), needs [];
     /// A segment made in one step from readings of several snapshots (a point-memory piece)
     /// is confirmed when two of them, of distinct snapshots, support it as a plane from
     /// sensors 8 in or more apart along it (docs/algorithm.md §8.7). Acts only with
