@@ -76,7 +76,7 @@ pub fn memory_step(
         &mut trace,
         record,
     );
-    let (mut flags, mut dormant) = match seeds {
+    let (mut flags, dormant) = match seeds {
         Some(s) => (Some(s.flags), s.dormant),
         None => (None, Vec::new()),
     };
@@ -84,10 +84,14 @@ pub fn memory_step(
     let n = memory.len();
     // Next step's seeds: the readings of the groups fitted now that stay and lost a reading;
     // those of a group fitted whole for nothing are dormant.
-    let mut next_seeds = flags.unwrap_or_default();
-    next_seeds.clear();
-    next_seeds.resize(n, false);
-    dormant.resize(n, NO_GROUP);
+    let mut next = Seeds {
+        flags: flags.unwrap_or_default(),
+        dormant,
+        ends: None,
+    };
+    next.flags.clear();
+    next.flags.resize(n, false);
+    next.dormant.resize(n, NO_GROUP);
     let mut taken = Taken {
         used: std::mem::take(&mut linkage.used),
         in_segment: if record { vec![false; n] } else { Vec::new() },
@@ -96,26 +100,9 @@ pub fn memory_step(
     };
     taken.used.clear();
     taken.used.resize(n, false);
-    let (members, group_ends) = (&linkage.members, &linkage.group_ends);
-    let groups = group_ends.iter().scan(0, |start, &end| {
-        Some(&members[std::mem::replace(start, end)..end])
-    });
-    let fitted = groups.filter(|m| m.len() >= params.memory_min_points);
-    for (group_index, group) in fitted.enumerate() {
-        let group_trace = fit_group(memory, group, group_index, params, record, &mut taken);
-        let lost_any = group.iter().any(|&i| taken.used[i]);
-        let tag = linkage.next_dormant_tag;
-        if !lost_any {
-            linkage.next_dormant_tag = tag.wrapping_add(1) % NO_GROUP;
-        }
-        for &i in group {
-            next_seeds[i] = lost_any;
-            dormant[i] = if lost_any { NO_GROUP } else { tag };
-        }
-        if let Some(g) = group_trace {
-            trace.groups.push(g);
-        }
-    }
+    fit_groups(
+        memory, params, record, linkage, &mut next, &mut taken, &mut trace,
+    );
     if record {
         // A joint another piece of its group took left with that piece; a corner two pieces
         // both keep as their joint is one reading held.
@@ -126,22 +113,46 @@ pub fn memory_step(
             .joints
             .extend(kept.map(|&i| memory[i].support.reading));
     }
-    release_taken(
-        memory,
-        &taken,
-        &mut next_seeds,
-        &mut dormant,
-        &mut trace,
-        record,
-    );
+    release_taken(memory, &taken, &mut next, &mut trace, record);
     linkage.used = taken.used;
-    linkage.seeds = Some(Seeds {
-        flags: next_seeds,
-        dormant,
-        ends: memory_ends(memory),
-    });
+    next.ends = memory_ends(memory);
+    linkage.seeds = Some(next);
     trace.held_after = memory.len();
     (trace, taken.pieces)
+}
+
+/// Fits each group the linkage found with at least `memory_min_points` readings
+/// ([`fit_group`]); in `next`, the readings of a group that lost some are seeds and those of a
+/// group fitted whole for nothing dormant, under a new tag.
+fn fit_groups(
+    memory: &[MemoryPoint],
+    params: &Params,
+    record: bool,
+    linkage: &mut Linkage,
+    next: &mut Seeds,
+    taken: &mut Taken,
+    trace: &mut MemoryTrace,
+) {
+    let (members, group_ends) = (&linkage.members, &linkage.group_ends);
+    let groups = group_ends.iter().scan(0, |start, &end| {
+        Some(&members[std::mem::replace(start, end)..end])
+    });
+    let fitted = groups.filter(|m| m.len() >= params.memory_min_points);
+    for (group_index, group) in fitted.enumerate() {
+        let group_trace = fit_group(memory, group, group_index, params, record, taken);
+        let lost_any = group.iter().any(|&i| taken.used[i]);
+        let tag = linkage.next_dormant_tag;
+        if !lost_any {
+            linkage.next_dormant_tag = tag.wrapping_add(1) % NO_GROUP;
+        }
+        for &i in group {
+            next.flags[i] = lost_any;
+            next.dormant[i] = if lost_any { NO_GROUP } else { tag };
+        }
+        if let Some(g) = group_trace {
+            trace.groups.push(g);
+        }
+    }
 }
 
 /// The first and last readings of `memory`: what last step's seeds were taken against.
@@ -375,8 +386,7 @@ fn too_short(piece: &[SupportPoint], params: &Params) -> bool {
 fn release_taken(
     memory: &mut Vec<MemoryPoint>,
     taken: &Taken,
-    next_seeds: &mut Vec<bool>,
-    dormant: &mut Vec<u32>,
+    next: &mut Seeds,
     trace: &mut MemoryTrace,
     record: bool,
 ) {
@@ -391,14 +401,14 @@ fn release_taken(
             }
         }
         if keep {
-            next_seeds[kept] = next_seeds[i];
-            dormant[kept] = dormant[i];
+            next.flags[kept] = next.flags[i];
+            next.dormant[kept] = next.dormant[i];
         }
         (i, kept) = (i + 1, kept + usize::from(keep));
         keep
     });
-    next_seeds.truncate(kept);
-    dormant.truncate(kept);
+    next.flags.truncate(kept);
+    next.dormant.truncate(kept);
 }
 
 /// Orders `points` along their principal (total-least-squares) axis, equal places by reading
