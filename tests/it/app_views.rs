@@ -334,3 +334,45 @@ fn the_export_is_what_the_screen_shows_and_a_png_name_writes_a_png() {
     let png = std::fs::read(&png_path).expect("the PNG is written");
     assert_eq!(&png[1..4], b"PNG");
 }
+
+/// A crawl's support from the last view's place is traced and the inspector says why it did
+/// not count (docs/algorithm.md §8.7, `confirm_spacing`).
+#[test]
+fn the_inspector_says_when_a_plane_support_was_the_same_view() {
+    use sonarmap::mapping::{Mapper, Params};
+    use sonarmap::sim::{load_plan, simulate_paced, Model, Pace};
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/pioneer_corridor.plan.json"
+    );
+    let plan = load_plan(&std::fs::read(path).unwrap(), path).unwrap();
+    let crawl = Pace {
+        cycle_step_m: Some(0.015),
+        cycle_s: 0.3,
+        firing_groups: 3,
+        ..Pace::PLAN
+    };
+    let mut run = simulate_paced(&plan, Model::Specular, 2, &crawl);
+    run.snapshots.truncate(40);
+    let mut mapper = Mapper::new(Params::extended(), run.layout.clone(), run.sensor);
+    let same_view = run
+        .snapshots
+        .iter()
+        .map(|s| mapper.step(s))
+        .find(|t| {
+            t.plane_support
+                .iter()
+                .any(|p| p.same_view_moved_m.is_some())
+        })
+        .expect("a crawl reads its first wall again from the same place")
+        .snapshot;
+    let mut h = harness(SonarApp::new(run, None));
+    settle(&mut h);
+    h.state_mut().push(Command::SetParams(Params::extended()));
+    settle(&mut h);
+    h.state_mut().push(Command::Seek(same_view));
+    h.run();
+    assert!(h
+        .query_by_label_contains("plane support not counted")
+        .is_some());
+}

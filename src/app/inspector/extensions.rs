@@ -193,18 +193,32 @@ fn plane_support(ctx: &InspectCtx, out: &mut Vec<RichText>) {
             )));
             continue;
         }
+        let state = if p.confirmed {
+            "confirmed"
+        } else {
+            "tentative"
+        };
+        if let Some(moved_m) = p.same_view_moved_m {
+            out.push(RichText::new(format!(
+                "plane support not counted: sensor {} read {}, s{} lies {} away, but the sensor \
+                 stood {} from the last view's, under confirm_spacing: the same view; {} view(s), \
+                 {state}",
+                p.sensor,
+                ctx.len(p.range_m),
+                p.segment,
+                ctx.len(p.distance_m),
+                ctx.len(moved_m),
+                p.snapshots,
+            )));
+            continue;
+        }
         out.push(RichText::new(format!(
-            "plane support: sensor {} read {}, s{} lies {} away: {} snapshot(s){}",
+            "plane support: sensor {} read {}, s{} lies {} away: {} view(s), {state}",
             p.sensor,
             ctx.len(p.range_m),
             p.segment,
             ctx.len(p.distance_m),
             p.snapshots,
-            if p.confirmed {
-                ", confirmed"
-            } else {
-                ", tentative"
-            }
         )));
     }
 }

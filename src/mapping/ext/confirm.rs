@@ -251,19 +251,36 @@ pub fn note_plane_support(
     let s = map.segment(id)?;
     let (a, b) = (s.a.point, s.b.point);
     let before = map.plane_support.get(&id).copied();
-    let spaced = |beam: &Beam| {
-        before.is_none_or(|p| {
+    // How far the sensor stood from the last counted view's, when there is one.
+    let moved_m = |beam: &Beam| {
+        before.filter(|p| p.snapshots > 0).map(|p| {
             let [x, y] = p.last_sensor_mm;
-            let moved_m = (beam.origin.x - f64::from(x) / 1000.0)
-                .hypot(beam.origin.y - f64::from(y) / 1000.0);
-            p.snapshots == 0 || moved_m >= view.spacing_m
+            (beam.origin.x - f64::from(x) / 1000.0).hypot(beam.origin.y - f64::from(y) / 1000.0)
         })
     };
-    let (sensor, beam, distance_m) = beams.iter().find_map(|(sensor, beam)| {
-        supports(beam, &a, &b, accuracy_pct, half_beam_rad, cone_edges)
-            .filter(|_| spaced(beam))
-            .map(|d| (*sensor, *beam, d))
-    })?;
+    let supporting = || {
+        beams.iter().filter_map(|(sensor, beam)| {
+            supports(beam, &a, &b, accuracy_pct, half_beam_rad, cone_edges)
+                .map(|d| (*sensor, *beam, d))
+        })
+    };
+    let spaced =
+        supporting().find(|(_, beam, _)| moved_m(beam).is_none_or(|m| m >= view.spacing_m));
+    let Some((sensor, beam, distance_m)) = spaced else {
+        // Supported, but from the last view's place: recorded, not counted.
+        let (sensor, beam, distance_m) = supporting().next()?;
+        let p = before.filter(|p| p.last_snapshot != view.snapshot)?;
+        return Some(PlaneSupportTrace {
+            segment: id,
+            sensor,
+            range_m: beam.range_m,
+            distance_m,
+            snapshots: p.snapshots,
+            confirmed: p.confirmed(),
+            baseline: None,
+            same_view_moved_m: moved_m(&beam),
+        });
+    };
     let support = map.plane_support.update(id, |support| {
         if support.snapshots > 0 && support.last_snapshot == view.snapshot {
             return None;
@@ -281,6 +298,7 @@ pub fn note_plane_support(
         snapshots: support.snapshots,
         confirmed: support.confirmed(),
         baseline: None,
+        same_view_moved_m: None,
     })
 }
 
@@ -440,6 +458,7 @@ pub fn note_baseline_support(
         snapshots: CONFIRMING_SNAPSHOTS,
         confirmed: true,
         baseline: Some(pair),
+        same_view_moved_m: None,
     })
 }
 

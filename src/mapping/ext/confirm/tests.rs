@@ -200,7 +200,12 @@ fn a_second_view_counts_only_from_a_sensor_that_moved_the_spacing() {
     };
     let first = note_plane_support(&mut map, 0, &[(1, at(0.0))], view(0), 3.0, half, false);
     assert_eq!(first.map(|t| t.snapshots), Some(1));
-    assert!(note_plane_support(&mut map, 0, &[(1, at(0.1))], view(1), 3.0, half, false).is_none());
+    // Recorded, not counted: the sensor stood 0.1 m from the first view's.
+    let same = note_plane_support(&mut map, 0, &[(1, at(0.1))], view(1), 3.0, half, false).unwrap();
+    assert_eq!((same.snapshots, same.confirmed), (1, false));
+    assert!(same
+        .same_view_moved_m
+        .is_some_and(|m| (m - 0.1).abs() < 1e-9));
     assert!(map.is_tentative(0));
     // Of two supporting readings, the one far enough counts.
     let second = note_plane_support(
@@ -217,5 +222,6 @@ fn a_second_view_counts_only_from_a_sensor_that_moved_the_spacing() {
         (second.sensor, second.snapshots, second.confirmed),
         (2, 2, true)
     );
+    assert_eq!(second.same_view_moved_m, None);
     assert_eq!(map.plane_support.get(&0).unwrap().last_sensor_mm, [250, 0]);
 }
