@@ -30,8 +30,6 @@ fn single_linkage_groups(points: &[Point], gap_m: f64) -> (Vec<usize>, Vec<usize
 /// links its readings every step).
 #[derive(Clone, Debug, Default)]
 pub struct Linkage {
-    /// The tag the next dormant group gets ([`Seeds::dormant`]).
-    pub(super) next_dormant_tag: u32,
     pub(super) parent: Vec<usize>,
     pub(super) by_x: Vec<(f64, usize)>,
     pub(super) group_of_root: Vec<usize>,
@@ -63,19 +61,16 @@ pub struct Linkage {
 pub(super) struct Seeds {
     /// One flag a reading.
     pub(super) flags: Vec<bool>,
-    /// Each reading's dormant group, [`NO_GROUP`] for none: a group fitted whole without a
-    /// piece to show for it (every piece too short, §8.1), which the same readings would fit
-    /// the same way again. It is fitted again once it changes: a reading of it leaves (it wakes
-    /// as seeds) or a new reading links to it (a seed itself). Traced steps fit it every step,
-    /// so that their record lists every group.
-    pub(super) dormant: Vec<u32>,
+    /// Each reading's dormant group, named by the group's first reading: a group fitted whole
+    /// without a piece to show for it (every piece too short, §8.1), which the same readings
+    /// would fit the same way again. It is fitted again once it changes: a reading of it leaves
+    /// (it wakes as seeds) or a new reading links to it (a seed itself). Traced steps fit it
+    /// every step, so that their record lists every group.
+    pub(super) dormant: Vec<Option<ReadingRef>>,
     /// The memory's first and last readings (with the flags' length, a check that it was not
     /// changed elsewhere; [`Linkage::forget`] is the rule).
     pub(super) ends: Option<(ReadingRef, ReadingRef)>,
 }
-
-/// No dormant group ([`Seeds::dormant`]).
-pub(super) const NO_GROUP: u32 = u32::MAX;
 
 impl Linkage {
     /// Forgets what the last step left: the memory was changed elsewhere (a map resumed from a

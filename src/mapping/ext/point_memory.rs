@@ -4,7 +4,7 @@
 
 use crate::geometry::{fit_line_tls, AlongLine, Point};
 use crate::mapping::ext::constant_depth::same_depth;
-use crate::mapping::ext::memory_linkage::{Linkage, Seeds, NO_GROUP};
+use crate::mapping::ext::memory_linkage::{Linkage, Seeds};
 use crate::mapping::model::map::{MemoryPoint, ReadingRef, SupportPoint};
 use crate::mapping::model::params::Params;
 use crate::mapping::model::trace::{MemoryGroupTrace, MemoryTrace};
@@ -91,7 +91,7 @@ pub fn memory_step(
     };
     next.flags.clear();
     next.flags.resize(n, false);
-    next.dormant.resize(n, NO_GROUP);
+    next.dormant.resize(n, None);
     let mut taken = Taken {
         used: std::mem::take(&mut linkage.used),
         in_segment: if record { vec![false; n] } else { Vec::new() },
@@ -123,12 +123,12 @@ pub fn memory_step(
 
 /// Fits each group the linkage found with at least `memory_min_points` readings
 /// ([`fit_group`]); in `next`, the readings of a group that lost some are seeds and those of a
-/// group fitted whole for nothing dormant, under a new tag.
+/// group fitted whole for nothing dormant, named by its first reading.
 fn fit_groups(
     memory: &[MemoryPoint],
     params: &Params,
     record: bool,
-    linkage: &mut Linkage,
+    linkage: &Linkage,
     next: &mut Seeds,
     taken: &mut Taken,
     trace: &mut MemoryTrace,
@@ -141,13 +141,10 @@ fn fit_groups(
     for (group_index, group) in fitted.enumerate() {
         let group_trace = fit_group(memory, group, group_index, params, record, taken);
         let lost_any = group.iter().any(|&i| taken.used[i]);
-        let tag = linkage.next_dormant_tag;
-        if !lost_any {
-            linkage.next_dormant_tag = tag.wrapping_add(1) % NO_GROUP;
-        }
+        let name = memory[group[0]].support.reading;
         for &i in group {
             next.flags[i] = lost_any;
-            next.dormant[i] = if lost_any { NO_GROUP } else { tag };
+            next.dormant[i] = (!lost_any).then_some(name);
         }
         if let Some(g) = group_trace {
             trace.groups.push(g);
@@ -246,8 +243,8 @@ fn expire_and_add(
             if keep {
                 seeds.flags[kept] = seeds.flags[i];
                 seeds.dormant[kept] = seeds.dormant[i];
-            } else if seeds.dormant[i] != NO_GROUP {
-                woken.push(seeds.dormant[i]);
+            } else if let Some(group) = seeds.dormant[i] {
+                woken.push(group);
             }
         }
         (i, kept) = (i + 1, kept + usize::from(keep));
@@ -256,8 +253,8 @@ fn expire_and_add(
     if let Some(seeds) = seeds {
         seeds.dormant.truncate(kept);
         for (flag, group) in seeds.flags.iter_mut().zip(&mut seeds.dormant) {
-            if *group != NO_GROUP && (record || woken.contains(group)) {
-                (*flag, *group) = (true, NO_GROUP);
+            if group.is_some_and(|g| record || woken.contains(&g)) {
+                (*flag, *group) = (true, None);
             }
         }
     }

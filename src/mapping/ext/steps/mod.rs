@@ -31,7 +31,7 @@ impl Mapper {
                     .memory
                     .first()
                     .map(|m| m.support.reading.snapshot());
-                keep = keep.min(index - oldest.unwrap_or(index).min(index) + 1);
+                keep = keep.min(index.saturating_sub(oldest.unwrap_or(index)) + 1);
             }
             let places = self.reading_places();
             let (pose, own) = (*places.step, places.own.to_vec());
