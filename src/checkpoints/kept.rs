@@ -122,7 +122,7 @@ impl Kept {
             map: self.state.map.with_segments_indexed(self.segments.to_vec()),
             last_pose: self.state.last_pose,
             last_t_s: self.state.last_t_s,
-            pose_belief: self.state.pose_belief,
+            pose_belief: self.state.pose_belief.clone(),
             next_snapshot: self.state.next_snapshot,
         }
     }

@@ -159,7 +159,7 @@ impl Mapper {
             map: self.map.without_index(),
             last_pose: self.last_pose,
             last_t_s: self.last_t_s,
-            pose_belief: self.pose_belief,
+            pose_belief: self.pose_belief.clone(),
             next_snapshot: self.next_snapshot,
         }
     }
@@ -172,7 +172,7 @@ impl Mapper {
             map: self.map.without_index_or_segments(),
             last_pose: self.last_pose,
             last_t_s: self.last_t_s,
-            pose_belief: self.pose_belief,
+            pose_belief: self.pose_belief.clone(),
             next_snapshot: self.next_snapshot,
         };
         (state, &self.map.segments)
@@ -196,7 +196,7 @@ impl Mapper {
         self.map = state.map.with_index();
         self.last_pose = state.last_pose;
         self.last_t_s = state.last_t_s;
-        self.pose_belief = state.pose_belief;
+        self.pose_belief = state.pose_belief.clone();
         self.next_snapshot = state.next_snapshot;
     }
 

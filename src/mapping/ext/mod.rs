@@ -12,6 +12,7 @@ pub mod memory_linkage;
 pub mod point_features;
 pub mod point_memory;
 pub mod pose_correction;
+pub mod rectilinear_heading;
 pub mod round_reflectors;
 pub mod settled_walls;
 mod steps;

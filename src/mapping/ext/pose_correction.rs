@@ -12,6 +12,7 @@
 
 use crate::geometry::{Point, Pose, Vec2};
 use crate::mapping::ext::beam_geometry::{feature_tolerance_m, HalfCone};
+use crate::mapping::ext::rectilinear_heading::RectilinearState;
 use crate::mapping::model::beam::Beam;
 use nalgebra::{Matrix3, SymmetricEigen, Vector3};
 
@@ -44,14 +45,16 @@ pub const MIN_MATCHED_READINGS: usize = 2;
 pub const HEADING_SCALE_M: f64 = 1.0;
 
 /// The pose estimate carried from step to step: the transform from the odometry's frame into
-/// the map's (`map pose = odometry_to_map ⊕ odometry pose`) and the covariance of the map pose
-/// (x, y in metres, heading in radians).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// the map's (`map pose = odometry_to_map ⊕ odometry pose`), the covariance of the map pose
+/// (x, y in metres, heading in radians), and the wall windows that observe heading.
+#[derive(Clone, Debug, PartialEq)]
 pub struct PoseBelief {
     /// The rigid transform from odometry into the map.
     pub odometry_to_map: Pose,
     /// The covariance of the map pose.
     pub covariance: Matrix3<f64>,
+    /// The windows of wall readings and the map's axis (`heading_window`).
+    pub rectilinear: RectilinearState,
 }
 
 impl Default for PoseBelief {
@@ -59,6 +62,7 @@ impl Default for PoseBelief {
         Self {
             odometry_to_map: Pose::default(),
             covariance: Matrix3::zeros(),
+            rectilinear: RectilinearState::default(),
         }
     }
 }

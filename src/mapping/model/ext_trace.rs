@@ -330,4 +330,23 @@ pub struct CorrectionTrace {
     /// Why the pose kept the prediction, if it did.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refused: Option<CorrectionRefusal>,
+    /// The heading the wall windows observed (`heading_window`), if any line counted.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub heading: Option<HeadingObservation>,
+}
+
+/// The heading the lines of the sensors' wall windows observe (docs/algorithm.md §8.17).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct HeadingObservation {
+    /// The map's axis, degrees in [0, 90).
+    pub axis_deg: f64,
+    /// The lines' deviation from the nearer axis at the prediction, degrees (the correction
+    /// would turn the pose by about its negative).
+    pub deviation_deg: f64,
+    /// The deviation at the corrected pose, degrees.
+    pub deviation_after_deg: f64,
+    /// The deviation's standard deviation, degrees.
+    pub sigma_deg: f64,
+    /// The sensors whose lines counted.
+    pub sensors: Vec<usize>,
 }

@@ -2,6 +2,7 @@
 //! converted, its pose is predicted from the last estimate and the odometry's increment, then
 //! corrected against the confirmed walls and point features.
 
+use super::heading_windows::HeadingLines;
 use crate::geometry::Pose;
 use crate::mapping::ext::beam_geometry::{feature_tolerance_m, HalfCone};
 use crate::mapping::ext::free_space::cone_box_in;
@@ -23,7 +24,7 @@ use crate::sonar::EchoModel;
 use nalgebra::{Matrix3, Vector3};
 
 /// A reading explained by a confirmed target, linearised.
-type Matched = (usize, CorrectionTarget, RangeObservation);
+pub(super) type Matched = (usize, CorrectionTarget, RangeObservation);
 
 impl Mapper {
     /// The step's pose: the snapshot's odometry, or with `pose_correction` the corrected pose
@@ -48,7 +49,7 @@ impl Mapper {
     /// The pose the last estimate and the odometry's increment predict, and its covariance
     /// (the last one carried through the motion, plus the increment's noise).
     fn predict(&self, snapshot: &Snapshot, previous: Option<(f64, Pose)>) -> (Pose, Matrix3<f64>) {
-        let belief = self.pose_belief;
+        let belief = &self.pose_belief;
         let predicted = belief.odometry_to_map.compose(&snapshot.pose);
         let Some((_, odometry_before)) = previous else {
             return (predicted, Matrix3::zeros());
@@ -64,7 +65,7 @@ impl Mapper {
     }
 
     /// The correction of a step predicted at `predicted` with covariance `prior`; updates the
-    /// belief's covariance.
+    /// belief's covariance (and, with `heading_window`, the wall windows).
     fn correct(
         &mut self,
         snapshot: &Snapshot,
@@ -72,32 +73,28 @@ impl Mapper {
         predicted: Pose,
         prior: Matrix3<f64>,
     ) -> CorrectionTrace {
-        let mut estimate = predicted;
-        let mut posterior = prior;
         let at_prediction = self.matched_readings(snapshot, previous, &predicted);
-        let mut matched = at_prediction.clone();
-        for _ in 0..ITERATIONS {
-            if matched.len() < MIN_MATCHED_READINGS {
-                break;
-            }
-            let observations: Vec<RangeObservation> = matched.iter().map(|m| m.2).collect();
-            let from_prior = difference(&predicted, &estimate);
-            let Some((step, covariance)) = gauss_newton_step(&prior, &from_prior, &observations)
-            else {
-                break;
-            };
-            estimate = moved(&estimate, &step);
-            posterior = covariance;
-            matched = self.matched_readings(snapshot, previous, &estimate);
-        }
+        let lines = self.heading_lines(snapshot, previous, &predicted, &at_prediction);
+        let (estimate, posterior) = self.solve(
+            snapshot,
+            previous,
+            (predicted, prior),
+            &at_prediction,
+            &lines,
+        );
         let after = self.residuals_at(snapshot, previous, &estimate, &at_prediction);
         let rms_before = rms(at_prediction.iter().map(|m| m.2.residual_m() / m.2.sigma_m));
         let rms_after = rms(after
             .iter()
             .zip(&at_prediction)
             .map(|(r, m)| r / m.2.sigma_m));
+        let heading = self.heading_trace(snapshot, &lines, &predicted, &estimate);
+        let heading_gain = heading.as_ref().map_or(0.0, |h| {
+            (h.deviation_deg.powi(2) - h.deviation_after_deg.powi(2)) / h.sigma_deg.powi(2)
+        });
         let rms_pair = (rms_before, rms_after);
-        let gain = chi2_gain(at_prediction.len(), rms_pair, &prior, &predicted, &estimate);
+        let gain =
+            chi2_gain(at_prediction.len(), rms_pair, &prior, &predicted, &estimate) + heading_gain;
         let refused = refusal(
             previous.is_none(),
             &at_prediction,
@@ -143,7 +140,39 @@ impl Mapper {
                 })
                 .collect(),
             refused,
+            heading,
         }
+    }
+
+    /// The iterated update from the prediction (pose and covariance): each iteration
+    /// re-associates the readings at the new estimate. Returns the estimate and its covariance.
+    fn solve(
+        &self,
+        snapshot: &Snapshot,
+        previous: Option<(f64, Pose)>,
+        (predicted, prior): (Pose, Matrix3<f64>),
+        at_prediction: &[Matched],
+        lines: &HeadingLines,
+    ) -> (Pose, Matrix3<f64>) {
+        let mut estimate = predicted;
+        let mut posterior = prior;
+        let mut matched = at_prediction.to_vec();
+        for _ in 0..ITERATIONS {
+            if matched.len() < MIN_MATCHED_READINGS {
+                break;
+            }
+            let mut observations: Vec<RangeObservation> = matched.iter().map(|m| m.2).collect();
+            observations.extend(self.heading_observation(snapshot, lines, &estimate));
+            let from_prior = difference(&predicted, &estimate);
+            let Some((step, covariance)) = gauss_newton_step(&prior, &from_prior, &observations)
+            else {
+                break;
+            };
+            estimate = moved(&estimate, &step);
+            posterior = covariance;
+            matched = self.matched_readings(snapshot, previous, &estimate);
+        }
+        (estimate, posterior)
     }
 
     /// Each kept reading of `snapshot` taken from `pose` that a confirmed wall or point feature
@@ -187,7 +216,7 @@ impl Mapper {
 
     /// The kept readings' beams (§1: what the paper keeps) were the robot at `pose`, each from
     /// its own moment (§1.1).
-    fn beams_from(
+    pub(super) fn beams_from(
         &self,
         snapshot: &Snapshot,
         previous: Option<(f64, Pose)>,

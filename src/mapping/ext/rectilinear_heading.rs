@@ -1,0 +1,216 @@
+//! Heading from rectilinear walls (docs/algorithm.md §8.17, "heading from the walls' axes"): the
+//! math, apart from the step that uses it (`steps/pose_correction.rs`).
+//!
+//! A sonar whose readings a confirmed wall explains draws that wall again as the robot drives
+//! past it. Laid out in the odometry's frame over the last metres driven, those readings form a
+//! line whose direction the odometry's heading error turns. Man-made walls mostly meet at right
+//! angles, so the line, carried into the map by the current estimate, should lie along one of the
+//! map's two axes; its deviation from the nearer axis, within a gate, observes heading directly
+//! (orthogonal SLAM, Nguyen, Harati, Martinelli and Siegwart 2006). Without it, a corridor's
+//! walls fix heading only through its correlation with lateral position, and the estimate
+//! follows the walls the drifting poses have just drawn.
+
+use crate::geometry::{wrap_pi, Point};
+use std::collections::VecDeque;
+use std::f64::consts::FRAC_PI_2;
+
+/// Largest deviation from an axis a wall's line may show and still count (5°): larger ones are
+/// walls at other angles.
+pub const AXIS_GATE_RAD: f64 = 5.0 * std::f64::consts::PI / 180.0;
+/// Smallest standard deviation of a line's direction (0.3°): the walls themselves are not
+/// straighter than that.
+pub const MIN_SIGMA_RAD: f64 = 0.3 * std::f64::consts::PI / 180.0;
+/// Fewest readings in a window for a line.
+pub const MIN_WINDOW_READINGS: usize = 6;
+/// The largest RMS distance of a window's readings from their line (3 cm): more is not one
+/// straight wall.
+pub const MAX_LINE_RMS_M: f64 = 0.03;
+/// The RMS distance below which a line's scatter is taken as this (5 mm): a few collinear
+/// readings do not fix a direction better than the ranges' own noise.
+pub const MIN_LINE_RMS_M: f64 = 0.005;
+
+/// A sensor's recent wall readings in the odometry's frame, oldest first, each with the
+/// distance driven when it was read (metres).
+pub type WallWindow = VecDeque<(f64, Point)>;
+
+/// The heading state carried from step to step: each sensor's window and the map's axis.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RectilinearState {
+    /// Each sensor's window.
+    pub windows: Vec<WallWindow>,
+    /// The map's axis (radians in [0, 90°)): the first full window's line, carried into the map.
+    pub axis_rad: Option<f64>,
+}
+
+/// A line fitted to a window (total least squares).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LineFit {
+    /// The line's direction, radians (modulo 180°).
+    pub direction_rad: f64,
+    /// The direction's standard deviation, radians.
+    pub sigma_rad: f64,
+    /// RMS distance of the readings from the line, metres.
+    pub rms_m: f64,
+    /// Distance driven from the oldest reading to the newest, metres.
+    pub span_m: f64,
+}
+
+/// Adds `point` (read at `travelled_m`) to `window` and drops readings older than `window_m`.
+pub fn push(window: &mut WallWindow, travelled_m: f64, point: Option<Point>, window_m: f64) {
+    while window
+        .front()
+        .is_some_and(|(t, _)| travelled_m - t > window_m)
+    {
+        window.pop_front();
+    }
+    if let Some(p) = point {
+        window.push_back((travelled_m, p));
+    }
+}
+
+/// The line through `window`'s readings, when there are enough of them, spread over at least
+/// half of `window_m` driven, and straight within [`MAX_LINE_RMS_M`].
+///
+/// ```
+/// use sonarmap::geometry::Point;
+/// use sonarmap::mapping::ext::rectilinear_heading::{fit_line, WallWindow};
+/// // Six readings 0.2 m apart along a wall at 45°, exactly on it.
+/// let w: WallWindow = (0..6).map(|k| (0.2 * k as f64, Point::new(0.2 * k as f64, 0.2 * k as f64))).collect();
+/// let fit = fit_line(&w, 1.0).unwrap();
+/// assert!((fit.direction_rad.to_degrees() - 45.0).abs() < 1e-9);
+/// assert!(fit.rms_m < 1e-12 && (fit.span_m - 1.0).abs() < 1e-12);
+/// ```
+pub fn fit_line(window: &WallWindow, window_m: f64) -> Option<LineFit> {
+    let (first, last) = (window.front()?, window.back()?);
+    let span_m = last.0 - first.0;
+    if window.len() < MIN_WINDOW_READINGS || span_m < 0.5 * window_m {
+        return None;
+    }
+    let n = window.len() as f64;
+    let (mx, my) = window
+        .iter()
+        .fold((0.0, 0.0), |(x, y), (_, p)| (x + p.x / n, y + p.y / n));
+    let (mut sxx, mut syy, mut sxy) = (0.0, 0.0, 0.0);
+    for (_, p) in window {
+        let (dx, dy) = (p.x - mx, p.y - my);
+        sxx += dx * dx;
+        syy += dy * dy;
+        sxy += dx * dy;
+    }
+    let direction_rad = 0.5 * (2.0 * sxy).atan2(sxx - syy);
+    let (c, s) = (direction_rad.cos(), direction_rad.sin());
+    // Spread along the line and squared distances from it: the eigenvalues of the scatter.
+    let along2 = c * c * sxx + 2.0 * c * s * sxy + s * s * syy;
+    let across2 = (s * s * sxx - 2.0 * c * s * sxy + c * c * syy).max(0.0);
+    let rms_m = (across2 / n).sqrt();
+    if rms_m > MAX_LINE_RMS_M || along2 <= 0.0 {
+        return None;
+    }
+    Some(LineFit {
+        direction_rad,
+        sigma_rad: (rms_m.max(MIN_LINE_RMS_M) / along2.sqrt()).max(MIN_SIGMA_RAD),
+        rms_m,
+        span_m,
+    })
+}
+
+/// `direction_rad`'s deviation from the nearer of the axes `axis_rad` and `axis_rad` + 90°,
+/// in (−45°, 45°].
+///
+/// ```
+/// use sonarmap::mapping::ext::rectilinear_heading::deviation_from_axes;
+/// let d = |a: f64, axis: f64| deviation_from_axes(a.to_radians(), axis.to_radians()).to_degrees();
+/// assert!((d(92.0, 0.0) - 2.0).abs() < 1e-9);
+/// assert!((d(-178.5, 0.0) - 1.5).abs() < 1e-9);
+/// assert!((d(10.0, 88.0) - 12.0).abs() < 1e-9);
+/// ```
+pub fn deviation_from_axes(direction_rad: f64, axis_rad: f64) -> f64 {
+    let d = wrap_pi(direction_rad - axis_rad).rem_euclid(FRAC_PI_2);
+    if d > FRAC_PI_2 / 2.0 {
+        d - FRAC_PI_2
+    } else {
+        d
+    }
+}
+
+/// The heading observation the windows' lines give: their deviations from the axes (lines in
+/// the odometry's frame, turned into the map by `odometry_to_map_rad`), those within
+/// [`AXIS_GATE_RAD`], averaged with weights 1/σ²; with their standard deviation. `None` when no
+/// line counts.
+pub fn axis_deviation(
+    lines: impl Iterator<Item = LineFit>,
+    odometry_to_map_rad: f64,
+    axis_rad: f64,
+) -> Option<(f64, f64)> {
+    let (sum, weight) = lines.fold((0.0, 0.0), |(sum, weight), line| {
+        let d = deviation_from_axes(line.direction_rad + odometry_to_map_rad, axis_rad);
+        if d.abs() > AXIS_GATE_RAD {
+            return (sum, weight);
+        }
+        let w = 1.0 / (line.sigma_rad * line.sigma_rad);
+        (sum + d * w, weight + w)
+    });
+    (weight > 0.0).then(|| (sum / weight, (1.0 / weight).sqrt()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn window(points: &[(f64, f64)], step_m: f64) -> WallWindow {
+        points
+            .iter()
+            .enumerate()
+            .map(|(k, &(x, y))| (k as f64 * step_m, Point::new(x, y)))
+            .collect()
+    }
+
+    #[test]
+    fn a_wall_drawn_by_a_robot_turned_2_degrees_deviates_2_degrees() {
+        // A wall along x = 0..1 m read every 0.1 m, drawn by odometry whose heading is 2° off:
+        // the line turns by 2°; carried into the map with no correction it deviates 2° from
+        // the axis 0, and a correction of −2° brings it to 0.
+        let turn = 2f64.to_radians();
+        let points: Vec<(f64, f64)> = (0..11)
+            .map(|k| {
+                let x = 0.1 * k as f64;
+                (x * turn.cos(), 1.5 + x * turn.sin())
+            })
+            .collect();
+        let fit = fit_line(&window(&points, 0.1), 1.0).unwrap();
+        assert!((fit.direction_rad - turn).abs() < 1e-9, "{fit:?}");
+        // Perfectly straight: the scatter floor of 5 mm over a spread of sqrt(1.1) m is 0.27°,
+        // under the 0.3° floor.
+        assert!(0.005 / 1.1f64.sqrt() < MIN_SIGMA_RAD);
+        assert!((fit.sigma_rad - MIN_SIGMA_RAD).abs() < 1e-12, "{fit:?}");
+        let (d, _) = axis_deviation([fit].into_iter(), 0.0, 0.0).unwrap();
+        assert!((d - turn).abs() < 1e-9);
+        let (d, _) = axis_deviation([fit].into_iter(), -turn, 0.0).unwrap();
+        assert!(d.abs() < 1e-9);
+    }
+
+    #[test]
+    fn lines_beyond_the_gate_and_scattered_windows_say_nothing() {
+        let diagonal: Vec<(f64, f64)> = (0..8).map(|k| (0.1 * k as f64, 0.1 * k as f64)).collect();
+        let fit = fit_line(&window(&diagonal, 0.1), 1.0).unwrap();
+        assert_eq!(axis_deviation([fit].into_iter(), 0.0, 0.0), None);
+        // A zig-zag 5 cm either side: not one wall.
+        let zigzag: Vec<(f64, f64)> = (0..8)
+            .map(|k| (0.1 * k as f64, if k % 2 == 0 { 0.05 } else { -0.05 }))
+            .collect();
+        assert_eq!(fit_line(&window(&zigzag, 0.1), 1.0), None);
+        // Too short a span for a 2 m window.
+        assert_eq!(fit_line(&window(&diagonal, 0.1), 2.0), None);
+    }
+
+    #[test]
+    fn the_window_keeps_what_was_read_within_its_length() {
+        let mut w = WallWindow::new();
+        for k in 0..30 {
+            let t = 0.1 * k as f64;
+            push(&mut w, t, (k % 3 != 0).then(|| Point::new(t, 0.0)), 1.0);
+        }
+        assert!(w.iter().all(|(t, _)| 2.9 - t <= 1.0 + 1e-12));
+        assert_eq!(w.front().map(|p| p.0 > 1.85), Some(true));
+    }
+}

@@ -1,0 +1,115 @@
+//! Pose correction's heading from rectilinear walls (docs/algorithm.md §8.17): each sensor's
+//! window of wall readings in the odometry's frame, its line, and the heading observation the
+//! lines give ([`crate::mapping::ext::rectilinear_heading`]).
+
+use super::pose_correction::Matched;
+use crate::geometry::{wrap_pi, Pose};
+use crate::mapping::ext::pose_correction::RangeObservation;
+use crate::mapping::ext::rectilinear_heading::{axis_deviation, fit_line, push, LineFit};
+use crate::mapping::model::ext_trace::{CorrectionTarget, HeadingObservation};
+use crate::mapping::Mapper;
+use crate::run::Snapshot;
+use nalgebra::Vector3;
+use std::f64::consts::FRAC_PI_2;
+
+/// The lines of the sensors whose reading a confirmed wall explained this step: (sensor, line
+/// in the odometry's frame).
+pub(super) type HeadingLines = Vec<(usize, LineFit)>;
+
+impl Mapper {
+    /// Adds this step's wall readings (those `matched` at the prediction) to their sensors'
+    /// windows, in the odometry's frame, and fits the windows of those sensors. The first line
+    /// that spans nine tenths of the window sets the map's axis. Empty when `heading_window`
+    /// is 0.
+    pub(super) fn heading_lines(
+        &mut self,
+        snapshot: &Snapshot,
+        previous: Option<(f64, Pose)>,
+        predicted: &Pose,
+        matched: &[Matched],
+    ) -> HeadingLines {
+        let window_m = self.params.heading_window_m;
+        if window_m <= 0.0 {
+            return Vec::new();
+        }
+        let travelled_m = self.map.travelled_m;
+        let beams = self.beams_from(snapshot, previous, &snapshot.pose);
+        let state = &mut self.pose_belief.rectilinear;
+        state
+            .windows
+            .resize_with(self.layout.len(), Default::default);
+        let on_wall = |sensor: usize| {
+            matched
+                .iter()
+                .any(|m| m.0 == sensor && matches!(m.1, CorrectionTarget::Wall(_)))
+        };
+        let mut lines = Vec::new();
+        for (sensor, window) in state.windows.iter_mut().enumerate() {
+            let beam = beams.iter().find(|(s, _)| *s == sensor).map(|(_, b)| b);
+            let read = beam
+                .filter(|_| on_wall(sensor))
+                .map(|b| b.origin + b.direction * b.range_m);
+            push(window, travelled_m, read, window_m);
+            if read.is_some() {
+                lines.extend(fit_line(window, window_m).map(|line| (sensor, line)));
+            }
+        }
+        if state.axis_rad.is_none() {
+            let rotation_rad = wrap_pi(predicted.heading_rad - snapshot.pose.heading_rad);
+            state.axis_rad = lines
+                .iter()
+                .find(|(_, line)| line.span_m >= 0.9 * window_m)
+                .map(|(_, line)| (line.direction_rad + rotation_rad).rem_euclid(FRAC_PI_2));
+        }
+        lines
+    }
+
+    /// The lines' deviation from the map's axes with the robot at `estimate`, and its standard
+    /// deviation (radians).
+    fn heading_deviation(
+        &self,
+        snapshot: &Snapshot,
+        lines: &HeadingLines,
+        estimate: &Pose,
+    ) -> Option<(f64, f64)> {
+        let axis_rad = self.pose_belief.rectilinear.axis_rad?;
+        let rotation_rad = wrap_pi(estimate.heading_rad - snapshot.pose.heading_rad);
+        axis_deviation(lines.iter().map(|(_, l)| *l), rotation_rad, axis_rad)
+    }
+
+    /// The heading observation at `estimate`: zero deviation expected, the deviation predicted;
+    /// turning the robot turns the lines one for one.
+    pub(super) fn heading_observation(
+        &self,
+        snapshot: &Snapshot,
+        lines: &HeadingLines,
+        estimate: &Pose,
+    ) -> Option<RangeObservation> {
+        let (deviation_rad, sigma_rad) = self.heading_deviation(snapshot, lines, estimate)?;
+        Some(RangeObservation {
+            range_m: 0.0,
+            predicted_m: deviation_rad,
+            jacobian: Vector3::new(0.0, 0.0, 1.0),
+            sigma_m: sigma_rad,
+        })
+    }
+
+    /// The trace of the heading observation: at the prediction and at `estimate`.
+    pub(super) fn heading_trace(
+        &self,
+        snapshot: &Snapshot,
+        lines: &HeadingLines,
+        predicted: &Pose,
+        estimate: &Pose,
+    ) -> Option<HeadingObservation> {
+        let (before_rad, sigma_rad) = self.heading_deviation(snapshot, lines, predicted)?;
+        let (after_rad, _) = self.heading_deviation(snapshot, lines, estimate)?;
+        Some(HeadingObservation {
+            axis_deg: self.pose_belief.rectilinear.axis_rad?.to_degrees(),
+            deviation_deg: before_rad.to_degrees(),
+            deviation_after_deg: after_rad.to_degrees(),
+            sigma_deg: sigma_rad.to_degrees(),
+            sensors: lines.iter().map(|(s, _)| *s).collect(),
+        })
+    }
+}
