@@ -38,12 +38,79 @@ proptest! {
             let shift_m = c.corrected.distance_to(&c.predicted);
             let bound_m = 3.0 * c.prior_sigma[0].hypot(c.prior_sigma[1]);
             prop_assert!(shift_m <= bound_m + 1e-12, "step {}: {} > {}", trace.snapshot, shift_m, bound_m);
-            // Taken only when it explains the readings no worse than the prediction.
-            prop_assert!(c.rms_after <= c.rms_before + 1e-12, "step {}", trace.snapshot);
+            // Taken only when it explains the readings, and the walls' axes, no worse than
+            // the prediction.
+            let n = c.readings.len() as f64;
+            let squared = |rms: f64, deviation_deg: f64, sigma_deg: f64| {
+                n * rms * rms + (deviation_deg / sigma_deg).powi(2)
+            };
+            let (before, after) = match &c.heading {
+                None => (c.rms_before, c.rms_after),
+                Some(h) => (
+                    squared(c.rms_before, h.deviation_deg, h.sigma_deg),
+                    squared(c.rms_after, h.deviation_after_deg, h.sigma_deg),
+                ),
+            };
+            prop_assert!(after <= before + 1e-9, "step {}", trace.snapshot);
         }
         let checked = map_checked(&run, &params, true);
         prop_assert!(checked.failure.is_none(), "{:?}", checked.failure);
     }
+}
+
+/// A Pioneer-like crawl (15 mm a cycle, three firing groups) there and back along a corridor,
+/// with the bad drift: the wall windows' lines hold the heading that the range readings alone
+/// let drift with the walls just drawn (docs/algorithm.md §8.17, `heading_window`).
+#[test]
+fn the_walls_axes_hold_the_heading_of_a_drifting_corridor_crawl() {
+    use sonarmap::pose_error::pose_error_of;
+    use sonarmap::sim::{load_plan, simulate_paced, Model, Pace};
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/pioneer_corridor.plan.json"
+    );
+    let plan = load_plan(&std::fs::read(path).unwrap(), path).unwrap();
+    let crawl = Pace {
+        cycle_step_m: Some(0.015),
+        cycle_s: 0.3,
+        firing_groups: 3,
+        ..Pace::PLAN
+    };
+    let run = with_odometry(
+        &simulate_paced(&plan, Model::Specular, 1, &crawl),
+        &OdometryError::BAD,
+        1,
+    );
+    let heading_rms_deg = |heading_window_m: f64| {
+        let params = Params {
+            heading_window_m,
+            ..corrected_params()
+        };
+        let mut mapper = Mapper::new(params, run.layout.clone(), run.sensor);
+        let mut observed = 0;
+        let poses: Vec<_> = run
+            .snapshots
+            .iter()
+            .map(|s| {
+                let trace = mapper.step(s);
+                observed += usize::from(trace.correction.and_then(|c| c.heading).is_some());
+                trace.pose.unwrap()
+            })
+            .collect();
+        let error = pose_error_of(&run, poses).unwrap();
+        (error.rms_heading_deg, observed)
+    };
+    let (without_deg, none_observed) = heading_rms_deg(0.0);
+    let (with_deg, observed) = heading_rms_deg(2.0);
+    assert_eq!(none_observed, 0);
+    assert!(
+        observed > run.snapshots.len() / 4,
+        "{observed} steps observed heading"
+    );
+    assert!(
+        with_deg < 0.5 * without_deg,
+        "heading RMS {with_deg:.2}° with the windows, {without_deg:.2}° without"
+    );
 }
 
 #[test]

@@ -81,6 +81,17 @@ pub(super) fn correction_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
                 |[x, y, h]: [f64; 3]| format!("x {}, y {}, {h:.2}°", ctx.len(x), ctx.len(y));
             kv(ui, "prior σ", sigma(c.prior_sigma));
             kv(ui, "posterior σ", sigma(c.posterior_sigma));
+            if let Some(h) = &c.heading {
+                kv(
+                    ui,
+                    "walls' axes",
+                    format!(
+                        "{:.2}° (mod 90°): the wall lines deviate {:+.2}° before, {:+.2}° \
+                         after (σ {:.2}°), sensors {:?}",
+                        h.axis_deg, h.deviation_deg, h.deviation_after_deg, h.sigma_deg, h.sensors
+                    ),
+                );
+            }
         });
     if let Some(refusal) = &c.refused {
         ui.label(RichText::new(format!("refused: {}", refusal_text(refusal))).color(FAIL));

@@ -347,6 +347,7 @@ pub struct HeadingObservation {
     pub deviation_after_deg: f64,
     /// The deviation's standard deviation, degrees.
     pub sigma_deg: f64,
-    /// The sensors whose lines counted.
+    /// The sensors whose windows gave a line this step (a line beyond the 5° gate counts for
+    /// nothing).
     pub sensors: Vec<usize>,
 }
