@@ -6,7 +6,7 @@
 use super::context::InspectCtx;
 use super::widgets::{heading, kv, FAIL};
 use crate::geometry::Pose;
-use crate::mapping::model::ext_trace::{CorrectionRefusal, CorrectionTarget};
+use crate::mapping::model::ext_trace::{CorrectionRefusal, CorrectionTarget, HeadingObservation};
 use egui::RichText;
 
 /// `pose` as position and heading.
@@ -82,15 +82,7 @@ pub(super) fn correction_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             kv(ui, "prior σ", sigma(c.prior_sigma));
             kv(ui, "posterior σ", sigma(c.posterior_sigma));
             if let Some(h) = &c.heading {
-                kv(
-                    ui,
-                    "walls' axes",
-                    format!(
-                        "{:.2}° (mod 90°): the wall lines deviate {:+.2}° before, {:+.2}° \
-                         after (σ {:.2}°), sensors {:?}",
-                        h.axis_deg, h.deviation_deg, h.deviation_after_deg, h.sigma_deg, h.sensors
-                    ),
-                );
+                heading_row(ui, h);
             }
         });
     if let Some(refusal) = &c.refused {
@@ -124,4 +116,17 @@ pub(super) fn correction_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             ctx.len(r.sigma_m)
         ));
     }
+}
+
+/// The walls' axes observation of a step's correction (docs/algorithm.md §8.17).
+fn heading_row(ui: &mut egui::Ui, h: &HeadingObservation) {
+    kv(
+        ui,
+        "walls' axes",
+        format!(
+            "{:.2}° (mod 90°): the wall lines deviate {:+.2}° before, {:+.2}° after \
+             (σ {:.2}°), sensors {:?}",
+            h.axis_deg, h.deviation_deg, h.deviation_after_deg, h.sigma_deg, h.sensors
+        ),
+    );
 }

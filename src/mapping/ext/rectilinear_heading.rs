@@ -42,6 +42,10 @@ pub struct RectilinearState {
     pub axis_rad: Option<f64>,
 }
 
+/// The lines of the sensors whose reading a confirmed wall explained this step: (sensor, line
+/// in the odometry's frame).
+pub type HeadingLines = Vec<(usize, LineFit)>;
+
 /// A line fitted to a window (total least squares).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LineFit {

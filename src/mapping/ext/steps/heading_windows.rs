@@ -5,16 +5,12 @@
 use super::pose_correction::Matched;
 use crate::geometry::{wrap_pi, Pose};
 use crate::mapping::ext::pose_correction::RangeObservation;
-use crate::mapping::ext::rectilinear_heading::{axis_deviation, fit_line, push, LineFit};
+use crate::mapping::ext::rectilinear_heading::{axis_deviation, fit_line, push, HeadingLines};
 use crate::mapping::model::ext_trace::{CorrectionTarget, HeadingObservation};
 use crate::mapping::Mapper;
 use crate::run::Snapshot;
 use nalgebra::Vector3;
 use std::f64::consts::FRAC_PI_2;
-
-/// The lines of the sensors whose reading a confirmed wall explained this step: (sensor, line
-/// in the odometry's frame).
-pub(super) type HeadingLines = Vec<(usize, LineFit)>;
 
 impl Mapper {
     /// Adds this step's wall readings (those `matched` at the prediction) to their sensors'

@@ -2,7 +2,6 @@
 //! converted, its pose is predicted from the last estimate and the odometry's increment, then
 //! corrected against the confirmed walls and point features.
 
-use super::heading_windows::HeadingLines;
 use crate::geometry::Pose;
 use crate::mapping::ext::beam_geometry::{feature_tolerance_m, HalfCone};
 use crate::mapping::ext::free_space::cone_box_in;
@@ -11,6 +10,7 @@ use crate::mapping::ext::pose_correction::{
     observed_directions, wall_observation, RangeObservation, ITERATIONS, MIN_CHI2_GAIN,
     MIN_MATCHED_READINGS, MIN_WALL_LENGTH_M,
 };
+use crate::mapping::ext::rectilinear_heading::HeadingLines;
 use crate::mapping::model::beam::Beam;
 use crate::mapping::model::ext_trace::{
     CorrectionReading, CorrectionRefusal, CorrectionTarget, CorrectionTrace, ObservedDirection,

@@ -465,7 +465,7 @@ parameters! {
     /// line whose deviation from the map's nearer axis (within 5°) observes heading
     /// (docs/algorithm.md §8.17); 0 is off. Acts only with `pose_correction`.
     heading_window_m: f64, file heading_window: f64, length,
-        paper 0.0, extended 2.0, needs ["pose_correction"];
+        paper 2.0, extended 2.0, needs ["pose_correction"];
     /// A point-memory piece whose readings are one place read at changing ranges (a stack:
     /// a wall square-on to a sonar the robot drives towards or away from) makes no segment;
     /// its readings leave the memory (docs/algorithm.md §8.15). Acts only with point memory.
