@@ -118,15 +118,21 @@ pub(super) fn correction_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
     }
 }
 
-/// The walls' axes observation of a step's correction (docs/algorithm.md §8.17).
+/// The walls' axes observation of a step's correction (docs/algorithm.md §8.17), in short rows
+/// (a long one would widen the panel).
 fn heading_row(ui: &mut egui::Ui, h: &HeadingObservation) {
+    kv(ui, "walls' axis", format!("{:.2}° (mod 90°)", h.axis_deg));
     kv(
         ui,
-        "walls' axes",
+        "wall lines",
         format!(
-            "{:.2}° (mod 90°): the wall lines deviate {:+.2}° before, {:+.2}° after \
-             (σ {:.2}°), sensors {:?}",
-            h.axis_deg, h.deviation_deg, h.deviation_after_deg, h.sigma_deg, h.sensors
+            "{:+.2}° before, {:+.2}° after",
+            h.deviation_deg, h.deviation_after_deg
         ),
+    );
+    kv(
+        ui,
+        "lines' σ, sensors",
+        format!("{:.2}°, {:?}", h.sigma_deg, h.sensors),
     );
 }
