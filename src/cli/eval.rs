@@ -156,7 +156,7 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
         snapshots: summary.snapshots,
         report,
         corrected_pose_error: params
-            .pose_correction
+            .corrects_pose()
             .then(|| sonarmap::pose_error::pose_error_of(&run, summary.poses.iter().copied()))
             .flatten(),
         point_features: has_features.then_some(features),

@@ -37,6 +37,11 @@ pub const ALL: &[Extension] = &[
         source: "Leonard and Durrant-Whyte 1991: EKF localisation on geometric beacons; Crowley 1989: the pose from the segment map",
     },
     Extension {
+        parameter: "heading_correction",
+        section: "8.17",
+        source: "Nguyen, Harati, Martinelli and Siegwart 2006: orthogonal SLAM, indoor walls along two axes",
+    },
+    Extension {
         parameter: "explain_readings",
         section: "8.5",
         source: "Leonard and Durrant-Whyte 1992: a point target explains its echoes",

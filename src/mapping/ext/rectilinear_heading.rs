@@ -20,6 +20,9 @@ pub const AXIS_GATE_RAD: f64 = 5.0 * std::f64::consts::PI / 180.0;
 /// Smallest standard deviation of a line's direction (0.3°): the walls themselves are not
 /// straighter than that.
 pub const MIN_SIGMA_RAD: f64 = 0.3 * std::f64::consts::PI / 180.0;
+/// The largest standard deviation of a line that may set the map's axis (0.5°): a noisier
+/// first line would tilt every later heading.
+pub const AXIS_MAX_SIGMA_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
 /// Fewest readings in a window for a line.
 pub const MIN_WINDOW_READINGS: usize = 6;
 /// The largest RMS distance of a window's readings from their line (3 cm): more is not one
@@ -38,6 +41,10 @@ pub type WallWindow = VecDeque<(f64, Point)>;
 pub struct RectilinearState {
     /// Each sensor's window.
     pub windows: Vec<WallWindow>,
+    /// The odometry's heading when each window began, radians: a window is one straight pass,
+    /// emptied once the robot has turned more than [`AXIS_GATE_RAD`] from it (a turning
+    /// sonar's readings, placed on its axis, would draw an arc).
+    pub began_heading_rad: Vec<f64>,
     /// The map's axis (radians in [0, 90°)): the first full window's line, carried into the map.
     pub axis_rad: Option<f64>,
 }
@@ -57,6 +64,8 @@ pub struct LineFit {
     pub rms_m: f64,
     /// Distance driven from the oldest reading to the newest, metres.
     pub span_m: f64,
+    /// The readings fitted.
+    pub readings: usize,
 }
 
 /// Adds `point` (read at `travelled_m`) to `window` and drops readings older than `window_m`.
@@ -115,6 +124,7 @@ pub fn fit_line(window: &WallWindow, window_m: f64) -> Option<LineFit> {
         sigma_rad: (rms_m.max(MIN_LINE_RMS_M) / along2.sqrt()).max(MIN_SIGMA_RAD),
         rms_m,
         span_m,
+        readings: window.len(),
     })
 }
 
@@ -139,8 +149,10 @@ pub fn deviation_from_axes(direction_rad: f64, axis_rad: f64) -> f64 {
 
 /// The heading observation the windows' lines give: their deviations from the axes (lines in
 /// the odometry's frame, turned into the map by `odometry_to_map_rad`), those within
-/// [`AXIS_GATE_RAD`], averaged with weights 1/σ²; with their standard deviation. `None` when no
-/// line counts.
+/// [`AXIS_GATE_RAD`], averaged with weights 1/σ²; with their standard deviation. Each reading
+/// stays in its window for as many steps as the window holds readings, so a line's σ is
+/// widened by the root of its readings: over the steps that reuse them, they say once what
+/// they know. `None` when no line counts.
 pub fn axis_deviation(
     lines: impl Iterator<Item = LineFit>,
     odometry_to_map_rad: f64,
@@ -151,7 +163,7 @@ pub fn axis_deviation(
         if d.abs() > AXIS_GATE_RAD {
             return (sum, weight);
         }
-        let w = 1.0 / (line.sigma_rad * line.sigma_rad);
+        let w = 1.0 / (line.sigma_rad * line.sigma_rad * line.readings as f64);
         (sum + d * w, weight + w)
     });
     (weight > 0.0).then(|| (sum / weight, (1.0 / weight).sqrt()))

@@ -5,7 +5,9 @@
 use super::pose_correction::Matched;
 use crate::geometry::{wrap_pi, Pose};
 use crate::mapping::ext::pose_correction::RangeObservation;
-use crate::mapping::ext::rectilinear_heading::{axis_deviation, fit_line, push, HeadingLines};
+use crate::mapping::ext::rectilinear_heading::{
+    axis_deviation, fit_line, push, HeadingLines, AXIS_GATE_RAD, AXIS_MAX_SIGMA_RAD,
+};
 use crate::mapping::model::ext_trace::{CorrectionTarget, HeadingObservation};
 use crate::mapping::Mapper;
 use crate::run::Snapshot;
@@ -15,8 +17,8 @@ use std::f64::consts::FRAC_PI_2;
 impl Mapper {
     /// Adds this step's wall readings (those `matched` at the prediction) to their sensors'
     /// windows, in the odometry's frame, and fits the windows of those sensors. The first line
-    /// that spans nine tenths of the window sets the map's axis. Empty when `heading_window`
-    /// is 0.
+    /// that spans nine tenths of the window, within [`AXIS_MAX_SIGMA_RAD`], sets the map's
+    /// axis. Empty when `heading_window` is 0.
     pub(super) fn heading_lines(
         &mut self,
         snapshot: &Snapshot,
@@ -34,6 +36,10 @@ impl Mapper {
         state
             .windows
             .resize_with(self.layout.len(), Default::default);
+        let heading_rad = snapshot.pose.heading_rad;
+        state
+            .began_heading_rad
+            .resize(self.layout.len(), heading_rad);
         let on_wall = |sensor: usize| {
             matched
                 .iter()
@@ -41,6 +47,11 @@ impl Mapper {
         };
         let mut lines = Vec::new();
         for (sensor, window) in state.windows.iter_mut().enumerate() {
+            let began_rad = &mut state.began_heading_rad[sensor];
+            if window.is_empty() || wrap_pi(heading_rad - *began_rad).abs() > AXIS_GATE_RAD {
+                window.clear();
+                *began_rad = heading_rad;
+            }
             let beam = beams.iter().find(|(s, _)| *s == sensor).map(|(_, b)| b);
             let read = beam
                 .filter(|_| on_wall(sensor))
@@ -54,7 +65,9 @@ impl Mapper {
             let rotation_rad = wrap_pi(predicted.heading_rad - snapshot.pose.heading_rad);
             state.axis_rad = lines
                 .iter()
-                .find(|(_, line)| line.span_m >= 0.9 * window_m)
+                .find(|(_, line)| {
+                    line.span_m >= 0.9 * window_m && line.sigma_rad <= AXIS_MAX_SIGMA_RAD
+                })
                 .map(|(_, line)| (line.direction_rad + rotation_rad).rem_euclid(FRAC_PI_2));
         }
         lines

@@ -27,15 +27,16 @@ use nalgebra::{Matrix3, Vector3};
 pub(super) type Matched = (usize, CorrectionTarget, RangeObservation);
 
 impl Mapper {
-    /// The step's pose: the snapshot's odometry, or with `pose_correction` the corrected pose
-    /// (recorded in `trace.correction`). `previous` is the last snapshot's time and odometry.
+    /// The step's pose: the snapshot's odometry, or with `pose_correction` or
+    /// `heading_correction` the corrected pose (recorded in `trace.correction`). `previous` is
+    /// the last snapshot's time and odometry.
     pub(in crate::mapping) fn hook_step_pose(
         &mut self,
         snapshot: &Snapshot,
         previous: Option<(f64, Pose)>,
         trace: &mut StepTrace,
     ) -> Pose {
-        if !self.params.pose_correction {
+        if !self.params.corrects_pose() {
             return snapshot.pose;
         }
         let (predicted, prior) = self.predict(snapshot, previous);
@@ -93,11 +94,13 @@ impl Mapper {
             (h.deviation_deg.powi(2) - h.deviation_after_deg.powi(2)) / h.sigma_deg.powi(2)
         });
         let rms_pair = (rms_before, rms_after);
-        let gain =
-            chi2_gain(at_prediction.len(), rms_pair, &prior, &predicted, &estimate) + heading_gain;
+        // Heading alone: the ranges did not pull, so only the prior's term counts against it.
+        let ranges = self.params.pose_correction;
+        let ranged = if ranges { at_prediction.len() } else { 0 };
+        let gain = chi2_gain(ranged, rms_pair, &prior, &predicted, &estimate) + heading_gain;
         let refused = refusal(
             previous.is_none(),
-            &at_prediction,
+            ranges.then_some(at_prediction.as_slice()),
             &predicted,
             &estimate,
             &prior,
@@ -145,7 +148,9 @@ impl Mapper {
     }
 
     /// The iterated update from the prediction (pose and covariance): each iteration
-    /// re-associates the readings at the new estimate. Returns the estimate and its covariance.
+    /// re-associates the readings at the new estimate. With `heading_correction` alone, the wall
+    /// windows' heading observation is the only one (position moves only through its
+    /// correlation with heading). Returns the estimate and its covariance.
     fn solve(
         &self,
         snapshot: &Snapshot,
@@ -154,14 +159,19 @@ impl Mapper {
         at_prediction: &[Matched],
         lines: &HeadingLines,
     ) -> (Pose, Matrix3<f64>) {
+        let ranges = self.params.pose_correction;
         let mut estimate = predicted;
         let mut posterior = prior;
         let mut matched = at_prediction.to_vec();
         for _ in 0..ITERATIONS {
-            if matched.len() < MIN_MATCHED_READINGS {
+            if ranges && matched.len() < MIN_MATCHED_READINGS {
                 break;
             }
-            let mut observations: Vec<RangeObservation> = matched.iter().map(|m| m.2).collect();
+            let mut observations: Vec<RangeObservation> = if ranges {
+                matched.iter().map(|m| m.2).collect()
+            } else {
+                Vec::new()
+            };
             observations.extend(self.heading_observation(snapshot, lines, &estimate));
             let from_prior = difference(&predicted, &estimate);
             let Some((step, covariance)) = gauss_newton_step(&prior, &from_prior, &observations)
@@ -170,7 +180,9 @@ impl Mapper {
             };
             estimate = moved(&estimate, &step);
             posterior = covariance;
-            matched = self.matched_readings(snapshot, previous, &estimate);
+            if ranges {
+                matched = self.matched_readings(snapshot, previous, &estimate);
+            }
         }
         (estimate, posterior)
     }
@@ -325,11 +337,11 @@ impl Mapper {
 }
 
 /// Why the correction from `predicted` to `estimate` is refused, before its residuals are
-/// compared: the first step, too few readings, or a move beyond three of the prior's
-/// standard deviations.
+/// compared: the first step, too few readings (`matched`, when the ranges pull), or a move
+/// beyond three of the prior's standard deviations.
 fn refusal(
     first_step: bool,
-    matched: &[Matched],
+    matched: Option<&[Matched]>,
     predicted: &Pose,
     estimate: &Pose,
     prior: &Matrix3<f64>,
@@ -337,7 +349,7 @@ fn refusal(
     if first_step {
         return Some(CorrectionRefusal::FirstStep);
     }
-    if matched.len() < MIN_MATCHED_READINGS {
+    if let Some(matched) = matched.filter(|m| m.len() < MIN_MATCHED_READINGS) {
         return Some(CorrectionRefusal::TooFewReadings {
             matched: matched.len(),
             needed: MIN_MATCHED_READINGS,

@@ -461,11 +461,18 @@ parameters! {
     /// with `confirm_segments`.
     pose_correction: bool, file pose_correction: bool, flag,
         paper false, extended false, needs ["confirm_segments"];
+    /// Before a step's readings are matched, its heading alone is corrected by the lines of
+    /// the sensors' wall windows against the map's axes, without the range readings' pull on
+    /// position (docs/algorithm.md §8.17). With `pose_correction` the windows join its update
+    /// instead. Acts only with `confirm_segments`.
+    heading_correction: bool, file heading_correction: bool, flag,
+        paper false, extended false, needs ["confirm_segments"];
     /// Distance driven over which a sensor's wall readings, laid out by the odometry, form a
     /// line whose deviation from the map's nearer axis (within 5°) observes heading
-    /// (docs/algorithm.md §8.17); 0 is off. Acts only with `pose_correction`.
+    /// (docs/algorithm.md §8.17); 0 is off. Acts only with `pose_correction` or
+    /// `heading_correction`.
     heading_window_m: f64, file heading_window: f64, length,
-        paper 2.0, extended 2.0, needs ["pose_correction"];
+        paper 2.0, extended 2.0, needs [];
     /// A point-memory piece whose readings are one place read at changing ranges (a stack:
     /// a wall square-on to a sonar the robot drives towards or away from) makes no segment;
     /// its readings leave the memory (docs/algorithm.md §8.15). Acts only with point memory.

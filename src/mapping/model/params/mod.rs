@@ -75,6 +75,12 @@ impl Params {
         }
     }
 
+    /// Whether a step's pose is corrected against the map (docs/algorithm.md §8.17): in full
+    /// (`pose_correction`) or its heading alone (`heading_correction`).
+    pub fn corrects_pose(&self) -> bool {
+        self.pose_correction || self.heading_correction
+    }
+
     /// Checks every value; the first problem found is returned.
     pub fn validate(&self) -> Result<(), ParamsError> {
         let positive = |name: &'static str, v: f64| {
