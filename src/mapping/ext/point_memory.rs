@@ -237,19 +237,15 @@ fn expire_and_add(
     record: bool,
 ) -> usize {
     let mut woken = Vec::new();
-    let kept = if memory.iter().all(|m| now.keeps(&remembered_at(m), params)) {
-        memory.len()
-    } else {
-        expire(
-            memory,
-            now,
-            params,
-            seeds.as_deref_mut(),
-            &mut woken,
-            trace,
-            record,
-        )
-    };
+    let kept = expire(
+        memory,
+        now,
+        params,
+        seeds.as_deref_mut(),
+        &mut woken,
+        trace,
+        record,
+    );
     if let Some(seeds) = seeds.filter(|_| record || !woken.is_empty()) {
         for (flag, group) in seeds.flags.iter_mut().zip(&mut seeds.dormant) {
             if group.is_some_and(|g| record || woken.contains(&g)) {
@@ -278,9 +274,26 @@ fn expire(
     trace: &mut MemoryTrace,
     record: bool,
 ) -> usize {
+    let keeps = |m: &MemoryPoint| now.keeps(&remembered_at(m), params);
+    // The memory holds its readings in the order they came, so those that leave are, as a
+    // rule, its oldest: a run at its start, taken out in one move.
+    let gone = memory.iter().take_while(|m| !keeps(m)).count();
+    if memory[gone..].iter().all(keeps) {
+        if record {
+            let expired = memory[..gone].iter().map(|m| m.support.reading);
+            trace.expired.extend(expired);
+        }
+        if let Some(seeds) = seeds {
+            woken.extend(seeds.dormant[..gone].iter().flatten());
+            seeds.flags.drain(..gone);
+            seeds.dormant.drain(..gone);
+        }
+        memory.drain(..gone);
+        return memory.len();
+    }
     let (mut i, mut kept) = (0, 0);
     memory.retain(|m| {
-        let keep = now.keeps(&remembered_at(m), params);
+        let keep = keeps(m);
         if !keep && record {
             trace.expired.push(m.support.reading);
         }
