@@ -63,28 +63,27 @@ pub fn memory_step(
 ) -> (MemoryTrace, Vec<MemoryPiece>) {
     let mut trace = MemoryTrace::default();
     // Last step's seeds, while they still describe this memory; they leave with their readings.
-    let mut seeds = linkage
-        .seeds
-        .take()
-        .filter(|s| s.flags.len() == memory.len() && s.ends == memory_ends(memory));
+    let stale = |s: &Seeds| s.flags.len() != memory.len() || s.ends != memory_ends(memory);
+    if linkage.seeds.as_ref().is_some_and(stale) {
+        linkage.seeds = None;
+    }
     let kept = expire_and_add(
         memory,
         singles,
         now,
         params,
-        seeds.as_mut(),
+        linkage.seeds.as_mut(),
         &mut trace,
         record,
     );
     let unseeded = |s: &&mut Seeds| singles.is_empty() && !s.flags.contains(&true);
-    if let Some(s) = seeds.as_mut().filter(unseeded) {
+    if let Some(s) = linkage.seeds.as_mut().filter(unseeded) {
         // No seed: no group can have changed, so none is fitted and the memory stays.
         s.ends = memory_ends(memory);
-        linkage.seeds = seeds;
         trace.held_after = memory.len();
         return (trace, Vec::new());
     }
-    let (mut flags, dormant) = match seeds {
+    let (mut flags, dormant) = match linkage.seeds.take() {
         Some(s) => (Some(s.flags), s.dormant),
         None => (None, Vec::new()),
     };
@@ -279,16 +278,18 @@ fn expire(
     // rule, its oldest: a run at its start, taken out in one move.
     let gone = memory.iter().take_while(|m| !keeps(m)).count();
     if memory[gone..].iter().all(keeps) {
-        if record {
-            let expired = memory[..gone].iter().map(|m| m.support.reading);
-            trace.expired.extend(expired);
+        if gone > 0 {
+            if record {
+                let expired = memory[..gone].iter().map(|m| m.support.reading);
+                trace.expired.extend(expired);
+            }
+            if let Some(seeds) = seeds {
+                woken.extend(seeds.dormant[..gone].iter().flatten());
+                seeds.flags.drain(..gone);
+                seeds.dormant.drain(..gone);
+            }
+            memory.drain(..gone);
         }
-        if let Some(seeds) = seeds {
-            woken.extend(seeds.dormant[..gone].iter().flatten());
-            seeds.flags.drain(..gone);
-            seeds.dormant.drain(..gone);
-        }
-        memory.drain(..gone);
         return memory.len();
     }
     let (mut i, mut kept) = (0, 0);
