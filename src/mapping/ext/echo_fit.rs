@@ -200,15 +200,21 @@ pub fn fit_echo_line(
         consider(angle0 - k as f64 * step, cost_of(&minus));
     }
     let (coarse, coarse_cost) = best?;
-    // Golden-section refinement within one step either side.
-    let refined = golden_section_min(coarse - step, coarse + step, cost_or_inf);
-    let angle = if cost_or_inf(refined) <= coarse_cost {
-        refined
+    // Golden-section refinement within one step either side; the refined normal's fit is kept
+    // when it is the one taken.
+    let refined = unit(golden_section_min(
+        coarse - step,
+        coarse + step,
+        cost_or_inf,
+    ));
+    let refined_fit = offset_and_cost(beams, &weights, &refined, half);
+    let (normal, fit) = if refined_fit.map_or(f64::INFINITY, |(_, c)| c) <= coarse_cost {
+        (refined, refined_fit)
     } else {
-        coarse
+        let normal = unit(coarse);
+        (normal, offset_and_cost(beams, &weights, &normal, half))
     };
-    let normal = unit(angle);
-    let (offset_m, _) = offset_and_cost(beams, &weights, &normal, half)?;
+    let (offset_m, _) = fit?;
     let worst = beams
         .iter()
         .map(|b| residual_over_tolerance(b, &normal, offset_m, accuracy_pct, half))

@@ -52,7 +52,7 @@ fn is_stack(readings: &[SupportPoint], accuracy_pct: f64) -> bool {
 /// not returned. With `record` false (an untraced step) the trace only says how many readings
 /// are held; the memory and the pieces are the same either way. After a first step, only the
 /// groups around the readings just added and those fitted last step are looked for
-/// ([`Linkage::group_from_seeds`]): the others are too small to fit.
+/// ([`Linkage::group_from_seeds`]): the others are too small to fit; with neither, none is.
 pub fn memory_step(
     memory: &mut Vec<MemoryPoint>,
     singles: &[SupportPoint],
@@ -63,20 +63,27 @@ pub fn memory_step(
 ) -> (MemoryTrace, Vec<MemoryPiece>) {
     let mut trace = MemoryTrace::default();
     // Last step's seeds, while they still describe this memory; they leave with their readings.
-    let mut seeds = linkage
-        .seeds
-        .take()
-        .filter(|s| s.flags.len() == memory.len() && s.ends == memory_ends(memory));
+    let stale = |s: &Seeds| s.flags.len() != memory.len() || s.ends != memory_ends(memory);
+    if linkage.seeds.as_ref().is_some_and(stale) {
+        linkage.seeds = None;
+    }
     let kept = expire_and_add(
         memory,
         singles,
         now,
         params,
-        seeds.as_mut(),
+        linkage.seeds.as_mut(),
         &mut trace,
         record,
     );
-    let (mut flags, dormant) = match seeds {
+    let unseeded = |s: &&mut Seeds| singles.is_empty() && !s.flags.contains(&true);
+    if let Some(s) = linkage.seeds.as_mut().filter(unseeded) {
+        // No seed: no group can have changed, so none is fitted and the memory stays.
+        s.ends = memory_ends(memory);
+        trace.held_after = memory.len();
+        return (trace, Vec::new());
+    }
+    let (mut flags, dormant) = match linkage.seeds.take() {
         Some(s) => (Some(s.flags), s.dormant),
         None => (None, Vec::new()),
     };
@@ -228,14 +235,66 @@ fn expire_and_add(
     trace: &mut MemoryTrace,
     record: bool,
 ) -> usize {
-    let (mut i, mut kept) = (0, 0);
     let mut woken = Vec::new();
+    let kept = expire(
+        memory,
+        now,
+        params,
+        seeds.as_deref_mut(),
+        &mut woken,
+        trace,
+        record,
+    );
+    if let Some(seeds) = seeds.filter(|_| record || !woken.is_empty()) {
+        for (flag, group) in seeds.flags.iter_mut().zip(&mut seeds.dormant) {
+            if group.is_some_and(|g| record || woken.contains(&g)) {
+                (*flag, *group) = (true, None);
+            }
+        }
+    }
+    memory.extend(singles.iter().map(|s| MemoryPoint {
+        support: *s,
+        travelled_m: now.travelled_m,
+    }));
+    if record {
+        trace.added.extend(singles.iter().map(|s| s.reading));
+    }
+    kept
+}
+
+/// [`expire_and_add`]'s expiry: the readings out of the span leave `memory`, with their seed
+/// flags; the dormant groups that lost one go to `woken`. Returns how many stayed.
+fn expire(
+    memory: &mut Vec<MemoryPoint>,
+    now: MemoryClock,
+    params: &Params,
+    mut seeds: Option<&mut Seeds>,
+    woken: &mut Vec<ReadingRef>,
+    trace: &mut MemoryTrace,
+    record: bool,
+) -> usize {
+    let keeps = |m: &MemoryPoint| now.keeps(&remembered_at(m), params);
+    // The memory holds its readings in the order they came, so those that leave are, as a
+    // rule, its oldest: a run at its start, taken out in one move.
+    let gone = memory.iter().take_while(|m| !keeps(m)).count();
+    if memory[gone..].iter().all(keeps) {
+        if gone > 0 {
+            if record {
+                let expired = memory[..gone].iter().map(|m| m.support.reading);
+                trace.expired.extend(expired);
+            }
+            if let Some(seeds) = seeds {
+                woken.extend(seeds.dormant[..gone].iter().flatten());
+                seeds.flags.drain(..gone);
+                seeds.dormant.drain(..gone);
+            }
+            memory.drain(..gone);
+        }
+        return memory.len();
+    }
+    let (mut i, mut kept) = (0, 0);
     memory.retain(|m| {
-        let taken = MemoryClock {
-            snapshot: m.support.reading.snapshot(),
-            travelled_m: m.travelled_m,
-        };
-        let keep = now.keeps(&taken, params);
+        let keep = keeps(m);
         if !keep && record {
             trace.expired.push(m.support.reading);
         }
@@ -251,21 +310,18 @@ fn expire_and_add(
         keep
     });
     if let Some(seeds) = seeds {
+        seeds.flags.truncate(kept);
         seeds.dormant.truncate(kept);
-        for (flag, group) in seeds.flags.iter_mut().zip(&mut seeds.dormant) {
-            if group.is_some_and(|g| record || woken.contains(&g)) {
-                (*flag, *group) = (true, None);
-            }
-        }
-    }
-    memory.extend(singles.iter().map(|s| MemoryPoint {
-        support: *s,
-        travelled_m: now.travelled_m,
-    }));
-    if record {
-        trace.added.extend(singles.iter().map(|s| s.reading));
     }
     kept
+}
+
+/// Where point memory's clock stood when `m` was remembered.
+fn remembered_at(m: &MemoryPoint) -> MemoryClock {
+    MemoryClock {
+        snapshot: m.support.reading.snapshot(),
+        travelled_m: m.travelled_m,
+    }
 }
 
 /// Groups the memory's readings by single linkage: around the seeds (the `kept` old ones
@@ -387,6 +443,9 @@ fn release_taken(
     trace: &mut MemoryTrace,
     record: bool,
 ) {
+    if !taken.used.contains(&true) {
+        return;
+    }
     let (mut i, mut kept) = (0, 0);
     memory.retain(|m| {
         let keep = !taken.used[i];
