@@ -7,6 +7,36 @@ use sonarmap::mapping::{Mapper, Params};
 use sonarmap::sim::{with_odometry, OdometryError, SceneKind};
 use sonarmap::soak::{family_run, map_checked};
 
+/// The Pioneer stand-in crawled (15 mm a cycle, three firing groups) with the bad drift,
+/// seed 1.
+fn drifting_corridor_crawl() -> sonarmap::run::Run {
+    use sonarmap::sim::{load_plan, simulate_paced, Model, Pace};
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/pioneer_corridor.plan.json"
+    );
+    let plan = load_plan(&std::fs::read(path).unwrap(), path).unwrap();
+    let crawl = Pace {
+        cycle_step_m: Some(0.015),
+        cycle_s: 0.3,
+        firing_groups: 3,
+        ..Pace::PLAN
+    };
+    with_odometry(
+        &simulate_paced(&plan, Model::Specular, 1, &crawl),
+        &OdometryError::BAD,
+        1,
+    )
+}
+
+/// `extended` without any pose correction.
+fn uncorrected_params() -> Params {
+    Params {
+        heading_correction: false,
+        ..Params::extended()
+    }
+}
+
 fn corrected_params() -> Params {
     Params {
         pose_correction: true,
@@ -58,29 +88,44 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(8))]
+    #[test]
+    fn heading_alone_moves_only_where_a_wall_line_counted_and_never_away_from_the_axes(
+        kind in 0usize..6,
+        seed in 0u64..1000,
+        bad in any::<bool>(),
+    ) {
+        let error = if bad { OdometryError::BAD } else { OdometryError::MILD };
+        let run = with_odometry(&family_run(SceneKind::ALL[kind], seed, 150), &error, seed);
+        let params = Params::extended();
+        prop_assert!(params.heading_correction && !params.pose_correction);
+        let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor);
+        for s in &run.snapshots {
+            let trace = mapper.step(s);
+            let c = trace.correction.expect("every step records its correction");
+            prop_assert_eq!(trace.pose, Some(c.corrected));
+            match (&c.heading, &c.refused) {
+                (Some(h), None) => {
+                    prop_assert!(h.deviation_after_deg.abs() <= h.deviation_deg.abs() + 1e-9);
+                    let turn_deg = (c.corrected.heading_rad - c.predicted.heading_rad).to_degrees();
+                    prop_assert!(turn_deg.abs() <= 3.0 * c.prior_sigma[2] + 1e-9);
+                }
+                _ => prop_assert_eq!(c.corrected, c.predicted, "step {}", trace.snapshot),
+            }
+        }
+        let checked = map_checked(&run, &params, true);
+        prop_assert!(checked.failure.is_none(), "{:?}", checked.failure);
+    }
+}
+
 /// A Pioneer-like crawl (15 mm a cycle, three firing groups) there and back along a corridor,
 /// with the bad drift: the wall windows' lines hold the heading that the range readings alone
 /// let drift with the walls just drawn (docs/algorithm.md §8.17, `heading_window`).
 #[test]
 fn the_walls_axes_hold_the_heading_of_a_drifting_corridor_crawl() {
     use sonarmap::pose_error::pose_error_of;
-    use sonarmap::sim::{load_plan, simulate_paced, Model, Pace};
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/assets/pioneer_corridor.plan.json"
-    );
-    let plan = load_plan(&std::fs::read(path).unwrap(), path).unwrap();
-    let crawl = Pace {
-        cycle_step_m: Some(0.015),
-        cycle_s: 0.3,
-        firing_groups: 3,
-        ..Pace::PLAN
-    };
-    let run = with_odometry(
-        &simulate_paced(&plan, Model::Specular, 1, &crawl),
-        &OdometryError::BAD,
-        1,
-    );
+    let run = drifting_corridor_crawl();
     let heading_rms_deg = |heading_window_m: f64| {
         let params = Params {
             heading_window_m,
@@ -113,14 +158,34 @@ fn the_walls_axes_hold_the_heading_of_a_drifting_corridor_crawl() {
     );
 }
 
+/// `extended`'s heading alone (no range pull) on the same crawl with the bad drift: the
+/// heading error under 0.6 of the odometry's.
 #[test]
-fn without_the_flag_no_step_records_a_correction_and_the_pose_is_the_odometry() {
+fn extended_holds_the_heading_of_a_drifting_corridor_crawl_from_the_walls_alone() {
+    use sonarmap::pose_error::{pose_error, pose_error_of};
+    let run = drifting_corridor_crawl();
+    let mut mapper = Mapper::new(Params::extended(), run.layout.clone(), run.sensor);
+    let poses: Vec<_> = run
+        .snapshots
+        .iter()
+        .map(|s| mapper.step(s).pose.unwrap())
+        .collect();
+    let mapped_deg = pose_error_of(&run, poses).unwrap().rms_heading_deg;
+    let odometry_deg = pose_error(&run).unwrap().rms_heading_deg;
+    assert!(
+        mapped_deg < 0.6 * odometry_deg,
+        "heading RMS {mapped_deg:.2}° mapped, {odometry_deg:.2}° odometry"
+    );
+}
+
+#[test]
+fn without_either_correction_flag_no_step_records_a_correction_and_the_pose_is_the_odometry() {
     let run = with_odometry(
         &family_run(SceneKind::CorridorWithDoors, 4, 120),
         &OdometryError::MILD,
         4,
     );
-    let mut mapper = Mapper::new(Params::extended(), run.layout.clone(), run.sensor);
+    let mut mapper = Mapper::new(uncorrected_params(), run.layout.clone(), run.sensor);
     for s in &run.snapshots {
         let trace = mapper.step(s);
         assert!(trace.correction.is_none());
@@ -141,7 +206,7 @@ fn a_drifting_run_shows_its_odometry_corrected_and_true_paths() {
         &OdometryError::BAD,
         3,
     ));
-    for (params, corrected) in [(corrected_params(), true), (Params::extended(), false)] {
+    for (params, corrected) in [(corrected_params(), true), (uncorrected_params(), false)] {
         let replay = Replay::build(run.clone(), params, 32, &mut |_| true).unwrap();
         let last = run.snapshots.len() - 1;
         let view = replay.view(last).unwrap();
@@ -172,7 +237,7 @@ fn the_app_plots_a_drifting_runs_correction_and_shows_the_steps_numbers() {
     let mut h = harness(SonarApp::new(run, None));
     settle(&mut h);
     let mapped_without = "this run was mapped without pose correction (§8.17)";
-    h.state_mut().push(Command::SetParams(Params::extended()));
+    h.state_mut().push(Command::SetParams(uncorrected_params()));
     settle(&mut h);
     h.get_by_label("Plots").click();
     h.run();
