@@ -29,6 +29,14 @@ fn drifting_corridor_crawl() -> sonarmap::run::Run {
     )
 }
 
+/// `extended` with the heading alone corrected from the walls.
+fn heading_params() -> Params {
+    Params {
+        heading_correction: true,
+        ..Params::extended()
+    }
+}
+
 /// `extended` without any pose correction.
 fn uncorrected_params() -> Params {
     Params {
@@ -98,8 +106,7 @@ proptest! {
     ) {
         let error = if bad { OdometryError::BAD } else { OdometryError::MILD };
         let run = with_odometry(&family_run(SceneKind::ALL[kind], seed, 150), &error, seed);
-        let params = Params::extended();
-        prop_assert!(params.heading_correction && !params.pose_correction);
+        let params = heading_params();
         let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor);
         for s in &run.snapshots {
             let trace = mapper.step(s);
@@ -158,13 +165,13 @@ fn the_walls_axes_hold_the_heading_of_a_drifting_corridor_crawl() {
     );
 }
 
-/// `extended`'s heading alone (no range pull) on the same crawl with the bad drift: the
-/// heading error under 0.6 of the odometry's.
+/// The heading alone (`heading_correction`, no range pull) on the same crawl with the bad
+/// drift: the heading error under 0.6 of the odometry's.
 #[test]
-fn extended_holds_the_heading_of_a_drifting_corridor_crawl_from_the_walls_alone() {
+fn the_walls_alone_hold_the_heading_of_a_drifting_corridor_crawl() {
     use sonarmap::pose_error::{pose_error, pose_error_of};
     let run = drifting_corridor_crawl();
-    let mut mapper = Mapper::new(Params::extended(), run.layout.clone(), run.sensor);
+    let mut mapper = Mapper::new(heading_params(), run.layout.clone(), run.sensor);
     let poses: Vec<_> = run
         .snapshots
         .iter()

@@ -466,7 +466,7 @@ parameters! {
     /// position (docs/algorithm.md §8.17). With `pose_correction` the windows join its update
     /// instead. Acts only with `confirm_segments`.
     heading_correction: bool, file heading_correction: bool, flag,
-        paper false, extended true, needs ["confirm_segments"];
+        paper false, extended false, needs ["confirm_segments"];
     /// Distance driven over which a sensor's wall readings, laid out by the odometry, form a
     /// line whose deviation from the map's nearer axis (within 5°) observes heading
     /// (docs/algorithm.md §8.17); 0 is off. Acts only with `pose_correction` or
