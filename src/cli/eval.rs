@@ -4,12 +4,13 @@
 use super::input::{read, read_run};
 use super::map_run::map_run;
 use super::output::emit;
-use super::params::{read_params, ParamArgs, PresetArg};
+use super::params::{preset_of, read_params, ParamArgs};
 use super::suite::{suite_command, SuiteArgs};
 use anyhow::{anyhow, Context, Result};
 use clap::Args;
 use sonarmap::alignment::Search;
 use sonarmap::eval::{evaluate, evaluate_aligned, EvalReport};
+use sonarmap::mapping::Preset;
 use sonarmap::sim::load_plan;
 use std::path::PathBuf;
 
@@ -149,9 +150,9 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
     let has_features = features > 0;
     let out = EvalOutput {
         log: log.display().to_string(),
-        preset: match args.params.preset {
-            PresetArg::Paper => "paper",
-            PresetArg::Extended => "extended",
+        preset: match preset_of(&args.params)? {
+            Preset::Paper => "paper",
+            Preset::Extended => "extended",
         },
         snapshots: summary.snapshots,
         report,

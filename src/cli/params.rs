@@ -37,6 +37,19 @@ pub struct ParamArgs {
     pub preset: PresetArg,
 }
 
+/// The preset the parameters start from: the `--params` file's `preset` when it names one,
+/// else `--preset`.
+pub fn preset_of(args: &ParamArgs) -> Result<Preset> {
+    let from_file = match &args.params {
+        Some(path) => {
+            let name = path.display().to_string();
+            parse_json::<ParamsFile>(&read(path)?, &name)?.preset
+        }
+        None => None,
+    };
+    Ok(from_file.unwrap_or(args.preset.into()))
+}
+
 /// The parameters from a preset and an optional `--params` file; a parameter on while one it
 /// acts only with is off is warned about on stderr.
 pub fn read_params(args: &ParamArgs) -> Result<Params> {

@@ -271,6 +271,24 @@ fn eval_prints_one_json_object_with_the_figures() {
 }
 
 #[test]
+fn eval_names_the_preset_a_params_file_starts_from() {
+    let dir = tempfile::tempdir().unwrap();
+    let params = dir.path().join("extended.json");
+    std::fs::write(&params, r#"{"preset": "extended"}"#).unwrap();
+    let log = assets("tight_room.log.json");
+    let args = [
+        "eval",
+        log.to_str().unwrap(),
+        "--params",
+        params.to_str().unwrap(),
+    ];
+    let out = sonarmap(&args);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["preset"], "extended");
+}
+
+#[test]
 fn eval_align_on_a_simulated_run_finds_almost_no_turn_and_scores_no_worse() {
     // A simulated run without drift is drawn in its plan's frame: the alignment is a small
     // correction, and scoring after it keeps at least the true segments' share.
