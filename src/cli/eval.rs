@@ -4,7 +4,7 @@
 use super::input::{read, read_run};
 use super::map_run::map_run;
 use super::output::emit;
-use super::params::{preset_of, read_params, ParamArgs};
+use super::params::{read_params_and_preset, ParamArgs};
 use super::suite::{suite_command, SuiteArgs};
 use anyhow::{anyhow, Context, Result};
 use clap::Args;
@@ -106,7 +106,7 @@ struct EvalOutput {
 
 /// Runs `sonarmap eval`.
 pub fn eval_command(args: &EvalArgs) -> Result<()> {
-    let params = read_params(&args.params)?;
+    let (params, preset) = read_params_and_preset(&args.params)?;
     let Some(log) = &args.log else {
         let suite = SuiteArgs {
             scenes: args.suite.unwrap_or(0),
@@ -150,7 +150,7 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
     let has_features = features > 0;
     let out = EvalOutput {
         log: log.display().to_string(),
-        preset: match preset_of(&args.params)? {
+        preset: match preset {
             Preset::Paper => "paper",
             Preset::Extended => "extended",
         },

@@ -37,33 +37,26 @@ pub struct ParamArgs {
     pub preset: PresetArg,
 }
 
-/// The preset the parameters start from: the `--params` file's `preset` when it names one,
-/// else `--preset`.
-pub fn preset_of(args: &ParamArgs) -> Result<Preset> {
-    let from_file = match &args.params {
-        Some(path) => {
-            let name = path.display().to_string();
-            parse_json::<ParamsFile>(&read(path)?, &name)?.preset
-        }
-        None => None,
-    };
-    Ok(from_file.unwrap_or(args.preset.into()))
-}
-
 /// The parameters from a preset and an optional `--params` file; a parameter on while one it
 /// acts only with is off is warned about on stderr.
 pub fn read_params(args: &ParamArgs) -> Result<Params> {
-    let base = Params::preset(args.preset.into());
+    read_params_and_preset(args).map(|(params, _)| params)
+}
+
+/// [`read_params`], with the preset the parameters start from: the `--params` file's `preset`
+/// when it names one, else `--preset`.
+pub fn read_params_and_preset(args: &ParamArgs) -> Result<(Params, Preset)> {
+    let preset: Preset = args.preset.into();
     let Some(path) = &args.params else {
-        return Ok(base);
+        return Ok((Params::preset(preset), preset));
     };
     let name = path.display().to_string();
     let file: ParamsFile = parse_json(&read(path)?, &name)?;
-    let params = base
+    let params = Params::preset(preset)
         .with_file(&file)
         .with_context(|| format!("{name}: bad parameters"))?;
     for unmet in params.unmet_needs() {
         eprintln!("warning: {name}: {unmet}");
     }
-    Ok(params)
+    Ok((params, file.preset.unwrap_or(preset)))
 }
