@@ -340,19 +340,7 @@ fn the_export_is_what_the_screen_shows_and_a_png_name_writes_a_png() {
 #[test]
 fn the_inspector_says_when_a_plane_support_was_the_same_view() {
     use sonarmap::mapping::{Mapper, Params};
-    use sonarmap::sim::{load_plan, simulate_paced, Model, Pace};
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/assets/pioneer_corridor.plan.json"
-    );
-    let plan = load_plan(&std::fs::read(path).unwrap(), path).unwrap();
-    let crawl = Pace {
-        cycle_step_m: Some(0.015),
-        cycle_s: 0.3,
-        firing_groups: 3,
-        ..Pace::PLAN
-    };
-    let mut run = simulate_paced(&plan, Model::Specular, 2, &crawl);
+    let mut run = super::support::pioneer_corridor_crawl(2);
     run.snapshots.truncate(40);
     let mut mapper = Mapper::new(Params::extended(), run.layout.clone(), run.sensor);
     let same_view = run

@@ -1,32 +1,26 @@
 //! Pose correction (docs/algorithm.md §8.17) on generated families given odometry drift: what
 //! it may and may not do to a step's pose, and the map's invariants with it on.
 
+use super::support::pioneer_corridor_crawl;
 use egui_kittest::kittest::Queryable;
 use proptest::prelude::*;
 use sonarmap::mapping::{Mapper, Params};
 use sonarmap::sim::{with_odometry, OdometryError, SceneKind};
 use sonarmap::soak::{family_run, map_checked};
 
-/// The Pioneer stand-in crawled (15 mm a cycle, three firing groups) with the bad drift,
-/// seed 1.
+/// The Pioneer stand-in crawled with the bad drift, seed 1.
 fn drifting_corridor_crawl() -> sonarmap::run::Run {
-    use sonarmap::sim::{load_plan, simulate_paced, Model, Pace};
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/assets/pioneer_corridor.plan.json"
-    );
-    let plan = load_plan(&std::fs::read(path).unwrap(), path).unwrap();
-    let crawl = Pace {
-        cycle_step_m: Some(0.015),
-        cycle_s: 0.3,
-        firing_groups: 3,
-        ..Pace::PLAN
+    with_odometry(&pioneer_corridor_crawl(1), &OdometryError::BAD, 1)
+}
+
+/// A generated family run of 150 snapshots given the mild or the bad drift.
+fn drifting_family_run(kind: usize, seed: u64, bad: bool) -> sonarmap::run::Run {
+    let error = if bad {
+        OdometryError::BAD
+    } else {
+        OdometryError::MILD
     };
-    with_odometry(
-        &simulate_paced(&plan, Model::Specular, 1, &crawl),
-        &OdometryError::BAD,
-        1,
-    )
+    with_odometry(&family_run(SceneKind::ALL[kind], seed, 150), &error, seed)
 }
 
 /// `extended` with the heading alone corrected from the walls.
@@ -60,8 +54,7 @@ proptest! {
         seed in 0u64..1000,
         bad in any::<bool>(),
     ) {
-        let error = if bad { OdometryError::BAD } else { OdometryError::MILD };
-        let run = with_odometry(&family_run(SceneKind::ALL[kind], seed, 150), &error, seed);
+        let run = drifting_family_run(kind, seed, bad);
         let params = corrected_params();
         let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor);
         for s in &run.snapshots {
@@ -104,8 +97,7 @@ proptest! {
         seed in 0u64..1000,
         bad in any::<bool>(),
     ) {
-        let error = if bad { OdometryError::BAD } else { OdometryError::MILD };
-        let run = with_odometry(&family_run(SceneKind::ALL[kind], seed, 150), &error, seed);
+        let run = drifting_family_run(kind, seed, bad);
         let params = heading_params();
         let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor);
         for s in &run.snapshots {

@@ -157,7 +157,6 @@ fn a_drifting_suite_reports_its_pose_error_and_without_drift_is_the_plain_suite(
 
 #[test]
 fn extended_holds_at_a_crawl_what_it_maps_at_the_papers_pace() {
-    use sonarmap::sim::Pace;
     use sonarmap::suite::{run_suite_with, Conditions};
     // The same four scenes at the plans' pace and crawling 15 mm a cycle, the sonars fired in
     // three groups (docs/algorithm.md §8.1, §8.7: the memory's span and confirmation stated in
@@ -166,12 +165,7 @@ fn extended_holds_at_a_crawl_what_it_maps_at_the_papers_pace() {
     // memory of 10 snapshots, any 3 readings a piece, any two snapshots a confirmation) gave
     // 0.270 / 0.379.
     let crawl = Conditions {
-        pace: Pace {
-            cycle_step_m: Some(0.015),
-            cycle_s: 0.3,
-            firing_groups: 3,
-            ..Pace::PLAN
-        },
+        pace: super::support::CRAWL,
         ..Conditions::PLAIN
     };
     let confirmed = |params: &Params, conditions: &Conditions| {

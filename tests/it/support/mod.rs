@@ -1,10 +1,13 @@
 //! What the integration tests share: the app driven in a harness, the paths of the assets and
-//! fixtures, one sensor-layout builder, and (in `ros2`) ROS 2 recordings built byte by byte.
+//! fixtures, one sensor-layout builder, a Pioneer crawl, and (in `ros2`) ROS 2 recordings built
+//! byte by byte.
 
 pub(crate) mod ros2;
 
 use egui_kittest::Harness;
 use sonarmap::app::{Command, SonarApp};
+use sonarmap::run::Run;
+use sonarmap::sim::{load_plan, simulate_paced, Model, Pace};
 use sonarmap::sonar::{SensorLayout, SensorMount};
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -28,6 +31,23 @@ pub(crate) fn layout_of(mounts: impl IntoIterator<Item = (f64, f64, f64)>) -> Se
             })
             .collect(),
     }
+}
+
+/// A Pioneer's crawl: firing cycles 15 mm and 0.3 s apart, the sonars fired in three groups.
+pub(crate) const CRAWL: Pace = Pace {
+    cycle_step_m: Some(0.015),
+    cycle_s: 0.3,
+    firing_groups: 3,
+    ..Pace::PLAN
+};
+
+/// The Pioneer corridor stand-in (`assets/pioneer_corridor.plan.json`) simulated at [`CRAWL`]
+/// with the specular model and noise seed `seed`, its odometry the truth.
+pub(crate) fn pioneer_corridor_crawl(seed: u64) -> Run {
+    let path = asset("pioneer_corridor.plan.json");
+    let name = path.display().to_string();
+    let plan = load_plan(&std::fs::read(&path).unwrap(), &name).unwrap();
+    simulate_paced(&plan, Model::Specular, seed, &CRAWL)
 }
 
 pub(crate) fn asset(name: &str) -> PathBuf {
