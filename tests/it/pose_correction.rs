@@ -92,7 +92,7 @@ proptest! {
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(8))]
     #[test]
-    fn heading_alone_moves_only_where_a_wall_line_counted_and_never_away_from_the_axes(
+    fn heading_alone_keeps_the_odometry_until_it_drifts_then_takes_off_the_estimated_error(
         kind in 0usize..6,
         seed in 0u64..1000,
         bad in any::<bool>(),
@@ -103,18 +103,46 @@ proptest! {
         for s in &run.snapshots {
             let trace = mapper.step(s);
             let c = trace.correction.expect("every step records its correction");
+            let drift = c.drift.expect("the heading alone records the drift");
             prop_assert_eq!(trace.pose, Some(c.corrected));
-            match (&c.heading, &c.refused) {
-                (Some(h), None) => {
-                    prop_assert!(h.deviation_after_deg.abs() <= h.deviation_deg.abs() + 1e-9);
-                    let turn_deg = (c.corrected.heading_rad - c.predicted.heading_rad).to_degrees();
-                    prop_assert!(turn_deg.abs() <= 3.0 * c.prior_sigma[2] + 1e-9);
-                }
-                _ => prop_assert_eq!(c.corrected, c.predicted, "step {}", trace.snapshot),
+            // The position is the prediction's: the ranges do not pull.
+            prop_assert_eq!((c.corrected.x, c.corrected.y), (c.predicted.x, c.predicted.y));
+            let taken_off_deg = (s.pose.heading_rad - c.corrected.heading_rad).to_degrees();
+            if drift.drifting {
+                prop_assert!((taken_off_deg - drift.heading_error_deg).abs() < 1e-9);
+            } else {
+                prop_assert_eq!(c.corrected.heading_rad, s.pose.heading_rad);
+            }
+            if let (Some(h), None) = (&c.heading, &c.refused) {
+                prop_assert!(h.deviation_after_deg.abs() <= h.deviation_deg.abs() + 1e-9);
             }
         }
         let checked = map_checked(&run, &params, true);
         prop_assert!(checked.failure.is_none(), "{:?}", checked.failure);
+    }
+}
+
+/// Without drift, the heading alone never finds the odometry drifting, so the map is the one
+/// `extended` draws without correction, on every scene kind.
+#[test]
+fn heading_alone_leaves_a_run_without_drift_as_it_is() {
+    for kind in SceneKind::ALL {
+        let run = family_run(kind, 7, 150);
+        let map_with = |params: Params| {
+            let mut mapper = Mapper::new(params, run.layout.clone(), run.sensor);
+            for s in &run.snapshots {
+                let trace = mapper.step(s);
+                assert!(trace
+                    .correction
+                    .is_none_or(|c| c.drift.is_some_and(|d| !d.drifting)));
+            }
+            mapper.map().clone()
+        };
+        assert_eq!(
+            map_with(heading_params()),
+            map_with(uncorrected_params()),
+            "{kind:?}"
+        );
     }
 }
 

@@ -6,7 +6,9 @@
 use super::context::InspectCtx;
 use super::widgets::{heading, kv, FAIL};
 use crate::geometry::Pose;
-use crate::mapping::model::ext_trace::{CorrectionRefusal, CorrectionTarget, HeadingObservation};
+use crate::mapping::model::ext_trace::{
+    CorrectionRefusal, CorrectionTarget, DriftEstimate, HeadingObservation,
+};
 use egui::RichText;
 
 /// `pose` as position and heading.
@@ -84,6 +86,9 @@ pub(super) fn correction_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
             if let Some(h) = &c.heading {
                 heading_row(ui, h);
             }
+            if let Some(d) = &c.drift {
+                drift_rows(ui, d);
+            }
         });
     if let Some(refusal) = &c.refused {
         ui.label(RichText::new(format!("refused: {}", refusal_text(refusal))).color(FAIL));
@@ -134,5 +139,28 @@ fn heading_row(ui: &mut egui::Ui, h: &HeadingObservation) {
         ui,
         "lines' σ, sensors",
         format!("{:.2}°, {:?}", h.sigma_deg, h.sensors),
+    );
+}
+
+/// The odometry's drift as the heading alone estimates it (docs/algorithm.md §8.17).
+fn drift_rows(ui: &mut egui::Ui, d: &DriftEstimate) {
+    kv(
+        ui,
+        "odometry's heading error",
+        format!("{:+.2}° ± {:.2}°", d.heading_error_deg, d.sigma_deg),
+    );
+    kv(
+        ui,
+        "drift",
+        format!("{:+.3}°/m, {:+.2} % of turns", d.deg_per_m, d.turn_pct),
+    );
+    kv(
+        ui,
+        "corrected",
+        if d.drifting {
+            "yes: the drift is significant".to_string()
+        } else {
+            "not yet: no significant drift".to_string()
+        },
     );
 }

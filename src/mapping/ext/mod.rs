@@ -9,6 +9,7 @@ pub mod corner_diagonals;
 pub mod echo_fit;
 pub mod free_space;
 pub mod memory_linkage;
+pub mod odometry_drift;
 pub mod point_features;
 pub mod point_memory;
 pub mod pose_correction;
@@ -39,7 +40,7 @@ pub const ALL: &[Extension] = &[
     Extension {
         parameter: "heading_correction",
         section: "8.17",
-        source: "Nguyen, Harati, Martinelli and Siegwart 2006: orthogonal SLAM, indoor walls along two axes",
+        source: "Nguyen, Harati, Martinelli and Siegwart 2006: orthogonal SLAM, indoor walls along two axes; Martinelli, Tomatis and Siegwart 2007: odometry calibrated on line",
     },
     Extension {
         parameter: "explain_readings",

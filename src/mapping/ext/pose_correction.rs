@@ -12,6 +12,7 @@
 
 use crate::geometry::{Point, Pose, Vec2};
 use crate::mapping::ext::beam_geometry::{feature_tolerance_m, HalfCone};
+use crate::mapping::ext::odometry_drift::OdometryDrift;
 use crate::mapping::ext::rectilinear_heading::RectilinearState;
 use crate::mapping::model::beam::Beam;
 use nalgebra::{Matrix3, SymmetricEigen, Vector3};
@@ -55,6 +56,8 @@ pub struct PoseBelief {
     pub covariance: Matrix3<f64>,
     /// The windows of wall readings and the map's axis (`heading_window`).
     pub rectilinear: RectilinearState,
+    /// The odometry's drift (`heading_correction` alone).
+    pub drift: OdometryDrift,
 }
 
 impl Default for PoseBelief {
@@ -63,6 +66,7 @@ impl Default for PoseBelief {
             odometry_to_map: Pose::default(),
             covariance: Matrix3::zeros(),
             rectilinear: RectilinearState::default(),
+            drift: OdometryDrift::default(),
         }
     }
 }

@@ -128,6 +128,67 @@ pub fn fit_line(window: &WallWindow, window_m: f64) -> Option<LineFit> {
     })
 }
 
+/// The line that may set the map's axis: the first that spans nine tenths of `window_m`,
+/// within [`AXIS_MAX_SIGMA_RAD`] (a noisier first line would tilt every later heading).
+pub fn axis_line(lines: &HeadingLines, window_m: f64) -> Option<&LineFit> {
+    lines
+        .iter()
+        .map(|(_, line)| line)
+        .find(|line| line.span_m >= 0.9 * window_m && line.sigma_rad <= AXIS_MAX_SIGMA_RAD)
+}
+
+/// The smallest standard deviation of the axis the walls give (0.05°).
+pub const MIN_WALLS_AXIS_SIGMA_RAD: f64 = 0.05 * std::f64::consts::PI / 180.0;
+
+/// The map's axis as its `walls` (direction in radians, length in metres) show it, radians in
+/// [0, 90°), with its standard deviation: the length-weighted mean of the directions modulo
+/// 90° (the mean of 4θ), then again over the walls within [`AXIS_GATE_RAD`] of it. The
+/// deviation is the walls' weighted spread over the root of their number. `None` until
+/// the walls within the gate are `min_length_m` long in all.
+///
+/// ```
+/// use sonarmap::mapping::ext::rectilinear_heading::walls_axis;
+/// // Walls at 30.2° and 119.8° (1 m each, 0.2° either side of 30° modulo 90°) and a 0.5 m wall
+/// // at 75° that the gate leaves out.
+/// let walls = [(30.2f64.to_radians(), 1.0), (119.8f64.to_radians(), 1.0), (75f64.to_radians(), 0.5)];
+/// let (axis, sigma) = walls_axis(&walls, 2.0).unwrap();
+/// assert!((axis.to_degrees() - 30.0).abs() < 1e-9);
+/// assert!((sigma.to_degrees() - 0.2 / 2f64.sqrt()).abs() < 1e-9);
+/// assert_eq!(walls_axis(&walls[..1], 2.0), None);
+/// ```
+pub fn walls_axis(walls: &[(f64, f64)], min_length_m: f64) -> Option<(f64, f64)> {
+    let mean = |gate_around: Option<f64>| {
+        let (mut x, mut y, mut length, mut count) = (0.0, 0.0, 0.0, 0usize);
+        for &(direction, l) in walls {
+            if gate_around
+                .is_some_and(|axis| deviation_from_axes(direction, axis).abs() > AXIS_GATE_RAD)
+            {
+                continue;
+            }
+            x += l * (4.0 * direction).cos();
+            y += l * (4.0 * direction).sin();
+            length += l;
+            count += 1;
+        }
+        (length > 0.0).then(|| ((y.atan2(x) / 4.0).rem_euclid(FRAC_PI_2), length, count))
+    };
+    let (rough, _, _) = mean(None)?;
+    let (axis, length, count) = mean(Some(rough))?;
+    if length < min_length_m {
+        return None;
+    }
+    let spread2 = walls
+        .iter()
+        .filter(|(d, _)| deviation_from_axes(*d, axis).abs() <= AXIS_GATE_RAD)
+        .map(|&(d, l)| l * deviation_from_axes(d, axis).powi(2))
+        .sum::<f64>()
+        / length;
+    Some((
+        axis,
+        (spread2.sqrt() / (count as f64).sqrt()).max(MIN_WALLS_AXIS_SIGMA_RAD),
+    ))
+}
+
 /// `direction_rad`'s deviation from the nearer of the axes `axis_rad` and `axis_rad` + 90°,
 /// in (−45°, 45°].
 ///

@@ -333,6 +333,26 @@ pub struct CorrectionTrace {
     /// The heading the wall windows observed (`heading_window`), if any line counted.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub heading: Option<HeadingObservation>,
+    /// The odometry's drift as estimated after the step (`heading_correction` alone).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub drift: Option<DriftEstimate>,
+}
+
+/// The odometry's heading error and its causes, as `heading_correction` estimates them from the
+/// walls' axes (docs/algorithm.md §8.17).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DriftEstimate {
+    /// The odometry's heading minus the map's, degrees (the correction turns the pose by its
+    /// negative).
+    pub heading_error_deg: f64,
+    /// Its standard deviation, degrees.
+    pub sigma_deg: f64,
+    /// Its systematic growth per metre driven, degrees (unequal wheel diameters).
+    pub deg_per_m: f64,
+    /// Its systematic growth per turn, percent of the angle turned (a wrong wheelbase).
+    pub turn_pct: f64,
+    /// Whether the drift has been significant, so that the heading is corrected.
+    pub drifting: bool,
 }
 
 /// The heading the lines of the sensors' wall windows observe (docs/algorithm.md §8.17).

@@ -6,7 +6,7 @@ use super::pose_correction::Matched;
 use crate::geometry::{wrap_pi, Pose};
 use crate::mapping::ext::pose_correction::RangeObservation;
 use crate::mapping::ext::rectilinear_heading::{
-    axis_deviation, fit_line, push, HeadingLines, AXIS_GATE_RAD, AXIS_MAX_SIGMA_RAD,
+    axis_deviation, axis_line, fit_line, push, HeadingLines, AXIS_GATE_RAD,
 };
 use crate::mapping::model::ext_trace::{CorrectionTarget, HeadingObservation};
 use crate::mapping::Mapper;
@@ -16,14 +16,12 @@ use std::f64::consts::FRAC_PI_2;
 
 impl Mapper {
     /// Adds this step's wall readings (those `matched` at the prediction) to their sensors'
-    /// windows, in the odometry's frame, and fits the windows of those sensors. The first line
-    /// that spans nine tenths of the window, within [`AXIS_MAX_SIGMA_RAD`], sets the map's
-    /// axis. Empty when `heading_window` is 0.
+    /// windows, in the odometry's frame, and fits the windows of those sensors. Empty when
+    /// `heading_window` is 0.
     pub(super) fn heading_lines(
         &mut self,
         snapshot: &Snapshot,
         previous: Option<(f64, Pose)>,
-        predicted: &Pose,
         matched: &[Matched],
     ) -> HeadingLines {
         let window_m = self.params.heading_window_m;
@@ -61,16 +59,23 @@ impl Mapper {
                 lines.extend(fit_line(window, window_m).map(|line| (sensor, line)));
             }
         }
+        lines
+    }
+
+    /// With `pose_correction`, before the map has an axis: the first line that may set one
+    /// ([`axis_line`]), carried into the map by the prediction.
+    pub(super) fn set_axis_if_none(
+        &mut self,
+        snapshot: &Snapshot,
+        predicted: &Pose,
+        lines: &HeadingLines,
+    ) {
+        let state = &mut self.pose_belief.rectilinear;
         if state.axis_rad.is_none() {
             let rotation_rad = wrap_pi(predicted.heading_rad - snapshot.pose.heading_rad);
-            state.axis_rad = lines
-                .iter()
-                .find(|(_, line)| {
-                    line.span_m >= 0.9 * window_m && line.sigma_rad <= AXIS_MAX_SIGMA_RAD
-                })
-                .map(|(_, line)| (line.direction_rad + rotation_rad).rem_euclid(FRAC_PI_2));
+            state.axis_rad = axis_line(lines, self.params.heading_window_m)
+                .map(|line| (line.direction_rad + rotation_rad).rem_euclid(FRAC_PI_2));
         }
-        lines
     }
 
     /// The lines' deviation from the map's axes with the robot at `estimate`, and its standard

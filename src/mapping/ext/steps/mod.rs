@@ -7,6 +7,7 @@ mod confirmation;
 mod corner_diagonals;
 mod echo_placement;
 mod free_space;
+mod heading_alone;
 mod heading_windows;
 mod point_features;
 mod point_memory;

@@ -40,16 +40,30 @@ impl Mapper {
             return snapshot.pose;
         }
         let (predicted, prior) = self.predict(snapshot, previous);
-        let correction = self.correct(snapshot, previous, predicted, prior);
+        let correction = if self.params.pose_correction {
+            self.correct(snapshot, previous, predicted, prior)
+        } else {
+            self.correct_heading_alone(snapshot, previous, predicted, prior)
+        };
         let corrected = correction.corrected;
-        self.pose_belief.odometry_to_map = corrected.compose(&inverse(&snapshot.pose));
+        // Exactly the identity while the pose is the odometry's, so that a correction that
+        // never moved leaves the map bit for bit as without it.
+        self.pose_belief.odometry_to_map = if corrected == snapshot.pose {
+            Pose::default()
+        } else {
+            corrected.compose(&inverse(&snapshot.pose))
+        };
         trace.correction = Some(correction);
         corrected
     }
 
     /// The pose the last estimate and the odometry's increment predict, and its covariance
     /// (the last one carried through the motion, plus the increment's noise).
-    fn predict(&self, snapshot: &Snapshot, previous: Option<(f64, Pose)>) -> (Pose, Matrix3<f64>) {
+    pub(super) fn predict(
+        &self,
+        snapshot: &Snapshot,
+        previous: Option<(f64, Pose)>,
+    ) -> (Pose, Matrix3<f64>) {
         let belief = &self.pose_belief;
         let predicted = belief.odometry_to_map.compose(&snapshot.pose);
         let Some((_, odometry_before)) = previous else {
@@ -65,8 +79,9 @@ impl Mapper {
         (predicted, capped(covariance))
     }
 
-    /// The correction of a step predicted at `predicted` with covariance `prior`; updates the
-    /// belief's covariance (and, with `heading_window`, the wall windows).
+    /// The correction of a step predicted at `predicted` with covariance `prior`
+    /// (`pose_correction`); updates the belief's covariance (and, with `heading_window`, the
+    /// wall windows).
     fn correct(
         &mut self,
         snapshot: &Snapshot,
@@ -75,7 +90,8 @@ impl Mapper {
         prior: Matrix3<f64>,
     ) -> CorrectionTrace {
         let at_prediction = self.matched_readings(snapshot, previous, &predicted);
-        let lines = self.heading_lines(snapshot, previous, &predicted, &at_prediction);
+        let lines = self.heading_lines(snapshot, previous, &at_prediction);
+        self.set_axis_if_none(snapshot, &predicted, &lines);
         let (estimate, posterior) = self.solve(
             snapshot,
             previous,
@@ -84,23 +100,17 @@ impl Mapper {
             &lines,
         );
         let after = self.residuals_at(snapshot, previous, &estimate, &at_prediction);
-        let rms_before = rms(at_prediction.iter().map(|m| m.2.residual_m() / m.2.sigma_m));
-        let rms_after = rms(after
-            .iter()
-            .zip(&at_prediction)
-            .map(|(r, m)| r / m.2.sigma_m));
+        let (readings, rms_before, rms_after) = readings_trace(&at_prediction, &after);
         let heading = self.heading_trace(snapshot, &lines, &predicted, &estimate);
         let heading_gain = heading.as_ref().map_or(0.0, |h| {
             (h.deviation_deg.powi(2) - h.deviation_after_deg.powi(2)) / h.sigma_deg.powi(2)
         });
         let rms_pair = (rms_before, rms_after);
-        // Heading alone: the ranges did not pull, so only the prior's term counts against it.
-        let ranges = self.params.pose_correction;
-        let ranged = if ranges { at_prediction.len() } else { 0 };
-        let gain = chi2_gain(ranged, rms_pair, &prior, &predicted, &estimate) + heading_gain;
+        let gain =
+            chi2_gain(at_prediction.len(), rms_pair, &prior, &predicted, &estimate) + heading_gain;
         let refused = refusal(
             previous.is_none(),
-            ranges.then_some(at_prediction.as_slice()),
+            &at_prediction,
             &predicted,
             &estimate,
             &prior,
@@ -117,19 +127,7 @@ impl Mapper {
             odometry: snapshot.pose,
             predicted,
             corrected,
-            readings: at_prediction
-                .iter()
-                .zip(&after)
-                .map(
-                    |(&(sensor, target, o), &residual_after_m)| CorrectionReading {
-                        sensor,
-                        target,
-                        residual_before_m: o.residual_m(),
-                        residual_after_m,
-                        sigma_m: o.sigma_m,
-                    },
-                )
-                .collect(),
+            readings,
             rms_before,
             rms_after,
             prior_sigma: sigmas(&prior),
@@ -144,13 +142,13 @@ impl Mapper {
                 .collect(),
             refused,
             heading,
+            drift: None,
         }
     }
 
     /// The iterated update from the prediction (pose and covariance): each iteration
-    /// re-associates the readings at the new estimate. With `heading_correction` alone, the wall
-    /// windows' heading observation is the only one (position moves only through its
-    /// correlation with heading). Returns the estimate and its covariance.
+    /// re-associates the readings at the new estimate; the wall windows' heading observation
+    /// joins the ranges. Returns the estimate and its covariance.
     fn solve(
         &self,
         snapshot: &Snapshot,
@@ -159,19 +157,14 @@ impl Mapper {
         at_prediction: &[Matched],
         lines: &HeadingLines,
     ) -> (Pose, Matrix3<f64>) {
-        let ranges = self.params.pose_correction;
         let mut estimate = predicted;
         let mut posterior = prior;
         let mut matched = at_prediction.to_vec();
         for _ in 0..ITERATIONS {
-            if ranges && matched.len() < MIN_MATCHED_READINGS {
+            if matched.len() < MIN_MATCHED_READINGS {
                 break;
             }
-            let mut observations: Vec<RangeObservation> = if ranges {
-                matched.iter().map(|m| m.2).collect()
-            } else {
-                Vec::new()
-            };
+            let mut observations: Vec<RangeObservation> = matched.iter().map(|m| m.2).collect();
             observations.extend(self.heading_observation(snapshot, lines, &estimate));
             let from_prior = difference(&predicted, &estimate);
             let Some((step, covariance)) = gauss_newton_step(&prior, &from_prior, &observations)
@@ -180,16 +173,14 @@ impl Mapper {
             };
             estimate = moved(&estimate, &step);
             posterior = covariance;
-            if ranges {
-                matched = self.matched_readings(snapshot, previous, &estimate);
-            }
+            matched = self.matched_readings(snapshot, previous, &estimate);
         }
         (estimate, posterior)
     }
 
     /// Each kept reading of `snapshot` taken from `pose` that a confirmed wall or point feature
     /// explains, with the target whose prediction is nearest the range.
-    fn matched_readings(
+    pub(super) fn matched_readings(
         &self,
         snapshot: &Snapshot,
         previous: Option<(f64, Pose)>,
@@ -206,7 +197,7 @@ impl Mapper {
 
     /// The residuals at `pose` of the readings `matched` matched, each against its own target
     /// (the residual at the prediction when the target no longer explains it there).
-    fn residuals_at(
+    pub(super) fn residuals_at(
         &self,
         snapshot: &Snapshot,
         previous: Option<(f64, Pose)>,
@@ -337,11 +328,11 @@ impl Mapper {
 }
 
 /// Why the correction from `predicted` to `estimate` is refused, before its residuals are
-/// compared: the first step, too few readings (`matched`, when the ranges pull), or a move
-/// beyond three of the prior's standard deviations.
+/// compared: the first step, too few readings `matched`, or a move beyond three of the prior's
+/// standard deviations.
 fn refusal(
     first_step: bool,
-    matched: Option<&[Matched]>,
+    matched: &[Matched],
     predicted: &Pose,
     estimate: &Pose,
     prior: &Matrix3<f64>,
@@ -349,7 +340,7 @@ fn refusal(
     if first_step {
         return Some(CorrectionRefusal::FirstStep);
     }
-    if let Some(matched) = matched.filter(|m| m.len() < MIN_MATCHED_READINGS) {
+    if matched.len() < MIN_MATCHED_READINGS {
         return Some(CorrectionRefusal::TooFewReadings {
             matched: matched.len(),
             needed: MIN_MATCHED_READINGS,
@@ -363,6 +354,30 @@ fn refusal(
         shift_m,
         turn_deg: d.z.to_degrees(),
     })
+}
+
+/// The trace of the readings `matched` at the prediction, with their residuals `after` the
+/// correction, and the RMS of their normalised residuals before and after.
+pub(super) fn readings_trace(
+    matched: &[Matched],
+    after: &[f64],
+) -> (Vec<CorrectionReading>, f64, f64) {
+    let rms_before = rms(matched.iter().map(|m| m.2.residual_m() / m.2.sigma_m));
+    let rms_after = rms(after.iter().zip(matched).map(|(r, m)| r / m.2.sigma_m));
+    let readings = matched
+        .iter()
+        .zip(after)
+        .map(
+            |(&(sensor, target, o), &residual_after_m)| CorrectionReading {
+                sensor,
+                target,
+                residual_before_m: o.residual_m(),
+                residual_after_m,
+                sigma_m: o.sigma_m,
+            },
+        )
+        .collect();
+    (readings, rms_before, rms_after)
 }
 
 /// How much moving from `predicted` to `estimate` lowers the sum of squared normalised
@@ -397,7 +412,7 @@ fn rms(values: impl Iterator<Item = f64>) -> f64 {
 }
 
 /// The standard deviations of `covariance`: x and y in metres, heading in degrees.
-fn sigmas(covariance: &Matrix3<f64>) -> [f64; 3] {
+pub(super) fn sigmas(covariance: &Matrix3<f64>) -> [f64; 3] {
     let s = |k: usize| covariance[(k, k)].max(0.0).sqrt();
     [s(0), s(1), s(2).to_degrees()]
 }

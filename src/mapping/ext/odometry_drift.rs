@@ -1,0 +1,316 @@
+//! The odometry's heading error, estimated from the walls' axes with its causes (docs/algorithm.md
+//! §8.17, "the odometry's drift"): the math of `heading_correction`, apart from the step that
+//! uses it (`steps/heading_alone.rs`).
+//!
+//! A wheeled robot's heading error is mostly systematic: unequal wheel diameters turn it a
+//! little with every metre driven, and a wrong wheelbase scales every turn (Borenstein and
+//! Feng's UMBmark, 1996, the paper's reference [1]). So the filter estimates those two causes as
+//! well as the error itself, the odometry calibrated on line as in Martinelli, Tomatis and
+//! Siegwart's "Simultaneous localization and odometry self calibration" (2007) and Roy and
+//! Thrun's on-line self-calibration (1999). Its state is
+//! - `b`, the odometry's heading minus the map's, radians;
+//! - `κ`, its growth per metre driven, radians;
+//! - `ε`, its growth per radian turned;
+//! - `a`, the offset of the reference axis (the direction of the map's confirmed walls when it
+//!   was set, [`crate::mapping::ext::rectilinear_heading::walls_axis`]) from the true axis,
+//!   radians.
+//!
+//! The wall windows' lines, laid out in the odometry's frame, lie along the map's axes turned by
+//! `b`: they observe `b − a` (modulo 90°). The reference axis comes from the map's walls,
+//! drawn over many readings and passes, so `a` starts small and the lines pin `b` itself; the
+//! lines drawn at different distances driven and across turns then separate `b`'s causes. The
+//! correction follows the drift the odometry shows instead of each line's noise: on a robot
+//! whose odometry does not
+//! drift, `κ` and `ε` settle near 0 and the heading stays put.
+
+use crate::mapping::ext::pose_correction::{HEADING_NOISE_PER_RAD, HEADING_NOISE_RAD_PER_M};
+use nalgebra::{Matrix4, Vector4};
+
+/// The heading error's random growth per metre driven (0.1°/√m, wheel slip), as a standard
+/// deviation.
+pub const RANDOM_HEADING_RAD_PER_SQRT_M: f64 = 0.1 * std::f64::consts::PI / 180.0;
+/// How fast the systematic drift per metre may itself change, per √m driven (0.01°/m per √m): a
+/// load or a floor changes it slowly.
+pub const DRIFT_RATE_CHANGE_PER_SQRT_M: f64 = 0.01 * std::f64::consts::PI / 180.0;
+/// How fast the error per radian turned may change, per √rad turned (0.1 %).
+pub const TURN_SCALE_CHANGE_PER_SQRT_RAD: f64 = 0.001;
+/// The smallest drift per metre driven the correction acts on (0.05°/m, half of a mild 1° a
+/// 10 m): below it the odometry is as good as the walls can tell.
+pub const MIN_DRIFT_RAD_PER_M: f64 = 0.05 * std::f64::consts::PI / 180.0;
+/// The smallest error per radian turned the correction acts on (0.4 %, under a mild
+/// wheelbase error of 0.5 %).
+pub const MIN_TURN_ERROR: f64 = 0.004;
+/// How many of its standard deviations a cause must be from 0 to count (2; 2.5 and 3 latched
+/// later on drifting runs, and none of them on runs without drift).
+pub const SIGNIFICANT_SIGMAS: f64 = 2.0;
+/// How far an update may pull, in standard deviations of its innovation: a line further off
+/// is not the wall the filter expects.
+pub const GATE_SIGMAS: f64 = 3.0;
+
+const B: usize = 0;
+const KAPPA: usize = 1;
+const EPSILON: usize = 2;
+const A: usize = 3;
+
+/// The filter's state and covariance (order `b`, `κ`, `ε`, `a`), and the reference axis.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OdometryDrift {
+    /// The estimate.
+    pub mean: Vector4<f64>,
+    /// Its covariance.
+    pub covariance: Matrix4<f64>,
+    /// The reference axis in the map's frame (radians in [0, 90°)), once the walls set it.
+    pub axis_ref_rad: Option<f64>,
+    /// Whether a cause of drift has been significant (and beyond the smallest the correction
+    /// acts on) at some step: until then the odometry is taken as it is, since correcting a
+    /// heading that does not drift only adds the lines' noise to it, and the position would
+    /// integrate that noise.
+    pub drifting: bool,
+}
+
+impl Default for OdometryDrift {
+    /// At the start: no heading error, the causes unknown within the bad end of UMBmark's
+    /// errors (the pose correction's own noise model), no axis yet.
+    fn default() -> Self {
+        Self {
+            mean: Vector4::zeros(),
+            covariance: Matrix4::from_diagonal(&Vector4::new(
+                0.0,
+                HEADING_NOISE_RAD_PER_M.powi(2),
+                HEADING_NOISE_PER_RAD.powi(2),
+                0.0,
+            )),
+            axis_ref_rad: None,
+            drifting: false,
+        }
+    }
+}
+
+/// What an update did: the innovation (the lines' deviation from where the estimate expects
+/// them) before and after, and its standard deviation, radians.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DriftUpdate {
+    /// The lines' deviation from the expected axis before the update.
+    pub innovation_rad: f64,
+    /// The deviation after it.
+    pub innovation_after_rad: f64,
+    /// The innovation's standard deviation (lines and estimate).
+    pub sigma_rad: f64,
+    /// False when the innovation was beyond [`GATE_SIGMAS`] and left out.
+    pub taken: bool,
+}
+
+impl OdometryDrift {
+    /// The odometry's heading error (its heading minus the map's), radians.
+    pub fn heading_error_rad(&self) -> f64 {
+        self.mean[B]
+    }
+
+    /// The correction to take off the odometry's heading, radians: the estimated error once
+    /// the odometry is [`Self::drifting`], else 0.
+    pub fn correction_rad(&self) -> f64 {
+        if self.drifting {
+            self.mean[B]
+        } else {
+            0.0
+        }
+    }
+
+    /// Latches [`Self::drifting`] once the drift per metre or per radian turned is beyond both
+    /// its smallest value ([`MIN_DRIFT_RAD_PER_M`], [`MIN_TURN_ERROR`]) and
+    /// [`SIGNIFICANT_SIGMAS`] of its standard deviation.
+    pub fn note_significance(&mut self) {
+        let significant = |k: usize, smallest: f64| {
+            let value = self.mean[k].abs();
+            value >= smallest
+                && value >= SIGNIFICANT_SIGMAS * self.covariance[(k, k)].max(0.0).sqrt()
+        };
+        self.drifting |=
+            significant(KAPPA, MIN_DRIFT_RAD_PER_M) || significant(EPSILON, MIN_TURN_ERROR);
+    }
+
+    /// The estimated drift per metre driven (radians) and per radian turned, with the heading
+    /// error's standard deviation (radians).
+    pub fn causes(&self) -> (f64, f64, f64) {
+        (
+            self.mean[KAPPA],
+            self.mean[EPSILON],
+            self.covariance[(B, B)].max(0.0).sqrt(),
+        )
+    }
+
+    /// The map's axis as estimated (radians in [0, 90°)): the reference axis less its offset.
+    pub fn axis_rad(&self) -> Option<f64> {
+        self.axis_ref_rad
+            .map(|r| (r - self.mean[A]).rem_euclid(std::f64::consts::FRAC_PI_2))
+    }
+
+    /// The odometry drove `distance_m` and turned `turn_rad`: the error grows by its causes,
+    /// and the uncertainty by the random part.
+    pub fn predict(&mut self, distance_m: f64, turn_rad: f64) {
+        let mut motion = Matrix4::identity();
+        motion[(B, KAPPA)] = distance_m;
+        motion[(B, EPSILON)] = turn_rad;
+        self.mean = motion * self.mean;
+        let noise = Matrix4::from_diagonal(&Vector4::new(
+            RANDOM_HEADING_RAD_PER_SQRT_M.powi(2) * distance_m,
+            DRIFT_RATE_CHANGE_PER_SQRT_M.powi(2) * distance_m,
+            TURN_SCALE_CHANGE_PER_SQRT_RAD.powi(2) * turn_rad.abs(),
+            0.0,
+        ));
+        self.covariance = motion * self.covariance * motion.transpose() + noise;
+    }
+
+    /// Sets the reference axis, in the map's frame, to `axis_rad`, known within `sigma_rad`.
+    pub fn set_axis(&mut self, axis_rad: f64, sigma_rad: f64) {
+        self.axis_ref_rad = Some(axis_rad.rem_euclid(std::f64::consts::FRAC_PI_2));
+        self.mean[A] = 0.0;
+        for k in 0..A {
+            self.covariance[(A, k)] = 0.0;
+            self.covariance[(k, A)] = 0.0;
+        }
+        self.covariance[(A, A)] = sigma_rad * sigma_rad;
+    }
+
+    /// The rotation that carries the odometry's lines to where the estimate expects them on the
+    /// reference axis: −(b − a).
+    pub fn expected_rotation_rad(&self) -> f64 {
+        -(self.mean[B] - self.mean[A])
+    }
+
+    /// Updates with the lines' innovation `innovation_rad` (their deviation from the reference
+    /// axis after [`Self::expected_rotation_rad`]) of standard deviation `sigma_rad`; refused
+    /// beyond [`GATE_SIGMAS`].
+    ///
+    /// ```
+    /// use nalgebra::{Matrix4, Vector4};
+    /// use sonarmap::mapping::ext::odometry_drift::OdometryDrift;
+    /// // The error is 0 ± 5° and the axis known exactly; a line says 1° with σ 0.5°: the error
+    /// // moves by σ_b² / (σ_b² + σ²) of it.
+    /// let mut drift = OdometryDrift::default();
+    /// drift.axis_ref_rad = Some(0.0);
+    /// drift.covariance = Matrix4::from_diagonal(&Vector4::new(5f64.to_radians().powi(2), 0.0, 0.0, 0.0));
+    /// let update = drift.update(1f64.to_radians(), 0.5f64.to_radians());
+    /// let expected = 25.0 / 25.25; // σ_b² / (σ_b² + σ²)
+    /// assert!((drift.heading_error_rad().to_degrees() - expected).abs() < 1e-9);
+    /// assert!(update.taken && (update.innovation_after_rad.to_degrees() - (1.0 - expected)).abs() < 1e-9);
+    /// ```
+    pub fn update(&mut self, innovation_rad: f64, sigma_rad: f64) -> DriftUpdate {
+        let h = Vector4::new(1.0, 0.0, 0.0, -1.0);
+        let variance = (h.transpose() * self.covariance * h)[(0, 0)] + sigma_rad * sigma_rad;
+        let mut update = DriftUpdate {
+            innovation_rad,
+            innovation_after_rad: innovation_rad,
+            sigma_rad: variance.max(0.0).sqrt(),
+            taken: false,
+        };
+        if variance <= 0.0 || innovation_rad.abs() > GATE_SIGMAS * update.sigma_rad {
+            return update;
+        }
+        let gain = self.covariance * h / variance;
+        self.mean += gain * innovation_rad;
+        // Joseph's form keeps the covariance symmetric and positive.
+        let keep = Matrix4::identity() - gain * h.transpose();
+        self.covariance = keep * self.covariance * keep.transpose()
+            + gain * gain.transpose() * (sigma_rad * sigma_rad);
+        update.innovation_after_rad =
+            innovation_rad - (h.transpose() * gain)[(0, 0)] * innovation_rad;
+        update.taken = true;
+        update
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_steady_drift_is_learnt_and_then_followed_without_lines() {
+        // The odometry's heading gains 0.3° a metre. The walls give the axis 0 within 0.1°;
+        // lines along it are drawn every metre for 20 m (exact, σ 0.3°); then 10 m without
+        // lines: the error keeps growing by the learnt rate.
+        let rate = 0.3f64.to_radians();
+        let sigma = 0.3f64.to_radians();
+        let mut drift = OdometryDrift::default();
+        drift.set_axis(0.0, 0.1f64.to_radians());
+        for metre in 1..=20 {
+            drift.predict(1.0, 0.0);
+            // The line in the odometry's frame (the axis 0 turned by the error), turned by the
+            // expected rotation.
+            let innovation = rate * metre as f64 + drift.expected_rotation_rad();
+            let update = drift.update(innovation, sigma);
+            assert!(update.taken, "metre {metre}: {update:?}");
+        }
+        let (kappa, _, _) = drift.causes();
+        assert!(
+            (kappa - rate).abs() < 0.05 * rate,
+            "κ {}°/m",
+            kappa.to_degrees()
+        );
+        for _ in 0..10 {
+            drift.predict(1.0, 0.0);
+        }
+        let error_deg = (drift.heading_error_rad() - rate * 30.0).to_degrees();
+        assert!(error_deg.abs() < 0.5, "error {error_deg}°");
+    }
+
+    #[test]
+    fn odometry_that_does_not_drift_is_left_alone() {
+        // Noisy lines (±0.3°, alternating) on odometry without error, the axis known within
+        // 0.1°: the drift is never significant, so the correction stays 0, and the estimated
+        // error settles within a tenth of a degree; a U-turn after them does not move it.
+        let mut drift = OdometryDrift::default();
+        let sigma = 0.3f64.to_radians();
+        drift.set_axis(0.0, 0.1f64.to_radians());
+        for metre in 1..=50 {
+            drift.predict(1.0, 0.0);
+            let line = if metre % 2 == 0 { sigma } else { -sigma };
+            drift.update(line + drift.expected_rotation_rad(), sigma);
+            drift.note_significance();
+            assert!(!drift.drifting, "metre {metre}: {:?}", drift.causes());
+            assert_eq!(drift.correction_rad(), 0.0);
+        }
+        assert!(drift.heading_error_rad().to_degrees().abs() < 0.1);
+        drift.predict(0.0, std::f64::consts::PI);
+        assert!(drift.heading_error_rad().to_degrees().abs() < 0.1);
+    }
+
+    #[test]
+    fn the_correction_waits_until_the_drift_is_significant() {
+        // Lines 0.2° a metre apart from the axis 0 (known within 0.1°), σ 0.3°: until the rate
+        // is beyond twice its deviation (and 0.05°/m) the correction is 0; from then on, the
+        // whole estimated error.
+        let mut drift = OdometryDrift::default();
+        drift.set_axis(0.0, 0.1f64.to_radians());
+        let rate = 0.2f64.to_radians();
+        let mut latched_at = None;
+        for metre in 1..=30 {
+            drift.predict(1.0, 0.0);
+            let innovation = rate * metre as f64 + drift.expected_rotation_rad();
+            drift.update(innovation, 0.3f64.to_radians());
+            drift.note_significance();
+            let (kappa, _, _) = drift.causes();
+            let kappa_sigma = drift.covariance[(KAPPA, KAPPA)].sqrt();
+            if drift.drifting {
+                latched_at.get_or_insert(metre);
+                assert_eq!(drift.correction_rad(), drift.heading_error_rad());
+            } else {
+                assert_eq!(drift.correction_rad(), 0.0);
+                assert!(kappa.abs() < MIN_DRIFT_RAD_PER_M || kappa.abs() < 2.0 * kappa_sigma);
+            }
+        }
+        let latched_at = latched_at.expect("a 0.2°/m drift is found within 30 m");
+        assert!(latched_at > 1, "latched at once");
+    }
+
+    #[test]
+    fn a_line_far_beyond_the_expected_axis_is_refused() {
+        let mut drift = OdometryDrift::default();
+        drift.predict(1.0, 0.0);
+        drift.set_axis(0.0, 0.001);
+        let before = drift.clone();
+        let update = drift.update(4f64.to_radians(), 0.001);
+        assert!(!update.taken);
+        assert_eq!(drift, before);
+    }
+}

@@ -1,0 +1,165 @@
+//! `heading_correction` alone (docs/algorithm.md §8.17, "the odometry's drift"): the step's
+//! heading is the odometry's less the drift the walls' axes show
+//! ([`crate::mapping::ext::odometry_drift`]); the position follows the odometry's increments
+//! turned by it. The ranges do not pull.
+
+use super::pose_correction::{readings_trace, sigmas};
+use crate::geometry::Pose;
+use crate::mapping::ext::odometry_drift::DriftUpdate;
+use crate::mapping::ext::pose_correction::MIN_WALL_LENGTH_M;
+use crate::mapping::ext::rectilinear_heading::{axis_deviation, walls_axis, HeadingLines};
+use crate::mapping::model::ext_trace::{
+    CorrectionRefusal, CorrectionTrace, DriftEstimate, HeadingObservation, ObservedDirection,
+};
+use crate::mapping::model::map::SegmentKind;
+use crate::mapping::Mapper;
+use crate::run::Snapshot;
+use nalgebra::Matrix3;
+
+/// A step's update of the drift by its wall lines, and the lines' standard deviation
+/// (radians).
+type LinesUpdate = Option<(DriftUpdate, f64)>;
+
+impl Mapper {
+    /// The step's pose with its heading corrected by the odometry's estimated drift (once it
+    /// drifts): the drift grows by its causes over the odometry's increment, then the wall
+    /// windows' lines update it. `predicted` (the last step's correction carried through the
+    /// increment) gives the position, `prior` its covariance.
+    pub(super) fn correct_heading_alone(
+        &mut self,
+        snapshot: &Snapshot,
+        previous: Option<(f64, Pose)>,
+        predicted: Pose,
+        prior: Matrix3<f64>,
+    ) -> CorrectionTrace {
+        let at_prediction = self.matched_readings(snapshot, previous, &predicted);
+        let lines = self.heading_lines(snapshot, previous, &at_prediction);
+        let with_correction = |correction_rad: f64| {
+            Pose::new(
+                predicted.x,
+                predicted.y,
+                snapshot.pose.heading_rad - correction_rad,
+            )
+        };
+        let drift_before = self.predict_drift(previous, &snapshot.pose);
+        let update = self.update_drift(&lines);
+        let drift = &self.pose_belief.drift;
+        let predicted = with_correction(drift_before.0);
+        let corrected = with_correction(drift.correction_rad());
+        let (kappa_rad, epsilon, sigma_rad) = drift.causes();
+        let estimate = DriftEstimate {
+            heading_error_deg: drift.heading_error_rad().to_degrees(),
+            sigma_deg: sigma_rad.to_degrees(),
+            deg_per_m: kappa_rad.to_degrees(),
+            turn_pct: 100.0 * epsilon,
+            drifting: drift.drifting,
+        };
+        let heading = drift
+            .axis_rad()
+            .zip(update)
+            .map(|(axis_rad, (u, sigma_rad))| HeadingObservation {
+                axis_deg: axis_rad.to_degrees(),
+                deviation_deg: u.innovation_rad.to_degrees(),
+                deviation_after_deg: u.innovation_after_rad.to_degrees(),
+                sigma_deg: sigma_rad.to_degrees(),
+                sensors: lines.iter().map(|(s, _)| *s).collect(),
+            });
+        self.pose_belief.covariance = prior;
+        let after = self.residuals_at(snapshot, previous, &corrected, &at_prediction);
+        let (readings, rms_before, rms_after) = readings_trace(&at_prediction, &after);
+        let position_sigma = sigmas(&prior);
+        let sigmas_with = |heading_deg: f64| [position_sigma[0], position_sigma[1], heading_deg];
+        CorrectionTrace {
+            odometry: snapshot.pose,
+            predicted,
+            corrected,
+            readings,
+            rms_before,
+            rms_after,
+            prior_sigma: sigmas_with(drift_before.1.to_degrees()),
+            posterior_sigma: sigmas_with(estimate.sigma_deg),
+            directions: lines_direction(update).into_iter().collect(),
+            refused: refusal(previous.is_none(), update),
+            heading,
+            drift: Some(estimate),
+        }
+    }
+
+    /// Carries the drift through the odometry's increment from `previous` to `odometry`; the
+    /// correction and the heading error's standard deviation (radians) after it.
+    fn predict_drift(&mut self, previous: Option<(f64, Pose)>, odometry: &Pose) -> (f64, f64) {
+        let drift = &mut self.pose_belief.drift;
+        if let Some((_, before)) = previous {
+            let increment = before.relative_to(odometry);
+            drift.predict(increment.x.hypot(increment.y), increment.heading_rad);
+        }
+        (drift.correction_rad(), drift.causes().2)
+    }
+
+    /// Updates the drift with the step's wall `lines` once the walls have set the axis (or
+    /// sets it from the confirmed walls), then notes whether the odometry drifts.
+    fn update_drift(&mut self, lines: &HeadingLines) -> LinesUpdate {
+        let walls = if self.pose_belief.drift.axis_ref_rad.is_none() {
+            self.confirmed_wall_directions()
+        } else {
+            Vec::new()
+        };
+        let window_m = self.params.heading_window_m;
+        let drift = &mut self.pose_belief.drift;
+        let update = match drift.axis_ref_rad {
+            None => {
+                if let Some((axis_rad, sigma_rad)) = walls_axis(&walls, window_m) {
+                    drift.set_axis(axis_rad, sigma_rad);
+                }
+                None
+            }
+            Some(axis_ref_rad) => {
+                let rotation_rad = drift.expected_rotation_rad();
+                let fits = lines.iter().map(|(_, l)| *l);
+                axis_deviation(fits, rotation_rad, axis_ref_rad)
+                    .map(|(innovation, sigma)| (drift.update(innovation, sigma), sigma))
+            }
+        };
+        drift.note_significance();
+        update
+    }
+
+    /// The direction (radians) and length (metres) of each confirmed fitted wall the
+    /// correction may match ([`MIN_WALL_LENGTH_M`] or longer).
+    fn confirmed_wall_directions(&self) -> Vec<(f64, f64)> {
+        self.map
+            .segments
+            .iter()
+            .filter(|s| s.kind == SegmentKind::Fitted && self.map.is_confirmed(s.id))
+            .map(|s| {
+                let d = s.b.point - s.a.point;
+                (d.y.atan2(d.x), d.norm())
+            })
+            .filter(|(_, length_m)| *length_m >= MIN_WALL_LENGTH_M)
+            .collect()
+    }
+}
+
+/// Why the lines did not correct the step: the first step, or an innovation beyond the gate.
+fn refusal(first_step: bool, update: LinesUpdate) -> Option<CorrectionRefusal> {
+    if first_step {
+        return Some(CorrectionRefusal::FirstStep);
+    }
+    update
+        .filter(|(u, _)| !u.taken)
+        .map(|(u, _)| CorrectionRefusal::BeyondBound {
+            shift_m: 0.0,
+            turn_deg: u.innovation_rad.to_degrees(),
+        })
+}
+
+/// The direction the lines observed (heading), with their information, when they updated.
+fn lines_direction(update: LinesUpdate) -> Option<ObservedDirection> {
+    update
+        .filter(|(u, _)| u.taken)
+        .map(|(_, sigma_rad)| ObservedDirection {
+            direction: [0.0, 0.0, 1.0],
+            information: 1.0 / (sigma_rad * sigma_rad),
+            observed: true,
+        })
+}
