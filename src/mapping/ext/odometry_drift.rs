@@ -23,9 +23,13 @@
 //! whose odometry does not
 //! drift, `κ` and `ε` settle near 0 and the heading stays put.
 
-use crate::mapping::ext::pose_correction::{HEADING_NOISE_PER_RAD, HEADING_NOISE_RAD_PER_M};
 use nalgebra::{Matrix4, Vector4};
 
+/// The prior standard deviation of the drift per metre driven (0.5°/m: the bad end of UMBmark's
+/// wheel errors, 5° a 10 m).
+pub const DRIFT_RATE_PRIOR_RAD_PER_M: f64 = 0.5 * std::f64::consts::PI / 180.0;
+/// The prior standard deviation of the error per radian turned (5 %).
+pub const TURN_ERROR_PRIOR: f64 = 0.05;
 /// The heading error's random growth per metre driven (0.1°/√m, wheel slip), as a standard
 /// deviation.
 pub const RANDOM_HEADING_RAD_PER_SQRT_M: f64 = 0.1 * std::f64::consts::PI / 180.0;
@@ -70,14 +74,14 @@ pub struct OdometryDrift {
 
 impl Default for OdometryDrift {
     /// At the start: no heading error, the causes unknown within the bad end of UMBmark's
-    /// errors (the pose correction's own noise model), no axis yet.
+    /// errors, no axis yet.
     fn default() -> Self {
         Self {
             mean: Vector4::zeros(),
             covariance: Matrix4::from_diagonal(&Vector4::new(
                 0.0,
-                HEADING_NOISE_RAD_PER_M.powi(2),
-                HEADING_NOISE_PER_RAD.powi(2),
+                DRIFT_RATE_PRIOR_RAD_PER_M.powi(2),
+                TURN_ERROR_PRIOR.powi(2),
                 0.0,
             )),
             axis_ref_rad: None,
