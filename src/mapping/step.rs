@@ -25,6 +25,8 @@ pub(in crate::mapping) struct StepBuffers {
     pub(in crate::mapping) linkage: Linkage,
     /// The wall that settled each sensor's last settled reading (§8.12), tried first.
     pub(in crate::mapping) settled_by: Vec<Option<SegmentId>>,
+    /// This step's settled readings (§8.12): sensor and point in the map's frame.
+    pub(in crate::mapping) settled_points: Vec<(usize, Point)>,
     /// A cluster's points as fitted (untraced).
     pub(in crate::mapping) fitted: Vec<SupportPoint>,
     /// A cluster's split tests (untraced).

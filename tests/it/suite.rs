@@ -134,21 +134,21 @@ fn a_drifting_suite_reports_its_pose_error_and_without_drift_is_the_plain_suite(
     let plain = run_suite(2, 4, &p);
     assert_eq!(run_suite_drifting(2, 4, &p, None), plain);
     assert!(plain.iter().all(|l| l.pose.is_none()));
-    // With the heading corrected from the walls, some run maps with other poses than the
-    // odometry's.
-    let heading = Params {
-        heading_correction: true,
-        ..Params::extended()
-    };
-    let corrected = run_suite_drifting(2, 4, &heading, Some(&OdometryError::BAD));
+    // With the heading corrected from the walls (as in `extended`), some run maps with other
+    // poses than the odometry's.
+    let corrected = run_suite_drifting(2, 4, &p, Some(&OdometryError::BAD));
     assert!(corrected.iter().any(|l| l
         .pose
         .is_some_and(|pose| pose.mapped_rms_position_m != pose.odometry_rms_position_m)));
-    let bad = run_suite_drifting(2, 4, &p, Some(&OdometryError::BAD));
+    let uncorrected = Params {
+        heading_correction: false,
+        ..Params::extended()
+    };
+    let bad = run_suite_drifting(2, 4, &uncorrected, Some(&OdometryError::BAD));
     for line in &bad {
         let pose = line.pose.expect("a drifting run keeps its truth");
         assert!(pose.odometry_rms_position_m > 0.0, "{line:?}");
-        // Correction is off in `extended`: the engine maps with the odometry.
+        // Without correction the engine maps with the odometry.
         assert_eq!(pose.mapped_rms_position_m, pose.odometry_rms_position_m);
     }
     assert!(summarise(&bad).pose.is_some());

@@ -10,7 +10,7 @@
 //! walls fix heading only through its correlation with lateral position, and the estimate
 //! follows the walls the drifting poses have just drawn.
 
-use crate::geometry::{wrap_pi, Point};
+use crate::geometry::{wrap_pi, Point, Vec2};
 use std::collections::VecDeque;
 use std::f64::consts::FRAC_PI_2;
 
@@ -45,8 +45,14 @@ pub struct RectilinearState {
     /// emptied once the robot has turned more than [`AXIS_GATE_RAD`] from it (a turning
     /// sonar's readings, placed on its axis, would draw an arc).
     pub began_heading_rad: Vec<f64>,
+    /// Where the robot stood (odometry) when each window began: a line counts only along the
+    /// robot's motion since ([`along_motion`]).
+    pub began_at: Vec<Point>,
     /// The map's axis (radians in [0, 90°)): the first full window's line, carried into the map.
     pub axis_rad: Option<f64>,
+    /// The lines the last step's settled readings gave (`heading_correction` alone with
+    /// `settled_walls`): the next step's observation.
+    pub pending_lines: HeadingLines,
 }
 
 /// The lines of the sensors whose reading a confirmed wall explained this step: (sensor, line
@@ -126,6 +132,27 @@ pub fn fit_line(window: &WallWindow, window_m: f64) -> Option<LineFit> {
         span_m,
         readings: window.len(),
     })
+}
+
+/// Whether `line` runs along the robot's `motion` (odometry, metres) within
+/// [`AXIS_GATE_RAD`]. A sonar's echo comes from the foot of the perpendicular on the wall but is
+/// laid on the beam's axis, so the readings of a robot driving at an angle to a wall draw a
+/// line turned from it by (u·n)(1 − e·n) radians (u the motion, n the wall's normal, e the
+/// beam's axis): only a wall passed alongside, or read square on, is drawn true. Approaching
+/// a wall ahead, a sonar 10° off the robot's axis draws it about 5° off, within the axis gate.
+///
+/// ```
+/// use sonarmap::geometry::Vec2;
+/// use sonarmap::mapping::ext::rectilinear_heading::{along_motion, LineFit};
+/// let line = |deg: f64| LineFit { direction_rad: deg.to_radians(), sigma_rad: 0.01, rms_m: 0.0, span_m: 2.0, readings: 10 };
+/// let forward = Vec2::new(2.0, 0.0);
+/// assert!(along_motion(&line(183.0), &forward));
+/// assert!(!along_motion(&line(85.0), &forward));
+/// ```
+pub fn along_motion(line: &LineFit, motion: &Vec2) -> bool {
+    let motion_rad = motion.y.atan2(motion.x);
+    let off = wrap_pi(line.direction_rad - motion_rad).rem_euclid(std::f64::consts::PI);
+    off.min(std::f64::consts::PI - off) <= AXIS_GATE_RAD
 }
 
 /// The line that may set the map's axis: the first that spans nine tenths of `window_m`,

@@ -23,7 +23,8 @@ type LinesUpdate = Option<(DriftUpdate, f64)>;
 impl Mapper {
     /// The step's pose with its heading corrected by the odometry's estimated drift (once it
     /// drifts): the drift grows by its causes over the odometry's increment, then the wall
-    /// windows' lines update it. `predicted` (the last step's correction carried through the
+    /// windows' lines update it (with `settled_walls`, the lines of the last step's settled
+    /// readings; otherwise of this step's readings matched to the walls, which the trace lists). `predicted` (the last step's correction carried through the
     /// increment) gives the position, `prior` its covariance.
     pub(super) fn correct_heading_alone(
         &mut self,
@@ -32,8 +33,14 @@ impl Mapper {
         predicted: Pose,
         prior: Matrix3<f64>,
     ) -> CorrectionTrace {
-        let at_prediction = self.matched_readings(snapshot, previous, &predicted);
-        let lines = self.heading_lines(snapshot, previous, &at_prediction);
+        let (at_prediction, lines) = if self.heading_windows_from_settled() {
+            let lines = std::mem::take(&mut self.pose_belief.rectilinear.pending_lines);
+            (Vec::new(), lines)
+        } else {
+            let at_prediction = self.matched_readings(snapshot, previous, &predicted);
+            let lines = self.heading_lines(snapshot, previous, &at_prediction);
+            (at_prediction, lines)
+        };
         let with_correction = |correction_rad: f64| {
             Pose::new(
                 predicted.x,
@@ -65,7 +72,11 @@ impl Mapper {
                 sensors: lines.iter().map(|(s, _)| *s).collect(),
             });
         self.pose_belief.covariance = prior;
-        let after = self.residuals_at(snapshot, previous, &corrected, &at_prediction);
+        let after = if corrected == predicted {
+            at_prediction.iter().map(|m| m.2.residual_m()).collect()
+        } else {
+            self.residuals_at(snapshot, previous, &corrected, &at_prediction)
+        };
         let (readings, rms_before, rms_after) = readings_trace(&at_prediction, &after);
         let position_sigma = sigmas(&prior);
         let sigmas_with = |heading_deg: f64| [position_sigma[0], position_sigma[1], heading_deg];
@@ -122,6 +133,14 @@ impl Mapper {
         };
         drift.note_significance();
         update
+    }
+
+    /// Whether the heading windows take the readings settled walls (§8.12) settled, at the
+    /// step's end (`heading_correction` alone with `settled_walls`), instead of the readings
+    /// matched to the walls at the prediction.
+    pub(super) fn heading_windows_from_settled(&self) -> bool {
+        let p = &self.params;
+        p.heading_correction && !p.pose_correction && p.settled_walls
     }
 
     /// The direction (radians) and length (metres) of each confirmed fitted wall the

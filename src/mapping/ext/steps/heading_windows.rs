@@ -2,11 +2,11 @@
 //! window of wall readings in the odometry's frame, its line, and the heading observation the
 //! lines give ([`crate::mapping::ext::rectilinear_heading`]).
 
-use super::pose_correction::Matched;
-use crate::geometry::{wrap_pi, Pose};
+use super::pose_correction::{inverse, Matched};
+use crate::geometry::{wrap_pi, Point, Pose};
 use crate::mapping::ext::pose_correction::RangeObservation;
 use crate::mapping::ext::rectilinear_heading::{
-    axis_deviation, axis_line, fit_line, push, HeadingLines, AXIS_GATE_RAD,
+    along_motion, axis_deviation, axis_line, fit_line, push, HeadingLines, AXIS_GATE_RAD,
 };
 use crate::mapping::model::ext_trace::{CorrectionTarget, HeadingObservation};
 use crate::mapping::Mapper;
@@ -24,39 +24,71 @@ impl Mapper {
         previous: Option<(f64, Pose)>,
         matched: &[Matched],
     ) -> HeadingLines {
-        let window_m = self.params.heading_window_m;
-        if window_m <= 0.0 {
+        if self.params.heading_window_m <= 0.0 {
             return Vec::new();
         }
-        let travelled_m = self.map.travelled_m;
-        let beams = self.beams_from(snapshot, previous, &snapshot.pose);
-        let state = &mut self.pose_belief.rectilinear;
-        state
-            .windows
-            .resize_with(self.layout.len(), Default::default);
-        let heading_rad = snapshot.pose.heading_rad;
-        state
-            .began_heading_rad
-            .resize(self.layout.len(), heading_rad);
         let on_wall = |sensor: usize| {
             matched
                 .iter()
                 .any(|m| m.0 == sensor && matches!(m.1, CorrectionTarget::Wall(_)))
         };
+        let readings: Vec<(usize, Point)> = self
+            .beams_from(snapshot, previous, &snapshot.pose)
+            .into_iter()
+            .filter(|(sensor, _)| on_wall(*sensor))
+            .map(|(sensor, b)| (sensor, b.origin + b.direction * b.range_m))
+            .collect();
+        self.extend_windows(&snapshot.pose, &readings)
+    }
+
+    /// With `heading_correction` alone and `settled_walls`, at the step's end: the readings
+    /// confirmed walls settled (`settled_points`, in the map's frame) join their windows in
+    /// the odometry's frame, and their lines wait for the next step's correction (one step
+    /// late, instead of matching every reading to the walls again).
+    pub(super) fn windows_take_settled(&mut self, settled_points: &[(usize, Point)]) {
+        let Some(odometry) = self.last_pose else {
+            return;
+        };
+        if self.params.heading_window_m <= 0.0 {
+            return;
+        }
+        let map_to_odometry = inverse(&self.pose_belief.odometry_to_map).robot_frame();
+        let readings: Vec<(usize, Point)> = settled_points
+            .iter()
+            .map(|(sensor, p)| (*sensor, map_to_odometry.to_world(p)))
+            .collect();
+        let lines = self.extend_windows(&odometry, &readings);
+        self.pose_belief.rectilinear.pending_lines = lines;
+    }
+
+    /// Adds `readings` (sensor, point in the odometry's frame; at most one a sensor) read
+    /// with the robot at `odometry` to their sensors' windows, trims every window to
+    /// `heading_window` driven (emptying those the robot has turned away from), and fits the
+    /// windows that took a reading; a line counts when it runs along the robot's motion since
+    /// its window began ([`along_motion`]).
+    fn extend_windows(&mut self, odometry: &Pose, readings: &[(usize, Point)]) -> HeadingLines {
+        let window_m = self.params.heading_window_m;
+        let travelled_m = self.map.travelled_m;
+        let (heading_rad, at) = (odometry.heading_rad, odometry.position());
+        let state = &mut self.pose_belief.rectilinear;
+        let sensors = self.layout.len();
+        state.windows.resize_with(sensors, Default::default);
+        state.began_heading_rad.resize(sensors, heading_rad);
+        state.began_at.resize(sensors, at);
         let mut lines = Vec::new();
         for (sensor, window) in state.windows.iter_mut().enumerate() {
             let began_rad = &mut state.began_heading_rad[sensor];
             if window.is_empty() || wrap_pi(heading_rad - *began_rad).abs() > AXIS_GATE_RAD {
                 window.clear();
                 *began_rad = heading_rad;
+                state.began_at[sensor] = at;
             }
-            let beam = beams.iter().find(|(s, _)| *s == sensor).map(|(_, b)| b);
-            let read = beam
-                .filter(|_| on_wall(sensor))
-                .map(|b| b.origin + b.direction * b.range_m);
+            let read = readings.iter().find(|(s, _)| *s == sensor).map(|(_, p)| *p);
             push(window, travelled_m, read, window_m);
             if read.is_some() {
-                lines.extend(fit_line(window, window_m).map(|line| (sensor, line)));
+                let motion = at - state.began_at[sensor];
+                let line = fit_line(window, window_m).filter(|l| along_motion(l, &motion));
+                lines.extend(line.map(|line| (sensor, line)));
             }
         }
         lines

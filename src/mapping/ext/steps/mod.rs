@@ -56,6 +56,14 @@ impl Mapper {
         }
     }
 
+    /// After §1–§2: with `heading_correction` alone, the readings confirmed walls settled
+    /// (§8.12) join the heading windows (§8.17).
+    pub(in crate::mapping) fn hook_readings_settled(&mut self, buffers: &StepBuffers) {
+        if self.heading_windows_from_settled() {
+            self.windows_take_settled(&buffers.settled_points);
+        }
+    }
+
     /// In §3, before cluster `ci` (`chain`) is fitted: true when the arc rule (§8.5) filed it
     /// as a point feature instead.
     pub(in crate::mapping) fn hook_cluster_is_feature(

@@ -397,7 +397,7 @@ fn chi2_gain(
 }
 
 /// `pose⁻¹`: the transform that undoes it.
-fn inverse(pose: &Pose) -> Pose {
+pub(super) fn inverse(pose: &Pose) -> Pose {
     pose.relative_to(&Pose::default())
 }
 

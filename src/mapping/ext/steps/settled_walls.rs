@@ -10,12 +10,14 @@ use crate::mapping::Mapper;
 impl Mapper {
     /// §8.12 settled walls: the kept points a confirmed wall explains well inside its ends (at
     /// least [`SETTLED_END_MARGIN_GAPS`] memory gaps from either end) leave `buffers.kept`:
-    /// they join no cluster, no point memory and no free-space sweep.
+    /// they join no cluster, no point memory and no free-space sweep. They are noted in
+    /// `buffers.settled_points` (the heading windows take them, §8.17).
     pub(in crate::mapping) fn set_aside_settled_readings(
         &self,
         trace: &mut StepTrace,
         buffers: &mut StepBuffers,
     ) {
+        buffers.settled_points.clear();
         if self.map.plane_support.is_empty() {
             return;
         }
@@ -26,7 +28,11 @@ impl Mapper {
             self.cone_edges(),
             SETTLED_END_MARGIN_GAPS * self.params.memory_gap_m,
         );
-        let (near, settled_by) = (&mut buffers.near_walls, &mut buffers.settled_by);
+        let (near, settled_by, settled_points) = (
+            &mut buffers.near_walls,
+            &mut buffers.settled_by,
+            &mut buffers.settled_points,
+        );
         settled_by.resize(self.layout.len(), None);
         buffers.kept.retain(|q| {
             let beam = self.step_beam_of(q);
@@ -56,6 +62,7 @@ impl Mapper {
             if let Some(slot) = settled_by.get_mut(q.reading.sensor()) {
                 *slot = Some(segment);
             }
+            settled_points.push((q.reading.sensor(), q.point));
             false
         });
     }

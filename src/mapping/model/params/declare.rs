@@ -461,12 +461,13 @@ parameters! {
     /// with `confirm_segments`.
     pose_correction: bool, file pose_correction: bool, flag,
         paper false, extended false, needs ["confirm_segments"];
-    /// Before a step's readings are matched, its heading alone is corrected by the lines of
-    /// the sensors' wall windows against the map's axes, without the range readings' pull on
-    /// position (docs/algorithm.md §8.17). With `pose_correction` the windows join its update
-    /// instead. Acts only with `confirm_segments`.
+    /// The odometry's heading drift is estimated from the lines of the sensors' wall windows
+    /// against the map's axes, and once it is significant it is taken off each step's heading,
+    /// without the range readings' pull on position (docs/algorithm.md §8.17); a run without
+    /// drift maps as without it. With `pose_correction` the windows join its update instead.
+    /// Acts only with `confirm_segments`.
     heading_correction: bool, file heading_correction: bool, flag,
-        paper false, extended false, needs ["confirm_segments"];
+        paper false, extended true, needs ["confirm_segments"];
     /// Distance driven over which a sensor's wall readings, laid out by the odometry, form a
     /// line whose deviation from the map's nearer axis (within 5°) observes heading
     /// (docs/algorithm.md §8.17); 0 is off. Acts only with `pose_correction` or
