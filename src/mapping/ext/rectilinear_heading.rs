@@ -87,8 +87,9 @@ pub fn push(window: &mut WallWindow, travelled_m: f64, point: Option<Point>, win
     }
 }
 
-/// The line through `window`'s readings, when there are enough of them, spread over at least
-/// half of `window_m` driven, and straight within [`MAX_LINE_RMS_M`].
+/// The line through `window`'s readings, when there are enough of them, read over at least
+/// half of `window_m` driven and lying along at least half of it, and straight within
+/// [`MAX_LINE_RMS_M`].
 ///
 /// ```
 /// use sonarmap::geometry::Point;
@@ -123,6 +124,17 @@ pub fn fit_line(window: &WallWindow, window_m: f64) -> Option<LineFit> {
     let across2 = (s * s * sxx - 2.0 * c * s * sxy + c * c * syy).max(0.0);
     let rms_m = (across2 / n).sqrt();
     if rms_m > MAX_LINE_RMS_M || along2 <= 0.0 {
+        return None;
+    }
+    // The readings must lie along half the window, not only have been read over it: a robot
+    // going to and fro reads the same few places again.
+    let (low, high) = window
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(low, high), (_, p)| {
+            let along = c * (p.x - mx) + s * (p.y - my);
+            (low.min(along), high.max(along))
+        });
+    if high - low < 0.5 * window_m {
         return None;
     }
     Some(LineFit {
