@@ -15,6 +15,7 @@ use sonarmap::mapping::{Mapper, Params};
 use sonarmap::replay::Replay;
 use sonarmap::run::Run;
 use sonarmap::sim::{family_plan, load_plan, repeat_laps, simulate, Model, SceneKind};
+use sonarmap::suite::map_of;
 use sonarmap::units::Units;
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -402,18 +403,10 @@ fn golden_runs_map_the_same_with_and_without_the_heading_correction_but_one_shor
         heading_correction: false,
         ..Params::extended()
     };
-    let mut changed = Vec::new();
-    for (name, run) in &runs {
-        let map_with = |params: &Params| {
-            let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor);
-            for s in &run.snapshots {
-                mapper.step(s);
-            }
-            mapper.map().clone()
-        };
-        if map_with(&Params::extended()) != map_with(&without) {
-            changed.push(name.as_str());
-        }
-    }
+    let changed: Vec<&str> = runs
+        .iter()
+        .filter(|(_, run)| map_of(run, &Params::extended()) != map_of(run, &without))
+        .map(|(name, _)| name.as_str())
+        .collect();
     assert_eq!(changed, vec!["l-room:2"]);
 }

@@ -158,9 +158,9 @@ fn drift_rows(ui: &mut egui::Ui, d: &DriftEstimate) {
         ui,
         "corrected",
         if d.drifting {
-            "yes: the drift is significant".to_string()
+            "yes: the drift is significant"
         } else {
-            "not yet: no significant drift".to_string()
+            "not yet: no significant drift"
         },
     );
 }

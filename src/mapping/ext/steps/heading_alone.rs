@@ -3,7 +3,7 @@
 //! ([`crate::mapping::ext::odometry_drift`]); the position follows the odometry's increments
 //! turned by it. The ranges do not pull.
 
-use super::pose_correction::{readings_trace, sigmas};
+use super::pose_correction::{odometry_increment, readings_trace, sigmas};
 use crate::geometry::Pose;
 use crate::mapping::ext::odometry_drift::DriftUpdate;
 use crate::mapping::ext::pose_correction::MIN_WALL_LENGTH_M;
@@ -24,8 +24,9 @@ impl Mapper {
     /// The step's pose with its heading corrected by the odometry's estimated drift (once it
     /// drifts): the drift grows by its causes over the odometry's increment, then the wall
     /// windows' lines update it (with `settled_walls`, the lines of the last step's settled
-    /// readings; otherwise of this step's readings matched to the walls, which the trace lists). `predicted` (the last step's correction carried through the
-    /// increment) gives the position, `prior` its covariance.
+    /// readings; otherwise of this step's readings matched to the walls, which the trace
+    /// lists). `predicted` (the last step's correction carried through the increment) gives
+    /// the position, `prior` its covariance.
     pub(super) fn correct_heading_alone(
         &mut self,
         snapshot: &Snapshot,
@@ -72,7 +73,8 @@ impl Mapper {
                 sensors: lines.iter().map(|(s, _)| *s).collect(),
             });
         self.pose_belief.covariance = prior;
-        let after = if corrected == predicted {
+        // With no readings matched (the settled windows), there is nothing to re-associate.
+        let after = if corrected == predicted || at_prediction.is_empty() {
             at_prediction.iter().map(|m| m.2.residual_m()).collect()
         } else {
             self.residuals_at(snapshot, previous, &corrected, &at_prediction)
@@ -101,8 +103,8 @@ impl Mapper {
     fn predict_drift(&mut self, previous: Option<(f64, Pose)>, odometry: &Pose) -> (f64, f64) {
         let drift = &mut self.pose_belief.drift;
         if let Some((_, before)) = previous {
-            let increment = before.relative_to(odometry);
-            drift.predict(increment.x.hypot(increment.y), increment.heading_rad);
+            let (distance_m, turn_rad) = odometry_increment(&before, odometry);
+            drift.predict(distance_m, turn_rad);
         }
         (drift.correction_rad(), drift.causes().2)
     }
@@ -110,28 +112,25 @@ impl Mapper {
     /// Updates the drift with the step's wall `lines` once the walls have set the axis (or
     /// sets it from the confirmed walls), then notes whether the odometry drifts.
     fn update_drift(&mut self, lines: &HeadingLines) -> LinesUpdate {
-        let walls = if self.pose_belief.drift.axis_ref_rad.is_none() {
-            self.confirmed_wall_directions()
-        } else {
-            Vec::new()
-        };
-        let window_m = self.params.heading_window_m;
-        let drift = &mut self.pose_belief.drift;
-        let update = match drift.axis_ref_rad {
+        let update = match self.pose_belief.drift.axis_ref_rad {
             None => {
-                if let Some((axis_rad, sigma_rad)) = walls_axis(&walls, window_m) {
-                    drift.set_axis(axis_rad, sigma_rad);
+                let walls = self.confirmed_wall_directions();
+                if let Some((axis_rad, sigma_rad)) =
+                    walls_axis(&walls, self.params.heading_window_m)
+                {
+                    self.pose_belief.drift.set_axis(axis_rad, sigma_rad);
                 }
                 None
             }
             Some(axis_ref_rad) => {
+                let drift = &mut self.pose_belief.drift;
                 let rotation_rad = drift.expected_rotation_rad();
                 let fits = lines.iter().map(|(_, l)| *l);
                 axis_deviation(fits, rotation_rad, axis_ref_rad)
                     .map(|(innovation, sigma)| (drift.update(innovation, sigma), sigma))
             }
         };
-        drift.note_significance();
+        self.pose_belief.drift.note_significance();
         update
     }
 

@@ -36,7 +36,7 @@ impl Mapper {
             .beams_from(snapshot, previous, &snapshot.pose)
             .into_iter()
             .filter(|(sensor, _)| on_wall(*sensor))
-            .map(|(sensor, b)| (sensor, b.origin + b.direction * b.range_m))
+            .map(|(sensor, b)| (sensor, b.axis_point()))
             .collect();
         self.extend_windows(&snapshot.pose, &readings)
     }

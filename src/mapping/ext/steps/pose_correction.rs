@@ -69,13 +69,12 @@ impl Mapper {
         let Some((_, odometry_before)) = previous else {
             return (predicted, Matrix3::zeros());
         };
-        let increment = odometry_before.relative_to(&snapshot.pose);
+        let (distance_m, turn_rad) = odometry_increment(&odometry_before, &snapshot.pose);
         let before = belief.odometry_to_map.compose(&odometry_before);
         let (dx, dy) = (predicted.x - before.x, predicted.y - before.y);
         let motion = Matrix3::new(1.0, 0.0, -dy, 0.0, 1.0, dx, 0.0, 0.0, 1.0);
-        let distance_m = increment.x.hypot(increment.y);
-        let covariance = motion * belief.covariance * motion.transpose()
-            + motion_noise(distance_m, increment.heading_rad);
+        let covariance =
+            motion * belief.covariance * motion.transpose() + motion_noise(distance_m, turn_rad);
         (predicted, capped(covariance))
     }
 
@@ -394,6 +393,13 @@ fn chi2_gain(
         (from_prior.transpose() * information * from_prior)[(0, 0)]
     });
     n as f64 * (rms_before * rms_before - rms_after * rms_after) - prior_term
+}
+
+/// The odometry's increment from `before` to `now`: the distance driven (metres) and the turn
+/// (radians, the short way round).
+pub(super) fn odometry_increment(before: &Pose, now: &Pose) -> (f64, f64) {
+    let increment = before.relative_to(now);
+    (increment.x.hypot(increment.y), increment.heading_rad)
 }
 
 /// `pose⁻¹`: the transform that undoes it.
