@@ -151,18 +151,22 @@ impl OdometryDrift {
 
     /// The odometry drove `distance_m` and turned `turn_rad`: the error grows by its causes,
     /// and the uncertainty by the random part.
+    ///
+    /// The motion is the identity but for row b, (1, distance, turn, 0): F·x and F·P·Fᵀ
+    /// change row b, then column b, only.
     pub fn predict(&mut self, distance_m: f64, turn_rad: f64) {
-        let mut motion = Matrix4::identity();
-        motion[(B, KAPPA)] = distance_m;
-        motion[(B, EPSILON)] = turn_rad;
-        self.mean = motion * self.mean;
-        let noise = Matrix4::from_diagonal(&Vector4::new(
-            RANDOM_HEADING_RAD_PER_SQRT_M.powi(2) * distance_m,
-            DRIFT_RATE_CHANGE_PER_SQRT_M.powi(2) * distance_m,
-            TURN_SCALE_CHANGE_PER_SQRT_RAD.powi(2) * turn_rad.abs(),
-            0.0,
-        ));
-        self.covariance = motion * self.covariance * motion.transpose() + noise;
+        let grown = |v: &Vector4<f64>| v[B] + distance_m * v[KAPPA] + turn_rad * v[EPSILON];
+        self.mean[B] = grown(&self.mean);
+        let p = &mut self.covariance;
+        for j in 0..4 {
+            p[(B, j)] = grown(&p.column(j).into_owned());
+        }
+        for i in 0..4 {
+            p[(i, B)] = grown(&p.row(i).transpose());
+        }
+        p[(B, B)] += RANDOM_HEADING_RAD_PER_SQRT_M.powi(2) * distance_m;
+        p[(KAPPA, KAPPA)] += DRIFT_RATE_CHANGE_PER_SQRT_M.powi(2) * distance_m;
+        p[(EPSILON, EPSILON)] += TURN_SCALE_CHANGE_PER_SQRT_RAD.powi(2) * turn_rad.abs();
     }
 
     /// Sets the reference axis, in the map's frame, to `axis_rad`, known within `sigma_rad`.
@@ -227,6 +231,34 @@ impl OdometryDrift {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_prediction_is_the_motion_matrix_product_bit_for_bit() {
+        // F = I but row b = (1, d, θ, 0); the closed form must give F·x and F·P·Fᵀ + Q exactly.
+        let mut drift = OdometryDrift {
+            mean: Vector4::new(0.01, 0.002, -0.03, 0.004),
+            ..Default::default()
+        };
+        drift.covariance = Matrix4::from_fn(|i, j| {
+            let (i, j) = (i as f64, j as f64);
+            1e-4 / (1.0 + i + j) + if i == j { 1e-3 } else { 0.0 }
+        });
+        let (d, turn) = (0.137, -0.0421);
+        let mut motion = Matrix4::identity();
+        motion[(B, KAPPA)] = d;
+        motion[(B, EPSILON)] = turn;
+        let noise = Matrix4::from_diagonal(&Vector4::new(
+            RANDOM_HEADING_RAD_PER_SQRT_M.powi(2) * d,
+            DRIFT_RATE_CHANGE_PER_SQRT_M.powi(2) * d,
+            TURN_SCALE_CHANGE_PER_SQRT_RAD.powi(2) * turn.abs(),
+            0.0,
+        ));
+        let mean = motion * drift.mean;
+        let covariance = motion * drift.covariance * motion.transpose() + noise;
+        drift.predict(d, turn);
+        assert_eq!(drift.mean, mean);
+        assert_eq!(drift.covariance, covariance);
+    }
 
     #[test]
     fn a_steady_drift_is_learnt_and_then_followed_without_lines() {

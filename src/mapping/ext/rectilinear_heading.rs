@@ -74,6 +74,23 @@ pub struct LineFit {
     pub readings: usize,
 }
 
+/// Whether a robot now heading `heading_rad` has turned more than [`AXIS_GATE_RAD`] from
+/// `began_rad`. A difference within the gate is taken as it is, without wrapping it.
+///
+/// ```
+/// use sonarmap::mapping::ext::rectilinear_heading::turned_beyond_gate;
+/// use std::f64::consts::{PI, TAU};
+/// assert!(!turned_beyond_gate(4f64.to_radians(), 0.0));
+/// assert!(turned_beyond_gate(6f64.to_radians(), 0.0));
+/// // A whole turn later, or across ±180°, is within the gate.
+/// assert!(!turned_beyond_gate(TAU + 0.01, 0.0));
+/// assert!(!turned_beyond_gate(-PI + 0.01, PI - 0.01));
+/// ```
+pub fn turned_beyond_gate(heading_rad: f64, began_rad: f64) -> bool {
+    let turned_rad = heading_rad - began_rad;
+    turned_rad.abs() > AXIS_GATE_RAD && wrap_pi(turned_rad).abs() > AXIS_GATE_RAD
+}
+
 /// Adds `point` (read at `travelled_m`) to `window` and drops readings older than `window_m`.
 pub fn push(window: &mut WallWindow, travelled_m: f64, point: Option<Point>, window_m: f64) {
     while window

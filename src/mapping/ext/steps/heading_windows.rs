@@ -6,7 +6,7 @@ use super::pose_correction::{inverse, Matched};
 use crate::geometry::{wrap_pi, Point, Pose};
 use crate::mapping::ext::pose_correction::RangeObservation;
 use crate::mapping::ext::rectilinear_heading::{
-    along_motion, axis_deviation, axis_line, fit_line, push, HeadingLines, AXIS_GATE_RAD,
+    along_motion, axis_deviation, axis_line, fit_line, push, turned_beyond_gate, HeadingLines,
 };
 use crate::mapping::model::ext_trace::{CorrectionTarget, HeadingObservation};
 use crate::mapping::Mapper;
@@ -38,7 +38,7 @@ impl Mapper {
             .filter(|(sensor, _)| on_wall(*sensor))
             .map(|(sensor, b)| (sensor, b.axis_point()))
             .collect();
-        self.extend_windows(&snapshot.pose, &readings)
+        self.extend_windows(&snapshot.pose, &readings, true)
     }
 
     /// With `heading_correction` alone and `settled_walls`, at the step's end: the readings
@@ -52,21 +52,32 @@ impl Mapper {
         if self.params.heading_window_m <= 0.0 {
             return;
         }
-        let map_to_odometry = inverse(&self.pose_belief.odometry_to_map).robot_frame();
-        let readings: Vec<(usize, Point)> = settled_points
-            .iter()
-            .map(|(sensor, p)| (*sensor, map_to_odometry.to_world(p)))
-            .collect();
-        let lines = self.extend_windows(&odometry, &readings);
+        // Until the walls set the axis, the drift takes no lines (`update_drift`).
+        let fit = self.pose_belief.drift.axis_ref_rad.is_some();
+        let lines = if self.pose_belief.odometry_to_map == Pose::default() {
+            self.extend_windows(&odometry, settled_points, fit)
+        } else {
+            let map_to_odometry = inverse(&self.pose_belief.odometry_to_map).robot_frame();
+            let readings: Vec<(usize, Point)> = settled_points
+                .iter()
+                .map(|(sensor, p)| (*sensor, map_to_odometry.to_world(p)))
+                .collect();
+            self.extend_windows(&odometry, &readings, fit)
+        };
         self.pose_belief.rectilinear.pending_lines = lines;
     }
 
     /// Adds `readings` (sensor, point in the odometry's frame; at most one a sensor) read
     /// with the robot at `odometry` to their sensors' windows, trims every window to
     /// `heading_window` driven (emptying those the robot has turned away from), and fits the
-    /// windows that took a reading; a line counts when it runs along the robot's motion since
-    /// its window began ([`along_motion`]).
-    fn extend_windows(&mut self, odometry: &Pose, readings: &[(usize, Point)]) -> HeadingLines {
+    /// windows that took a reading (when `fit`); a line counts when it runs along the robot's
+    /// motion since its window began ([`along_motion`]).
+    fn extend_windows(
+        &mut self,
+        odometry: &Pose,
+        readings: &[(usize, Point)],
+        fit: bool,
+    ) -> HeadingLines {
         let window_m = self.params.heading_window_m;
         let travelled_m = self.map.travelled_m;
         let (heading_rad, at) = (odometry.heading_rad, odometry.position());
@@ -78,14 +89,14 @@ impl Mapper {
         let mut lines = Vec::new();
         for (sensor, window) in state.windows.iter_mut().enumerate() {
             let began_rad = &mut state.began_heading_rad[sensor];
-            if window.is_empty() || wrap_pi(heading_rad - *began_rad).abs() > AXIS_GATE_RAD {
+            if window.is_empty() || turned_beyond_gate(heading_rad, *began_rad) {
                 window.clear();
                 *began_rad = heading_rad;
                 state.began_at[sensor] = at;
             }
             let read = readings.iter().find(|(s, _)| *s == sensor).map(|(_, p)| *p);
             push(window, travelled_m, read, window_m);
-            if read.is_some() {
+            if fit && read.is_some() {
                 let motion = at - state.began_at[sensor];
                 let line = fit_line(window, window_m).filter(|l| along_motion(l, &motion));
                 lines.extend(line.map(|line| (sensor, line)));
