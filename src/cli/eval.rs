@@ -2,9 +2,10 @@
 //! generated scenes scored, [`super::suite`]).
 
 use super::input::{read, read_run};
-use super::map_run::map_run;
+use super::map_run::{calibrated, map_run};
 use super::output::emit;
 use super::params::{read_params_and_preset, ParamArgs};
+use super::progress::Progress;
 use super::suite::{suite_command, SuiteArgs};
 use anyhow::{anyhow, Context, Result};
 use clap::Args;
@@ -69,6 +70,10 @@ pub struct EvalArgs {
     /// `near` (the default) looks within 15° of the plan's frame, `anywhere` over the whole turn.
     #[arg(long, value_enum, value_name = "SEARCH", num_args = 0..=1, default_missing_value = "near", conflicts_with = "suite")]
     pub align: Option<AlignArg>,
+    /// Map the log twice, the second pass starting from the drift the first found, as `run
+    /// --calibrate` does; the calibration is printed as `calibration`.
+    #[arg(long, conflicts_with = "suite")]
+    pub calibrate: bool,
 }
 
 /// Where `eval --align` looks for the transform.
@@ -102,6 +107,16 @@ struct EvalOutput {
     /// (docs/algorithm.md §8.7).
     #[serde(skip_serializing_if = "Option::is_none")]
     confirmed: Option<EvalReport>,
+    /// With `--calibrate`, the drift the first pass found (`null` when none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    calibration: Option<Option<Calibration>>,
+}
+
+/// The odometry's drift a first pass found (`eval --calibrate`).
+#[derive(Debug, serde::Serialize)]
+struct Calibration {
+    drift_deg_per_m: f64,
+    drift_per_turn_pct: f64,
 }
 
 /// Runs `sonarmap eval`.
@@ -129,6 +144,17 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
                 log.display()
             )
         })?,
+    };
+    let params = if args.calibrate {
+        let last = run.snapshots.len() - 1;
+        let first = Progress::new(
+            &format!("{} (calibrating)", run.name),
+            last + 1,
+            "snapshots",
+        );
+        calibrated(&run, &params, last, &first).with_context(|| log.display().to_string())?
+    } else {
+        params
     };
     let (mapper, _, summary) =
         map_run(&run, params.clone(), None, false).with_context(|| log.display().to_string())?;
@@ -164,6 +190,13 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
         true_point_features: has_features
             .then(|| sonarmap::eval::true_point_features(map, &scored_plan, &params)),
         confirmed: sonarmap::eval::confirmed_map(map).map(|m| score(&m)),
+        calibration: args.calibrate.then(|| {
+            let found = params.drift_deg_per_m != 0.0 || params.drift_per_turn_pct != 0.0;
+            found.then_some(Calibration {
+                drift_deg_per_m: params.drift_deg_per_m,
+                drift_per_turn_pct: params.drift_per_turn_pct,
+            })
+        }),
     };
     emit(&serde_json::to_string_pretty(&out)?)?;
     Ok(())

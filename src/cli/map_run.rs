@@ -21,6 +21,22 @@ pub fn map_run(
     Ok(mapping.finish())
 }
 
+/// `params` calibrated by a first pass over `run` up to snapshot `until` (its progress under
+/// `progress`): with the drift that pass's heading correction found significant
+/// ([`Mapper::drift_calibration`]), or as they are when it found none.
+pub fn calibrated(run: &Run, params: &Params, until: usize, progress: &Progress) -> Result<Params> {
+    let mut first = Mapping::new(run, params.clone(), false);
+    first.step_to(run, until + 1, progress)?;
+    Ok(match first.mapper.drift_calibration() {
+        Some((deg_per_m, per_turn_pct)) => Params {
+            drift_deg_per_m: deg_per_m,
+            drift_per_turn_pct: per_turn_pct,
+            ..params.clone()
+        },
+        None => params.clone(),
+    })
+}
+
 /// The last snapshot to map: `until`, checked against the run, or the run's last.
 pub fn last_snapshot(run: &Run, until: Option<usize>) -> Result<usize> {
     let last = run.snapshots.len() - 1;

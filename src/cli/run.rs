@@ -4,7 +4,7 @@
 use super::figure_args::{paper_figure_layers, paper_figure_svg, FigureArgs, FigureSpec};
 use super::input::read_run;
 use super::interrupt;
-use super::map_run::{last_snapshot, Mapping};
+use super::map_run::{calibrated, last_snapshot, Mapping};
 use super::output::{emit, emit_each, write_atomic};
 use super::parallel::parallel_map;
 use super::params::{read_params, ParamArgs};
@@ -56,6 +56,12 @@ pub struct RunArgs {
     /// With --out-dir: also write each log's trace.
     #[arg(long, requires = "out_dir")]
     pub trace: bool,
+    /// Map each log twice: a first pass estimates the odometry's drift (with the heading
+    /// correction, as in `extended`), and when it found one the second pass starts from it
+    /// (`drift_deg_per_m`, `drift_per_turn_pct`), correcting from the first step; a log
+    /// without drift maps once, as without the flag.
+    #[arg(long)]
+    pub calibrate: bool,
     /// The figure's region, layers, size, style and PNG.
     #[command(flatten)]
     pub figure: FigureArgs,
@@ -85,7 +91,16 @@ pub fn run_command(args: &RunArgs) -> Result<()> {
     // A bug that panics on one log must not take the process (or a sweep's other results)
     // with it; the steps themselves are guarded and name their snapshot.
     let guarded = |i: usize, sweep: Option<&Progress>| {
-        let one = || run_one(&args.logs[i], &params, args.until, &outputs[i], sweep);
+        let one = || {
+            run_one(
+                &args.logs[i],
+                &params,
+                args.until,
+                &outputs[i],
+                sweep,
+                args.calibrate,
+            )
+        };
         std::panic::catch_unwind(std::panic::AssertUnwindSafe(one)).unwrap_or_else(|_| {
             Err(anyhow!(
                 "{}: the mapper panicked on this log",
@@ -165,8 +180,8 @@ fn out_dir_outputs(args: &RunArgs, dir: &Path) -> Result<Vec<RunOutputs>> {
         .collect())
 }
 
-/// Maps one log and writes what `out` asks, its progress shown (under `sweep`'s in a sweep);
-/// returns its summary line. The log is mapped once: the figure's two snapshots are the run's
+/// Maps one log (calibrated by a first pass when `calibrate`) and writes what `out` asks, its
+/// progress shown (under `sweep`'s in a sweep); returns its summary line. The log is mapped once: the figure's two snapshots are the run's
 /// last steps, traced in full.
 fn run_one(
     path: &Path,
@@ -174,10 +189,21 @@ fn run_one(
     until: Option<usize>,
     out: &RunOutputs,
     sweep: Option<&Progress>,
+    calibrate: bool,
 ) -> Result<String> {
     interrupt::check()?;
     let run = read_run(path)?;
     let until = last_snapshot(&run, until)?;
+    let calibrated_params;
+    let params = if calibrate {
+        let what = format!("{} (calibrating)", path.display());
+        let first = Progress::within(sweep, &what, until + 1, "snapshots");
+        calibrated_params =
+            calibrated(&run, params, until, &first).with_context(|| path.display().to_string())?;
+        &calibrated_params
+    } else {
+        params
+    };
     let progress = Progress::within(sweep, &path.display().to_string(), until + 1, "snapshots");
     let mut mapping = Mapping::new(&run, params.clone(), out.trace.is_some());
     let figure = match &out.svg {

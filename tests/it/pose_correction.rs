@@ -283,3 +283,46 @@ fn the_app_plots_a_drifting_runs_correction_and_shows_the_steps_numbers() {
     h.run();
     assert!(h.query_by_label("Pose correction (§8.17)").is_some());
 }
+
+/// `run --calibrate` (docs/algorithm.md §8.17): the bad drift the first pass over the crawl
+/// finds, given to a second pass from its first step, holds the heading and the position
+/// better than the one pass did; a crawl without drift finds none, so it maps once, as without.
+#[test]
+fn a_second_pass_from_the_first_ones_drift_holds_the_drifting_crawl_better() {
+    use sonarmap::pose_error::pose_error_of;
+    let run = drifting_corridor_crawl();
+    let pass = |params: Params| {
+        let mut mapper = Mapper::new(params, run.layout.clone(), run.sensor).with_trace(false);
+        let poses: Vec<_> = run
+            .snapshots
+            .iter()
+            .map(|s| mapper.step(s).pose.unwrap())
+            .collect();
+        (
+            pose_error_of(&run, poses).unwrap(),
+            mapper.drift_calibration(),
+        )
+    };
+    let (first, calibration) = pass(Params::extended());
+    let (deg_per_m, per_turn_pct) = calibration.expect("the bad drift is found");
+    assert!(deg_per_m.abs() > 0.05, "{deg_per_m}°/m");
+    let (second, _) = pass(Params {
+        drift_deg_per_m: deg_per_m,
+        drift_per_turn_pct: per_turn_pct,
+        ..Params::extended()
+    });
+    assert!(
+        second.rms_heading_deg < first.rms_heading_deg && second.rms_position < first.rms_position,
+        "second pass {:.2}°, {:.3} m; first {:.2}°, {:.3} m",
+        second.rms_heading_deg,
+        second.rms_position,
+        first.rms_heading_deg,
+        first.rms_position
+    );
+    let steady = pioneer_corridor_crawl(1);
+    let mut mapper = Mapper::new(Params::extended(), steady.layout.clone(), steady.sensor);
+    for s in &steady.snapshots {
+        mapper.step(s);
+    }
+    assert_eq!(mapper.drift_calibration(), None);
+}

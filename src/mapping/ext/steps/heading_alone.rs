@@ -5,7 +5,7 @@
 
 use super::pose_correction::{odometry_increment, readings_trace, sigmas};
 use crate::geometry::Pose;
-use crate::mapping::ext::odometry_drift::DriftUpdate;
+use crate::mapping::ext::odometry_drift::{DriftUpdate, OdometryDrift};
 use crate::mapping::ext::pose_correction::MIN_WALL_LENGTH_M;
 use crate::mapping::ext::rectilinear_heading::{axis_deviation, walls_axis, HeadingLines};
 use crate::mapping::model::ext_trace::{
@@ -49,6 +49,9 @@ impl Mapper {
                 snapshot.pose.heading_rad - correction_rad,
             )
         };
+        if previous.is_none() {
+            self.start_drift_from_calibration();
+        }
         let drift_before = self.predict_drift(previous, &snapshot.pose);
         let update = self.update_drift(&lines);
         let drift = &self.pose_belief.drift;
@@ -95,6 +98,18 @@ impl Mapper {
             refused: refusal(previous.is_none(), update),
             heading,
             drift: Some(estimate),
+        }
+    }
+
+    /// At the first step: a calibrated drift (`drift_deg_per_m`, `drift_per_turn_pct`)
+    /// replaces the uninformed start.
+    fn start_drift_from_calibration(&mut self) {
+        let p = &self.params;
+        if p.drift_deg_per_m != 0.0 || p.drift_per_turn_pct != 0.0 {
+            self.pose_belief.drift = OdometryDrift::calibrated(
+                p.drift_deg_per_m.to_radians(),
+                p.drift_per_turn_pct / 100.0,
+            );
         }
     }
 

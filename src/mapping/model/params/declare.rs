@@ -468,6 +468,17 @@ parameters! {
     /// Acts only with `confirm_segments`.
     heading_correction: bool, file heading_correction: bool, flag,
         paper false, extended true, needs ["confirm_segments"];
+    /// The odometry's known heading drift per metre driven, degrees (a calibration, such as a
+    /// first pass's estimate: `run --calibrate`). With it or `drift_per_turn` non-zero, the
+    /// heading correction starts from them, taken as known within a tenth of its priors, and
+    /// corrects from the first step (docs/algorithm.md §8.17). Acts only with
+    /// `heading_correction`.
+    drift_deg_per_m: f64, file drift_deg_per_m: f64, number,
+        paper 0.0, extended 0.0, needs ["heading_correction"];
+    /// The odometry's known heading error per turn, percent of the angle turned (a wheelbase
+    /// off by that much; see `drift_deg_per_m`). Acts only with `heading_correction`.
+    drift_per_turn_pct: f64, file drift_per_turn_pct: f64, number,
+        paper 0.0, extended 0.0, needs ["heading_correction"];
     /// Distance driven over which a sensor's wall readings, laid out by the odometry, form a
     /// line whose deviation from the map's nearer axis (within 5°) observes heading
     /// (docs/algorithm.md §8.17); 0 is off. Acts only with `pose_correction` or
