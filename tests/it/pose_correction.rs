@@ -326,3 +326,29 @@ fn a_second_pass_from_the_first_ones_drift_holds_the_drifting_crawl_better() {
     }
     assert_eq!(mapper.drift_calibration(), None);
 }
+
+/// The inspector offers the drift it shows as a calibration: "Map again from this drift" replays
+/// the run with the step's estimate as `drift_deg_per_m` and `drift_per_turn_pct`.
+#[test]
+fn the_inspector_maps_a_drifting_run_again_from_the_drift_it_shows() {
+    use super::support::{harness, settle};
+    use sonarmap::app::{Command, SonarApp};
+    let run = drifting_corridor_crawl();
+    let last = run.snapshots.len() - 1;
+    let mut h = harness(SonarApp::new(run, None));
+    settle(&mut h);
+    h.state_mut().push(Command::SetParams(Params::extended()));
+    settle(&mut h);
+    h.state_mut().push(Command::Seek(last));
+    h.run();
+    assert_eq!(h.state().params().drift_deg_per_m, 0.0);
+    h.get_by_label("Map again from this drift").click();
+    settle(&mut h);
+    let params = h.state().params();
+    assert!(
+        params.drift_deg_per_m.abs() > 0.05,
+        "{}°/m",
+        params.drift_deg_per_m
+    );
+    assert!(params.heading_correction && params.confirm_segments);
+}

@@ -5,10 +5,12 @@
 
 use super::context::InspectCtx;
 use super::widgets::{heading, kv, FAIL};
+use crate::app::command::Command;
 use crate::geometry::Pose;
 use crate::mapping::model::ext_trace::{
     CorrectionRefusal, CorrectionTarget, DriftEstimate, HeadingObservation,
 };
+use crate::mapping::Params;
 use egui::RichText;
 
 /// `pose` as position and heading.
@@ -44,7 +46,7 @@ fn refusal_text(refusal: &CorrectionRefusal) -> String {
 }
 
 /// The step's correction; nothing when pose correction is off.
-pub(super) fn correction_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
+pub(super) fn correction_ui(ui: &mut egui::Ui, ctx: &InspectCtx, commands: &mut Vec<Command>) {
     let Some(c) = &ctx.view.trace.correction else {
         return;
     };
@@ -93,6 +95,9 @@ pub(super) fn correction_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
     if let Some(refusal) = &c.refused {
         ui.label(RichText::new(format!("refused: {}", refusal_text(refusal))).color(FAIL));
     }
+    if let Some(d) = c.drift.as_ref().filter(|d| d.drifting) {
+        calibrate_button(ui, ctx, d, commands);
+    }
     for d in &c.directions {
         let [x, y, h] = d.direction;
         ui.label(
@@ -140,6 +145,32 @@ fn heading_row(ui: &mut egui::Ui, h: &HeadingObservation) {
         "lines' σ, sensors",
         format!("{:.2}°, {:?}", h.sigma_deg, h.sensors),
     );
+}
+
+/// "Map again from this drift": the run mapped again with the drift estimated here as the
+/// odometry's calibration (`drift_deg_per_m`, `drift_per_turn_pct`), corrected from its first
+/// step, as `run --calibrate` does with the last step's (docs/algorithm.md §8.17).
+fn calibrate_button(
+    ui: &mut egui::Ui,
+    ctx: &InspectCtx,
+    d: &DriftEstimate,
+    commands: &mut Vec<Command>,
+) {
+    let calibrated = Params {
+        drift_deg_per_m: d.deg_per_m,
+        drift_per_turn_pct: d.turn_pct,
+        ..ctx.params.clone()
+    };
+    let button = ui
+        .button("Map again from this drift")
+        .on_hover_text(format!(
+            "Replays the run with the odometry calibrated as {:+.3}°/m and {:+.2} % of turns, \
+         corrected from the first step (drift_deg_per_m, drift_per_turn_pct)",
+            d.deg_per_m, d.turn_pct
+        ));
+    if button.clicked() {
+        commands.push(Command::SetParams(calibrated));
+    }
 }
 
 /// The odometry's drift as the heading alone estimates it (docs/algorithm.md §8.17).

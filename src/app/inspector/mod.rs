@@ -41,7 +41,7 @@ pub fn inspector_ui(
     let mut commands = Vec::new();
     match selection {
         SceneId::None => {
-            overview::nothing_ui(ui, ctx);
+            overview::nothing_ui(ui, ctx, &mut commands);
         }
         SceneId::NewSegment(i) | SceneId::Decision { new_segment: i, .. } => {
             segment::new_segment_ui(ui, ctx, i, &mut commands)
@@ -54,7 +54,7 @@ pub fn inspector_ui(
         }
         SceneId::Cluster(c) => segment::cluster_ui(ui, ctx, c, &mut commands),
         SceneId::Correlation(c) => correlation::correlation_ui(ui, ctx, c),
-        SceneId::Robot => overview::robot_ui(ui, ctx),
+        SceneId::Robot => overview::robot_ui(ui, ctx, &mut commands),
         SceneId::FloorPlan => overview::floor_plan_ui(ui),
     }
     commands

@@ -3,10 +3,11 @@
 
 use super::context::InspectCtx;
 use super::widgets::{heading, kv, FAIL};
+use crate::app::command::Command;
 use egui::RichText;
 
 /// The page with nothing selected.
-pub(super) fn nothing_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
+pub(super) fn nothing_ui(ui: &mut egui::Ui, ctx: &InspectCtx, commands: &mut Vec<Command>) {
     heading(ui, "Inspector");
     ui.label("Click something in the map, or a decision in the list above.");
     let p = ctx.params;
@@ -21,7 +22,7 @@ pub(super) fn nothing_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
         .weak(),
     );
     warnings_ui(ui, ctx);
-    super::correction::correction_ui(ui, ctx);
+    super::correction::correction_ui(ui, ctx, commands);
     super::extensions::extensions_ui(ui, ctx);
 }
 
@@ -47,7 +48,7 @@ fn warnings_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
     }
 }
 
-pub(super) fn robot_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
+pub(super) fn robot_ui(ui: &mut egui::Ui, ctx: &InspectCtx, commands: &mut Vec<Command>) {
     heading(ui, "Robot");
     if let Some(pose) = ctx.view.trace.pose {
         egui::Grid::new("robot").num_columns(2).show(ui, |ui| {
@@ -62,7 +63,7 @@ pub(super) fn robot_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
         });
     }
     warnings_ui(ui, ctx);
-    super::correction::correction_ui(ui, ctx);
+    super::correction::correction_ui(ui, ctx, commands);
 }
 
 /// The robot's hover text.
