@@ -11,7 +11,8 @@ use anyhow::{anyhow, Context, Result};
 use clap::Args;
 use sonarmap::alignment::Search;
 use sonarmap::eval::{evaluate, evaluate_aligned, EvalReport};
-use sonarmap::mapping::Preset;
+use sonarmap::mapping::{Params, Preset};
+use sonarmap::run::Run;
 use sonarmap::sim::load_plan;
 use std::path::PathBuf;
 
@@ -119,6 +120,29 @@ struct Calibration {
     drift_per_turn_pct: f64,
 }
 
+impl Calibration {
+    /// The calibration `params` carry, if any.
+    fn of(params: &Params) -> Option<Self> {
+        let found = params.drift_deg_per_m != 0.0 || params.drift_per_turn_pct != 0.0;
+        found.then_some(Calibration {
+            drift_deg_per_m: params.drift_deg_per_m,
+            drift_per_turn_pct: params.drift_per_turn_pct,
+        })
+    }
+}
+
+/// `params` calibrated by a first pass over the whole of `run`, its progress on stderr.
+fn calibrated_fully(run: &Run, params: &Params) -> Result<Params> {
+    let last = run.snapshots.len() - 1;
+    let what = format!("{} (calibrating)", run.name);
+    calibrated(
+        run,
+        params,
+        last,
+        &Progress::new(&what, last + 1, "snapshots"),
+    )
+}
+
 /// Runs `sonarmap eval`.
 pub fn eval_command(args: &EvalArgs) -> Result<()> {
     let (params, preset) = read_params_and_preset(&args.params)?;
@@ -146,13 +170,7 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
         })?,
     };
     let params = if args.calibrate {
-        let last = run.snapshots.len() - 1;
-        let first = Progress::new(
-            &format!("{} (calibrating)", run.name),
-            last + 1,
-            "snapshots",
-        );
-        calibrated(&run, &params, last, &first).with_context(|| log.display().to_string())?
+        calibrated_fully(&run, &params).with_context(|| log.display().to_string())?
     } else {
         params
     };
@@ -190,13 +208,7 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
         true_point_features: has_features
             .then(|| sonarmap::eval::true_point_features(map, &scored_plan, &params)),
         confirmed: sonarmap::eval::confirmed_map(map).map(|m| score(&m)),
-        calibration: args.calibrate.then(|| {
-            let found = params.drift_deg_per_m != 0.0 || params.drift_per_turn_pct != 0.0;
-            found.then_some(Calibration {
-                drift_deg_per_m: params.drift_deg_per_m,
-                drift_per_turn_pct: params.drift_per_turn_pct,
-            })
-        }),
+        calibration: args.calibrate.then(|| Calibration::of(&params)),
     };
     emit(&serde_json::to_string_pretty(&out)?)?;
     Ok(())

@@ -8,7 +8,7 @@ use super::widgets::{heading, kv, FAIL};
 use crate::app::command::Command;
 use crate::geometry::Pose;
 use crate::mapping::model::ext_trace::{
-    CorrectionRefusal, CorrectionTarget, DriftEstimate, HeadingObservation,
+    CorrectionRefusal, CorrectionTarget, DriftEstimate, HeadingObservation, ObservedDirection,
 };
 use crate::mapping::Params;
 use egui::RichText;
@@ -98,21 +98,7 @@ pub(super) fn correction_ui(ui: &mut egui::Ui, ctx: &InspectCtx, commands: &mut 
     if let Some(d) = c.drift.as_ref().filter(|d| d.drifting) {
         calibrate_button(ui, ctx, d, commands);
     }
-    for d in &c.directions {
-        let [x, y, h] = d.direction;
-        ui.label(
-            RichText::new(format!(
-                "direction (x {x:+.2}, y {y:+.2}, heading {h:+.2}): information {:.0} /m², {}",
-                d.information,
-                if d.observed {
-                    "observed"
-                } else {
-                    "left to the prior"
-                }
-            ))
-            .weak(),
-        );
-    }
+    directions_ui(ui, &c.directions);
     for r in &c.readings {
         let target = match r.target {
             CorrectionTarget::Wall(id) => format!("wall {id}"),
@@ -145,6 +131,26 @@ fn heading_row(ui: &mut egui::Ui, h: &HeadingObservation) {
         "lines' σ, sensors",
         format!("{:.2}°, {:?}", h.sigma_deg, h.sensors),
     );
+}
+
+/// The eigen-directions of the readings' information, each with whether it says more than the
+/// prior.
+fn directions_ui(ui: &mut egui::Ui, directions: &[ObservedDirection]) {
+    for d in directions {
+        let [x, y, h] = d.direction;
+        ui.label(
+            RichText::new(format!(
+                "direction (x {x:+.2}, y {y:+.2}, heading {h:+.2}): information {:.0} /m², {}",
+                d.information,
+                if d.observed {
+                    "observed"
+                } else {
+                    "left to the prior"
+                }
+            ))
+            .weak(),
+        );
+    }
 }
 
 /// "Map again from this drift": the run mapped again with the drift estimated here as the
