@@ -71,9 +71,9 @@ pub struct EvalArgs {
     /// `near` (the default) looks within 15° of the plan's frame, `anywhere` over the whole turn.
     #[arg(long, value_enum, value_name = "SEARCH", num_args = 0..=1, default_missing_value = "near", conflicts_with = "suite")]
     pub align: Option<AlignArg>,
-    /// Map the log twice, the second pass starting from the drift the first found, as `run
-    /// --calibrate` does; the calibration is printed as `calibration`.
-    #[arg(long, conflicts_with = "suite")]
+    /// Map the log (with --suite, each run) twice, the second pass starting from the drift the
+    /// first found, as `run --calibrate` does; a log's calibration is printed as `calibration`.
+    #[arg(long)]
     pub calibrate: bool,
 }
 
@@ -155,6 +155,7 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
             conditions: sonarmap::suite::Conditions {
                 drift: args.drift.error(),
                 pace: args.pace.pace()?,
+                calibrate: args.calibrate,
             },
         };
         return suite_command(&suite, &params);

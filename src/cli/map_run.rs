@@ -27,14 +27,7 @@ pub fn map_run(
 pub fn calibrated(run: &Run, params: &Params, until: usize, progress: &Progress) -> Result<Params> {
     let mut first = Mapping::new(run, params.clone(), false);
     first.step_to(run, until + 1, progress)?;
-    Ok(match first.mapper.drift_calibration() {
-        Some((deg_per_m, per_turn_pct)) => Params {
-            drift_deg_per_m: deg_per_m,
-            drift_per_turn_pct: per_turn_pct,
-            ..params.clone()
-        },
-        None => params.clone(),
-    })
+    Ok(first.mapper.calibrated_params())
 }
 
 /// The last snapshot to map: `until`, checked against the run, or the run's last.

@@ -89,6 +89,7 @@ pub fn soak_command(args: &SoakArgs) -> Result<()> {
         &sonarmap::suite::Conditions {
             drift: args.drift.error(),
             pace: args.pace.pace()?,
+            calibrate: false,
         },
         &mut progress.callback(),
     )

@@ -19,7 +19,7 @@ pub struct SuiteArgs<'a> {
     pub write_plans: Option<&'a Path>,
     /// `--logs-from DIR`.
     pub logs_from: Option<&'a Path>,
-    /// `--drift` and the pace: how every run is driven.
+    /// `--drift`, the pace and `--calibrate`: how every run is driven and mapped.
     pub conditions: sonarmap::suite::Conditions,
 }
 
@@ -29,7 +29,6 @@ pub fn suite_command(args: &SuiteArgs, params: &Params) -> Result<()> {
     if let Some(dir) = args.write_plans {
         write_plans(dir, args.scenes, args.seed)?;
     }
-    let drift = args.conditions.drift.as_ref();
     let elsewhere = match args.logs_from {
         Some(dir) => logs_in(dir, args.scenes, args.seed),
         None => Vec::new(),
@@ -45,7 +44,7 @@ pub fn suite_command(args: &SuiteArgs, params: &Params) -> Result<()> {
     )
     .map_err(|_| Interrupted)?;
     for (i, (family, seed, path)) in elsewhere.into_iter().enumerate() {
-        lines.push(log_line(family, seed, &path, params, drift)?);
+        lines.push(log_line(family, seed, &path, params, &args.conditions)?);
         progress.set(generated + i + 1)?;
     }
     drop(progress);
@@ -86,9 +85,10 @@ fn log_line(
     seed: u64,
     path: &Path,
     params: &Params,
-    drift: Option<&sonarmap::sim::OdometryError>,
+    conditions: &sonarmap::suite::Conditions,
 ) -> Result<SuiteLine> {
-    let run = sonarmap::suite::drifted(read_run(path)?, drift, seed);
+    let run = sonarmap::suite::drifted(read_run(path)?, conditions.drift.as_ref(), seed);
+    let params = &conditions.mapping_params(&run, params);
     let (map, poses) = sonarmap::suite::map_and_poses_of(&run, params);
     let figures = sonarmap::suite::scene_figures(&map, &run, params)
         .ok_or_else(|| anyhow!("{}: the log has no floor_plan", path.display()))?;

@@ -160,6 +160,20 @@ impl Mapper {
             .then(|| (kappa_rad.to_degrees(), 100.0 * epsilon))
     }
 
+    /// The parameters with the drift this mapper found as their calibration
+    /// (`drift_deg_per_m`, `drift_per_turn_pct`, from [`Self::drift_calibration`]), or as they
+    /// are when it found none: those of a second pass.
+    pub fn calibrated_params(&self) -> Params {
+        match self.drift_calibration() {
+            Some((deg_per_m, per_turn_pct)) => Params {
+                drift_deg_per_m: deg_per_m,
+                drift_per_turn_pct: per_turn_pct,
+                ..self.params.clone()
+            },
+            None => self.params.clone(),
+        }
+    }
+
     /// Index the next step will get.
     pub fn next_snapshot(&self) -> usize {
         self.next_snapshot

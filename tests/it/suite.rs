@@ -192,3 +192,22 @@ fn extended_holds_at_a_crawl_what_it_maps_at_the_papers_pace() {
     assert!(crawled.mean_coverage >= crawled_before.mean_coverage + 0.05);
     assert!(crawled.spurious_fraction <= crawled_before.spurious_fraction - 0.05);
 }
+
+/// A suite calibrated (each run mapped twice, docs/algorithm.md §8.17) without drift finds no
+/// drift to calibrate with, so its lines are those of the one pass.
+#[test]
+fn a_calibrated_suite_without_drift_is_the_plain_suite() {
+    use sonarmap::suite::{run_suite_with, Conditions};
+    let calibrated = Conditions {
+        calibrate: true,
+        ..Conditions::PLAIN
+    };
+    let run = |conditions: &Conditions| {
+        run_suite_with(3, 21, &Params::extended(), conditions, &mut |_| true).unwrap()
+    };
+    let (once, twice) = (run(&Conditions::PLAIN), run(&calibrated));
+    assert_eq!(
+        serde_json::to_string(&once).unwrap(),
+        serde_json::to_string(&twice).unwrap()
+    );
+}
