@@ -169,25 +169,26 @@ pub fn map_of(run: &Run, params: &Params) -> Map {
     map_and_poses_of(run, params).0
 }
 
-/// [`map_of`], with the pose each step mapped with (corrected, with pose correction).
+/// [`map_of`], with the pose each step mapped with (corrected, with pose correction); with
+/// `calibrate_first`, a second pass when the first found a drift
+/// ([`Mapper::second_pass_params`]).
 pub fn map_and_poses_of(run: &Run, params: &Params) -> (Map, Vec<Pose>) {
-    let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor).with_trace(false);
-    let poses = run
-        .snapshots
-        .iter()
-        .filter_map(|s| mapper.step(s).pose)
-        .collect();
+    let one_pass = |params: &Params| {
+        let mut mapper =
+            Mapper::new(params.clone(), run.layout.clone(), run.sensor).with_trace(false);
+        let poses: Vec<Pose> = run
+            .snapshots
+            .iter()
+            .filter_map(|s| mapper.step(s).pose)
+            .collect();
+        (mapper, poses)
+    };
+    let (mapper, poses) = one_pass(params);
+    let (mapper, poses) = match mapper.second_pass_params() {
+        Some(calibrated) => one_pass(&calibrated),
+        None => (mapper, poses),
+    };
     (mapper.map().clone(), poses)
-}
-
-/// `params` calibrated by a first pass over `run`: with the drift it found
-/// ([`Mapper::calibrated_params`]; docs/algorithm.md §8.17, "calibrate, then map").
-pub fn calibrated_for(run: &Run, params: &Params) -> Params {
-    let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor).with_trace(false);
-    for snapshot in &run.snapshots {
-        mapper.step(snapshot);
-    }
-    mapper.calibrated_params()
 }
 
 /// The suite figures of `map` against `run`'s floor plan (none without one).
@@ -261,25 +262,13 @@ pub struct Conditions {
     pub drift: Option<OdometryError>,
     /// The pace and firing order every run is simulated at.
     pub pace: Pace,
-    /// Each run mapped twice, the second pass calibrated by the first ([`calibrated_for`]).
-    pub calibrate: bool,
 }
 
 impl Conditions {
-    /// The parameters `run` is mapped with: `params`, calibrated when [`Self::calibrate`].
-    pub fn mapping_params(&self, run: &Run, params: &Params) -> Params {
-        if self.calibrate {
-            calibrated_for(run, params)
-        } else {
-            params.clone()
-        }
-    }
-
     /// The plans' own paths, the ring fired at once, the odometry the truth.
     pub const PLAIN: Conditions = Conditions {
         drift: None,
         pace: Pace::PLAN,
-        calibrate: false,
     };
 }
 
@@ -297,7 +286,6 @@ pub fn run_suite_with(
         for (model, name) in [(Model::Specular, "specular"), (Model::Axis, "axis")] {
             let run = simulate_paced(&plan, model, s, &conditions.pace);
             let run = drifted(run, conditions.drift.as_ref(), s);
-            let params = &conditions.mapping_params(&run, params);
             let (map, poses) = map_and_poses_of(&run, params);
             let figures = scene_figures(&map, &run, params).expect("a family plan has walls");
             lines.push(SuiteLine {

@@ -269,6 +269,7 @@ impl SonarApp {
                         );
                     }
                 }
+                self.calibrate_if_drifting();
             }
             JobPoll::Running => ctx.request_repaint(),
             JobPoll::Stopped => {
@@ -288,6 +289,19 @@ impl SonarApp {
                     }
                 });
             }
+        }
+    }
+
+    /// With `calibrate_first`, a replay that found the odometry drifting is followed by a
+    /// second one from that drift (docs/algorithm.md §8.17, "calibrate, then map").
+    fn calibrate_if_drifting(&mut self) {
+        if let Some(calibrated) = self.loaded.replay.second_pass().cloned() {
+            self.message = format!(
+                "the odometry drifts ({:+.3}°/m, {:+.2} % of turns): mapping again from that \
+                 drift (calibrate_first)",
+                calibrated.drift_deg_per_m, calibrated.drift_per_turn_pct
+            );
+            self.push(crate::app::Command::SetParams(calibrated));
         }
     }
 

@@ -2,17 +2,15 @@
 //! generated scenes scored, [`super::suite`]).
 
 use super::input::{read, read_run};
-use super::map_run::{calibrated, map_run};
+use super::map_run::map_run;
 use super::output::emit;
 use super::params::{read_params_and_preset, ParamArgs};
-use super::progress::Progress;
 use super::suite::{suite_command, SuiteArgs};
 use anyhow::{anyhow, Context, Result};
 use clap::Args;
 use sonarmap::alignment::Search;
 use sonarmap::eval::{evaluate, evaluate_aligned, EvalReport};
 use sonarmap::mapping::{Params, Preset};
-use sonarmap::run::Run;
 use sonarmap::sim::load_plan;
 use std::path::PathBuf;
 
@@ -71,10 +69,6 @@ pub struct EvalArgs {
     /// `near` (the default) looks within 15° of the plan's frame, `anywhere` over the whole turn.
     #[arg(long, value_enum, value_name = "SEARCH", num_args = 0..=1, default_missing_value = "near", conflicts_with = "suite")]
     pub align: Option<AlignArg>,
-    /// Map the log (with --suite, each run) twice, the second pass starting from the drift the
-    /// first found, as `run --calibrate` does; a log's calibration is printed as `calibration`.
-    #[arg(long)]
-    pub calibrate: bool,
 }
 
 /// Where `eval --align` looks for the transform.
@@ -108,12 +102,12 @@ struct EvalOutput {
     /// (docs/algorithm.md §8.7).
     #[serde(skip_serializing_if = "Option::is_none")]
     confirmed: Option<EvalReport>,
-    /// With `--calibrate`, the drift the first pass found (`null` when none).
+    /// With `calibrate_first`, the drift the first pass found (`null` when none).
     #[serde(skip_serializing_if = "Option::is_none")]
     calibration: Option<Option<Calibration>>,
 }
 
-/// The odometry's drift a first pass found (`eval --calibrate`).
+/// The odometry's drift a first pass found (`calibrate_first`).
 #[derive(Debug, serde::Serialize)]
 struct Calibration {
     drift_deg_per_m: f64,
@@ -131,18 +125,6 @@ impl Calibration {
     }
 }
 
-/// `params` calibrated by a first pass over the whole of `run`, its progress on stderr.
-fn calibrated_fully(run: &Run, params: &Params) -> Result<Params> {
-    let last = run.snapshots.len() - 1;
-    let what = format!("{} (calibrating)", run.name);
-    calibrated(
-        run,
-        params,
-        last,
-        &Progress::new(&what, last + 1, "snapshots"),
-    )
-}
-
 /// Runs `sonarmap eval`.
 pub fn eval_command(args: &EvalArgs) -> Result<()> {
     let (params, preset) = read_params_and_preset(&args.params)?;
@@ -155,7 +137,6 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
             conditions: sonarmap::suite::Conditions {
                 drift: args.drift.error(),
                 pace: args.pace.pace()?,
-                calibrate: args.calibrate,
             },
         };
         return suite_command(&suite, &params);
@@ -170,13 +151,13 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
             )
         })?,
     };
-    let params = if args.calibrate {
-        calibrated_fully(&run, &params).with_context(|| log.display().to_string())?
-    } else {
-        params
-    };
-    let (mapper, _, summary) =
+    let (mut mapper, _, mut summary) =
         map_run(&run, params.clone(), None, false).with_context(|| log.display().to_string())?;
+    if let Some(calibrated) = mapper.second_pass_params() {
+        (mapper, _, summary) =
+            map_run(&run, calibrated, None, false).with_context(|| log.display().to_string())?;
+    }
+    let params = mapper.params().clone();
     let map = mapper.map();
     let score = |m: &sonarmap::mapping::Map| match args.align {
         Some(AlignArg::Near) => evaluate_aligned(m, &run, &floor_plan, &params, Search::Near(None)),
@@ -209,7 +190,7 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
         true_point_features: has_features
             .then(|| sonarmap::eval::true_point_features(map, &scored_plan, &params)),
         confirmed: sonarmap::eval::confirmed_map(map).map(|m| score(&m)),
-        calibration: args.calibrate.then(|| Calibration::of(&params)),
+        calibration: params.calibrate_first.then(|| Calibration::of(&params)),
     };
     emit(&serde_json::to_string_pretty(&out)?)?;
     Ok(())

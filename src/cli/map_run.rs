@@ -21,15 +21,6 @@ pub fn map_run(
     Ok(mapping.finish())
 }
 
-/// `params` calibrated by a first pass over `run` up to snapshot `until` (its progress under
-/// `progress`): with the drift that pass's heading correction found significant
-/// ([`Mapper::drift_calibration`]), or as they are when it found none.
-pub fn calibrated(run: &Run, params: &Params, until: usize, progress: &Progress) -> Result<Params> {
-    let mut first = Mapping::new(run, params.clone(), false);
-    first.step_to(run, until + 1, progress)?;
-    Ok(first.mapper.calibrated_params())
-}
-
 /// The last snapshot to map: `until`, checked against the run, or the run's last.
 pub fn last_snapshot(run: &Run, until: Option<usize>) -> Result<usize> {
     let last = run.snapshots.len() - 1;

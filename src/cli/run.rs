@@ -4,7 +4,7 @@
 use super::figure_args::{paper_figure_layers, paper_figure_svg, FigureArgs, FigureSpec};
 use super::input::read_run;
 use super::interrupt;
-use super::map_run::{calibrated, last_snapshot, Mapping};
+use super::map_run::{last_snapshot, Mapping};
 use super::output::{emit, emit_each, write_atomic};
 use super::parallel::parallel_map;
 use super::params::{read_params, ParamArgs};
@@ -14,6 +14,7 @@ use clap::Args;
 use sonarmap::log::save_map;
 use sonarmap::mapping::{Params, StepTrace};
 use sonarmap::replay::StepView;
+use sonarmap::run::Run;
 use sonarmap::trajectory::tum_trajectory;
 use std::path::{Path, PathBuf};
 
@@ -56,12 +57,6 @@ pub struct RunArgs {
     /// With --out-dir: also write each log's trace.
     #[arg(long, requires = "out_dir")]
     pub trace: bool,
-    /// Map each log twice: a first pass estimates the odometry's drift (with the heading
-    /// correction, as in `extended`), and when it found one the second pass starts from it
-    /// (`drift_deg_per_m`, `drift_per_turn_pct`), correcting from the first step; a log
-    /// without drift maps once, as without the flag.
-    #[arg(long)]
-    pub calibrate: bool,
     /// The figure's region, layers, size, style and PNG.
     #[command(flatten)]
     pub figure: FigureArgs,
@@ -91,16 +86,7 @@ pub fn run_command(args: &RunArgs) -> Result<()> {
     // A bug that panics on one log must not take the process (or a sweep's other results)
     // with it; the steps themselves are guarded and name their snapshot.
     let guarded = |i: usize, sweep: Option<&Progress>| {
-        let one = || {
-            run_one(
-                &args.logs[i],
-                &params,
-                args.until,
-                &outputs[i],
-                sweep,
-                args.calibrate,
-            )
-        };
+        let one = || run_one(&args.logs[i], &params, args.until, &outputs[i], sweep);
         std::panic::catch_unwind(std::panic::AssertUnwindSafe(one)).unwrap_or_else(|_| {
             Err(anyhow!(
                 "{}: the mapper panicked on this log",
@@ -180,54 +166,28 @@ fn out_dir_outputs(args: &RunArgs, dir: &Path) -> Result<Vec<RunOutputs>> {
         .collect())
 }
 
-/// Maps one log (calibrated by a first pass when `calibrate`) and writes what `out` asks, its
-/// progress shown (under `sweep`'s in a sweep); returns its summary line. The log is mapped once: the figure's two snapshots are the run's
-/// last steps, traced in full.
+/// Maps one log and writes what `out` asks, its progress shown (under `sweep`'s in a sweep);
+/// returns its summary line. With `calibrate_first`, a log whose mapping found a drift is mapped
+/// again from it ([`sonarmap::mapping::Mapper::second_pass_params`]), and that pass is written.
 fn run_one(
     path: &Path,
     params: &Params,
     until: Option<usize>,
     out: &RunOutputs,
     sweep: Option<&Progress>,
-    calibrate: bool,
 ) -> Result<String> {
     interrupt::check()?;
     let run = read_run(path)?;
     let until = last_snapshot(&run, until)?;
-    let calibrated_params;
-    let params = if calibrate {
-        let what = format!("{} (calibrating)", path.display());
-        let first = Progress::within(sweep, &what, until + 1, "snapshots");
-        calibrated_params =
-            calibrated(&run, params, until, &first).with_context(|| path.display().to_string())?;
-        &calibrated_params
-    } else {
-        params
-    };
-    let progress = Progress::within(sweep, &path.display().to_string(), until + 1, "snapshots");
-    let mut mapping = Mapping::new(&run, params.clone(), out.trace.is_some());
-    let figure = match &out.svg {
-        Some(_) => {
-            mapping
-                .step_to(&run, until.saturating_sub(1), &progress)
-                .with_context(|| path.display().to_string())?;
-            let view = StepView::by_stepping(&mut mapping.mapper, &run.snapshots, until);
-            for trace in view.previous.iter().chain([&view.trace]) {
-                mapping.record(trace.clone());
-            }
-            Some(match &out.figure {
-                Some(spec) => spec.svg(&run, &view),
-                None => paper_figure_svg(&run, &view),
-            })
-        }
-        None => {
-            mapping
-                .step_to(&run, until + 1, &progress)
-                .with_context(|| path.display().to_string())?;
-            None
-        }
-    };
-    drop(progress);
+    let what = path.display().to_string();
+    let progress = Progress::within(sweep, &what, until + 1, "snapshots");
+    let (mut mapping, mut figure) = map_for(&run, params, until, out, &progress).context(what)?;
+    if let Some(calibrated) = mapping.mapper.second_pass_params() {
+        drop(progress);
+        let what = format!("{} (calibrated)", path.display());
+        let progress = Progress::within(sweep, &what, until + 1, "snapshots");
+        (mapping, figure) = map_for(&run, &calibrated, until, out, &progress).context(what)?;
+    }
     let (mapper, traces, summary) = mapping.finish();
     if let Some(path) = &out.map {
         write_atomic(path, save_map(mapper.map(), run.units, until))?;
@@ -243,6 +203,33 @@ fn run_one(
         write_figure(path, &svg, out.figure.as_ref())?;
     }
     Ok(summary.to_string())
+}
+
+/// One pass over `run` to snapshot `until` with `params`, traced when `out` asks, and the
+/// figure's SVG when it asks one: the figure's two snapshots are the run's last steps, traced
+/// in full.
+fn map_for(
+    run: &Run,
+    params: &Params,
+    until: usize,
+    out: &RunOutputs,
+    progress: &Progress,
+) -> Result<(Mapping, Option<String>)> {
+    let mut mapping = Mapping::new(run, params.clone(), out.trace.is_some());
+    if out.svg.is_none() {
+        mapping.step_to(run, until + 1, progress)?;
+        return Ok((mapping, None));
+    }
+    mapping.step_to(run, until.saturating_sub(1), progress)?;
+    let view = StepView::by_stepping(&mut mapping.mapper, &run.snapshots, until);
+    for trace in view.previous.iter().chain([&view.trace]) {
+        mapping.record(trace.clone());
+    }
+    let svg = match &out.figure {
+        Some(spec) => spec.svg(run, &view),
+        None => paper_figure_svg(run, &view),
+    };
+    Ok((mapping, Some(svg)))
 }
 
 /// Writes the step traces to `path` (`sonarmap-trace` v1, metres).

@@ -89,7 +89,6 @@ pub fn soak_command(args: &SoakArgs) -> Result<()> {
         &sonarmap::suite::Conditions {
             drift: args.drift.error(),
             pace: args.pace.pace()?,
-            calibrate: false,
         },
         &mut progress.callback(),
     )

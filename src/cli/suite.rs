@@ -19,7 +19,7 @@ pub struct SuiteArgs<'a> {
     pub write_plans: Option<&'a Path>,
     /// `--logs-from DIR`.
     pub logs_from: Option<&'a Path>,
-    /// `--drift`, the pace and `--calibrate`: how every run is driven and mapped.
+    /// `--drift` and the pace: how every run is driven.
     pub conditions: sonarmap::suite::Conditions,
 }
 
@@ -88,7 +88,6 @@ fn log_line(
     conditions: &sonarmap::suite::Conditions,
 ) -> Result<SuiteLine> {
     let run = sonarmap::suite::drifted(read_run(path)?, conditions.drift.as_ref(), seed);
-    let params = &conditions.mapping_params(&run, params);
     let (map, poses) = sonarmap::suite::map_and_poses_of(&run, params);
     let figures = sonarmap::suite::scene_figures(&map, &run, params)
         .ok_or_else(|| anyhow!("{}: the log has no floor_plan", path.display()))?;

@@ -160,18 +160,21 @@ impl Mapper {
             .then(|| (kappa_rad.to_degrees(), 100.0 * epsilon))
     }
 
-    /// The parameters with the drift this mapper found as their calibration
-    /// (`drift_deg_per_m`, `drift_per_turn_pct`, from [`Self::drift_calibration`]), or as they
-    /// are when it found none: those of a second pass.
-    pub fn calibrated_params(&self) -> Params {
-        match self.drift_calibration() {
-            Some((deg_per_m, per_turn_pct)) => Params {
-                drift_deg_per_m: deg_per_m,
-                drift_per_turn_pct: per_turn_pct,
-                ..self.params.clone()
-            },
-            None => self.params.clone(),
+    /// The parameters of a second pass (`calibrate_first`): these with the drift this mapper
+    /// found as their calibration ([`Self::drift_calibration`]), when they had none and it
+    /// found one; else `None`, the one pass standing.
+    pub fn second_pass_params(&self) -> Option<Params> {
+        let p = &self.params;
+        let uncalibrated = p.drift_deg_per_m == 0.0 && p.drift_per_turn_pct == 0.0;
+        if !(p.calibrate_first && uncalibrated) {
+            return None;
         }
+        let (deg_per_m, per_turn_pct) = self.drift_calibration()?;
+        Some(Params {
+            drift_deg_per_m: deg_per_m,
+            drift_per_turn_pct: per_turn_pct,
+            ..p.clone()
+        })
     }
 
     /// Index the next step will get.

@@ -77,6 +77,9 @@ pub struct Replay {
     truth_curve: Vec<TruthSample>,
     /// Every step's pose with pose correction on (empty otherwise).
     poses: Vec<StepPose>,
+    /// With `calibrate_first`, the parameters of the second pass the drift this replay found
+    /// calls for ([`Mapper::second_pass_params`]).
+    second_pass: Option<Params>,
 }
 
 /// The build was cancelled by its progress callback.
@@ -154,6 +157,7 @@ impl Replay {
             lineage: Arc::new(records.lineage),
             truth_curve: records.truth_curve,
             poses: records.poses,
+            second_pass: None,
         };
         replay.final_map = if replay.failure.is_some() {
             // The failed step may have left the mapper half-way: replay up to the last good one.
@@ -162,9 +166,16 @@ impl Replay {
                 good => replay.map_at(good - 1),
             }
         } else {
+            replay.second_pass = mapper.second_pass_params();
             mapper.map().clone()
         };
         Ok(replay)
+    }
+
+    /// With `calibrate_first`, the parameters of a second pass, when this one found a drift
+    /// ([`Mapper::second_pass_params`]): the app replays the run with them.
+    pub fn second_pass(&self) -> Option<&Params> {
+        self.second_pass.as_ref()
     }
 
     /// The map's spurious fraction and coverage every shortest checkpoint spacing, or at most

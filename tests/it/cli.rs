@@ -62,34 +62,28 @@ fn run_writes_the_poses_it_mapped_with_as_a_tum_trajectory() {
     }
 }
 
-/// `--calibrate` on a log without drift: the first pass finds none, so `run` writes the map it
-/// writes without the flag, and `eval` reports `"calibration": null`.
+/// `calibrate_first` (on in `extended`) on a log without drift: the mapping finds none, so
+/// `run` writes the map it writes with the flag off, and `eval` reports `"calibration": null`.
 #[test]
 fn calibrating_a_log_without_drift_maps_it_as_without() {
     let dir = tempfile::tempdir().unwrap();
     let log = assets("building.log.json");
-    let map_with = |calibrate: bool, name: &str| {
+    let off = dir.path().join("off.json");
+    std::fs::write(&off, r#"{"preset": "extended", "calibrate_first": false}"#).unwrap();
+    let map_with = |params: &[&str], name: &str| {
         let map = dir.path().join(name);
-        let mut args = vec!["run", log.to_str().unwrap(), "--preset", "extended"];
+        let mut args = vec!["run", log.to_str().unwrap()];
+        args.extend(params);
         args.extend(["--out-map", map.to_str().unwrap()]);
-        if calibrate {
-            args.push("--calibrate");
-        }
         let out = sonarmap(&args);
         assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
         std::fs::read(map).unwrap()
     };
     assert_eq!(
-        map_with(true, "calibrated.json"),
-        map_with(false, "once.json")
+        map_with(&["--preset", "extended"], "calibrated.json"),
+        map_with(&["--params", off.to_str().unwrap()], "once.json")
     );
-    let out = sonarmap(&[
-        "eval",
-        log.to_str().unwrap(),
-        "--preset",
-        "extended",
-        "--calibrate",
-    ]);
+    let out = sonarmap(&["eval", log.to_str().unwrap(), "--preset", "extended"]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(report["calibration"], serde_json::Value::Null);

@@ -189,7 +189,6 @@ fn drifting_lap_runs_at_a_crawl_keep_the_map_consistent() {
             firing_groups: 4,
             ..sonarmap::sim::Pace::PLAN
         },
-        calibrate: false,
     };
     let only = ["paper", "extended"].map(String::from);
     let report = sonarmap::soak::soak_variants_named(

@@ -337,7 +337,11 @@ fn the_inspector_maps_a_drifting_run_again_from_the_drift_it_shows() {
     let last = run.snapshots.len() - 1;
     let mut h = harness(SonarApp::new(run, None));
     settle(&mut h);
-    h.state_mut().push(Command::SetParams(Params::extended()));
+    let once = Params {
+        calibrate_first: false,
+        ..Params::extended()
+    };
+    h.state_mut().push(Command::SetParams(once));
     settle(&mut h);
     h.state_mut().push(Command::Seek(last));
     h.run();
@@ -351,4 +355,29 @@ fn the_inspector_maps_a_drifting_run_again_from_the_drift_it_shows() {
         params.drift_deg_per_m
     );
     assert!(params.heading_correction && params.confirm_segments);
+}
+
+/// With `calibrate_first` (as in `extended`) the app maps a drifting run again by itself, from the
+/// drift its first replay found; a run without drift keeps its one replay.
+#[test]
+fn the_app_maps_a_drifting_run_again_from_its_drift_by_itself() {
+    use super::support::{harness, settle};
+    use sonarmap::app::{Command, SonarApp};
+    let mut h = harness(SonarApp::new(drifting_corridor_crawl(), None));
+    settle(&mut h);
+    h.state_mut().push(Command::SetParams(Params::extended()));
+    settle(&mut h);
+    settle(&mut h);
+    let params = h.state().params();
+    assert!(
+        params.drift_deg_per_m.abs() > 0.05,
+        "{}°/m",
+        params.drift_deg_per_m
+    );
+    let mut h = harness(SonarApp::new(pioneer_corridor_crawl(1), None));
+    settle(&mut h);
+    h.state_mut().push(Command::SetParams(Params::extended()));
+    settle(&mut h);
+    settle(&mut h);
+    assert_eq!(h.state().params(), &Params::extended());
 }

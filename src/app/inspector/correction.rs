@@ -155,7 +155,7 @@ fn directions_ui(ui: &mut egui::Ui, directions: &[ObservedDirection]) {
 
 /// "Map again from this drift": the run mapped again with the drift estimated here as the
 /// odometry's calibration (`drift_deg_per_m`, `drift_per_turn_pct`), corrected from its first
-/// step, as `run --calibrate` does with the last step's (docs/algorithm.md §8.17).
+/// step, as `calibrate_first` does with the last step's (docs/algorithm.md §8.17).
 fn calibrate_button(
     ui: &mut egui::Ui,
     ctx: &InspectCtx,

@@ -43,6 +43,11 @@ pub const ALL: &[Extension] = &[
         source: "Nguyen, Harati, Martinelli and Siegwart 2006: orthogonal SLAM, indoor walls along two axes; Martinelli, Tomatis and Siegwart 2007: odometry calibrated on line",
     },
     Extension {
+        parameter: "calibrate_first",
+        section: "8.17",
+        source: "Borenstein and Feng 1996 (UMBmark): the odometry's systematic errors measured first, then corrected",
+    },
+    Extension {
         parameter: "explain_readings",
         section: "8.5",
         source: "Leonard and Durrant-Whyte 1992: a point target explains its echoes",

@@ -468,8 +468,14 @@ parameters! {
     /// Acts only with `confirm_segments`.
     heading_correction: bool, file heading_correction: bool, flag,
         paper false, extended true, needs ["confirm_segments"];
+    /// A run whose drift is significant when its mapping ends is mapped again from that drift
+    /// (`drift_deg_per_m`, `drift_per_turn_pct`), corrected from its first step: `run`, `eval`
+    /// and the app do so (docs/algorithm.md §8.17, "calibrate, then map"). Acts only with
+    /// `heading_correction`.
+    calibrate_first: bool, file calibrate_first: bool, flag,
+        paper false, extended true, needs ["heading_correction"];
     /// The odometry's known heading drift per metre driven, degrees (a calibration, such as a
-    /// first pass's estimate: `run --calibrate`). With it or `drift_per_turn` non-zero, the
+    /// first pass's estimate: `calibrate_first`). With it or `drift_per_turn` non-zero, the
     /// heading correction starts from them, taken as known within a tenth of its priors, and
     /// corrects from the first step (docs/algorithm.md §8.17). Acts only with
     /// `heading_correction`.
