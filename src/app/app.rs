@@ -62,6 +62,9 @@ pub struct SonarApp {
     pub(super) bookmarks: Vec<Bookmark>,
     pub(super) bookmark_text: String,
     pub(super) last_rerun_s: Option<f64>,
+    /// The drift (°/m, % of turns) a replay found, while the run is mapped again from it
+    /// (`calibrate_first`).
+    pub(super) calibrating_from: Option<(f64, f64)>,
     /// The window title last sent to the window.
     pub(super) shown_title: String,
 }

@@ -66,6 +66,7 @@ impl SonarApp {
             bookmarks: Vec::new(),
             bookmark_text: String::new(),
             last_rerun_s: None,
+            calibrating_from: None,
             shown_title: String::new(),
         };
         app.seek(0);
@@ -263,10 +264,17 @@ impl SonarApp {
                         let s = job.started.elapsed().as_secs_f64();
                         self.last_rerun_s = Some(s);
                         self.install_resuming(replay, resume_at);
-                        self.message = format!(
-                            "re-ran {} snapshots with the new parameters in {s:.2} s",
-                            self.len()
-                        );
+                        self.message = match self.calibrating_from.take() {
+                            Some((deg_per_m, per_turn_pct)) => format!(
+                                "mapped again from the drift the first pass found \
+                                 ({deg_per_m:+.3}°/m, {per_turn_pct:+.2} % of turns; \
+                                 calibrate_first) in {s:.2} s"
+                            ),
+                            None => format!(
+                                "re-ran {} snapshots with the new parameters in {s:.2} s",
+                                self.len()
+                            ),
+                        };
                     }
                 }
                 self.calibrate_if_drifting();
@@ -296,11 +304,13 @@ impl SonarApp {
     /// second one from that drift (docs/algorithm.md §8.17, "calibrate, then map").
     fn calibrate_if_drifting(&mut self) {
         if let Some(calibrated) = self.loaded.replay.second_pass().cloned() {
+            let drift = (calibrated.drift_deg_per_m, calibrated.drift_per_turn_pct);
             self.message = format!(
                 "the odometry drifts ({:+.3}°/m, {:+.2} % of turns): mapping again from that \
                  drift (calibrate_first)",
-                calibrated.drift_deg_per_m, calibrated.drift_per_turn_pct
+                drift.0, drift.1
             );
+            self.calibrating_from = Some(drift);
             self.push(crate::app::Command::SetParams(calibrated));
         }
     }
