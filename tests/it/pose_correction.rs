@@ -327,28 +327,23 @@ fn a_second_pass_from_the_first_ones_drift_holds_the_drifting_crawl_better() {
     assert_eq!(mapper.drift_calibration(), None);
 }
 
-/// The inspector offers the drift it shows as a calibration: "Map again from this drift" replays
-/// the run with the step's estimate as `drift_deg_per_m` and `drift_per_turn_pct`.
-#[test]
-fn the_inspector_maps_a_drifting_run_again_from_the_drift_it_shows() {
+/// The app opened on `run`, replayed with `params` (and whatever second replay they call for).
+fn app_with(
+    run: sonarmap::run::Run,
+    params: Params,
+) -> egui_kittest::Harness<'static, sonarmap::app::SonarApp> {
     use super::support::{harness, settle};
-    use sonarmap::app::{Command, SonarApp};
-    let run = drifting_corridor_crawl();
-    let last = run.snapshots.len() - 1;
-    let mut h = harness(SonarApp::new(run, None));
+    let mut h = harness(sonarmap::app::SonarApp::new(run, None));
     settle(&mut h);
-    let once = Params {
-        calibrate_first: false,
-        ..Params::extended()
-    };
-    h.state_mut().push(Command::SetParams(once));
+    h.state_mut()
+        .push(sonarmap::app::Command::SetParams(params));
     settle(&mut h);
-    h.state_mut().push(Command::Seek(last));
-    h.run();
-    assert_eq!(h.state().params().drift_deg_per_m, 0.0);
-    h.get_by_label("Map again from this drift").click();
     settle(&mut h);
-    let params = h.state().params();
+    h
+}
+
+/// `params` carry the drift of the bad crawl as their calibration.
+fn assert_calibrated(params: &Params) {
     assert!(
         params.drift_deg_per_m.abs() > 0.05,
         "{}°/m",
@@ -357,27 +352,31 @@ fn the_inspector_maps_a_drifting_run_again_from_the_drift_it_shows() {
     assert!(params.heading_correction && params.confirm_segments);
 }
 
+/// The inspector offers the drift it shows as a calibration: "Map again from this drift" replays
+/// the run with the step's estimate as `drift_deg_per_m` and `drift_per_turn_pct`.
+#[test]
+fn the_inspector_maps_a_drifting_run_again_from_the_drift_it_shows() {
+    let run = drifting_corridor_crawl();
+    let last = run.snapshots.len() - 1;
+    let once = Params {
+        calibrate_first: false,
+        ..Params::extended()
+    };
+    let mut h = app_with(run, once);
+    h.state_mut().push(sonarmap::app::Command::Seek(last));
+    h.run();
+    assert_eq!(h.state().params().drift_deg_per_m, 0.0);
+    h.get_by_label("Map again from this drift").click();
+    super::support::settle(&mut h);
+    assert_calibrated(h.state().params());
+}
+
 /// With `calibrate_first` (as in `extended`) the app maps a drifting run again by itself, from the
 /// drift its first replay found; a run without drift keeps its one replay.
 #[test]
 fn the_app_maps_a_drifting_run_again_from_its_drift_by_itself() {
-    use super::support::{harness, settle};
-    use sonarmap::app::{Command, SonarApp};
-    let mut h = harness(SonarApp::new(drifting_corridor_crawl(), None));
-    settle(&mut h);
-    h.state_mut().push(Command::SetParams(Params::extended()));
-    settle(&mut h);
-    settle(&mut h);
-    let params = h.state().params();
-    assert!(
-        params.drift_deg_per_m.abs() > 0.05,
-        "{}°/m",
-        params.drift_deg_per_m
-    );
-    let mut h = harness(SonarApp::new(pioneer_corridor_crawl(1), None));
-    settle(&mut h);
-    h.state_mut().push(Command::SetParams(Params::extended()));
-    settle(&mut h);
-    settle(&mut h);
+    let h = app_with(drifting_corridor_crawl(), Params::extended());
+    assert_calibrated(h.state().params());
+    let h = app_with(pioneer_corridor_crawl(1), Params::extended());
     assert_eq!(h.state().params(), &Params::extended());
 }
