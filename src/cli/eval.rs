@@ -117,11 +117,12 @@ struct Calibration {
 impl Calibration {
     /// The calibration `params` carry, if any.
     fn of(params: &Params) -> Option<Self> {
-        let found = params.drift_deg_per_m != 0.0 || params.drift_per_turn_pct != 0.0;
-        found.then_some(Calibration {
-            drift_deg_per_m: params.drift_deg_per_m,
-            drift_per_turn_pct: params.drift_per_turn_pct,
-        })
+        params
+            .drift_calibration()
+            .map(|(drift_deg_per_m, drift_per_turn_pct)| Calibration {
+                drift_deg_per_m,
+                drift_per_turn_pct,
+            })
     }
 }
 

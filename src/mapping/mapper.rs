@@ -165,16 +165,10 @@ impl Mapper {
     /// found one; else `None`, the one pass standing.
     pub fn second_pass_params(&self) -> Option<Params> {
         let p = &self.params;
-        let uncalibrated = p.drift_deg_per_m == 0.0 && p.drift_per_turn_pct == 0.0;
-        if !(p.calibrate_first && uncalibrated) {
+        if !p.calibrate_first || p.drift_calibration().is_some() {
             return None;
         }
-        let (deg_per_m, per_turn_pct) = self.drift_calibration()?;
-        Some(Params {
-            drift_deg_per_m: deg_per_m,
-            drift_per_turn_pct: per_turn_pct,
-            ..p.clone()
-        })
+        self.drift_calibration().map(|drift| p.calibrated_by(drift))
     }
 
     /// Index the next step will get.

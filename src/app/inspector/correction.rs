@@ -10,7 +10,6 @@ use crate::geometry::Pose;
 use crate::mapping::model::ext_trace::{
     CorrectionRefusal, CorrectionTarget, DriftEstimate, HeadingObservation, ObservedDirection,
 };
-use crate::mapping::Params;
 use egui::RichText;
 
 /// `pose` as position and heading.
@@ -162,11 +161,7 @@ fn calibrate_button(
     d: &DriftEstimate,
     commands: &mut Vec<Command>,
 ) {
-    let calibrated = Params {
-        drift_deg_per_m: d.deg_per_m,
-        drift_per_turn_pct: d.turn_pct,
-        ..ctx.params.clone()
-    };
+    let calibrated = ctx.params.calibrated_by((d.deg_per_m, d.turn_pct));
     let button = ui
         .button("Map again from this drift")
         .on_hover_text(format!(

@@ -104,12 +104,9 @@ impl Mapper {
     /// At the first step: a calibrated drift (`drift_deg_per_m`, `drift_per_turn_pct`)
     /// replaces the uninformed start.
     fn start_drift_from_calibration(&mut self) {
-        let p = &self.params;
-        if p.drift_deg_per_m != 0.0 || p.drift_per_turn_pct != 0.0 {
-            self.pose_belief.drift = OdometryDrift::calibrated(
-                p.drift_deg_per_m.to_radians(),
-                p.drift_per_turn_pct / 100.0,
-            );
+        if let Some((deg_per_m, per_turn_pct)) = self.params.drift_calibration() {
+            self.pose_belief.drift =
+                OdometryDrift::calibrated(deg_per_m.to_radians(), per_turn_pct / 100.0);
         }
     }
 

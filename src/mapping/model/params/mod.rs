@@ -81,6 +81,23 @@ impl Params {
         self.pose_correction || self.heading_correction
     }
 
+    /// The odometry's drift these parameters are calibrated with (`drift_deg_per_m`,
+    /// `drift_per_turn_pct`: degrees per metre, percent of turns), when either is non-zero.
+    pub fn drift_calibration(&self) -> Option<(f64, f64)> {
+        let (deg_per_m, per_turn_pct) = (self.drift_deg_per_m, self.drift_per_turn_pct);
+        (deg_per_m != 0.0 || per_turn_pct != 0.0).then_some((deg_per_m, per_turn_pct))
+    }
+
+    /// These parameters calibrated with the drift `(deg_per_m, per_turn_pct)` (see
+    /// [`Self::drift_calibration`]; docs/algorithm.md §8.17).
+    pub fn calibrated_by(&self, (deg_per_m, per_turn_pct): (f64, f64)) -> Params {
+        Params {
+            drift_deg_per_m: deg_per_m,
+            drift_per_turn_pct: per_turn_pct,
+            ..self.clone()
+        }
+    }
+
     /// Checks every value; the first problem found is returned.
     pub fn validate(&self) -> Result<(), ParamsError> {
         let positive = |name: &'static str, v: f64| {
