@@ -152,7 +152,7 @@ impl Mapper {
     /// still significant now: degrees per metre and percent of the angle turned, the
     /// calibration a second pass may start from (`drift_deg_per_m`, `drift_per_turn_pct`;
     /// docs/algorithm.md §8.17). `None` otherwise, and without the heading correction alone.
-    pub fn drift_calibration(&self) -> Option<(f64, f64)> {
+    pub fn found_drift(&self) -> Option<(f64, f64)> {
         let drift = &self.pose_belief.drift;
         let alone = self.params.heading_correction && !self.params.pose_correction;
         let (kappa_rad, epsilon, _) = drift.causes();
@@ -161,14 +161,14 @@ impl Mapper {
     }
 
     /// The parameters of a second pass (`calibrate_first`): these with the drift this mapper
-    /// found as their calibration ([`Self::drift_calibration`]), when they had none and it
+    /// found as their calibration ([`Self::found_drift`]), when they had none and it
     /// found one; else `None`, the one pass standing.
     pub fn second_pass_params(&self) -> Option<Params> {
         let p = &self.params;
         if !p.calibrate_first || p.drift_calibration().is_some() {
             return None;
         }
-        self.drift_calibration().map(|drift| p.calibrated_by(drift))
+        self.found_drift().map(|drift| p.calibrated_by(drift))
     }
 
     /// Index the next step will get.

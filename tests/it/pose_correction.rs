@@ -298,10 +298,7 @@ fn a_second_pass_from_the_first_ones_drift_holds_the_drifting_crawl_better() {
             .iter()
             .map(|s| mapper.step(s).pose.unwrap())
             .collect();
-        (
-            pose_error_of(&run, poses).unwrap(),
-            mapper.drift_calibration(),
-        )
+        (pose_error_of(&run, poses).unwrap(), mapper.found_drift())
     };
     let (first, calibration) = pass(Params::extended());
     let (deg_per_m, per_turn_pct) = calibration.expect("the bad drift is found");
@@ -324,7 +321,7 @@ fn a_second_pass_from_the_first_ones_drift_holds_the_drifting_crawl_better() {
     for s in &steady.snapshots {
         mapper.step(s);
     }
-    assert_eq!(mapper.drift_calibration(), None);
+    assert_eq!(mapper.found_drift(), None);
 }
 
 /// The app opened on `run`, replayed with `params` (and whatever second replay they call for).
