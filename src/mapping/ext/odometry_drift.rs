@@ -30,9 +30,12 @@ use nalgebra::{Matrix4, Vector4};
 pub const DRIFT_RATE_PRIOR_RAD_PER_M: f64 = 0.5 * std::f64::consts::PI / 180.0;
 /// The prior standard deviation of the error per radian turned (5 %).
 pub const TURN_ERROR_PRIOR: f64 = 0.05;
-/// The heading error's random growth per metre driven (0.1°/√m, wheel slip), as a standard
-/// deviation.
-pub const RANDOM_HEADING_RAD_PER_SQRT_M: f64 = 0.1 * std::f64::consts::PI / 180.0;
+/// The heading error's random growth per metre driven (0.2°/√m, wheel noise and slip), as a
+/// standard deviation. Wheel noise of 1 mm per √m on each wheel of a 0.33 m wheelbase (the
+/// mild drift of both drift models, `OdometryError::MILD` and `drift.py`) grows the heading by
+/// 0.25°/√m; at 0.1°/√m the filter held its error within 0.3–0.45° while the stand-in's was
+/// 1–2° (docs/algorithm.md §8.17 has the measurements).
+pub const RANDOM_HEADING_RAD_PER_SQRT_M: f64 = 0.2 * std::f64::consts::PI / 180.0;
 /// How fast the systematic drift per metre may itself change, per √m driven (0.01°/m per √m): a
 /// load or a floor changes it slowly.
 pub const DRIFT_RATE_CHANGE_PER_SQRT_M: f64 = 0.01 * std::f64::consts::PI / 180.0;
@@ -323,7 +326,8 @@ mod tests {
     fn odometry_that_does_not_drift_is_left_alone() {
         // Noisy lines (±0.3°, alternating) on odometry without error, the axis known within
         // 0.1°: the drift is never significant, so the correction stays 0, and the estimated
-        // error settles within a tenth of a degree; a U-turn after them does not move it.
+        // error stays within half the lines' 0.3° (the heading's random growth lets each line
+        // move it by about half its deviation); a U-turn after them does not move it.
         let mut drift = OdometryDrift::default();
         let sigma = 0.3f64.to_radians();
         drift.set_axis(0.0, 0.1f64.to_radians());
@@ -335,9 +339,10 @@ mod tests {
             assert!(!drift.drifting, "metre {metre}: {:?}", drift.causes());
             assert_eq!(drift.correction_rad(), 0.0);
         }
-        assert!(drift.heading_error_rad().to_degrees().abs() < 0.1);
+        let error_deg = drift.heading_error_rad().to_degrees();
+        assert!(error_deg.abs() < 0.15, "error {error_deg}°");
         drift.predict(0.0, std::f64::consts::PI);
-        assert!(drift.heading_error_rad().to_degrees().abs() < 0.1);
+        assert!((drift.heading_error_rad().to_degrees() - error_deg).abs() < 0.01);
     }
 
     #[test]
