@@ -264,11 +264,17 @@ impl SonarApp {
                         let s = job.started.elapsed().as_secs_f64();
                         self.last_rerun_s = Some(s);
                         self.install_resuming(replay, resume_at);
+                        let tracked = self.loaded.replay.params().heading_track.is_some();
                         self.message = match self.calibrating_from.take() {
                             Some((deg_per_m, per_turn_pct)) => format!(
                                 "mapped again from the drift the first pass found \
-                                 ({deg_per_m:+.3}°/m, {per_turn_pct:+.2} % of turns; \
-                                 calibrate_first) in {s:.2} s"
+                                 ({deg_per_m:+.3}°/m, {per_turn_pct:+.2} % of turns){} \
+                                 (calibrate_first) in {s:.2} s",
+                                if tracked {
+                                    " and its heading errors, smoothed"
+                                } else {
+                                    ""
+                                }
                             ),
                             None => format!(
                                 "re-ran {} snapshots with the new parameters in {s:.2} s",

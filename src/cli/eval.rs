@@ -112,6 +112,8 @@ struct EvalOutput {
 struct Calibration {
     drift_deg_per_m: f64,
     drift_per_turn_pct: f64,
+    /// The snapshots the first pass's smoothed heading errors cover (0: the drift alone).
+    heading_track_snapshots: usize,
 }
 
 impl Calibration {
@@ -122,6 +124,7 @@ impl Calibration {
             .map(|(drift_deg_per_m, drift_per_turn_pct)| Calibration {
                 drift_deg_per_m,
                 drift_per_turn_pct,
+                heading_track_snapshots: params.heading_track.as_ref().map_or(0, |t| t.len()),
             })
     }
 }

@@ -1,6 +1,7 @@
 //! The mapper: one snapshot in, the map updated and the step's trace out (paper §3).
 
 use crate::geometry::{Pose, RobotFrame};
+use crate::mapping::ext::drift_smoother::DriftHistory;
 use crate::mapping::ext::pose_correction::PoseBelief;
 use crate::mapping::model::map::{Map, Segment};
 use crate::mapping::model::params::Params;
@@ -38,6 +39,10 @@ pub struct Mapper {
     pub(super) last_t_s: Option<f64>,
     /// The pose estimate pose correction carries (docs/algorithm.md §8.17).
     pub(super) pose_belief: PoseBelief,
+    /// The drift filter's steps from the first snapshot, for the second pass's heading track
+    /// (`calibrate_first` on a pass not yet calibrated; `None` otherwise, and once resumed
+    /// from a state).
+    pub(super) drift_history: Option<DriftHistory>,
     /// Each sensor's pose in the step, when its readings have their own times (§1.1); empty
     /// otherwise.
     pub(super) step_reading_poses: Vec<Pose>,
@@ -76,6 +81,7 @@ impl Mapper {
         let confirms_segments = params.confirm_segments;
         let mut map = Map::confirming(confirms_segments);
         map.tracks_links = params.merge_duplicates || params.free_space;
+        let drift_history = params.keeps_drift_history().then(DriftHistory::default);
         Self {
             params,
             layout,
@@ -86,6 +92,7 @@ impl Mapper {
             last_pose: None,
             last_t_s: None,
             pose_belief: PoseBelief::default(),
+            drift_history,
             step_reading_poses: Vec::new(),
             step_frame: None,
             next_snapshot: 0,
@@ -162,13 +169,18 @@ impl Mapper {
 
     /// The parameters of a second pass (`calibrate_first`): these with the drift this mapper
     /// found as their calibration ([`Self::found_drift`]), when they had none and it
-    /// found one; else `None`, the one pass standing.
+    /// found one, and the heading errors of its steps smoothed over the whole pass (when it
+    /// ran every step from the first); else `None`, the one pass standing.
     pub fn second_pass_params(&self) -> Option<Params> {
         let p = &self.params;
         if !p.calibrate_first || p.drift_calibration().is_some() {
             return None;
         }
-        self.found_drift().map(|drift| p.calibrated_by(drift))
+        let track = self.drift_history.as_ref().and_then(DriftHistory::smoothed);
+        self.found_drift().map(|drift| Params {
+            heading_track: track.map(std::sync::Arc::new),
+            ..p.calibrated_by(drift)
+        })
     }
 
     /// Index the next step will get.
@@ -210,6 +222,7 @@ impl Mapper {
         self.last_t_s = state.last_t_s;
         self.pose_belief = state.pose_belief;
         self.next_snapshot = state.next_snapshot;
+        self.drift_history = None;
     }
 
     /// Resumes from a state taken by [`Mapper::state`] (its map shared, not moved: see
@@ -221,6 +234,7 @@ impl Mapper {
         self.last_t_s = state.last_t_s;
         self.pose_belief = state.pose_belief.clone();
         self.next_snapshot = state.next_snapshot;
+        self.drift_history = None;
     }
 
     /// Where the step's readings were taken from (§1.1).

@@ -186,13 +186,20 @@ fn drift_rows(ui: &mut egui::Ui, d: &DriftEstimate) {
         "drift",
         format!("{:+.3}°/m, {:+.2} % of turns", d.deg_per_m, d.turn_pct),
     );
-    kv(
-        ui,
-        "corrected",
-        if d.drifting {
-            "yes: the drift is significant"
-        } else {
-            "not yet: no significant drift"
-        },
-    );
+    match d.tracked_deg {
+        Some(tracked_deg) => kv(
+            ui,
+            "corrected by",
+            format!("{tracked_deg:+.2}°: the first pass's error here, smoothed"),
+        ),
+        None => kv(
+            ui,
+            "corrected",
+            if d.drifting {
+                "yes: the drift is significant"
+            } else {
+                "not yet: no significant drift"
+            },
+        ),
+    }
 }

@@ -6,6 +6,7 @@ pub mod beam_geometry;
 pub mod confirm;
 pub mod constant_depth;
 pub mod corner_diagonals;
+pub mod drift_smoother;
 pub mod echo_fit;
 pub mod free_space;
 pub mod memory_linkage;

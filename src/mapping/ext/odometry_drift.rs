@@ -17,11 +17,11 @@
 //!
 //! The wall windows' lines, laid out in the odometry's frame, lie along the map's axes turned by
 //! `b`: they observe `b − a` (modulo 90°). The reference axis comes from the map's walls,
-//! drawn over many readings and passes, so `a` starts small and the lines pin `b` itself; the
-//! lines drawn at different distances driven and across turns then separate `b`'s causes. The
-//! correction follows the drift the odometry shows instead of each line's noise: on a robot
-//! whose odometry does not
-//! drift, `κ` and `ε` settle near 0 and the heading stays put.
+//! drawn with the heading of their time, so `a` starts as the error that heading had
+//! ([`OdometryDrift::set_axis`]); the lines drawn at different distances driven and across
+//! turns then separate `b`'s causes. The correction follows the drift the odometry shows
+//! instead of each line's noise: on a robot whose odometry does not drift, `κ` and `ε` settle
+//! near 0 and the heading stays put.
 
 use nalgebra::{Matrix4, Vector4};
 
@@ -201,15 +201,37 @@ impl OdometryDrift {
         p[(EPSILON, EPSILON)] += TURN_SCALE_CHANGE_PER_SQRT_RAD.powi(2) * turn_rad.abs();
     }
 
-    /// Sets the reference axis, in the map's frame, to `axis_rad`, known within `sigma_rad`.
+    /// Sets the reference axis, in the map's frame, to `axis_rad`, the walls' directions
+    /// spread within `sigma_rad` about it.
+    ///
+    /// The walls were drawn with the heading of their time, so the axis is off by the error
+    /// that heading had: the odometry's error less the correction taken. `a` starts as a copy
+    /// of `b` less the correction, correlated with `b` and its causes as `b` is, its variance
+    /// `b`'s plus the walls' spread: a feature placed from an uncertain pose inherits that
+    /// pose's error (Smith, Self and Cheeseman's stochastic map, 1990). The lines, which
+    /// observe `b − a`, then leave the error the heading had when the axis was set to the
+    /// odometry's model instead of taking it for the true axis.
+    ///
+    /// ```
+    /// use nalgebra::{Matrix4, Vector4};
+    /// use sonarmap::mapping::ext::odometry_drift::OdometryDrift;
+    /// // b is 0.2 rad within 0.1 (variance 0.01), not yet corrected; the walls spread 0.02.
+    /// let mut drift = OdometryDrift::default();
+    /// drift.mean = Vector4::new(0.2, 0.0, 0.0, 0.0);
+    /// drift.covariance = Matrix4::from_diagonal(&Vector4::new(0.01, 1e-4, 1e-3, 0.0));
+    /// drift.set_axis(0.3, 0.02);
+    /// assert_eq!(drift.mean[3], 0.2); // b less the correction (none taken yet)
+    /// assert!((drift.covariance[(3, 3)] - 0.0104).abs() < 1e-15); // 0.01 + 0.02²
+    /// assert_eq!(drift.covariance[(0, 3)], 0.01); // as correlated with b as b is
+    /// ```
     pub fn set_axis(&mut self, axis_rad: f64, sigma_rad: f64) {
         self.axis_ref_rad = Some(axis_rad.rem_euclid(std::f64::consts::FRAC_PI_2));
-        self.mean[A] = 0.0;
+        self.mean[A] = self.mean[B] - self.correction_rad();
         for k in 0..A {
-            self.covariance[(A, k)] = 0.0;
-            self.covariance[(k, A)] = 0.0;
+            self.covariance[(A, k)] = self.covariance[(B, k)];
+            self.covariance[(k, A)] = self.covariance[(k, B)];
         }
-        self.covariance[(A, A)] = sigma_rad * sigma_rad;
+        self.covariance[(A, A)] = self.covariance[(B, B)] + sigma_rad * sigma_rad;
     }
 
     /// The rotation that carries the odometry's lines to where the estimate expects them on the

@@ -353,6 +353,11 @@ pub struct DriftEstimate {
     pub turn_pct: f64,
     /// Whether the drift has been significant, so that the heading is corrected.
     pub drifting: bool,
+    /// In a second pass (`calibrate_first`), the heading error the first pass found at this
+    /// snapshot, smoothed over its whole run, degrees: the correction taken instead of
+    /// `heading_error_deg`. Absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tracked_deg: Option<f64>,
 }
 
 /// The heading the lines of the sensors' wall windows observe (docs/algorithm.md §8.17).

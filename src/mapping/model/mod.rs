@@ -9,6 +9,7 @@ pub mod beam;
 mod cell_table;
 pub mod ext_trace;
 pub mod features;
+pub mod heading_track;
 pub mod id_list;
 pub mod ids;
 pub mod index;

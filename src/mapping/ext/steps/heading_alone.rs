@@ -1,7 +1,8 @@
 //! `heading_correction` alone (docs/algorithm.md §8.17, "the odometry's drift"): the step's
 //! heading is the odometry's less the drift the walls' axes show
-//! ([`crate::mapping::ext::odometry_drift`]); the position follows the odometry's increments
-//! turned by it. The ranges do not pull.
+//! ([`crate::mapping::ext::odometry_drift`]), or, in a second pass, the first pass's smoothed
+//! error of the snapshot ([`crate::mapping::ext::drift_smoother`]); the position follows the
+//! odometry's increments turned by it. The ranges do not pull.
 
 use super::pose_correction::{odometry_increment, readings_trace, sigmas};
 use crate::geometry::Pose;
@@ -54,9 +55,11 @@ impl Mapper {
         }
         let drift_before = self.predict_drift(previous, &snapshot.pose);
         let update = self.update_drift(&lines);
+        self.record_drift_step(snapshot, previous);
         let drift = &self.pose_belief.drift;
         let predicted = with_correction(drift_before.0);
-        let corrected = with_correction(drift.correction_rad());
+        let tracked_rad = self.params.tracked_heading_error(self.step_index());
+        let corrected = with_correction(tracked_rad.unwrap_or(drift.correction_rad()));
         let (kappa_rad, epsilon, sigma_rad) = drift.causes();
         let estimate = DriftEstimate {
             heading_error_deg: drift.heading_error_rad().to_degrees(),
@@ -64,6 +67,7 @@ impl Mapper {
             deg_per_m: kappa_rad.to_degrees(),
             turn_pct: 100.0 * epsilon,
             drifting: drift.drifting,
+            tracked_deg: tracked_rad.map(f64::to_degrees),
         };
         let heading = drift
             .axis_rad()
@@ -99,6 +103,27 @@ impl Mapper {
             heading,
             drift: Some(estimate),
         }
+    }
+
+    /// Notes the drift filter's step for the second pass's heading track, when this pass
+    /// keeps one (`calibrate_first`, [`crate::mapping::ext::drift_smoother`]).
+    fn record_drift_step(&mut self, snapshot: &Snapshot, previous: Option<(f64, Pose)>) {
+        if self.drift_history.is_none() {
+            return;
+        }
+        let (distance_m, turn_rad) = previous
+            .map(|(_, before)| odometry_increment(&before, &snapshot.pose))
+            .unwrap_or((0.0, 0.0));
+        let index = self.step_index();
+        let Some(history) = self.drift_history.as_mut() else {
+            return;
+        };
+        history.record(index, distance_m, turn_rad, &self.pose_belief.drift);
+    }
+
+    /// The snapshot index of the step under way (`begin_step` has counted it).
+    fn step_index(&self) -> usize {
+        self.next_snapshot - 1
     }
 
     /// At the first step: a calibrated drift (`drift_deg_per_m`, `drift_per_turn_pct`)

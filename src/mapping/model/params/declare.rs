@@ -219,6 +219,12 @@ macro_rules! parameters {
         #[serde(default)]
         pub struct Params {
             $( $(#[doc = $doc])* pub $field: $ty, )*
+            /// The odometry's heading errors a first pass found, smoothed (`calibrate_first`,
+            /// docs/algorithm.md §8.17): with a calibration, each step's heading is the
+            /// odometry's less its snapshot's error. Not a file parameter: a first pass over
+            /// a log gives it for that log ([`super::Params::calibrated_by`] leaves it out).
+            #[serde(skip)]
+            pub heading_track: Option<std::sync::Arc<crate::mapping::model::heading_track::HeadingTrack>>,
         }
 
         /// The `--params` file of docs/formats.md §6. Every field is optional.
@@ -249,13 +255,13 @@ macro_rules! parameters {
         impl Params {
             /// The paper's values (docs/algorithm.md §7).
             pub fn paper() -> Self {
-                Self { $( $field: $paper, )* }
+                Self { $( $field: $paper, )* heading_track: None }
             }
 
             /// The paper plus every extension of docs/algorithm.md §8 (each parameter's
             /// `extended` value in the table of `params/declare.rs`).
             pub fn extended() -> Self {
-                Self { $( $field: $extended, )* }
+                Self { $( $field: $extended, )* heading_track: None }
             }
 
             /// Sets the fields `file` gives, its lengths in `units`.

@@ -89,13 +89,30 @@ impl Params {
     }
 
     /// These parameters calibrated with the drift `(deg_per_m, per_turn_pct)` (see
-    /// [`Self::drift_calibration`]; docs/algorithm.md §8.17).
+    /// [`Self::drift_calibration`]; docs/algorithm.md §8.17), without a heading track.
     pub fn calibrated_by(&self, (deg_per_m, per_turn_pct): (f64, f64)) -> Params {
         Params {
             drift_deg_per_m: deg_per_m,
             drift_per_turn_pct: per_turn_pct,
+            heading_track: None,
             ..self.clone()
         }
+    }
+
+    /// Whether a pass keeps the drift filter's steps for a second pass's heading track:
+    /// `calibrate_first` with the heading corrected alone, not yet calibrated.
+    pub fn keeps_drift_history(&self) -> bool {
+        self.calibrate_first
+            && self.heading_correction
+            && !self.pose_correction
+            && self.drift_calibration().is_none()
+    }
+
+    /// The first pass's smoothed heading error at snapshot `snapshot`, radians: with a
+    /// calibration ([`Self::drift_calibration`]) and a heading track that reaches it.
+    pub fn tracked_heading_error(&self, snapshot: usize) -> Option<f64> {
+        self.drift_calibration()?;
+        self.heading_track.as_ref()?.error_at(snapshot)
     }
 
     /// Checks every value; the first problem found is returned.

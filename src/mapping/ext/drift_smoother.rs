@@ -1,0 +1,198 @@
+//! The first pass's heading errors, smoothed over the whole run (docs/algorithm.md §8.17,
+//! "calibrate, then map"): the drift filter ([`crate::mapping::ext::odometry_drift`]) runs
+//! forwards, so the heading error of a step is estimated from the lines seen up to it. The
+//! Rauch–Tung–Striebel smoother (Rauch, Tung and Striebel 1965) runs back over its steps and
+//! gives each step the estimate from every line of the run: before the walls set the axis, and
+//! over a window's lag, the lines seen later tell what the error was. The second pass takes
+//! the heading from it ([`HeadingTrack`]).
+
+use crate::mapping::ext::odometry_drift::OdometryDrift;
+use crate::mapping::model::heading_track::HeadingTrack;
+use nalgebra::{Matrix4, Vector4};
+
+/// The most filter steps a first pass keeps for the smoother (each about 180 bytes): past it
+/// the second pass has the calibration alone.
+pub const MAX_SMOOTHED_STEPS: usize = 1 << 18;
+
+/// Index of the heading error `b` in the filter's state.
+const B: usize = 0;
+
+/// A step of the drift filter as it ran: the odometry's increment, then the estimate.
+#[derive(Clone, Debug, PartialEq)]
+struct FilterStep {
+    snapshot: usize,
+    distance_m: f64,
+    turn_rad: f64,
+    mean: Vector4<f64>,
+    covariance: Matrix4<f64>,
+}
+
+/// The drift filter's steps over a first pass, for [`DriftHistory::smoothed`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DriftHistory {
+    steps: Vec<FilterStep>,
+    /// The snapshots noted, kept or left out: one past the last.
+    noted: usize,
+    /// More than [`MAX_SMOOTHED_STEPS`] steps came: none are smoothed.
+    overflowed: bool,
+}
+
+impl DriftHistory {
+    /// Notes snapshot `snapshot`'s step: the odometry drove `distance_m` and turned
+    /// `turn_rad`, and the filter ended at `drift`. A step that neither moved nor changed the
+    /// estimate is left out: its smoothed error is the one of the step before.
+    pub fn record(
+        &mut self,
+        snapshot: usize,
+        distance_m: f64,
+        turn_rad: f64,
+        drift: &OdometryDrift,
+    ) {
+        if self.overflowed {
+            return;
+        }
+        self.noted = self.noted.max(snapshot + 1);
+        let unchanged = |last: &FilterStep| {
+            distance_m == 0.0
+                && turn_rad == 0.0
+                && last.mean == drift.mean
+                && last.covariance == drift.covariance
+        };
+        if self.steps.last().is_some_and(unchanged) {
+            return;
+        }
+        if self.steps.len() == MAX_SMOOTHED_STEPS {
+            self.overflowed = true;
+            self.steps = Vec::new();
+            return;
+        }
+        self.steps.push(FilterStep {
+            snapshot,
+            distance_m,
+            turn_rad,
+            mean: drift.mean,
+            covariance: drift.covariance,
+        });
+    }
+
+    /// The heading error at every snapshot up to the last one noted, smoothed; `None` without
+    /// steps or past [`MAX_SMOOTHED_STEPS`].
+    ///
+    /// Backwards from the last step, the smoothed state of step i is its filtered state plus
+    /// Cᵢ times what smoothing changed of the next step's prediction, Cᵢ = Pᵢ·Fᵀ·(P⁻ᵢ₊₁)⁺ (the
+    /// pseudo-inverse, since the axis offset has no variance before the walls set it). The
+    /// prediction is the filter's own ([`OdometryDrift::predict`]).
+    ///
+    /// ```
+    /// use nalgebra::{Matrix4, Vector4};
+    /// use sonarmap::mapping::ext::drift_smoother::DriftHistory;
+    /// use sonarmap::mapping::ext::odometry_drift::OdometryDrift;
+    /// // A heading that wanders at random (no systematic cause known), 0 at the start, the
+    /// // axis known: after 4 m unobserved, a line at the fifth metre says 1° exactly. The
+    /// // smoothed error grows evenly to it (a random walk pinned at both ends), 0.2° a metre,
+    /// // within 0.01° (the drift per metre may wander a little too, 0.01°/m per √m); the
+    /// // filter had 0 until the line.
+    /// let mut drift = OdometryDrift::default();
+    /// drift.covariance = Matrix4::zeros();
+    /// drift.set_axis(0.0, 0.0);
+    /// let mut history = DriftHistory::default();
+    /// history.record(0, 0.0, 0.0, &drift);
+    /// for metre in 1..=5 {
+    ///     drift.predict(1.0, 0.0);
+    ///     if metre == 5 {
+    ///         drift.update(1f64.to_radians() + drift.expected_rotation_rad(), 1e-9);
+    ///     }
+    ///     assert_eq!(drift.heading_error_rad() == 0.0, metre < 5);
+    ///     history.record(metre, 1.0, 0.0, &drift);
+    /// }
+    /// let track = history.smoothed().unwrap();
+    /// for metre in 0..=5 {
+    ///     let deg = track.error_at(metre).unwrap().to_degrees();
+    ///     assert!((deg - 0.2 * metre as f64).abs() < 0.01, "{metre} m: {deg}°");
+    /// }
+    /// ```
+    pub fn smoothed(&self) -> Option<HeadingTrack> {
+        let last = self.steps.last()?;
+        if self.overflowed {
+            return None;
+        }
+        let mut smoothed_mean = last.mean;
+        let mut smoothed_covariance = last.covariance;
+        let mut by_step = vec![0.0; self.steps.len()];
+        by_step[self.steps.len() - 1] = smoothed_mean[B];
+        for i in (0..self.steps.len() - 1).rev() {
+            let (step, next) = (&self.steps[i], &self.steps[i + 1]);
+            let mut predicted = OdometryDrift {
+                mean: step.mean,
+                covariance: step.covariance,
+                ..OdometryDrift::default()
+            };
+            predicted.predict(next.distance_m, next.turn_rad);
+            let mut motion = Matrix4::identity();
+            motion[(B, 1)] = next.distance_m;
+            motion[(B, 2)] = next.turn_rad;
+            let gain = step.covariance * motion.transpose() * pseudo_inverse(&predicted.covariance);
+            smoothed_mean = step.mean + gain * (smoothed_mean - predicted.mean);
+            smoothed_covariance = step.covariance
+                + gain * (smoothed_covariance - predicted.covariance) * gain.transpose();
+            by_step[i] = smoothed_mean[B];
+        }
+        let mut errors_rad = vec![0.0; self.noted];
+        for (i, step) in self.steps.iter().enumerate() {
+            let until = self
+                .steps
+                .get(i + 1)
+                .map_or(errors_rad.len(), |n| n.snapshot);
+            errors_rad[step.snapshot..until].fill(by_step[i]);
+        }
+        Some(HeadingTrack::new(errors_rad))
+    }
+}
+
+/// The pseudo-inverse of the covariance `p`, its singular values below 10⁻¹² of the largest
+/// taken as 0.
+fn pseudo_inverse(p: &Matrix4<f64>) -> Matrix4<f64> {
+    let svd = p.svd(true, true);
+    let largest = svd.singular_values.max();
+    if largest <= 0.0 {
+        return Matrix4::zeros();
+    }
+    svd.pseudo_inverse(largest * 1e-12)
+        .unwrap_or_else(|_| Matrix4::zeros())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_robot_standing_still_keeps_one_step_and_its_error_at_every_snapshot() {
+        let mut drift = OdometryDrift::default();
+        drift.predict(1.0, 0.0);
+        let mut history = DriftHistory::default();
+        for snapshot in 0..1000 {
+            history.record(snapshot, 0.0, 0.0, &drift);
+        }
+        assert_eq!(history.steps.len(), 1);
+        let track = history.smoothed().unwrap();
+        assert_eq!(track.len(), 1000);
+        assert!((0..1000).all(|k| track.error_at(k) == Some(drift.heading_error_rad())));
+        assert_eq!(track.error_at(1000), None);
+    }
+
+    #[test]
+    fn the_last_step_keeps_the_filters_estimate_and_too_many_steps_give_none() {
+        let mut drift = OdometryDrift::default();
+        drift.set_axis(0.0, 0.001);
+        let mut history = DriftHistory::default();
+        for snapshot in 0..10 {
+            drift.predict(0.1, 0.0);
+            drift.update(0.002 + drift.expected_rotation_rad(), 0.01);
+            history.record(snapshot, 0.1, 0.0, &drift);
+        }
+        let track = history.smoothed().unwrap();
+        assert_eq!(track.error_at(9), Some(drift.heading_error_rad()));
+        history.overflowed = true;
+        assert!(history.smoothed().is_none());
+    }
+}
