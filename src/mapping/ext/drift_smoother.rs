@@ -81,7 +81,8 @@ impl DriftHistory {
     /// Backwards from the last step, the smoothed state of step i is its filtered state plus
     /// Cᵢ times what smoothing changed of the next step's prediction, Cᵢ = Pᵢ·Fᵀ·(P⁻ᵢ₊₁)⁺ (the
     /// pseudo-inverse, since the axis offset has no variance before the walls set it). The
-    /// prediction is the filter's own ([`OdometryDrift::predict`]).
+    /// prediction is the filter's own ([`OdometryDrift::predict`]). The means alone are
+    /// smoothed: the second pass needs no covariance.
     ///
     /// ```
     /// use nalgebra::{Matrix4, Vector4};
@@ -117,7 +118,6 @@ impl DriftHistory {
             return None;
         }
         let mut smoothed_mean = last.mean;
-        let mut smoothed_covariance = last.covariance;
         let mut by_step = vec![0.0; self.steps.len()];
         by_step[self.steps.len() - 1] = smoothed_mean[B];
         for i in (0..self.steps.len() - 1).rev() {
@@ -133,8 +133,6 @@ impl DriftHistory {
             motion[(B, 2)] = next.turn_rad;
             let gain = step.covariance * motion.transpose() * pseudo_inverse(&predicted.covariance);
             smoothed_mean = step.mean + gain * (smoothed_mean - predicted.mean);
-            smoothed_covariance = step.covariance
-                + gain * (smoothed_covariance - predicted.covariance) * gain.transpose();
             by_step[i] = smoothed_mean[B];
         }
         let mut errors_rad = vec![0.0; self.noted];
