@@ -155,16 +155,16 @@ impl Mapper {
             .sum()
     }
 
-    /// The odometry's drift as the heading correction found it, when it did and its causes are
-    /// still significant now: degrees per metre and percent of the angle turned, the
-    /// calibration a second pass may start from (`drift_deg_per_m`, `drift_per_turn_pct`;
-    /// docs/algorithm.md §8.17). `None` otherwise, and without the heading correction alone.
+    /// The odometry's drift as the heading correction found it, once it has latched (its
+    /// causes were significant at some step): degrees per metre and percent of the angle
+    /// turned now, the calibration a second pass may start from (`drift_deg_per_m`,
+    /// `drift_per_turn_pct`; docs/algorithm.md §8.17). `None` otherwise, and without the
+    /// heading correction alone.
     pub fn found_drift(&self) -> Option<(f64, f64)> {
         let drift = &self.pose_belief.drift;
         let alone = self.params.heading_correction && !self.params.pose_correction;
         let (kappa_rad, epsilon, _) = drift.causes();
-        (alone && drift.drifting && drift.causes_significant())
-            .then(|| (kappa_rad.to_degrees(), 100.0 * epsilon))
+        (alone && drift.drifting).then(|| (kappa_rad.to_degrees(), 100.0 * epsilon))
     }
 
     /// The parameters of a second pass (`calibrate_first`): these with the drift this mapper

@@ -194,15 +194,37 @@ fn extended_holds_at_a_crawl_what_it_maps_at_the_papers_pace() {
 }
 
 /// A suite calibrated (`calibrate_first`, as in `extended`, docs/algorithm.md §8.17) without
-/// drift finds no drift to calibrate with, so its lines are those of one pass.
+/// drift finds no drift to calibrate with, so its lines are those of one pass, but for a run
+/// whose first pass latched on a drift it does not have: the second pass, from that pass's
+/// smoothed heading errors, maps it better than the one pass did. Of seed 21's six runs, the
+/// l-room's specular one latches (confirmed 0.600 spurious, 0.210 covered; 0.412 and 0.484
+/// after the second pass; 0.063 and 0.802 without the heading correction).
 #[test]
-fn a_calibrated_suite_without_drift_is_the_plain_suite() {
+fn a_calibrated_suite_without_drift_is_the_plain_suite_but_where_a_false_latch_is_mended() {
     let run = |calibrate_first: bool| {
         let params = Params {
             calibrate_first,
             ..Params::extended()
         };
-        serde_json::to_string(&run_suite(3, 21, &params)).unwrap()
+        run_suite(3, 21, &params)
     };
-    assert_eq!(run(true), run(false));
+    let (calibrated, plain) = (run(true), run(false));
+    let mut mended = Vec::new();
+    for (c, p) in calibrated.iter().zip(&plain) {
+        if c == p {
+            continue;
+        }
+        let (cc, pc) = (
+            c.figures.confirmed.as_ref().unwrap(),
+            p.figures.confirmed.as_ref().unwrap(),
+        );
+        assert!(
+            cc.spurious_fraction < pc.spurious_fraction && cc.coverage > pc.coverage,
+            "{} {}: {cc:?} against {pc:?}",
+            c.family,
+            c.model
+        );
+        mended.push((c.family, c.model.as_str()));
+    }
+    assert_eq!(mended, vec![("l-room", "specular")]);
 }
