@@ -27,10 +27,17 @@ struct FilterStep {
     covariance: Matrix4<f64>,
 }
 
+/// Steps kept in one allocation: the history grows by whole chunks, never copying what it
+/// holds (a growing vector's copies cost more than the steps' own recording).
+const CHUNK_STEPS: usize = 4096;
+
 /// The drift filter's steps over a first pass, for [`DriftHistory::smoothed`].
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct DriftHistory {
-    steps: Vec<FilterStep>,
+    /// The steps in order, in chunks of [`CHUNK_STEPS`].
+    chunks: Vec<Vec<FilterStep>>,
+    /// How many steps the chunks hold.
+    len: usize,
     /// The snapshots noted, kept or left out: one past the last.
     noted: usize,
     /// More than [`MAX_SMOOTHED_STEPS`] steps came: none are smoothed.
@@ -58,21 +65,38 @@ impl DriftHistory {
                 && last.mean == drift.mean
                 && last.covariance == drift.covariance
         };
-        if self.steps.last().is_some_and(unchanged) {
+        if self.last().is_some_and(unchanged) {
             return;
         }
-        if self.steps.len() == MAX_SMOOTHED_STEPS {
+        if self.len == MAX_SMOOTHED_STEPS {
             self.overflowed = true;
-            self.steps = Vec::new();
+            self.chunks = Vec::new();
             return;
         }
-        self.steps.push(FilterStep {
-            snapshot,
-            distance_m,
-            turn_rad,
-            mean: drift.mean,
-            covariance: drift.covariance,
-        });
+        if self.len % CHUNK_STEPS == 0 {
+            self.chunks.push(Vec::with_capacity(CHUNK_STEPS));
+        }
+        self.len += 1;
+        self.chunks
+            .last_mut()
+            .expect("pushed above")
+            .push(FilterStep {
+                snapshot,
+                distance_m,
+                turn_rad,
+                mean: drift.mean,
+                covariance: drift.covariance,
+            });
+    }
+
+    /// Step `i` of those kept.
+    fn step(&self, i: usize) -> &FilterStep {
+        &self.chunks[i / CHUNK_STEPS][i % CHUNK_STEPS]
+    }
+
+    /// The last step kept.
+    fn last(&self) -> Option<&FilterStep> {
+        self.chunks.last().and_then(|c| c.last())
     }
 
     /// The heading error at every snapshot up to the last one noted, smoothed; `None` without
@@ -113,15 +137,15 @@ impl DriftHistory {
     /// }
     /// ```
     pub fn smoothed(&self) -> Option<HeadingTrack> {
-        let last = self.steps.last()?;
+        let last = self.last()?;
         if self.overflowed {
             return None;
         }
         let mut smoothed_mean = last.mean;
-        let mut by_step = vec![0.0; self.steps.len()];
-        by_step[self.steps.len() - 1] = smoothed_mean[B];
-        for i in (0..self.steps.len() - 1).rev() {
-            let (step, next) = (&self.steps[i], &self.steps[i + 1]);
+        let mut by_step = vec![0.0; self.len];
+        by_step[self.len - 1] = smoothed_mean[B];
+        for i in (0..self.len - 1).rev() {
+            let (step, next) = (self.step(i), self.step(i + 1));
             let mut predicted = OdometryDrift {
                 mean: step.mean,
                 covariance: step.covariance,
@@ -136,11 +160,13 @@ impl DriftHistory {
             by_step[i] = smoothed_mean[B];
         }
         let mut errors_rad = vec![0.0; self.noted];
-        for (i, step) in self.steps.iter().enumerate() {
-            let until = self
-                .steps
-                .get(i + 1)
-                .map_or(errors_rad.len(), |n| n.snapshot);
+        for i in 0..self.len {
+            let step = self.step(i);
+            let until = if i + 1 < self.len {
+                self.step(i + 1).snapshot
+            } else {
+                errors_rad.len()
+            };
             errors_rad[step.snapshot..until].fill(by_step[i]);
         }
         Some(HeadingTrack::new(errors_rad))
@@ -171,11 +197,26 @@ mod tests {
         for snapshot in 0..1000 {
             history.record(snapshot, 0.0, 0.0, &drift);
         }
-        assert_eq!(history.steps.len(), 1);
+        assert_eq!(history.len, 1);
         let track = history.smoothed().unwrap();
         assert_eq!(track.len(), 1000);
         assert!((0..1000).all(|k| track.error_at(k) == Some(drift.heading_error_rad())));
         assert_eq!(track.error_at(1000), None);
+    }
+
+    #[test]
+    fn a_history_longer_than_a_chunk_keeps_every_step_in_order() {
+        let mut drift = OdometryDrift::default();
+        let mut history = DriftHistory::default();
+        let n = 2 * CHUNK_STEPS + 5;
+        for snapshot in 0..n {
+            drift.predict(0.01, 0.0);
+            history.record(snapshot, 0.01, 0.0, &drift);
+        }
+        assert_eq!((history.len, history.chunks.len()), (n, 3));
+        assert!((0..n).all(|i| history.step(i).snapshot == i));
+        assert_eq!(history.last().unwrap().mean, drift.mean);
+        assert_eq!(history.smoothed().unwrap().len(), n);
     }
 
     #[test]

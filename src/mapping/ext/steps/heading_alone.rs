@@ -53,9 +53,11 @@ impl Mapper {
         if previous.is_none() {
             self.start_drift_from_calibration();
         }
-        let drift_before = self.predict_drift(previous, &snapshot.pose);
+        // The odometry's increment since the last step (none at the first).
+        let increment = previous.map(|(_, before)| odometry_increment(&before, &snapshot.pose));
+        let drift_before = self.predict_drift(increment);
         let update = self.update_drift(&lines);
-        self.record_drift_step(snapshot, previous);
+        self.record_drift_step(increment);
         let drift = &self.pose_belief.drift;
         let predicted = with_correction(drift_before.0);
         let tracked_rad = self.params.tracked_heading_error(self.step_index());
@@ -105,20 +107,15 @@ impl Mapper {
         }
     }
 
-    /// Notes the drift filter's step for the second pass's heading track, when this pass
-    /// keeps one (`calibrate_first`, [`crate::mapping::ext::drift_smoother`]).
-    fn record_drift_step(&mut self, snapshot: &Snapshot, previous: Option<(f64, Pose)>) {
-        if self.drift_history.is_none() {
-            return;
-        }
-        let (distance_m, turn_rad) = previous
-            .map(|(_, before)| odometry_increment(&before, &snapshot.pose))
-            .unwrap_or((0.0, 0.0));
+    /// Notes the drift filter's step, after the odometry's `increment` (distance, turn), for
+    /// the second pass's heading track, when this pass keeps one (`calibrate_first`,
+    /// [`crate::mapping::ext::drift_smoother`]).
+    fn record_drift_step(&mut self, increment: Option<(f64, f64)>) {
         let index = self.step_index();
-        let Some(history) = self.drift_history.as_mut() else {
-            return;
-        };
-        history.record(index, distance_m, turn_rad, &self.pose_belief.drift);
+        if let Some(history) = self.drift_history.as_mut() {
+            let (distance_m, turn_rad) = increment.unwrap_or((0.0, 0.0));
+            history.record(index, distance_m, turn_rad, &self.pose_belief.drift);
+        }
     }
 
     /// The snapshot index of the step under way (`begin_step` has counted it).
@@ -135,12 +132,12 @@ impl Mapper {
         }
     }
 
-    /// Carries the drift through the odometry's increment from `previous` to `odometry`; the
-    /// correction and the heading error's standard deviation (radians) after it.
-    fn predict_drift(&mut self, previous: Option<(f64, Pose)>, odometry: &Pose) -> (f64, f64) {
+    /// Carries the drift through the odometry's `increment` (distance, turn; none at the
+    /// first step); the correction and the heading error's standard deviation (radians) after
+    /// it.
+    fn predict_drift(&mut self, increment: Option<(f64, f64)>) -> (f64, f64) {
         let drift = &mut self.pose_belief.drift;
-        if let Some((_, before)) = previous {
-            let (distance_m, turn_rad) = odometry_increment(&before, odometry);
+        if let Some((distance_m, turn_rad)) = increment {
             drift.predict(distance_m, turn_rad);
         }
         (drift.correction_rad(), drift.causes().2)
