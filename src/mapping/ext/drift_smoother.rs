@@ -73,7 +73,7 @@ impl DriftHistory {
             self.chunks = Vec::new();
             return;
         }
-        if self.len % CHUNK_STEPS == 0 {
+        if self.len.is_multiple_of(CHUNK_STEPS) {
             self.chunks.push(Vec::with_capacity(CHUNK_STEPS));
         }
         self.len += 1;
@@ -160,14 +160,13 @@ impl DriftHistory {
             by_step[i] = smoothed_mean[B];
         }
         let mut errors_rad = vec![0.0; self.noted];
-        for i in 0..self.len {
-            let step = self.step(i);
+        for (i, error_rad) in by_step.into_iter().enumerate() {
             let until = if i + 1 < self.len {
                 self.step(i + 1).snapshot
             } else {
                 errors_rad.len()
             };
-            errors_rad[step.snapshot..until].fill(by_step[i]);
+            errors_rad[self.step(i).snapshot..until].fill(error_rad);
         }
         Some(HeadingTrack::new(errors_rad))
     }
