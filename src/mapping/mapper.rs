@@ -178,7 +178,7 @@ impl Mapper {
         }
         let track = self.drift_history.as_ref().and_then(DriftHistory::smoothed);
         self.found_drift().map(|drift| Params {
-            heading_track: track.map(std::sync::Arc::new),
+            heading_track: track.map(|t| std::sync::Arc::new(t.calibrating(drift))),
             ..p.calibrated_by(drift)
         })
     }

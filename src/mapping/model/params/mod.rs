@@ -109,10 +109,30 @@ impl Params {
     }
 
     /// The first pass's smoothed heading error at snapshot `snapshot`, radians: with a
-    /// calibration ([`Self::drift_calibration`]) and a heading track that reaches it.
+    /// calibration ([`Self::drift_calibration`]) and a heading track that goes with it and
+    /// reaches the snapshot. A calibration changed since (by hand, in the app) leaves the
+    /// track out.
+    ///
+    /// ```
+    /// use std::sync::Arc;
+    /// use sonarmap::mapping::model::heading_track::HeadingTrack;
+    /// use sonarmap::mapping::Params;
+    /// let track = HeadingTrack::new(vec![0.01, 0.02]).calibrating((0.3, 1.0));
+    /// let params = Params {
+    ///     heading_track: Some(Arc::new(track)),
+    ///     ..Params::extended().calibrated_by((0.3, 1.0))
+    /// };
+    /// assert_eq!(params.tracked_heading_error(1), Some(0.02));
+    /// assert_eq!(params.tracked_heading_error(2), None); // past the first pass
+    /// let changed = Params { drift_deg_per_m: 0.4, ..params.clone() };
+    /// assert_eq!(changed.tracked_heading_error(1), None);
+    /// ```
     pub fn tracked_heading_error(&self, snapshot: usize) -> Option<f64> {
-        self.drift_calibration()?;
-        self.heading_track.as_ref()?.error_at(snapshot)
+        let drift = self.drift_calibration()?;
+        let track = self.heading_track.as_ref()?;
+        (track.drift() == Some(drift))
+            .then(|| track.error_at(snapshot))
+            .flatten()
     }
 
     /// Checks every value; the first problem found is returned.
