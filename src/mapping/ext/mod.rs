@@ -46,7 +46,7 @@ pub const ALL: &[Extension] = &[
     Extension {
         parameter: "calibrate_first",
         section: "8.17",
-        source: "Borenstein and Feng 1996 (UMBmark): the odometry's systematic errors measured first, then corrected",
+        source: "Borenstein and Feng 1996 (UMBmark): the odometry's systematic errors measured first, then corrected; Rauch, Tung and Striebel 1965: the heading errors smoothed over the whole run",
     },
     Extension {
         parameter: "explain_readings",

@@ -474,9 +474,10 @@ parameters! {
     /// Acts only with `confirm_segments`.
     heading_correction: bool, file heading_correction: bool, flag,
         paper false, extended true, needs ["confirm_segments"];
-    /// A run whose drift is significant when its mapping ends is mapped again from that drift
-    /// (`drift_deg_per_m`, `drift_per_turn_pct`), corrected from its first step: `run`, `eval`
-    /// and the app do so (docs/algorithm.md §8.17, "calibrate, then map"). Acts only with
+    /// A run whose mapping found its odometry drifting is mapped again from that drift
+    /// (`drift_deg_per_m`, `drift_per_turn_pct`) and from the first pass's heading errors
+    /// smoothed over the whole run, corrected from its first step: `run`, `eval` and the app do
+    /// so (docs/algorithm.md §8.17, "calibrate, then map"). Acts only with
     /// `heading_correction`.
     calibrate_first: bool, file calibrate_first: bool, flag,
         paper false, extended true, needs ["heading_correction"];
