@@ -65,6 +65,10 @@ pub struct SonarApp {
     /// The drift (°/m, % of turns) a replay found, while the run is mapped again from it
     /// (`calibrate_first`).
     pub(super) calibrating_from: Option<(f64, f64)>,
+    /// The parameters before and after `calibrate_first` mapped the open run again: a
+    /// calibration belongs to the run it was found on, so a run opened next, and the saved
+    /// settings, take the parameters before it (unless they were changed since).
+    pub(super) auto_calibration: Option<(Params, Params)>,
     /// The window title last sent to the window.
     pub(super) shown_title: String,
 }

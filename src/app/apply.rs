@@ -330,7 +330,12 @@ impl SonarApp {
             return;
         }
         self.params = params.clone();
-        self.settings.params = (params != Params::paper()).then_some(params);
+        // A calibration `calibrate_first` found belongs to the open run, not to the settings.
+        let saved = match &self.auto_calibration {
+            Some((before, after)) if *after == params => before.clone(),
+            _ => params,
+        };
+        self.settings.params = (saved != Params::paper()).then_some(saved);
         // The whole run, even while only its first snapshots are shown.
         let run = self.loaded.run.clone();
         if let Some(b) = &mut self.baseline {

@@ -67,6 +67,7 @@ impl SonarApp {
             bookmark_text: String::new(),
             last_rerun_s: None,
             calibrating_from: None,
+            auto_calibration: None,
             shown_title: String::new(),
         };
         app.seek(0);
@@ -119,7 +120,11 @@ impl SonarApp {
         let name = source.display_name();
         // The importer is picked from the content: sonarmap-log, Player/Stage, MCAP or a table
         // (Player logs with geometry and MCAP with /tf_static need no layout).
-        match import_any(bytes, &name, options).map(|i| i.run) {
+        let imported = import_any(bytes, &name, options).map(|i| i.run);
+        if imported.is_ok() && !keep_index {
+            self.forget_auto_calibration();
+        }
+        match imported {
             Ok(run) if run.snapshots.len() >= self.background_min_snapshots => {
                 // Its first snapshots at once, the whole run replayed on a thread.
                 let run = Arc::new(run);
@@ -306,6 +311,16 @@ impl SonarApp {
         }
     }
 
+    /// Another run is opening: the parameters `calibrate_first` set for the run open before
+    /// go back to what they were, unless they were changed since.
+    fn forget_auto_calibration(&mut self) {
+        if let Some((before, after)) = self.auto_calibration.take() {
+            if self.params == after {
+                self.params = before;
+            }
+        }
+    }
+
     /// With `calibrate_first`, a replay that found the odometry drifting is followed by a
     /// second one from that drift (docs/algorithm.md §8.17, "calibrate, then map").
     fn calibrate_if_drifting(&mut self) {
@@ -317,6 +332,7 @@ impl SonarApp {
                 drift.0, drift.1
             );
             self.calibrating_from = Some(drift);
+            self.auto_calibration = Some((self.params.clone(), calibrated.clone()));
             self.push(crate::app::Command::SetParams(calibrated));
         }
     }

@@ -424,12 +424,22 @@ fn the_inspector_maps_a_drifting_run_again_from_the_drift_it_shows() {
 }
 
 /// With `calibrate_first` (as in `extended`) the app maps a drifting run again by itself, from the
-/// drift its first replay found; a run without drift keeps its one replay.
+/// drift its first replay found, and a run opened next goes back to the parameters before that
+/// calibration; a run without drift keeps its one replay.
 #[test]
-fn the_app_maps_a_drifting_run_again_from_its_drift_by_itself() {
-    let h = app_with(drifting_corridor_crawl(), Params::extended());
+fn the_app_maps_a_drifting_run_again_from_its_drift_by_itself_and_the_next_run_without_it() {
+    let mut h = app_with(drifting_corridor_crawl(), Params::extended());
     assert_calibrated(h.state().params());
     assert!(h.state().params().heading_track.is_some());
+    // The calibration belongs to that run: the saved settings keep the parameters before it,
+    // and a run opened next is mapped with them.
+    assert_eq!(h.state().settings().params, Some(Params::extended()));
+    h.state_mut().push(sonarmap::app::Command::OpenBytes {
+        name: "steady.json".to_owned(),
+        bytes: sonarmap::log::save_run(&pioneer_corridor_crawl(1)).into_bytes(),
+    });
+    super::support::settle(&mut h);
+    assert_eq!(h.state().params(), &Params::extended());
     let h = app_with(pioneer_corridor_crawl(1), Params::extended());
     assert_eq!(h.state().params(), &Params::extended());
 }
