@@ -3,6 +3,7 @@
 use crate::geometry::{Pose, RobotFrame};
 use crate::mapping::ext::drift_smoother::DriftHistory;
 use crate::mapping::ext::pose_correction::PoseBelief;
+use crate::mapping::model::heading_track::HeadingTrack;
 use crate::mapping::model::map::{Map, Segment};
 use crate::mapping::model::params::Params;
 use crate::mapping::model::trace::{StepTrace, Warning};
@@ -12,6 +13,7 @@ use crate::mapping::recorded::RecordedDecision;
 use crate::mapping::step::StepBuffers;
 use crate::run::Snapshot;
 use crate::sonar::{BeamAxis, SensorLayout, SensorSpec};
+use std::sync::Arc;
 
 mod fit_stage;
 mod match_stage;
@@ -162,9 +164,9 @@ impl Mapper {
     /// heading correction alone.
     pub fn found_drift(&self) -> Option<(f64, f64)> {
         let drift = &self.pose_belief.drift;
-        let alone = self.params.heading_correction && !self.params.pose_correction;
         let (kappa_rad, epsilon, _) = drift.causes();
-        (alone && drift.drifting).then(|| (kappa_rad.to_degrees(), 100.0 * epsilon))
+        (self.params.corrects_heading_alone() && drift.drifting)
+            .then(|| (kappa_rad.to_degrees(), 100.0 * epsilon))
     }
 
     /// The parameters of a second pass (`calibrate_first`): these with the drift this mapper
@@ -176,9 +178,13 @@ impl Mapper {
         if !p.calibrate_first || p.drift_calibration().is_some() {
             return None;
         }
-        let track = self.drift_history.as_ref().and_then(DriftHistory::smoothed);
+        // Smoothed only when a second pass will take it.
         self.found_drift().map(|drift| Params {
-            heading_track: track.map(|t| std::sync::Arc::new(t.calibrating(drift))),
+            heading_track: self
+                .drift_history
+                .as_ref()
+                .and_then(DriftHistory::smoothed)
+                .map(|errors_rad| Arc::new(HeadingTrack::new(errors_rad, drift))),
             ..p.calibrated_by(drift)
         })
     }

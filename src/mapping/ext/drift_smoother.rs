@@ -4,18 +4,14 @@
 //! Rauch–Tung–Striebel smoother (Rauch, Tung and Striebel 1965) runs back over its steps and
 //! gives each step the estimate from every line of the run: before the walls set the axis, and
 //! over a window's lag, the lines seen later tell what the error was. The second pass takes
-//! the heading from it ([`HeadingTrack`]).
+//! the heading from it ([`crate::mapping::model::heading_track::HeadingTrack`]).
 
-use crate::mapping::ext::odometry_drift::OdometryDrift;
-use crate::mapping::model::heading_track::HeadingTrack;
+use crate::mapping::ext::odometry_drift::{OdometryDrift, B};
 use nalgebra::{Matrix4, Vector4};
 
 /// The most filter steps a first pass keeps for the smoother (each about 180 bytes): past it
 /// the second pass has the calibration alone.
 pub const MAX_SMOOTHED_STEPS: usize = 1 << 18;
-
-/// Index of the heading error `b` in the filter's state.
-const B: usize = 0;
 
 /// A step of the drift filter as it ran: the odometry's increment, then the estimate.
 #[derive(Clone, Debug, PartialEq)]
@@ -99,8 +95,8 @@ impl DriftHistory {
         self.chunks.last().and_then(|c| c.last())
     }
 
-    /// The heading error at every snapshot up to the last one noted, smoothed; `None` without
-    /// steps or past [`MAX_SMOOTHED_STEPS`].
+    /// The heading error at every snapshot up to the last one noted, smoothed, radians; `None`
+    /// without steps or past [`MAX_SMOOTHED_STEPS`].
     ///
     /// Backwards from the last step, the smoothed state of step i is its filtered state plus
     /// Cᵢ times what smoothing changed of the next step's prediction, Cᵢ = Pᵢ·Fᵀ·(P⁻ᵢ₊₁)⁺ (the
@@ -130,13 +126,13 @@ impl DriftHistory {
     ///     assert_eq!(drift.heading_error_rad() == 0.0, metre < 5);
     ///     history.record(metre, 1.0, 0.0, &drift);
     /// }
-    /// let track = history.smoothed().unwrap();
+    /// let errors_rad = history.smoothed().unwrap();
     /// for metre in 0..=5 {
-    ///     let deg = track.error_at(metre).unwrap().to_degrees();
+    ///     let deg = errors_rad[metre].to_degrees();
     ///     assert!((deg - 0.2 * metre as f64).abs() < 0.01, "{metre} m: {deg}°");
     /// }
     /// ```
-    pub fn smoothed(&self) -> Option<HeadingTrack> {
+    pub fn smoothed(&self) -> Option<Vec<f64>> {
         let last = self.last()?;
         if self.overflowed {
             return None;
@@ -152,9 +148,7 @@ impl DriftHistory {
                 ..OdometryDrift::default()
             };
             predicted.predict(next.distance_m, next.turn_rad);
-            let mut motion = Matrix4::identity();
-            motion[(B, 1)] = next.distance_m;
-            motion[(B, 2)] = next.turn_rad;
+            let motion = OdometryDrift::motion(next.distance_m, next.turn_rad);
             let gain = step.covariance * motion.transpose() * pseudo_inverse(&predicted.covariance);
             smoothed_mean = step.mean + gain * (smoothed_mean - predicted.mean);
             by_step[i] = smoothed_mean[B];
@@ -168,7 +162,7 @@ impl DriftHistory {
             };
             errors_rad[self.step(i).snapshot..until].fill(error_rad);
         }
-        Some(HeadingTrack::new(errors_rad))
+        Some(errors_rad)
     }
 }
 
@@ -197,10 +191,9 @@ mod tests {
             history.record(snapshot, 0.0, 0.0, &drift);
         }
         assert_eq!(history.len, 1);
-        let track = history.smoothed().unwrap();
-        assert_eq!(track.len(), 1000);
-        assert!((0..1000).all(|k| track.error_at(k) == Some(drift.heading_error_rad())));
-        assert_eq!(track.error_at(1000), None);
+        let errors_rad = history.smoothed().unwrap();
+        assert_eq!(errors_rad.len(), 1000);
+        assert!(errors_rad.iter().all(|&e| e == drift.heading_error_rad()));
     }
 
     #[test]
@@ -228,8 +221,8 @@ mod tests {
             drift.update(0.002 + drift.expected_rotation_rad(), 0.01);
             history.record(snapshot, 0.1, 0.0, &drift);
         }
-        let track = history.smoothed().unwrap();
-        assert_eq!(track.error_at(9), Some(drift.heading_error_rad()));
+        let errors_rad = history.smoothed().unwrap();
+        assert_eq!(errors_rad[9], drift.heading_error_rad());
         history.overflowed = true;
         assert!(history.smoothed().is_none());
     }

@@ -54,7 +54,8 @@ pub const SIGNIFICANT_SIGMAS: f64 = 2.0;
 /// is not the wall the filter expects.
 pub const GATE_SIGMAS: f64 = 3.0;
 
-const B: usize = 0;
+/// Index of the heading error `b` in the state.
+pub(crate) const B: usize = 0;
 const KAPPA: usize = 1;
 const EPSILON: usize = 2;
 const A: usize = 3;
@@ -181,6 +182,15 @@ impl OdometryDrift {
             .map(|r| (r - self.mean[A]).rem_euclid(std::f64::consts::FRAC_PI_2))
     }
 
+    /// The motion matrix F of a step that drove `distance_m` and turned `turn_rad`: the
+    /// identity but for row b, (1, distance, turn, 0).
+    pub fn motion(distance_m: f64, turn_rad: f64) -> Matrix4<f64> {
+        let mut motion = Matrix4::identity();
+        motion[(B, KAPPA)] = distance_m;
+        motion[(B, EPSILON)] = turn_rad;
+        motion
+    }
+
     /// The odometry drove `distance_m` and turned `turn_rad`: the error grows by its causes,
     /// and the uncertainty by the random part.
     ///
@@ -298,9 +308,7 @@ mod tests {
             1e-4 / (1.0 + i + j) + if i == j { 1e-3 } else { 0.0 }
         });
         let (d, turn) = (0.137, -0.0421);
-        let mut motion = Matrix4::identity();
-        motion[(B, KAPPA)] = d;
-        motion[(B, EPSILON)] = turn;
+        let motion = OdometryDrift::motion(d, turn);
         let noise = Matrix4::from_diagonal(&Vector4::new(
             RANDOM_HEADING_RAD_PER_SQRT_M.powi(2) * d,
             DRIFT_RATE_CHANGE_PER_SQRT_M.powi(2) * d,

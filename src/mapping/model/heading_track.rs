@@ -11,29 +11,18 @@ pub struct HeadingTrack {
     errors_rad: Vec<f64>,
     /// The calibration (°/m, % of turns) the first pass found with it: the track goes with
     /// those parameters alone, so that changing them is not overridden by it.
-    drift: Option<(f64, f64)>,
+    drift: (f64, f64),
 }
 
 impl HeadingTrack {
-    /// The track of `errors_rad`, one a snapshot from the first.
-    pub fn new(errors_rad: Vec<f64>) -> Self {
-        Self {
-            errors_rad,
-            drift: None,
-        }
-    }
-
-    /// This track going with the calibration `drift` (`drift_deg_per_m`,
-    /// `drift_per_turn_pct`).
-    pub fn calibrating(self, drift: (f64, f64)) -> Self {
-        Self {
-            drift: Some(drift),
-            ..self
-        }
+    /// The track of `errors_rad`, one a snapshot from the first, going with the calibration
+    /// `drift` (`drift_deg_per_m`, `drift_per_turn_pct`) the same pass found.
+    pub fn new(errors_rad: Vec<f64>, drift: (f64, f64)) -> Self {
+        Self { errors_rad, drift }
     }
 
     /// The calibration it goes with.
-    pub fn drift(&self) -> Option<(f64, f64)> {
+    pub fn drift(&self) -> (f64, f64) {
         self.drift
     }
 

@@ -172,8 +172,7 @@ impl Mapper {
     /// step's end (`heading_correction` alone with `settled_walls`), instead of the readings
     /// matched to the walls at the prediction.
     pub(super) fn heading_windows_from_settled(&self) -> bool {
-        let p = &self.params;
-        p.heading_correction && !p.pose_correction && p.settled_walls
+        self.params.corrects_heading_alone() && self.params.settled_walls
     }
 
     /// The direction (radians) and length (metres) of each confirmed fitted wall the

@@ -99,13 +99,16 @@ impl Params {
         }
     }
 
+    /// Whether the heading alone is corrected: `heading_correction` without `pose_correction`
+    /// (docs/algorithm.md §8.17, "the odometry's drift").
+    pub fn corrects_heading_alone(&self) -> bool {
+        self.heading_correction && !self.pose_correction
+    }
+
     /// Whether a pass keeps the drift filter's steps for a second pass's heading track:
     /// `calibrate_first` with the heading corrected alone, not yet calibrated.
     pub fn keeps_drift_history(&self) -> bool {
-        self.calibrate_first
-            && self.heading_correction
-            && !self.pose_correction
-            && self.drift_calibration().is_none()
+        self.calibrate_first && self.corrects_heading_alone() && self.drift_calibration().is_none()
     }
 
     /// The first pass's smoothed heading error at snapshot `snapshot`, radians: with a
@@ -117,7 +120,7 @@ impl Params {
     /// use std::sync::Arc;
     /// use sonarmap::mapping::model::heading_track::HeadingTrack;
     /// use sonarmap::mapping::Params;
-    /// let track = HeadingTrack::new(vec![0.01, 0.02]).calibrating((0.3, 1.0));
+    /// let track = HeadingTrack::new(vec![0.01, 0.02], (0.3, 1.0));
     /// let params = Params {
     ///     heading_track: Some(Arc::new(track)),
     ///     ..Params::extended().calibrated_by((0.3, 1.0))
@@ -130,7 +133,7 @@ impl Params {
     pub fn tracked_heading_error(&self, snapshot: usize) -> Option<f64> {
         let drift = self.drift_calibration()?;
         let track = self.heading_track.as_ref()?;
-        (track.drift() == Some(drift))
+        (track.drift() == drift)
             .then(|| track.error_at(snapshot))
             .flatten()
     }
