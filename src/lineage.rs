@@ -3,6 +3,7 @@
 //! segment to the decision that made it without rescanning any trace. Built from the slim
 //! trace (decisions, updates, correlations), so it costs the replay little.
 
+use crate::mapping::model::ext_trace::SeenThroughCut;
 use crate::mapping::model::trace::{
     CorrelationKind, DecisionTrace, Outcome, StepTrace, UpdateTrace,
 };
@@ -38,7 +39,8 @@ pub enum LineageEvent {
         /// The new piece.
         piece: SegmentId,
     },
-    /// Made as a piece of the refit of `parent`.
+    /// Made as a piece of `parent`: of its refit, or beyond a hole a reading saw through it
+    /// (docs/algorithm.md §8.18).
     SplitFrom {
         /// Snapshot.
         snapshot: usize,
@@ -72,6 +74,16 @@ pub enum LineageEvent {
         snapshot: usize,
         /// The sensor.
         sensor: usize,
+    },
+    /// Sensor `sensor`'s reading saw through part of it, which was cut away (docs/algorithm.md
+    /// §8.18): an end moved, a hole left piece `piece` beside it, or nothing was left.
+    SeenThrough {
+        /// Snapshot.
+        snapshot: usize,
+        /// The sensor.
+        sensor: usize,
+        /// What became of it.
+        cut: SeenThroughCut,
     },
     /// Removed as the diagonal of the corner of `walls` (docs/algorithm.md §8.11).
     CornerDiagonal {
@@ -123,6 +135,7 @@ impl LineageEvent {
             | LineageEvent::AbsorbedInto { snapshot, .. }
             | LineageEvent::Unconfirmed { snapshot, .. }
             | LineageEvent::Refuted { snapshot, .. }
+            | LineageEvent::SeenThrough { snapshot, .. }
             | LineageEvent::CornerDiagonal { snapshot, .. }
             | LineageEvent::LinkDropped { snapshot }
             | LineageEvent::Correlated { snapshot, .. } => snapshot,
@@ -255,6 +268,25 @@ impl Lineage {
                     sensor: r.sensor,
                 },
             );
+        }
+        for c in &trace.seen_through {
+            self.push(
+                c.segment,
+                LineageEvent::SeenThrough {
+                    snapshot,
+                    sensor: c.sensor,
+                    cut: c.cut,
+                },
+            );
+            if let SeenThroughCut::Split { piece } = c.cut {
+                self.push(
+                    piece,
+                    LineageEvent::SplitFrom {
+                        snapshot,
+                        parent: c.segment,
+                    },
+                );
+            }
         }
         for d in &trace.diagonals {
             self.push(

@@ -82,7 +82,7 @@ impl Mapper {
         let beam_axes = layout.beam_axes();
         let confirms_segments = params.confirm_segments;
         let mut map = Map::confirming(confirms_segments);
-        map.tracks_links = params.merge_duplicates || params.free_space;
+        map.tracks_links = params.merge_duplicates || params.free_space || params.trim_seen_through;
         let drift_history = params.keeps_drift_history().then(DriftHistory::default);
         Self {
             params,

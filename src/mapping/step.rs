@@ -27,6 +27,9 @@ pub(in crate::mapping) struct StepBuffers {
     pub(in crate::mapping) settled_by: Vec<Option<SegmentId>>,
     /// This step's settled readings (§8.12): sensor and point in the map's frame.
     pub(in crate::mapping) settled_points: Vec<(usize, Point)>,
+    /// This step's settled readings themselves, with `trim_seen_through` (§8.18: a settled
+    /// reading that looked into an opening still sees through the walls' ends beside it).
+    pub(in crate::mapping) settled_readings: Vec<SupportPoint>,
     /// A cluster's points as fitted (untraced).
     pub(in crate::mapping) fitted: Vec<SupportPoint>,
     /// A cluster's split tests (untraced).

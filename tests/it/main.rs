@@ -21,6 +21,7 @@ mod long_runs;
 mod peak;
 mod pose_correction;
 mod scene;
+mod seen_through;
 mod sim;
 mod suite;
 mod support;

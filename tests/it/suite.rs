@@ -194,13 +194,13 @@ fn extended_holds_at_a_crawl_what_it_maps_at_the_papers_pace() {
 }
 
 /// A suite calibrated (`calibrate_first`, as in `extended`, docs/algorithm.md §8.17) without
-/// drift finds no drift to calibrate with, so its lines are those of one pass, but for a run
-/// whose first pass latched on a drift it does not have: the second pass, from that pass's
-/// smoothed heading errors, maps it better than the one pass did. Of seed 21's six runs, the
-/// l-room's specular one latches (confirmed 0.600 spurious, 0.210 covered; 0.412 and 0.484
-/// after the second pass; 0.063 and 0.802 without the heading correction).
+/// drift finds no drift to calibrate with, so its maps are those of one pass. A run whose first
+/// pass latched on a drift it does not have would be mapped again, and the second pass must map
+/// it better. Seed 21's l-room (specular) did so until §8.18 cut its overruns (confirmed 0.600
+/// spurious, 0.210 covered; 0.412 and 0.484 after the second pass); now it maps at 0.056 and
+/// 0.767 with or without the heading correction, and no run of the seed latches.
 #[test]
-fn a_calibrated_suite_without_drift_is_the_plain_suite_but_where_a_false_latch_is_mended() {
+fn a_calibrated_suite_without_drift_is_the_plain_suite_and_a_false_latch_would_be_mended() {
     let run = |calibrate_first: bool| {
         let params = Params {
             calibrate_first,
@@ -226,5 +226,5 @@ fn a_calibrated_suite_without_drift_is_the_plain_suite_but_where_a_false_latch_i
         );
         mended.push((c.family, c.model.as_str()));
     }
-    assert_eq!(mended, vec![("l-room", "specular")]);
+    assert_eq!(mended, Vec::<(&str, &str)>::new(), "no run latches");
 }

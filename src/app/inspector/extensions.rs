@@ -9,6 +9,7 @@ use super::widgets::heading;
 use crate::mapping::ext::beam_geometry::feature_tolerance_m;
 use crate::mapping::ext::corner_diagonals::CORNER_WALL_REACH_M;
 use crate::mapping::ext::point_memory::range_span_m;
+use crate::mapping::model::ext_trace::SeenThroughCut;
 use crate::mapping::model::map::ReadingRef;
 use egui::RichText;
 
@@ -155,6 +156,31 @@ fn refuted(ctx: &InspectCtx, out: &mut Vec<RichText>) {
             r.segment,
             ctx.len(r.distance_m),
             r.off_axis_rad.to_degrees()
+        )));
+    }
+}
+
+/// One line for each segment part the step's readings saw through and cut away (§8.18).
+fn seen_through(ctx: &InspectCtx, out: &mut Vec<RichText>) {
+    for c in &ctx.view.trace.seen_through {
+        let [from, to] = c.free_part;
+        let what = match c.cut {
+            SeenThroughCut::EndA => "its end a moved to the free part's edge".to_string(),
+            SeenThroughCut::EndB => "its end b moved to the free part's edge".to_string(),
+            SeenThroughCut::Split { piece } => format!("a hole: s{piece} is the part beyond it"),
+            SeenThroughCut::Removed => "too little was left: removed".to_string(),
+        };
+        out.push(RichText::new(format!(
+            "seen through: sensor {} read {}, past s{} from ({}, {}) to ({}, {}) inside its \
+             beam ({} readings dropped): {what}",
+            c.sensor,
+            ctx.len(c.range_m),
+            c.segment,
+            ctx.len(from[0]),
+            ctx.len(from[1]),
+            ctx.len(to[0]),
+            ctx.len(to[1]),
+            c.dropped_points,
         )));
     }
 }
@@ -323,6 +349,7 @@ const EXTENSION_LINES: &[fn(&InspectCtx, &mut Vec<RichText>)] = &[
     stacks,
     joints,
     refuted,
+    seen_through,
     unconfirmed,
     plane_support,
     echo_fits,

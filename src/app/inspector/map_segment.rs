@@ -6,6 +6,7 @@ use super::context::{CompareState, InspectCtx};
 use super::names::{describe_id, outcome_name};
 use super::widgets::{coloured, header_row, heading, kv, test_cells, verdict, FAIL};
 use crate::app::command::Command;
+use crate::mapping::model::ext_trace::SeenThroughCut;
 use crate::mapping::model::map::Segment;
 use crate::mapping::model::trace::{EndOrigin, EndRole, PairEvaluation, UpdateTrace};
 use crate::mapping::{SegmentId, SegmentKind};
@@ -140,6 +141,24 @@ fn lineage_ui(ui: &mut egui::Ui, ctx: &InspectCtx, id: SegmentId, commands: &mut
         });
 }
 
+/// A lineage row's text and link for a cut of §8.18.
+fn seen_through_row(sensor: usize, cut: SeenThroughCut) -> (String, SceneId) {
+    match cut {
+        SeenThroughCut::EndA | SeenThroughCut::EndB => (
+            format!("sensor {sensor} saw through its end: cut back (seen through)"),
+            SceneId::None,
+        ),
+        SeenThroughCut::Split { piece } => (
+            format!("sensor {sensor} saw through it: a hole, piece #{piece} beyond"),
+            SceneId::MapSegment(piece),
+        ),
+        SeenThroughCut::Removed => (
+            format!("removed: sensor {sensor} saw through it (seen through)"),
+            SceneId::None,
+        ),
+    }
+}
+
 /// The text of a lineage event of segment `id`, and what a click on it selects.
 fn lineage_row(event: &crate::lineage::LineageEvent, id: SegmentId) -> (String, SceneId) {
     use crate::lineage::{CorrelationResult, LineageEvent};
@@ -169,7 +188,7 @@ fn lineage_row(event: &crate::lineage::LineageEvent, id: SegmentId) -> (String, 
             SceneId::MapSegment(piece),
         ),
         LineageEvent::SplitFrom { parent, .. } => (
-            format!("a piece of #{parent}'s refit"),
+            format!("a piece split from #{parent}"),
             SceneId::MapSegment(parent),
         ),
         LineageEvent::Absorbed { segment, .. } => (
@@ -189,6 +208,7 @@ fn lineage_row(event: &crate::lineage::LineageEvent, id: SegmentId) -> (String, 
             format!("removed: sensor {sensor} saw through it (free space)"),
             SceneId::None,
         ),
+        LineageEvent::SeenThrough { sensor, cut, .. } => seen_through_row(sensor, cut),
         LineageEvent::CornerDiagonal { walls, .. } => (
             format!(
                 "removed: a diagonal of the corner of #{} and #{}",

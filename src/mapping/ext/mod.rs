@@ -16,6 +16,7 @@ pub mod point_memory;
 pub mod pose_correction;
 pub mod rectilinear_heading;
 pub mod round_reflectors;
+pub mod seen_through_ends;
 pub mod settled_walls;
 mod steps;
 
@@ -127,6 +128,11 @@ pub const ALL: &[Extension] = &[
         parameter: "free_space",
         section: "8.6",
         source: "Kleeman and Kuc's plane model: a segment inside the beam short of the range was seen through",
+    },
+    Extension {
+        parameter: "trim_seen_through",
+        section: "8.18",
+        source: "Moravec and Elfes 1985: the cone short of the range is empty; Kleeman and Kuc's plane model",
     },
 ];
 

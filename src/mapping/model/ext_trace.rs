@@ -137,6 +137,40 @@ pub struct RefutedTrace {
     pub off_axis_rad: f64,
 }
 
+/// A segment part a reading saw through, cut away (docs/algorithm.md §8.18), for the trace.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SeenThroughTrace {
+    /// The segment cut.
+    pub segment: SegmentId,
+    /// The sensor whose reading saw through it.
+    pub sensor: usize,
+    /// The reading, metres.
+    pub range_m: f64,
+    /// Where the part seen through begins and ends on the segment, metres.
+    pub free_part: [[f64; 2]; 2],
+    /// What became of the segment.
+    pub cut: SeenThroughCut,
+    /// Supporting readings dropped with the part cut away.
+    pub dropped_points: usize,
+}
+
+/// What a reading that saw through part of a segment did to it (docs/algorithm.md §8.18).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SeenThroughCut {
+    /// End `a` moved to the free part's edge.
+    EndA,
+    /// End `b` moved to the free part's edge.
+    EndB,
+    /// The free part left a hole: the part beyond it is now this segment.
+    Split {
+        /// The new segment: the part from the hole to `b`.
+        piece: SegmentId,
+    },
+    /// Nothing of it was left that is long enough (or held two readings).
+    Removed,
+}
+
 /// What the arc rule found in one cluster, for the trace.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ArcTrace {

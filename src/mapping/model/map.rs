@@ -119,6 +119,20 @@ pub struct MemoryPoint {
     pub travelled_m: f64,
 }
 
+/// A sensor's recent looks, for cutting away what it saw through (docs/algorithm.md §8.18).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SensorLooks {
+    /// Its last reading.
+    pub last: Option<Beam>,
+    /// Its last reading that the one before it bore out, with how far the robot had driven
+    /// then ([`Map::travelled_m`]): the free space it saw cuts segment parts made after it
+    /// while the robot is still within its footprint.
+    pub long: Option<(Beam, f64)>,
+    /// Until how far driven ([`Map::travelled_m`]) its looks are tested: its range jumped at
+    /// an edge within a footprint's width before.
+    pub edge_until_m: f64,
+}
+
 /// The map after some snapshots.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Map {
@@ -148,6 +162,9 @@ pub struct Map {
     /// (docs/algorithm.md §8.14), the most recent last.
     #[serde(default)]
     pub round_evidence: Vec<Beam>,
+    /// Each sensor's recent looks (docs/algorithm.md §8.18), indexed by sensor.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sensor_looks: Vec<SensorLooks>,
     /// Next unused feature id.
     #[serde(default)]
     pub next_feature_id: FeatureId,
@@ -210,6 +227,7 @@ impl PartialEq for Map {
             && self.recent_reading_poses == other.recent_reading_poses
             && self.features == other.features
             && self.round_evidence == other.round_evidence
+            && self.sensor_looks == other.sensor_looks
             && self.next_feature_id == other.next_feature_id
             && self.confirms_segments == other.confirms_segments
             && self.plane_support == other.plane_support

@@ -21,6 +21,13 @@ impl Mapper {
         self.params.echo_fit && self.sensor.echo == EchoModel::Cone
     }
 
+    /// Whether segment parts seen through are cut away (§8.18): `trim_seen_through` on, for a
+    /// sensor whose echoes come from its whole cone (a single ray sees through nothing but
+    /// its axis).
+    pub(in crate::mapping) fn trims_seen_through(&self) -> bool {
+        self.params.trim_seen_through && self.sensor.echo == EchoModel::Cone
+    }
+
     /// The world beam of reading `q`, from the pose it was taken from when that is among the
     /// recent ones the map keeps (docs/algorithm.md §8.7, §8.10).
     pub(in crate::mapping) fn recent_beam_of(&self, q: &SupportPoint) -> Option<Beam> {

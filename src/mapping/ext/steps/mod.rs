@@ -174,8 +174,8 @@ impl Mapper {
     /// After §6: free space (§8.6) removes the segments a kept reading saw past, then corner
     /// diagonals (§8.11) leave the map.
     pub(in crate::mapping) fn hook_step_ending(&mut self, trace: &mut StepTrace) {
-        if self.params.free_space {
-            self.remove_refuted(trace);
+        if self.params.free_space || self.trims_seen_through() {
+            self.sweep_free_space(trace);
         }
         if self.params.corner_diagonals {
             self.remove_corner_diagonals(trace);

@@ -18,6 +18,7 @@ impl Mapper {
         buffers: &mut StepBuffers,
     ) {
         buffers.settled_points.clear();
+        buffers.settled_readings.clear();
         if self.map.plane_support.is_empty() {
             return;
         }
@@ -28,11 +29,13 @@ impl Mapper {
             self.cone_edges(),
             SETTLED_END_MARGIN_GAPS * self.params.memory_gap_m,
         );
-        let (near, settled_by, settled_points) = (
+        let (near, settled_by, settled_points, settled_readings) = (
             &mut buffers.near_walls,
             &mut buffers.settled_by,
             &mut buffers.settled_points,
+            &mut buffers.settled_readings,
         );
+        let keep_readings = self.trims_seen_through();
         settled_by.resize(self.layout.len(), None);
         buffers.kept.retain(|q| {
             let beam = self.step_beam_of(q);
@@ -63,6 +66,9 @@ impl Mapper {
                 *slot = Some(segment);
             }
             settled_points.push((q.reading.sensor(), q.point));
+            if keep_readings {
+                settled_readings.push(*q);
+            }
             false
         });
     }

@@ -89,6 +89,7 @@ impl Map {
             recent_reading_poses: self.recent_reading_poses.clone(),
             features: self.features.clone(),
             round_evidence: self.round_evidence.clone(),
+            sensor_looks: self.sensor_looks.clone(),
             next_feature_id: self.next_feature_id,
             confirms_segments: self.confirms_segments,
             plane_support: self.plane_support.clone(),

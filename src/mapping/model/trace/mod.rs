@@ -79,6 +79,9 @@ pub struct StepTrace {
     /// Segments removed because a reading saw past them (docs/algorithm.md §8.6).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub refuted: Vec<RefutedTrace>,
+    /// Segment parts cut away because a reading saw through them (docs/algorithm.md §8.18).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub seen_through: Vec<crate::mapping::model::ext_trace::SeenThroughTrace>,
     /// Segments this step's readings supported as a plane (docs/algorithm.md §8.7).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub plane_support: Vec<PlaneSupportTrace>,
