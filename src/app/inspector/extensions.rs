@@ -134,7 +134,8 @@ fn settled(ctx: &InspectCtx, out: &mut Vec<RichText>) {
         out.push(RichText::new(format!(
             "settled: sensor {} read {}; confirmed wall s{} predicts {} (tolerance {}), its \
              echo {} inside the nearer end (of the wall and the confirmed pieces continuing it): \
-             kept out of the clusters, point memory and the free-space sweep",
+             kept out of the clusters, point memory and the free-space sweep of §8.6 (§8.18 \
+             still looks through it near an edge)",
             e.sensor,
             ctx.len(e.range_m),
             e.segment,

@@ -14,6 +14,10 @@ use crate::mapping::model::support_list::SupportList;
 use crate::mapping::model::trace::{RefutedTrace, StepTrace};
 use crate::mapping::Mapper;
 
+/// The least overlap of a free part and a segment that cuts it, metres: a free part that only
+/// touches an end cut there before changes nothing.
+const MIN_CUT_M: f64 = 1e-6;
+
 impl Mapper {
     /// §8.6 free space: the segments a kept reading of this snapshot saw past leave the map;
     /// §8.18: then the segment ends it saw through are cut back.
@@ -116,7 +120,7 @@ impl Mapper {
                 }
                 if let Some(free) = free_part_of_line(beam, &s.a.point, &s.b.point, xi, half) {
                     let length_m = (s.b.point - s.a.point).norm();
-                    if free.1 > 0.0 && free.0 < length_m {
+                    if free.1 > MIN_CUT_M && free.0 < length_m - MIN_CUT_M {
                         cuts.push((id, free));
                     }
                 }

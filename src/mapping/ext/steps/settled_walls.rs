@@ -10,7 +10,7 @@ use crate::mapping::Mapper;
 impl Mapper {
     /// §8.12 settled walls: the kept points a confirmed wall explains well inside its ends (at
     /// least [`SETTLED_END_MARGIN_GAPS`] memory gaps from either end) leave `buffers.kept`:
-    /// they join no cluster, no point memory and no free-space sweep. They are noted in
+    /// they join no cluster, no point memory and no free-space sweep of §8.6. They are noted in
     /// `buffers.settled_points` (the heading windows take them, §8.17).
     pub(in crate::mapping) fn set_aside_settled_readings(
         &self,

@@ -66,7 +66,7 @@ pub struct StepTrace {
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub explained: Vec<ExplainedTrace>,
     /// Readings a confirmed wall explained, kept out of the clusters, point memory and the
-    /// free-space sweep (docs/algorithm.md §8.12).
+    /// free-space sweep of §8.6 (docs/algorithm.md §8.12).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub settled: Vec<SettledTrace>,
     /// The pose correction against the confirmed map (docs/algorithm.md §8.17).
