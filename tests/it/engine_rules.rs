@@ -2,7 +2,7 @@
 //! small enough to compute by hand. Sensors in a row facing +y put reading `k` exactly at
 //! `(x_k, D_k)`, so every point, range and confidence is chosen.
 
-use super::support::layout_of;
+use super::support::{layout_of, snapshot_at_origin};
 use sonarmap::geometry::{Point, Pose};
 use sonarmap::mapping::model::map::SegmentKind;
 use sonarmap::mapping::model::trace::{Outcome, SegmentSource};
@@ -14,16 +14,6 @@ use std::f64::consts::FRAC_PI_2;
 /// Sensors at `(x, 0)` for each `x`, all facing +y.
 fn row(xs: &[f64]) -> SensorLayout {
     layout_of(xs.iter().map(|&x| (x, 0.0, FRAC_PI_2)))
-}
-
-fn snapshot(t: f64, ranges_m: &[Option<f64>]) -> Snapshot {
-    Snapshot {
-        t,
-        pose: Pose::new(0.0, 0.0, 0.0),
-        ranges_m: ranges_m.to_vec(),
-        true_pose: None,
-        reading_dt_s: Vec::new(),
-    }
 }
 
 fn close(p: Point, x: f64, y: f64) -> bool {
@@ -45,8 +35,11 @@ fn a_failed_update_whose_fresh_fit_is_one_piece_takes_that_pieces_end_points() {
         row(&[0.0, 1.0, 2.0]),
         SensorSpec::default(),
     );
-    mapper.step(&snapshot(0.0, &[None, Some(2.0), Some(2.0)]));
-    let trace = mapper.step(&snapshot(1.0, &[Some(2.08), Some(2.04), Some(2.0)]));
+    mapper.step(&snapshot_at_origin(0.0, &[None, Some(2.0), Some(2.0)]));
+    let trace = mapper.step(&snapshot_at_origin(
+        1.0,
+        &[Some(2.08), Some(2.04), Some(2.0)],
+    ));
     assert_eq!(trace.decisions.len(), 1);
     assert_eq!(trace.decisions[0].outcome, Outcome::Match);
     let update = &trace.updates[0];
@@ -78,7 +71,7 @@ fn new_faces_take_ids_in_decision_order() {
     let xs = [0.0, 0.5, 2.5, 3.0, 5.0, 5.5, 7.5, 8.0];
     let mut mapper = Mapper::new(Params::paper(), row(&xs), SensorSpec::default());
     let d = Some(2.0);
-    let trace = mapper.step(&snapshot(0.0, &[d, d, d, d, d, d, None, None]));
+    let trace = mapper.step(&snapshot_at_origin(0.0, &[d, d, d, d, d, d, None, None]));
     let results: Vec<_> = trace
         .decisions
         .iter()
@@ -97,7 +90,7 @@ fn new_faces_take_ids_in_decision_order() {
         assert!(close(s.a.point, xs[2 * id as usize], 2.0));
         assert_eq!(s.face, id);
     }
-    let trace = mapper.step(&snapshot(1.0, &[d, d, d, d, d, d, d, d]));
+    let trace = mapper.step(&snapshot_at_origin(1.0, &[d, d, d, d, d, d, d, d]));
     let new_faces: Vec<_> = trace
         .decisions
         .iter()
@@ -115,7 +108,7 @@ fn walls_all_round_close_the_loop() {
     // at (−0.7, 0), then at (0, ±0.7): four sides, the last closing back to (0.7, 0).
     let layout = SensorLayout::ring(4, FRAC_PI_2, 0.0, 0.0);
     let mut mapper = Mapper::new(Params::paper(), layout, SensorSpec::default());
-    let trace = mapper.step(&snapshot(0.0, &[Some(0.7); 4]));
+    let trace = mapper.step(&snapshot_at_origin(0.0, &[Some(0.7); 4]));
     assert_eq!(trace.clusters.len(), 1);
     let sides: Vec<(Point, Point)> = mapper
         .map()
@@ -166,7 +159,7 @@ fn a_wall_seen_square_on_by_three_sonars_is_fitted_too_and_its_middle_reading_go
     // constant-depth run (§8.2) keeps sensor 6's reading, and that goes to point memory (§8.1).
     let (layout, ranges) = ring_facing_a_wall();
     let mut mapper = Mapper::new(Params::extended(), layout.clone(), SensorSpec::default());
-    let trace = mapper.step(&snapshot(0.0, &ranges));
+    let trace = mapper.step(&snapshot_at_origin(0.0, &ranges));
     assert_eq!(trace.arcs.len(), 1);
     assert!(trace.arcs[0].also_fitted);
     let cluster = trace
@@ -194,7 +187,7 @@ fn a_wall_seen_square_on_by_three_sonars_is_fitted_too_and_its_middle_reading_go
         ..Params::extended()
     };
     let mut mapper = Mapper::new(params, layout, SensorSpec::default());
-    let trace = mapper.step(&snapshot(0.0, &ranges));
+    let trace = mapper.step(&snapshot_at_origin(0.0, &ranges));
     assert_eq!(trace.arcs.len(), 1);
     assert_eq!(trace.arcs[0].sensors, vec![5, 6, 7]);
     assert!(!trace.arcs[0].also_fitted);
@@ -252,7 +245,7 @@ fn a_corner_reading_shared_by_two_short_pieces_goes_to_point_memory_once() {
         row(&[0.0, 0.5, 1.0]),
         SensorSpec::default(),
     );
-    let trace = mapper.step(&snapshot(0.0, &[Some(2.0), Some(2.5), Some(2.0)]));
+    let trace = mapper.step(&snapshot_at_origin(0.0, &[Some(2.0), Some(2.5), Some(2.0)]));
     assert_eq!(trace.clusters.len(), 1);
     let added: Vec<usize> = trace
         .memory

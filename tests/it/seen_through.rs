@@ -1,24 +1,13 @@
 //! Segment parts a reading saw through are cut away (docs/algorithm.md §8.18): by hand, and on
 //! the Pioneer corridor stand-in's door recesses.
 
-use super::support::{layout_of, pioneer_corridor_crawl};
+use super::support::{layout_of, pioneer_corridor_crawl, snapshot_at_origin};
 use sonarmap::eval::{confirmed_map, evaluate};
-use sonarmap::geometry::{Point, Pose};
+use sonarmap::geometry::Point;
 use sonarmap::mapping::model::ext_trace::SeenThroughCut;
 use sonarmap::mapping::{Map, Mapper, Params};
-use sonarmap::run::Snapshot;
 use sonarmap::sonar::SensorSpec;
 use std::f64::consts::FRAC_PI_2;
-
-fn snapshot(t: f64, ranges_m: &[Option<f64>]) -> Snapshot {
-    Snapshot {
-        t,
-        pose: Pose::new(0.0, 0.0, 0.0),
-        ranges_m: ranges_m.to_vec(),
-        true_pose: None,
-        reading_dt_s: Vec::new(),
-    }
-}
 
 #[test]
 fn a_reading_borne_out_cuts_back_the_end_it_saw_through_and_a_stray_one_cuts_nothing() {
@@ -33,10 +22,10 @@ fn a_reading_borne_out_cuts_back_the_end_it_saw_through_and_a_stray_one_cuts_not
     let params = Params::paper_with("trim_seen_through").unwrap();
     let layout = layout_of([0.0, 0.5, 1.0].iter().map(|&x| (x, 0.0, FRAC_PI_2)));
     let mut mapper = Mapper::new(params, layout, SensorSpec::default());
-    mapper.step(&snapshot(0.0, &[Some(2.0), Some(2.0), Some(2.0)]));
-    let stray = mapper.step(&snapshot(1.0, &[None, None, Some(2.5)]));
+    mapper.step(&snapshot_at_origin(0.0, &[Some(2.0), Some(2.0), Some(2.0)]));
+    let stray = mapper.step(&snapshot_at_origin(1.0, &[None, None, Some(2.5)]));
     assert!(stray.seen_through.is_empty(), "{:?}", stray.seen_through);
-    let borne_out = mapper.step(&snapshot(2.0, &[None, None, Some(2.5)]));
+    let borne_out = mapper.step(&snapshot_at_origin(2.0, &[None, None, Some(2.5)]));
     assert_eq!(borne_out.seen_through.len(), 1);
     let cut = &borne_out.seen_through[0];
     assert_eq!(

@@ -9,10 +9,10 @@
 //! what it saw there: had the wall's line gone on under the cone, it would have echoed from its
 //! perpendicular foot at `p`, or from the nearest of its points inside the cone, at most at the
 //! reading's range. So the part of the line inside the cone and nearer than `D − 2·tol(D)` is
-//! free space (Moravec and Elfes 1985 count the whole cone short of the range as empty), and a
-//! segment end lying in it is cut back to the edge of that part. Unlike §8.6, which removes a
-//! tentative segment whose foot it saw, this keeps the segment and moves one end, confirmed or
-//! not.
+//! free space (Moravec and Elfes 1985 count the whole cone short of the range as empty), and
+//! that part of a segment is cut away: an end lying in it moves back to its edge, a part in
+//! the middle leaves a hole ([`cut_of`]). Unlike §8.6, which removes a tentative segment whose
+//! foot it saw, this keeps what was not seen through, confirmed or not.
 
 use crate::geometry::Point;
 use crate::mapping::ext::beam_geometry::{feature_tolerance_m, HalfCone};

@@ -423,6 +423,49 @@ impl Map {
         self.segments.push(Arc::new(segment));
     }
 
+    /// Inserts a new fitted segment `a`–`b` supported by `points` as a piece of segment
+    /// `parent`: of its face and object, with its creation snapshot and update history. It is
+    /// not yet in the face's order ([`Map::place_after_in_face`]). Its id, or `None` without
+    /// `parent`.
+    pub(crate) fn push_piece_of(
+        &mut self,
+        parent: SegmentId,
+        a: EndPoint,
+        b: EndPoint,
+        points: SupportList,
+    ) -> Option<SegmentId> {
+        let s = self.segment(parent)?;
+        let (face, object, created, updated) = (s.face, s.object, s.created, s.updated.clone());
+        let id = self.allocate_segment_id();
+        self.push_segment(Segment {
+            id,
+            kind: SegmentKind::Fitted,
+            a,
+            b,
+            face,
+            object,
+            created,
+            updated,
+            points,
+        });
+        Some(id)
+    }
+
+    /// Puts `pieces` (of [`Map::push_piece_of`]) into the face of segment `parent`, in order,
+    /// right after it (at the face's end when `parent` is not in it).
+    pub(crate) fn place_after_in_face(&mut self, parent: SegmentId, pieces: &[SegmentId]) {
+        let Some(face) = self.segment(parent).map(|s| s.face) else {
+            return;
+        };
+        if let Some(f) = self.face_mut(face) {
+            let at = f
+                .segments
+                .position(parent)
+                .map_or(f.segments.len(), |p| p + 1);
+            f.segments.insert_at(at, pieces);
+        }
+    }
+
     fn set_slot(&mut self, id: SegmentId, slot: usize) {
         let i = id as usize;
         if self.slot_of.len() <= i {

@@ -4,7 +4,7 @@
 //! existing end-point wins. A projected end-point keeps the range of the reading it came from.
 
 use crate::geometry::{distance_to_line, projection_param, Point};
-use crate::mapping::model::map::{EndPoint, Map, Segment, SegmentId, SegmentKind, SupportPoint};
+use crate::mapping::model::map::{EndPoint, Map, SegmentId, SupportPoint};
 use crate::mapping::model::params::Params;
 use crate::mapping::model::support_list::SupportList;
 use crate::mapping::model::trace::{Outcome, RefitTrace, Side, SplitTrace, Test, UpdateTrace};
@@ -173,10 +173,9 @@ fn refit_segment(
     let points = &support.to_vec();
     let (mut splits, mut pieces) = (Vec::new(), Vec::new());
     split_recursive(points, params, &mut splits, &mut pieces);
-    let Some(seg) = map.segment(target) else {
+    if map.segment(target).is_none() {
         return (splits, Vec::new());
-    };
-    let (face, object, created, updated) = (seg.face, seg.object, seg.created, seg.updated.clone());
+    }
     let mut piece_ids = Vec::with_capacity(pieces.len());
     for (k, &[first, last]) in pieces.iter().enumerate() {
         let (pa, pb) = piece_end_points(points, first, last, params.fit);
@@ -187,29 +186,11 @@ fn refit_segment(
             }
             map.set_ends(target, pa, pb);
             piece_ids.push(target);
-        } else {
-            let id = map.allocate_segment_id();
-            map.push_segment(Segment {
-                id,
-                kind: SegmentKind::Fitted,
-                a: pa,
-                b: pb,
-                face,
-                object,
-                created,
-                updated: updated.clone(),
-                points: piece_points,
-            });
+        } else if let Some(id) = map.push_piece_of(target, pa, pb, piece_points) {
             piece_ids.push(id);
         }
     }
-    if let Some(f) = map.face_mut(face) {
-        let at = f
-            .segments
-            .position(target)
-            .map_or(f.segments.len(), |p| p + 1);
-        f.segments.insert_at(at, &piece_ids[1..]);
-    }
+    map.place_after_in_face(target, &piece_ids[1..]);
     (splits, piece_ids)
 }
 

@@ -1,12 +1,13 @@
 //! What the integration tests share: the app driven in a harness, the paths of the assets and
-//! fixtures, one sensor-layout builder, a Pioneer crawl, and (in `ros2`) ROS 2 recordings built
-//! byte by byte.
+//! fixtures, one sensor-layout builder, a snapshot of a robot at the origin, a Pioneer crawl,
+//! and (in `ros2`) ROS 2 recordings built byte by byte.
 
 pub(crate) mod ros2;
 
 use egui_kittest::Harness;
 use sonarmap::app::{Command, SonarApp};
-use sonarmap::run::Run;
+use sonarmap::geometry::Pose;
+use sonarmap::run::{Run, Snapshot};
 use sonarmap::sim::{load_plan, simulate_paced, Model, Pace};
 use sonarmap::sonar::{SensorLayout, SensorMount};
 use std::collections::HashMap;
@@ -17,6 +18,17 @@ pub(crate) fn fixture_path(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("tests/fixtures")
         .join(name)
+}
+
+/// A snapshot at time `t` of the robot standing at the origin, heading +x, with `ranges_m`.
+pub(crate) fn snapshot_at_origin(t: f64, ranges_m: &[Option<f64>]) -> Snapshot {
+    Snapshot {
+        t,
+        pose: Pose::new(0.0, 0.0, 0.0),
+        ranges_m: ranges_m.to_vec(),
+        true_pose: None,
+        reading_dt_s: Vec::new(),
+    }
 }
 
 /// A sensor layout of the mounts `(x_m, y_m, heading_rad)`, robot frame.

@@ -7,9 +7,7 @@ use crate::mapping::ext::free_space::{cone_box_in, refuted_segments};
 use crate::mapping::ext::seen_through_ends::{cut_of, free_part_of_line, Cut};
 use crate::mapping::model::beam::Beam;
 use crate::mapping::model::ext_trace::{SeenThroughCut, SeenThroughTrace};
-use crate::mapping::model::map::{
-    EndPoint, Segment, SegmentId, SegmentKind, SensorLooks, SupportPoint,
-};
+use crate::mapping::model::map::{EndPoint, SegmentId, SensorLooks, SupportPoint};
 use crate::mapping::model::support_list::SupportList;
 use crate::mapping::model::trace::{RefutedTrace, StepTrace};
 use crate::mapping::Mapper;
@@ -127,24 +125,22 @@ impl Mapper {
             });
         cuts.sort_unstable_by_key(|&(id, _)| id);
         for (id, free) in cuts {
-            if let Some(record) = self.cut_seen_through(id, free, shortest_left_m) {
-                trace.seen_through.push(SeenThroughTrace {
-                    sensor,
-                    range_m: beam.range_m,
-                    ..record
-                });
+            if let Some(record) = self.cut_seen_through(id, free, shortest_left_m, sensor, beam) {
+                trace.seen_through.push(record);
             }
         }
     }
 
-    /// Cuts the part `free` (distances from `a` along segment `id`) away from it (§8.18,
-    /// [`cut_of`]): an end moves, the segment splits in two, or it goes. The readings placed in
-    /// the part cut go with it (a refit, §5, would bring it back).
+    /// Cuts the part `free` (distances from `a` along segment `id`) that `beam` of `sensor` saw
+    /// through away from it (§8.18, [`cut_of`]): an end moves, the segment splits in two, or it
+    /// goes. The readings placed in the part cut go with it (a refit, §5, would bring it back).
     fn cut_seen_through(
         &mut self,
         id: SegmentId,
         (near, far): (f64, f64),
         shortest_left_m: f64,
+        sensor: usize,
+        beam: &Beam,
     ) -> Option<SeenThroughTrace> {
         let s = self.map.segment(id)?;
         let (a, b) = (s.a, s.b);
@@ -208,8 +204,8 @@ impl Mapper {
         };
         Some(SeenThroughTrace {
             segment: id,
-            sensor: 0,
-            range_m: 0.0,
+            sensor,
+            range_m: beam.range_m,
             free_part: [at(near).into(), at(far).into()],
             cut,
             dropped_points,
@@ -224,8 +220,8 @@ impl Mapper {
         self.map.set_ends(id, a, b);
     }
 
-    /// A new segment `a`–`b` beside segment `id` (after it in its face, of its object, with its
-    /// history and plane support), supported by `points`; returns its id.
+    /// A new segment `a`–`b` beside segment `id` (a piece of it, after it in its face, with
+    /// its plane support), supported by `points`; returns its id.
     fn split_off(
         &mut self,
         id: SegmentId,
@@ -233,28 +229,14 @@ impl Mapper {
         b: EndPoint,
         points: Vec<SupportPoint>,
     ) -> SegmentId {
-        let piece_id = self.map.allocate_segment_id();
-        let s = self.map.segment(id).expect("the segment cut is in the map");
-        let piece = Segment {
-            id: piece_id,
-            kind: SegmentKind::Fitted,
-            a,
-            b,
-            face: s.face,
-            object: s.object,
-            created: s.created,
-            updated: s.updated.clone(),
-            points: SupportList::from_vec(points),
-        };
-        let face = piece.face;
+        let piece = self
+            .map
+            .push_piece_of(id, a, b, SupportList::from_vec(points))
+            .expect("the segment cut is in the map");
         if let Some(support) = self.map.plane_support.get(&id).cloned() {
-            self.map.plane_support.insert(piece_id, support);
+            self.map.plane_support.insert(piece, support);
         }
-        self.map.push_segment(piece);
-        if let Some(f) = self.map.face_mut(face) {
-            let at = f.segments.position(id).map_or(f.segments.len(), |p| p + 1);
-            f.segments.insert_at(at, &[piece_id]);
-        }
-        piece_id
+        self.map.place_after_in_face(id, &[piece]);
+        piece
     }
 }

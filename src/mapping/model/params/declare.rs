@@ -419,9 +419,9 @@ parameters! {
     /// (docs/algorithm.md §8.6).
     free_space: bool, file free_space: bool, flag,
         paper false, extended true, needs [];
-    /// A segment end inside the part of its line a reading saw through (inside the cone,
-    /// short of the range) is cut back to that part's edge, confirmed or not
-    /// (docs/algorithm.md §8.18).
+    /// The part of a fitted segment's line a reading saw through (inside the cone, short of
+    /// the range) is cut away, confirmed or not: an end moves back to that part's edge, a hole
+    /// splits the segment, or too little is left and it goes (docs/algorithm.md §8.18).
     trim_seen_through: bool, file trim_seen_through: bool, flag,
         paper false, extended true, needs [];
     /// Segments are tentative until readings of two views support them as a plane
