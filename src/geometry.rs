@@ -184,6 +184,33 @@ pub fn segments_cross(p1: &Point, p2: &Point, q1: &Point, q2: &Point) -> bool {
     d1 * d2 < 0.0 && d3 * d4 < 0.0
 }
 
+/// Where the ray from `origin` along `direction` meets the line of `a`–`b`: its distance along
+/// the ray (in units of `direction`'s length; negative behind the origin) and its place on the
+/// segment (0 at `a`, 1 at `b`); `None` when they are (nearly) parallel.
+///
+/// ```
+/// use sonarmap::geometry::{ray_meets_segment_line, Point, Vec2};
+/// // Looking along +y from the origin at (-1, 2)–(1, 2.2): met at (0, 2.1), half way along.
+/// let (t, s) = ray_meets_segment_line(&Point::origin(), &Vec2::new(0.0, 1.0), &Point::new(-1.0, 2.0), &Point::new(1.0, 2.2)).unwrap();
+/// assert!((t - 2.1).abs() < 1e-12 && (s - 0.5).abs() < 1e-12);
+/// assert!(ray_meets_segment_line(&Point::origin(), &Vec2::new(1.0, 0.0), &Point::new(0.0, 1.0), &Point::new(2.0, 1.0)).is_none());
+/// ```
+pub fn ray_meets_segment_line(
+    origin: &Point,
+    direction: &Vec2,
+    a: &Point,
+    b: &Point,
+) -> Option<(f64, f64)> {
+    let cross = |u: &Vec2, v: &Vec2| u.x * v.y - u.y * v.x;
+    let e = b - a;
+    let denom = cross(direction, &e);
+    if denom.abs() < 1e-12 * e.norm() {
+        return None;
+    }
+    let ao = a - origin;
+    Some((cross(&ao, &e) / denom, cross(&ao, direction) / denom))
+}
+
 /// Distance from `p` to the closed segment `[a, b]`.
 pub fn distance_to_segment(p: &Point, a: &Point, b: &Point) -> f64 {
     let t = projection_param(p, a, b).clamp(0.0, 1.0);

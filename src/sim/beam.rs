@@ -9,7 +9,7 @@
 //! mirror-like wall echoes only when its normal lies within the cone, at the normal distance.
 //! `Axis`: one ray on the beam axis, the first hit whatever the angle.
 
-use crate::geometry::{unit, Point, Pose, Vec2};
+use crate::geometry::{ray_meets_segment_line, unit, Point, Pose, Vec2};
 use crate::run::FloorPlan;
 use serde::{Deserialize, Serialize};
 
@@ -135,7 +135,6 @@ impl World {
 
     /// The first surface met by the ray from `origin` in direction `dir` (unit length).
     pub fn cast(&self, origin: &Point, dir: &Vec2) -> Option<Hit> {
-        let cross = |a: &Vec2, b: &Vec2| a.x * b.y - a.y * b.x;
         let mut best: Option<Hit> = None;
         let mut consider = |hit: Hit| {
             if best.is_none_or(|b| hit.distance_m < b.distance_m) {
@@ -143,15 +142,11 @@ impl World {
             }
         };
         for w in &self.plan.walls {
-            let e = w.b - w.a;
-            let denom = cross(dir, &e);
-            if denom.abs() < 1e-12 * e.norm() {
+            let Some((t, s)) = ray_meets_segment_line(origin, dir, &w.a, &w.b) else {
                 continue;
-            }
-            let ao = w.a - origin;
-            let t = cross(&ao, &e) / denom;
-            let s = cross(&ao, dir) / denom;
+            };
             if t > 1e-9 && (0.0..=1.0).contains(&s) {
+                let e = w.b - w.a;
                 let normal = Vec2::new(-e.y, e.x) / e.norm();
                 consider(Hit {
                     distance_m: t,

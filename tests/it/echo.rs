@@ -112,6 +112,87 @@ fn a_single_ray_sensor_keeps_the_papers_placement() {
     assert!(cone > 0, "the cone sensor's pieces are fitted");
 }
 
+/// Two single-ray sensors of a robot driving along +x below the wall y = 2 m, their axes 70°
+/// and 50° from the robot's, so 20° and 40° off the wall's normal: each reads the distance
+/// along its axis, `p / cos β`. A 1 % sonar; mapped in `extended` with ξ = 1 %.
+fn map_wall_met_off_its_normal(echo: EchoModel) -> Mapper {
+    use sonarmap::sonar::SensorMount;
+    let layout = SensorLayout {
+        mounts: [70f64, 50.0]
+            .iter()
+            .map(|deg| SensorMount {
+                x_m: 0.0,
+                y_m: 0.0,
+                heading_rad: deg.to_radians(),
+            })
+            .collect(),
+    };
+    let sensor = SensorSpec {
+        echo,
+        accuracy_pct: 1.0,
+        ..SensorSpec::default()
+    };
+    let params = Params {
+        accuracy_pct: 1.0,
+        ..Params::extended()
+    };
+    let mut mapper = Mapper::new(params, layout.clone(), sensor);
+    for i in 0..60 {
+        let pose = Pose::new(0.05 * i as f64, 0.0, 0.0);
+        let ranges_m = (0..layout.len())
+            .map(|k| {
+                let s = layout.sensor_pose_in_world(&pose, k);
+                let beta = s.heading_rad - std::f64::consts::FRAC_PI_2;
+                Some((2.0 - s.y) / beta.cos())
+            })
+            .collect();
+        mapper.step(&Snapshot {
+            t: i as f64,
+            pose,
+            ranges_m,
+            true_pose: None,
+            reading_dt_s: Vec::new(),
+        });
+    }
+    mapper
+}
+
+#[test]
+fn a_single_ray_sensor_confirms_a_wall_it_meets_off_its_normal() {
+    // The sensor 20° off the normal reads 2 / cos 20° = 2.128 m where the foot model predicts
+    // 2 m (6 % off, past the 1 % tolerance, and the foot lies 20° off the axis, outside the
+    // 12.5° half cone): a plane test at the foot never confirms the wall. Along the axis the
+    // wall predicts the reading exactly (docs/algorithm.md §8.7).
+    // Confirmed fitted segments, and those of them with both ends within 1 in of the wall.
+    let on_the_wall = |mapper: &Mapper| {
+        let map = mapper.map();
+        let confirmed: Vec<_> = map
+            .segments
+            .iter()
+            .filter(|s| s.kind == SegmentKind::Fitted && !map.is_tentative(s.id))
+            .collect();
+        let on = confirmed
+            .iter()
+            .filter(|s| {
+                [s.a, s.b]
+                    .iter()
+                    .all(|e| (e.point.y - 2.0).abs() <= inches(1.0))
+            })
+            .count();
+        (confirmed.len(), on)
+    };
+    let (count, on) = on_the_wall(&map_wall_met_off_its_normal(EchoModel::Axis));
+    assert!(
+        count > 0 && on == count,
+        "{count} confirmed, {on} on the wall"
+    );
+    // Declared as hearing its whole cone, the same readings are taken for echoes of the cone's
+    // nearer edge (7.5° and 27.5° off the normal) and placed there (§8.10), behind the wall:
+    // what they confirm is not on it.
+    let (_, on) = on_the_wall(&map_wall_met_off_its_normal(EchoModel::Cone));
+    assert_eq!(on, 0);
+}
+
 #[test]
 fn a_logs_echo_model_round_trips_and_an_unknown_one_is_refused_with_its_place() {
     let plan = &suite_plans(1, 1)[0].2;

@@ -193,6 +193,34 @@ fn extended_holds_at_a_crawl_what_it_maps_at_the_papers_pace() {
     assert!(crawled.spurious_fraction <= crawled_before.spurious_fraction - 0.05);
 }
 
+#[test]
+fn a_single_ray_sensor_maps_at_a_crawl_what_it_maps_at_the_papers_pace() {
+    use sonarmap::suite::{run_suite_with, Conditions};
+    // The axis model's runs of the four scenes above. A single ray hears a wall wherever its
+    // axis meets it, so its plane test is taken along the axis (docs/algorithm.md §8.7).
+    // Measured (seed 13, confirmed, spurious / coverage): the plans' pace 0.030 / 0.895, the
+    // crawl 0.110 / 0.872; with the foot of the perpendicular as the plane test, which a
+    // sensor 13° or more off a wall's normal never passes, 0.136 / 0.680 and 0.000 / 0.514.
+    let crawl = Conditions {
+        pace: super::support::CRAWL,
+        ..Conditions::PLAIN
+    };
+    let axis_confirmed = |conditions: &Conditions| {
+        let lines = run_suite_with(4, 13, &Params::extended(), conditions, &mut |_| true).unwrap();
+        summarise(&of_model(&lines, "axis"))
+            .confirmed
+            .expect("extended confirms segments")
+    };
+    let paced = axis_confirmed(&Conditions::PLAIN);
+    let crawled = axis_confirmed(&crawl);
+    assert!(paced.mean_coverage >= 0.8, "{paced:?}");
+    assert!(
+        crawled.mean_coverage >= paced.mean_coverage - 0.1,
+        "{crawled:?} {paced:?}"
+    );
+    assert!(crawled.spurious_fraction <= 0.2, "{crawled:?}");
+}
+
 /// A suite calibrated (`calibrate_first`, as in `extended`, docs/algorithm.md §8.17) without
 /// drift finds no drift to calibrate with, so its maps are those of one pass. A run whose first
 /// pass latched on a drift it does not have would be mapped again, and the second pass must map

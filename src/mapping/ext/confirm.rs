@@ -9,7 +9,9 @@
 //! two poses. A segment is **confirmed** once readings of two distinct snapshots support it as
 //! a plane; until then it is tentative (drawn dimmed; `eval` reports both sets).
 
-use crate::geometry::{distance_to_line, line_angle_between, projection_param, Point, Vec2};
+use crate::geometry::{
+    distance_to_line, line_angle_between, projection_param, ray_meets_segment_line, Point, Vec2,
+};
 use crate::mapping::ext::beam_geometry::echo_ray;
 use crate::mapping::ext::beam_geometry::feature_tolerance_m;
 use crate::mapping::ext::beam_geometry::incidence_cosine;
@@ -124,6 +126,61 @@ pub fn supports_as_echo(
     cone_echo(beam, a, b, accuracy_pct, HalfCone::new(half_beam_rad)).map(|e| e.range_m)
 }
 
+/// Where a plane echoes a reading from, by how the sensor hears (docs/algorithm.md §8.7,
+/// §8.10): the plane test every extension takes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PlaneEchoModel {
+    /// The foot of the perpendicular, inside the cone (Kleeman and Kuc's plane model:
+    /// [`supports_as_plane`]).
+    Foot,
+    /// The nearest point of the plane inside the cone: the foot, or where the cone's nearer
+    /// edge meets the plane (§8.10: [`supports_as_echo`]).
+    NearestInCone,
+    /// Where the beam's axis meets the plane, at any incidence: a sensor whose echoes come
+    /// from its axis alone ([`EchoModel::Axis`](crate::sonar::EchoModel::Axis);
+    /// [`supports_along_axis`]).
+    Axis,
+}
+
+/// Whether `beam` of a sensor whose echoes come from its axis alone supports the segment
+/// `a`–`b` as a plane: the axis meets the segment (10 % of its length of slack at either end)
+/// at the range within the tolerance, at any incidence (a single ray hears whatever it meets
+/// first, and never the foot of a perpendicular off its axis). Returns the distance along
+/// the axis.
+///
+/// ```
+/// use sonarmap::geometry::{Point, Vec2};
+/// use sonarmap::mapping::ext::confirm::{supports_along_axis, supports_as_plane};
+/// use sonarmap::mapping::model::beam::Beam;
+/// // The wall y = 2 met 20° off its normal: along the axis at 2 / cos 20° = 2.1284 m. Read
+/// // at 2.13 m (tol 1 % of it, 0.0254 m, the 1 in floor), the axis model supports it; the
+/// // foot model does not (the foot lies 20° off the axis, outside 12.5°).
+/// let dir = Vec2::new(20f64.to_radians().sin(), 20f64.to_radians().cos());
+/// let beam = Beam { origin: Point::origin(), direction: dir, range_m: 2.13 };
+/// let (a, b) = (Point::new(-1.0, 2.0), Point::new(2.0, 2.0));
+/// let d = supports_along_axis(&beam, &a, &b, 1.0).unwrap();
+/// assert!((d - 2.0 / 20f64.to_radians().cos()).abs() < 1e-12);
+/// assert!(supports_as_plane(&beam, &a, &b, 1.0, 12.5f64.to_radians()).is_none());
+/// // The same reading of a wall that ends at x = 0.5: the axis meets its line at x = 0.728,
+/// // past the 10 % slack (0.65): no support.
+/// assert!(supports_along_axis(&beam, &Point::new(-1.0, 2.0), &Point::new(0.5, 2.0), 1.0).is_none());
+/// ```
+pub fn supports_along_axis(beam: &Beam, a: &Point, b: &Point, accuracy_pct: f64) -> Option<f64> {
+    axis_echo(beam, a, b, accuracy_pct).map(|e| e.range_m)
+}
+
+/// [`supports_along_axis`], with where the echo comes from.
+fn axis_echo(beam: &Beam, a: &Point, b: &Point, accuracy_pct: f64) -> Option<PlaneEcho> {
+    let (d, t) = ray_meets_segment_line(&beam.origin, &beam.direction, a, b)?;
+    let heard = d > 0.0
+        && (-0.1..=1.1).contains(&t)
+        && (d - beam.range_m).abs() <= feature_tolerance_m(accuracy_pct, beam.range_m);
+    heard.then_some(PlaneEcho {
+        range_m: d,
+        along: t,
+    })
+}
+
 /// [`supports_as_echo`], with where the echo comes from.
 fn cone_echo(
     beam: &Beam,
@@ -158,17 +215,17 @@ fn cone_echo(
     })
 }
 
-/// The plane test a segment's readings take: [`supports_as_echo`] with `cone_edges`, else
-/// [`supports_as_plane`].
+/// The plane test a segment's readings take, by `echo`: [`supports_as_plane`],
+/// [`supports_as_echo`] or [`supports_along_axis`]. Returns the predicted range.
 pub fn supports(
     beam: &Beam,
     a: &Point,
     b: &Point,
     accuracy_pct: f64,
     half_beam_rad: f64,
-    cone_edges: bool,
+    echo: PlaneEchoModel,
 ) -> Option<f64> {
-    plane_echo(beam, a, b, accuracy_pct, half_beam_rad, cone_edges).map(|e| e.range_m)
+    plane_echo(beam, a, b, accuracy_pct, half_beam_rad, echo).map(|e| e.range_m)
 }
 
 /// [`supports`], with where the echo comes from along the segment.
@@ -178,16 +235,9 @@ pub fn plane_echo(
     b: &Point,
     accuracy_pct: f64,
     half_beam_rad: f64,
-    cone_edges: bool,
+    echo: PlaneEchoModel,
 ) -> Option<PlaneEcho> {
-    plane_echo_in(
-        beam,
-        a,
-        b,
-        accuracy_pct,
-        HalfCone::new(half_beam_rad),
-        cone_edges,
-    )
+    plane_echo_in(beam, a, b, accuracy_pct, HalfCone::new(half_beam_rad), echo)
 }
 
 /// [`plane_echo`], the beam's half-width given as its [`HalfCone`].
@@ -197,12 +247,12 @@ pub fn plane_echo_in(
     b: &Point,
     accuracy_pct: f64,
     half: HalfCone,
-    cone_edges: bool,
+    echo: PlaneEchoModel,
 ) -> Option<PlaneEcho> {
-    if cone_edges {
-        cone_echo(beam, a, b, accuracy_pct, half)
-    } else {
-        foot_echo(beam, a, b, accuracy_pct, half)
+    match echo {
+        PlaneEchoModel::Foot => foot_echo(beam, a, b, accuracy_pct, half),
+        PlaneEchoModel::NearestInCone => cone_echo(beam, a, b, accuracy_pct, half),
+        PlaneEchoModel::Axis => axis_echo(beam, a, b, accuracy_pct),
     }
 }
 
@@ -246,7 +296,7 @@ pub fn note_plane_support(
     view: View,
     accuracy_pct: f64,
     half_beam_rad: f64,
-    cone_edges: bool,
+    echo: PlaneEchoModel,
 ) -> Option<PlaneSupportTrace> {
     let s = map.segment(id)?;
     let (a, b) = (s.a.point, s.b.point);
@@ -260,8 +310,7 @@ pub fn note_plane_support(
     };
     let supporting = || {
         beams.iter().filter_map(|(sensor, beam)| {
-            supports(beam, &a, &b, accuracy_pct, half_beam_rad, cone_edges)
-                .map(|d| (*sensor, *beam, d))
+            supports(beam, &a, &b, accuracy_pct, half_beam_rad, echo).map(|d| (*sensor, *beam, d))
         })
     };
     let spaced =
@@ -360,7 +409,7 @@ pub fn refit_moved_off(
 ///
 /// ```
 /// use sonarmap::geometry::{Point, Vec2};
-/// use sonarmap::mapping::ext::confirm::baseline_pair;
+/// use sonarmap::mapping::ext::confirm::{baseline_pair, PlaneEchoModel};
 /// use sonarmap::mapping::model::beam::Beam;
 /// use sonarmap::mapping::model::support::ReadingRef;
 /// // A side sensor looking along +y at the wall y = 1 from x = 0 and x = 0.4 (snapshots 3, 5).
@@ -370,10 +419,10 @@ pub fn refit_moved_off(
 /// };
 /// let (a, b) = (Point::new(0.0, 1.0), Point::new(0.4, 1.0));
 /// let half = 12.5f64.to_radians();
-/// let pair = baseline_pair(&[at(0.0, 3), at(0.4, 5)], &a, &b, 3.0, half, false, 0.2032, 15f64.to_radians());
+/// let pair = baseline_pair(&[at(0.0, 3), at(0.4, 5)], &a, &b, 3.0, half, PlaneEchoModel::Foot, 0.2032, 15f64.to_radians());
 /// assert!((pair.unwrap().along_m - 0.4).abs() < 1e-12);
 /// // 0.1 m apart: under the 8 in baseline.
-/// assert!(baseline_pair(&[at(0.0, 3), at(0.1, 5)], &a, &b, 3.0, half, false, 0.2032, 15f64.to_radians()).is_none());
+/// assert!(baseline_pair(&[at(0.0, 3), at(0.1, 5)], &a, &b, 3.0, half, PlaneEchoModel::Foot, 0.2032, 15f64.to_radians()).is_none());
 /// ```
 #[allow(clippy::too_many_arguments)]
 pub fn baseline_pair(
@@ -382,7 +431,7 @@ pub fn baseline_pair(
     b: &Point,
     accuracy_pct: f64,
     half_beam_rad: f64,
-    cone_edges: bool,
+    echo: PlaneEchoModel,
     min_baseline_m: f64,
     max_turn_rad: f64,
 ) -> Option<BaselinePair> {
@@ -394,7 +443,7 @@ pub fn baseline_pair(
     let direction = along / length;
     let supporting: Vec<&(ReadingRef, Beam)> = beams
         .iter()
-        .filter(|(_, beam)| supports(beam, a, b, accuracy_pct, half_beam_rad, cone_edges).is_some())
+        .filter(|(_, beam)| supports(beam, a, b, accuracy_pct, half_beam_rad, echo).is_some())
         .collect();
     let tan_turn = max_turn_rad.tan();
     let mut best: Option<BaselinePair> = None;

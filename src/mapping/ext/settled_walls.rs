@@ -18,7 +18,7 @@
 use crate::geometry::{distance_to_line, Point};
 use crate::mapping::ext::beam_geometry::feature_tolerance_m;
 use crate::mapping::ext::beam_geometry::HalfCone;
-use crate::mapping::ext::confirm::{plane_echo_in, PlaneEcho};
+use crate::mapping::ext::confirm::{plane_echo_in, PlaneEcho, PlaneEchoModel};
 use crate::mapping::ext::free_space::cone_box_in;
 use crate::mapping::model::beam::Beam;
 use crate::mapping::model::map::{Map, SegmentId, SegmentKind};
@@ -39,26 +39,27 @@ pub struct SettleRule {
     pub accuracy_pct: f64,
     /// Half the beam's opening, as its cosine and sine (computed once for the step).
     pub half: HalfCone,
-    /// Whether the plane test takes the cone's edges (§8.7).
-    pub cone_edges: bool,
+    /// Where the plane test takes a plane's echo from (§8.7).
+    pub echo: PlaneEchoModel,
     /// How far inside the ends of a wall (or of its chain) its echo point must lie, metres.
     pub end_margin_m: f64,
 }
 
 /// Whether the confirmed wall `a`–`b` settles `beam`'s reading: the wall explains it as a plane
-/// echo (the test a reading takes to confirm it, §8.7, with the cone's edges when
-/// `rule.cone_edges`) and the echo point lies at least `rule.end_margin_m` inside both ends.
+/// echo (the test a reading takes to confirm it, §8.7, the echo taken where `rule.echo`
+/// says) and the echo point lies at least `rule.end_margin_m` inside both ends.
 /// Returns the predicted range and the echo point's distance from the nearer end.
 ///
 /// ```
 /// use sonarmap::geometry::{Point, Vec2};
 /// use sonarmap::mapping::model::beam::Beam;
+/// use sonarmap::mapping::ext::confirm::PlaneEchoModel;
 /// use sonarmap::mapping::ext::settled_walls::{settles, SettleRule};
 /// // A sensor at (1, 0) looking along +y reads 2.03 m; the wall runs from (0, 2) to (3, 2):
 /// // the foot (1, 2) is on the axis, |2 − 2.03| = 0.03 ≤ 0.0609 (3 % of 2.03), and it lies 1 m
 /// // from the nearer end (a), more than the 0.3048 m margin (one memory gap): settled.
 /// let beam = Beam { origin: Point::new(1.0, 0.0), direction: Vec2::new(0.0, 1.0), range_m: 2.03 };
-/// let rule = SettleRule::new(3.0, 12.5f64.to_radians(), false, 0.3048);
+/// let rule = SettleRule::new(3.0, 12.5f64.to_radians(), PlaneEchoModel::Foot, 0.3048);
 /// let (predicted, inside) = settles(&beam, &Point::new(0.0, 2.0), &Point::new(3.0, 2.0), &rule).unwrap();
 /// assert!((predicted - 2.0).abs() < 1e-12 && (inside - 1.0).abs() < 1e-12);
 /// // The same reading with the wall ending at x = 1.2: the foot is 0.2 m from that end, where
@@ -76,20 +77,25 @@ pub fn settles(beam: &Beam, a: &Point, b: &Point, rule: &SettleRule) -> Option<(
 
 impl SettleRule {
     /// The rule for a sonar of accuracy `accuracy_pct` (ξ, percent) whose beam opens
-    /// `2·half_beam_rad`, the cone's edges echoing when `cone_edges`, with the margin
+    /// `2·half_beam_rad`, a plane's echo taken as `echo` says, with the margin
     /// `end_margin_m`.
-    pub fn new(accuracy_pct: f64, half_beam_rad: f64, cone_edges: bool, end_margin_m: f64) -> Self {
+    pub fn new(
+        accuracy_pct: f64,
+        half_beam_rad: f64,
+        echo: PlaneEchoModel,
+        end_margin_m: f64,
+    ) -> Self {
         Self {
             accuracy_pct,
             half: HalfCone::new(half_beam_rad),
-            cone_edges,
+            echo,
             end_margin_m,
         }
     }
 
     /// [`plane_echo`](crate::mapping::ext::confirm::plane_echo) of `beam` off the wall `a`–`b` under this rule.
     fn plane_echo(&self, beam: &Beam, a: &Point, b: &Point) -> Option<PlaneEcho> {
-        plane_echo_in(beam, a, b, self.accuracy_pct, self.half, self.cone_edges)
+        plane_echo_in(beam, a, b, self.accuracy_pct, self.half, self.echo)
     }
 }
 
@@ -191,7 +197,7 @@ fn gather_near_walls(map: &Map, beam: &Beam, rule: &SettleRule, near: &mut Vec<N
 /// point lies inside the ends of the wall and the confirmed pieces that continue it. A wall
 /// settles the reading when it explains it as a plane echo
 /// ([`plane_echo`](crate::mapping::ext::confirm::plane_echo), the test a reading takes to confirm it, §8.7,
-/// with the cone's edges when `rule.cone_edges`) and the echo point lies at least
+/// the echo taken where `rule.echo` says) and the echo point lies at least
 /// `rule.end_margin_m` inside both ends of the chain of confirmed walls along its line that
 /// overlap or leave gaps within the tolerance ([`chained_inside_m`]): a wall mapped as pieces
 /// settles readings near the joints of its pieces, not at its ends. The walls are those the
@@ -275,13 +281,13 @@ mod tests {
     const HALF: f64 = 0.218_166_156_499_291_6; // 12.5°
     /// ξ 3 %, that half beam, no cone edges, a 0.3 m margin.
     fn rule() -> SettleRule {
-        SettleRule::new(3.0, HALF, false, 0.3)
+        SettleRule::new(3.0, HALF, PlaneEchoModel::Foot, 0.3)
     }
 
     /// [`rule`] with the cone's edges.
     fn edges() -> SettleRule {
         SettleRule {
-            cone_edges: true,
+            echo: PlaneEchoModel::NearestInCone,
             ..rule()
         }
     }

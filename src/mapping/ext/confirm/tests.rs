@@ -29,7 +29,7 @@ fn pair_of(beams: &[(ReadingRef, Beam)]) -> Option<BaselinePair> {
         &b,
         3.0,
         HALF,
-        false,
+        PlaneEchoModel::Foot,
         CONFIRMING_BASELINE_M,
         CONFIRMING_BASELINE_TURN_RAD,
     )
@@ -161,19 +161,49 @@ fn two_snapshots_of_plane_support_confirm_a_segment_once_each() {
         ..straight
     };
     assert!(map.is_tentative(0));
-    assert!(
-        note_plane_support(&mut map, 0, &[(3, oblique)], View::of(0), 3.0, half, false).is_none()
-    );
-    let first =
-        note_plane_support(&mut map, 0, &[(1, straight)], View::of(0), 3.0, half, false).unwrap();
+    assert!(note_plane_support(
+        &mut map,
+        0,
+        &[(3, oblique)],
+        View::of(0),
+        3.0,
+        half,
+        PlaneEchoModel::Foot
+    )
+    .is_none());
+    let first = note_plane_support(
+        &mut map,
+        0,
+        &[(1, straight)],
+        View::of(0),
+        3.0,
+        half,
+        PlaneEchoModel::Foot,
+    )
+    .unwrap();
     assert_eq!((first.snapshots, first.confirmed), (1, false));
     assert!((first.distance_m - 2.0).abs() < 1e-12);
     // The same snapshot again counts once.
-    assert!(
-        note_plane_support(&mut map, 0, &[(2, straight)], View::of(0), 3.0, half, false).is_none()
-    );
-    let second =
-        note_plane_support(&mut map, 0, &[(1, straight)], View::of(1), 3.0, half, false).unwrap();
+    assert!(note_plane_support(
+        &mut map,
+        0,
+        &[(2, straight)],
+        View::of(0),
+        3.0,
+        half,
+        PlaneEchoModel::Foot
+    )
+    .is_none());
+    let second = note_plane_support(
+        &mut map,
+        0,
+        &[(1, straight)],
+        View::of(1),
+        3.0,
+        half,
+        PlaneEchoModel::Foot,
+    )
+    .unwrap();
     assert_eq!((second.snapshots, second.confirmed), (2, true));
     assert!(!map.is_tentative(0));
     assert!(map.check_invariants(0).is_ok());
@@ -198,10 +228,27 @@ fn a_second_view_counts_only_from_a_sensor_that_moved_the_spacing() {
         snapshot,
         spacing_m: 0.1524,
     };
-    let first = note_plane_support(&mut map, 0, &[(1, at(0.0))], view(0), 3.0, half, false);
+    let first = note_plane_support(
+        &mut map,
+        0,
+        &[(1, at(0.0))],
+        view(0),
+        3.0,
+        half,
+        PlaneEchoModel::Foot,
+    );
     assert_eq!(first.map(|t| t.snapshots), Some(1));
     // Recorded, not counted: the sensor stood 0.1 m from the first view's.
-    let same = note_plane_support(&mut map, 0, &[(1, at(0.1))], view(1), 3.0, half, false).unwrap();
+    let same = note_plane_support(
+        &mut map,
+        0,
+        &[(1, at(0.1))],
+        view(1),
+        3.0,
+        half,
+        PlaneEchoModel::Foot,
+    )
+    .unwrap();
     assert_eq!((same.snapshots, same.confirmed), (1, false));
     assert!(same
         .same_view_moved_m
@@ -215,7 +262,7 @@ fn a_second_view_counts_only_from_a_sensor_that_moved_the_spacing() {
         view(2),
         3.0,
         half,
-        false,
+        PlaneEchoModel::Foot,
     )
     .unwrap();
     assert_eq!(

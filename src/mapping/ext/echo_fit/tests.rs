@@ -1,6 +1,7 @@
 //! Unit tests of `echo_fit.rs`.
 
 use super::*;
+use crate::mapping::ext::confirm::PlaneEchoModel;
 use crate::mapping::ext::point_features::beams_at_reflector;
 use crate::mapping::model::support::ReadingRef;
 
@@ -141,7 +142,7 @@ fn an_echo_point_beyond_a_confirmed_wall_is_behind_it_and_one_before_it_is_not()
             View::of(snapshot),
             3.0,
             HALF,
-            false,
+            PlaneEchoModel::Foot,
         );
     }
     assert!(map.is_confirmed(0));

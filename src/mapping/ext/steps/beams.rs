@@ -2,7 +2,7 @@
 //! that tests a reading against a plane or a reflector shares (docs/algorithm.md §8.5–§8.14).
 
 use crate::geometry::{Point, Pose};
-use crate::mapping::ext::confirm::supports;
+use crate::mapping::ext::confirm::{supports, PlaneEchoModel};
 use crate::mapping::model::beam::Beam;
 use crate::mapping::model::map::SupportPoint;
 use crate::mapping::Mapper;
@@ -15,10 +15,15 @@ impl Mapper {
         (self.params.accuracy_pct, self.sensor.beam_width_rad / 2.0)
     }
 
-    /// Whether the plane tests of §8.7 take echoes from the cone's edges too (§8.10: echo
-    /// placement on, for a sensor whose echoes come from its whole cone).
-    pub(in crate::mapping) fn cone_edges(&self) -> bool {
-        self.params.echo_fit && self.sensor.echo == EchoModel::Cone
+    /// Where the plane tests of §8.7 take a plane's echo from: along the axis for a sensor whose
+    /// echoes come from its axis alone; for one that hears its whole cone, from the nearest
+    /// point inside it with echo placement on (§8.10), else from the foot of the perpendicular.
+    pub(in crate::mapping) fn plane_echo_model(&self) -> PlaneEchoModel {
+        match self.sensor.echo {
+            EchoModel::Axis => PlaneEchoModel::Axis,
+            EchoModel::Cone if self.params.echo_fit => PlaneEchoModel::NearestInCone,
+            EchoModel::Cone => PlaneEchoModel::Foot,
+        }
     }
 
     /// Whether segment parts seen through are cut away (§8.18): `trim_seen_through` on, for a
@@ -68,8 +73,16 @@ impl Mapper {
         b: &Point,
     ) -> bool {
         let (xi, half) = self.accuracy_and_half_beam();
-        points
-            .iter()
-            .any(|q| supports(&self.step_beam_of(q), a, b, xi, half, self.cone_edges()).is_some())
+        points.iter().any(|q| {
+            supports(
+                &self.step_beam_of(q),
+                a,
+                b,
+                xi,
+                half,
+                self.plane_echo_model(),
+            )
+            .is_some()
+        })
     }
 }

@@ -21,7 +21,7 @@ impl Mapper {
         trace: &mut StepTrace,
     ) {
         let (xi, half) = self.accuracy_and_half_beam();
-        let cone_edges = self.cone_edges();
+        let echo = self.plane_echo_model();
         let targets: Vec<(usize, SegmentId)> = trace
             .decisions
             .iter()
@@ -48,7 +48,7 @@ impl Mapper {
                 },
                 xi,
                 half,
-                cone_edges,
+                echo,
             ) {
                 if self.record_trace {
                     trace.plane_support.push(t);
@@ -96,7 +96,7 @@ impl Mapper {
         trace: &mut StepTrace,
     ) {
         let (xi, half) = self.accuracy_and_half_beam();
-        let cone_edges = self.cone_edges();
+        let echo = self.plane_echo_model();
         // Made this step: a MATCH's or an EXTENSION's target holds readings of earlier steps
         // that were tested when they came.
         let mut targets: Vec<SegmentId> = trace
@@ -135,7 +135,7 @@ impl Mapper {
                 &b,
                 xi,
                 half,
-                cone_edges,
+                echo,
                 CONFIRMING_BASELINE_M,
                 CONFIRMING_BASELINE_TURN_RAD,
             ) else {
@@ -169,7 +169,7 @@ impl Mapper {
                 &new.b.point,
                 xi,
                 half,
-                self.cone_edges(),
+                self.plane_echo_model(),
             )
             .is_some()
         })

@@ -26,7 +26,7 @@ impl Mapper {
         let rule = SettleRule::new(
             accuracy_pct,
             half_beam_rad,
-            self.cone_edges(),
+            self.plane_echo_model(),
             SETTLED_END_MARGIN_GAPS * self.params.memory_gap_m,
         );
         let (near, settled_by, settled_points, settled_readings) = (
