@@ -6,8 +6,10 @@
 //! (`ξ·D/100`, at least 1 in), the foot lies on the segment (10 % of its length of slack at
 //! either end), and the foot lies within half the beam width of the axis. A corner's arc fitted
 //! as a slanted line, or a wall seen obliquely and placed short of it, has no such reading from
-//! two poses. A segment is **confirmed** once readings of two distinct snapshots support it as
-//! a plane; until then it is tentative (drawn dimmed; `eval` reports both sets).
+//! two poses. Where the echo comes from follows the sensor ([`PlaneEchoModel`]): for a sonar
+//! that hears its cone, the foot or (§8.10) the cone's nearer edge; for a single ray, where its
+//! axis meets the plane. A segment is **confirmed** once readings of two distinct snapshots
+//! support it as a plane; until then it is tentative (drawn dimmed; `eval` reports both sets).
 
 use crate::geometry::{
     distance_to_line, line_angle_between, projection_param, ray_meets_segment_line, Point, Vec2,

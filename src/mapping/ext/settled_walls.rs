@@ -279,7 +279,7 @@ mod tests {
     use crate::mapping::model::plane_supports::PlaneSupport;
 
     const HALF: f64 = 0.218_166_156_499_291_6; // 12.5°
-    /// ξ 3 %, that half beam, no cone edges, a 0.3 m margin.
+    /// ξ 3 %, that half beam, the echo at the foot, a 0.3 m margin.
     fn rule() -> SettleRule {
         SettleRule::new(3.0, HALF, PlaneEchoModel::Foot, 0.3)
     }
