@@ -272,3 +272,42 @@ fn a_second_view_counts_only_from_a_sensor_that_moved_the_spacing() {
     assert_eq!(second.same_view_moved_m, None);
     assert_eq!(map.plane_support.get(&0).unwrap().last_sensor_mm, [250, 0]);
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(300))]
+
+    /// A single ray meeting a wall at any incidence up to 80°, read at the distance along its
+    /// axis within the tolerance, supports the wall along the axis and predicts that distance;
+    /// read past the tolerance, it does not.
+    #[test]
+    fn a_ray_supports_the_wall_it_meets_along_its_axis(
+        normal_deg in 0.0f64..360.0,
+        offset_m in 0.3f64..5.0,
+        incidence_deg in -80.0f64..80.0,
+        error_of_tolerance in -0.99f64..0.99,
+        along_m in -2.0f64..2.0,
+    ) {
+        let normal = Vec2::new(normal_deg.to_radians().cos(), normal_deg.to_radians().sin());
+        let along = Vec2::new(-normal.y, normal.x);
+        // The wall n·x = offset, from 3 m before to 3 m past the axis's hit.
+        let axis_rad = (normal_deg + incidence_deg).to_radians();
+        let direction = Vec2::new(axis_rad.cos(), axis_rad.sin());
+        let origin = Point::origin() + along * along_m;
+        let distance_m = (offset_m - normal.dot(&origin.coords)) / normal.dot(&direction);
+        let hit = origin + direction * distance_m;
+        let (a, b) = (hit - along * 3.0, hit + along * 3.0);
+        // The tolerance of any reading within 3 % below the distance is at least this.
+        let tolerance_m = feature_tolerance_m(3.0, 0.97 * distance_m);
+        let read = |range_m: f64| Beam { origin, direction, range_m };
+        let within = read(distance_m + error_of_tolerance * tolerance_m);
+        let predicted = supports_along_axis(&within, &a, &b, 3.0);
+        proptest::prop_assert!(predicted.is_some_and(|d| (d - distance_m).abs() < 1e-9));
+        let past = read(distance_m + 3.0 * feature_tolerance_m(3.0, distance_m * 1.5));
+        proptest::prop_assert!(supports_along_axis(&past, &a, &b, 3.0).is_none());
+        // The plane test dispatches to it.
+        proptest::prop_assert_eq!(
+            supports(&within, &a, &b, 3.0, HALF, PlaneEchoModel::Axis),
+            predicted
+        );
+    }
+}
