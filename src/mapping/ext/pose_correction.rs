@@ -10,7 +10,7 @@
 //! keeps the prediction: a corridor fixes heading and lateral position, not the position along
 //! it.
 
-use crate::geometry::{Point, Pose, Vec2};
+use crate::geometry::{ray_meets_segment_line, Point, Pose, Vec2};
 use crate::mapping::ext::beam_geometry::{feature_tolerance_m, HalfCone};
 use crate::mapping::ext::odometry_drift::OdometryDrift;
 use crate::mapping::ext::rectilinear_heading::RectilinearState;
@@ -130,11 +130,12 @@ fn range_jacobian(origin: &Point, robot: &Point, away: &Vec2) -> Vector3<f64> {
     Vector3::new(away.x, away.y, away.x * -lever.y + away.y * lever.x)
 }
 
-/// The range the wall `a`–`b` predicts for `beam`, when its normal lies inside the cone, the
-/// foot of the perpendicular on the wall (10 % slack), and it explains the range within the
-/// paper's tolerance `max(ξ·D/100, 1 in)`; linearised for a robot at `robot`. With `along_axis`
-/// (a sensor whose echo comes from its axis) the range is the distance along the axis to the
-/// wall's line; otherwise the plane model's, the distance to the foot.
+/// The range the wall `a`–`b` predicts for `beam`, when it explains the range within the
+/// paper's tolerance `max(ξ·D/100, 1 in)`; linearised for a robot at `robot`. The plane model
+/// (§8.7) hears the foot of the perpendicular: its normal must lie inside the cone and the foot
+/// on the wall (10 % slack). With `along_axis` (a sensor whose echo comes from its axis, as in
+/// `confirm::supports_along_axis`) the wall is heard where the axis meets it (10 % slack), at
+/// any incidence, and the range is the distance along the axis.
 ///
 /// ```
 /// use sonarmap::geometry::{Point, Vec2};
@@ -163,11 +164,7 @@ pub fn wall_observation(
     if length2 <= 0.0 {
         return None;
     }
-    let t = (beam.origin - a).dot(&along) / length2;
-    if !(-0.1..=1.1).contains(&t) {
-        return None;
-    }
-    let foot = a + along * t;
+    let foot = a + along * ((beam.origin - a).dot(&along) / length2);
     let away = beam.origin - foot;
     let distance_m = away.norm();
     if distance_m <= 0.0 {
@@ -175,11 +172,13 @@ pub fn wall_observation(
     }
     let away = away / distance_m;
     let cos_off_normal = -away.dot(&beam.direction);
-    if cos_off_normal < half.cos {
-        return None;
-    }
     let (predicted_m, jacobian) = if along_axis {
-        // h = d / c, c = −n·u: moving the robot moves d; turning it moves d and turns u.
+        // Heard where the axis meets the wall, at any incidence: h = d / c, c = −n·u; moving
+        // the robot moves d, turning it moves d and turns u.
+        let (met_m, met_along) = ray_meets_segment_line(&beam.origin, &beam.direction, a, b)?;
+        if met_m <= 0.0 || !(-0.1..=1.1).contains(&met_along) {
+            return None;
+        }
         let lever = beam.origin - robot;
         let turned_u = Vec2::new(-beam.direction.y, beam.direction.x);
         let dd_dtheta = away.x * -lever.y + away.y * lever.x;
@@ -190,8 +189,12 @@ pub fn wall_observation(
             away.y / c,
             dd_dtheta / c - distance_m * dc_dtheta / (c * c),
         );
-        (distance_m / c, jacobian)
+        (met_m, jacobian)
     } else {
+        let foot_along = (foot - a).dot(&along) / length2;
+        if !(-0.1..=1.1).contains(&foot_along) || cos_off_normal < half.cos {
+            return None;
+        }
         (distance_m, range_jacobian(&beam.origin, robot, &away))
     };
     let tolerance_m = feature_tolerance_m(accuracy_pct, beam.range_m);
@@ -410,6 +413,77 @@ mod tests {
         let unobserved: Vec<_> = directions.iter().filter(|d| !d.2).collect();
         assert_eq!(unobserved.len(), 1);
         assert!(unobserved[0].0[0].abs() > 0.999, "{directions:?}");
+    }
+
+    #[test]
+    fn an_axis_sensor_observes_a_wall_where_its_axis_meets_it_off_the_normal() {
+        // The wall y = 2 from x = 0.5 to 5. A sensor 0.2 m ahead of the robot at the origin
+        // looks 40° off the wall's normal, towards +x: its axis meets the wall at x = 0.2 +
+        // 2·tan 40° = 1.878, 2/cos 40° = 2.6108 m away, far outside any cone about the normal.
+        let (a, w) = (Point::new(0.5, 2.0), Point::new(5.0, 2.0));
+        let off = 40f64.to_radians();
+        let beam_at = |robot: &Pose| {
+            let heading = robot.heading_rad + std::f64::consts::FRAC_PI_2 - off;
+            let (s, c) = robot.heading_rad.sin_cos();
+            Beam {
+                origin: Point::new(robot.x + 0.2 * c, robot.y + 0.2 * s),
+                direction: Vec2::new(heading.cos(), heading.sin()),
+                range_m: 2.0 / off.cos(),
+            }
+        };
+        let robot = Pose::new(0.0, 0.0, 0.0);
+        let o = wall_observation(
+            &beam_at(&robot),
+            &a,
+            &w,
+            &Point::origin(),
+            3.0,
+            half(),
+            true,
+        )
+        .unwrap();
+        assert!((o.predicted_m - 2.0 / off.cos()).abs() < 1e-12, "{o:?}");
+        // ∂h/∂y = −1/cos 40° = −1.3054; ∂h/∂x = 0; ∂h/∂θ against a finite difference.
+        assert!(o.jacobian.x.abs() < 1e-12 && (o.jacobian.y + 1.0 / off.cos()).abs() < 1e-12);
+        let turned = Pose::new(0.0, 0.0, 1e-6);
+        let h = wall_observation(
+            &beam_at(&turned),
+            &a,
+            &w,
+            &turned.position(),
+            3.0,
+            half(),
+            true,
+        )
+        .unwrap()
+        .predicted_m;
+        assert!(
+            ((h - o.predicted_m) / 1e-6 - o.jacobian.z).abs() < 1e-4,
+            "{o:?}"
+        );
+        // The plane model hears only the foot: 40° off the normal is outside the 12.5° cone.
+        assert!(wall_observation(
+            &beam_at(&robot),
+            &a,
+            &w,
+            &Point::origin(),
+            3.0,
+            half(),
+            false
+        )
+        .is_none());
+        // The axis past the wall's end (10 % slack) observes nothing.
+        let short = Point::new(1.2, 2.0);
+        assert!(wall_observation(
+            &beam_at(&robot),
+            &a,
+            &short,
+            &Point::origin(),
+            3.0,
+            half(),
+            true
+        )
+        .is_none());
     }
 
     #[test]
