@@ -227,9 +227,9 @@ fn plane_support(ctx: &InspectCtx, out: &mut Vec<RichText>) {
         };
         if let Some(moved_m) = p.same_view_moved_m {
             out.push(RichText::new(format!(
-                "plane support not counted: sensor {} read {}, s{} lies {} away, but the sensor \
-                 stood {} from the last view's, under confirm_spacing: the same view; {} view(s), \
-                 {state}",
+                "plane support not counted: sensor {} read {}, s{} lies {} away, but the robot \
+                 stood {} from the last view's place, under confirm_spacing: the same view; {} \
+                 view(s), {state}",
                 p.sensor,
                 ctx.len(p.range_m),
                 p.segment,

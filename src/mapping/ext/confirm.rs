@@ -258,12 +258,14 @@ pub fn plane_echo_in(
     }
 }
 
-/// A view of the map's segments: a snapshot's readings, and how far a sensor must have moved
-/// since the last view a segment counted for this one to count too.
+/// A view of the map's segments: a snapshot's readings, where the robot stood, and how far it
+/// must have moved since the last view a segment counted for this one to count too.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct View {
     /// The snapshot.
     pub snapshot: usize,
+    /// Where the robot stood (its centre, the step's pose).
+    pub robot: Point,
     /// `confirm_spacing`, metres (0: every distinct snapshot counts).
     pub spacing_m: f64,
 }
@@ -273,6 +275,7 @@ impl View {
     pub fn of(snapshot: usize) -> Self {
         View {
             snapshot,
+            robot: Point::origin(),
             spacing_m: 0.0,
         }
     }
@@ -287,10 +290,13 @@ fn millimetres(point: &Point) -> [i32; 2] {
 }
 
 /// Notes the plane support `beams` (readings of `view`'s snapshot that went into segment `id`)
-/// give it: at most once a snapshot, and, after its first, only from a sensor `view.spacing_m`
-/// or more from where the sensor of the last counted view stood (two views of a plane from
-/// one place are one view, Kleeman and Kuc; a crawling robot's consecutive snapshots are).
-/// Returns the trace record of the first supporting reading that counts, if any.
+/// give it: at most once a snapshot, and, after its first, only when the robot stood
+/// `view.spacing_m` or more from where it stood at the last counted view (two views of a plane
+/// from one place are one view, Kleeman and Kuc; a crawling robot's consecutive snapshots are).
+/// The robot's place, not its sensors': turning in place swings a ring's sensors half a metre
+/// while every echo keeps its range, the same from a wall's foot as from a corner, a region of
+/// constant depth (Leonard and Durrant-Whyte), so a turn confirms nothing.
+/// Returns the trace record of the first supporting reading, if any.
 pub fn note_plane_support(
     map: &mut Map,
     id: SegmentId,
@@ -303,23 +309,16 @@ pub fn note_plane_support(
     let s = map.segment(id)?;
     let (a, b) = (s.a.point, s.b.point);
     let before = map.plane_support.get(&id).copied();
-    // How far the sensor stood from the last counted view's, when there is one.
-    let moved_m = |beam: &Beam| {
-        before.filter(|p| p.snapshots > 0).map(|p| {
-            let [x, y] = p.last_sensor_mm;
-            (beam.origin.x - f64::from(x) / 1000.0).hypot(beam.origin.y - f64::from(y) / 1000.0)
-        })
-    };
-    let supporting = || {
-        beams.iter().filter_map(|(sensor, beam)| {
-            supports(beam, &a, &b, accuracy_pct, half_beam_rad, echo).map(|d| (*sensor, *beam, d))
-        })
-    };
-    let spaced =
-        supporting().find(|(_, beam, _)| moved_m(beam).is_none_or(|m| m >= view.spacing_m));
-    let Some((sensor, beam, distance_m)) = spaced else {
+    // How far the robot stood from the last counted view's place, when there is one.
+    let moved_m = before.filter(|p| p.snapshots > 0).map(|p| {
+        let [x, y] = p.last_view_mm;
+        (view.robot.x - f64::from(x) / 1000.0).hypot(view.robot.y - f64::from(y) / 1000.0)
+    });
+    let (sensor, beam, distance_m) = beams.iter().find_map(|(sensor, beam)| {
+        supports(beam, &a, &b, accuracy_pct, half_beam_rad, echo).map(|d| (*sensor, *beam, d))
+    })?;
+    if moved_m.is_some_and(|m| m < view.spacing_m) {
         // Supported, but from the last view's place: recorded, not counted.
-        let (sensor, beam, distance_m) = supporting().next()?;
         let p = before.filter(|p| p.last_snapshot != view.snapshot)?;
         return Some(PlaneSupportTrace {
             segment: id,
@@ -329,16 +328,16 @@ pub fn note_plane_support(
             snapshots: p.snapshots,
             confirmed: p.confirmed(),
             baseline: None,
-            same_view_moved_m: moved_m(&beam),
+            same_view_moved_m: moved_m,
         });
-    };
+    }
     let support = map.plane_support.update(id, |support| {
         if support.snapshots > 0 && support.last_snapshot == view.snapshot {
             return None;
         }
         support.snapshots += 1;
         support.last_snapshot = view.snapshot;
-        support.last_sensor_mm = millimetres(&beam.origin);
+        support.last_view_mm = millimetres(&view.robot);
         Some(*support)
     })?;
     Some(PlaneSupportTrace {

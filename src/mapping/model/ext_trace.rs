@@ -51,7 +51,7 @@ pub struct PlaneSupportTrace {
     /// confirmation): the two readings and how far apart their sensors stood.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub baseline: Option<BaselinePair>,
-    /// When the reading did not count: how far its sensor stood from the sensor of the last
+    /// When the reading did not count: how far the robot stood from where it stood at the last
     /// view that did, metres, under `confirm_spacing` (the same view, docs/algorithm.md §8.7).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub same_view_moved_m: Option<f64>,

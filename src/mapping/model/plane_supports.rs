@@ -22,11 +22,11 @@ pub struct PlaneSupport {
     pub snapshots: u32,
     /// The latest of them.
     pub last_snapshot: usize,
-    /// Where the sensor of the latest of them stood, millimetres (x, y): a view counts when
-    /// its sensor stood `confirm_spacing` from there (docs/algorithm.md §8.7). Not written to
-    /// map files.
+    /// Where the robot stood at the latest of them, millimetres (x, y): a view counts when the
+    /// robot stood `confirm_spacing` from there (docs/algorithm.md §8.7). Not written to map
+    /// files.
     #[serde(skip)]
-    pub last_sensor_mm: [i32; 2],
+    pub last_view_mm: [i32; 2],
 }
 
 impl PlaneSupport {

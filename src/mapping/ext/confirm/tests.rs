@@ -212,10 +212,10 @@ fn two_snapshots_of_plane_support_confirm_a_segment_once_each() {
 }
 
 #[test]
-fn a_second_view_counts_only_from_a_sensor_that_moved_the_spacing() {
-    // The wall y = 2 read straight on at 2.02 m from x = 0 (snapshot 0), then from x = 0.1 m
-    // (snapshot 1: 0.1 m < 6 in = 0.1524 m, the same view) and from x = 0.25 m (snapshot 2:
-    // 0.25 m from the first view's sensor, another view: confirmed).
+fn a_second_view_counts_only_from_a_robot_that_moved_the_spacing() {
+    // The wall y = 2 read straight on at 2.02 m by a robot at x = 0 (snapshot 0), then at
+    // x = 0.1 m (snapshot 1: 0.1 m < 6 in = 0.1524 m, the same view) and at x = 0.25 m
+    // (snapshot 2: 0.25 m from the first view's place, another view: confirmed).
     let mut map = Map::from_segments(vec![test_wall(0, (-1.0, 2.0), (1.0, 2.0), 2.0)]);
     map.confirms_segments = true;
     let half = 12.5f64.to_radians();
@@ -224,53 +224,78 @@ fn a_second_view_counts_only_from_a_sensor_that_moved_the_spacing() {
         direction: Vec2::new(0.0, 1.0),
         range_m: 2.02,
     };
+    let view = |snapshot, x: f64| View {
+        snapshot,
+        robot: Point::new(x, 0.0),
+        spacing_m: 0.1524,
+    };
+    let note = |map: &mut Map, x: f64, snapshot: usize| {
+        note_plane_support(
+            map,
+            0,
+            &[(1, at(x))],
+            view(snapshot, x),
+            3.0,
+            half,
+            PlaneEchoModel::Foot,
+        )
+    };
+    assert_eq!(note(&mut map, 0.0, 0).map(|t| t.snapshots), Some(1));
+    // Recorded, not counted: the robot stood 0.1 m from the first view's place.
+    let same = note(&mut map, 0.1, 1).unwrap();
+    assert_eq!((same.snapshots, same.confirmed), (1, false));
+    assert!(same
+        .same_view_moved_m
+        .is_some_and(|m| (m - 0.1).abs() < 1e-9));
+    assert!(map.is_tentative(0));
+    let second = note(&mut map, 0.25, 2).unwrap();
+    assert_eq!((second.snapshots, second.confirmed), (2, true));
+    assert_eq!(second.same_view_moved_m, None);
+    assert_eq!(map.plane_support.get(&0).unwrap().last_view_mm, [250, 0]);
+}
+
+#[test]
+fn turning_in_place_is_one_view_however_far_the_sensors_swing() {
+    // A robot at the origin turns in place before the wall y = 2: two of its sonars, 0.17 m
+    // from its centre, read the wall square on at two of its headings, from (0, 0.17) and,
+    // turned, from (0.17, 0). The sensors stood 0.24 m apart (over 0.1524 m), the robot not
+    // at all; a corner would read the same: one view, not confirmed.
+    let mut map = Map::from_segments(vec![test_wall(0, (-1.0, 2.0), (1.0, 2.0), 2.0)]);
+    map.confirms_segments = true;
+    let half = 12.5f64.to_radians();
+    let from = |x: f64, y: f64| Beam {
+        origin: Point::new(x, y),
+        direction: Vec2::new(0.0, 1.0),
+        range_m: 2.0 - y,
+    };
     let view = |snapshot| View {
         snapshot,
+        robot: Point::origin(),
         spacing_m: 0.1524,
     };
     let first = note_plane_support(
         &mut map,
         0,
-        &[(1, at(0.0))],
+        &[(0, from(0.0, 0.17))],
         view(0),
         3.0,
         half,
         PlaneEchoModel::Foot,
     );
     assert_eq!(first.map(|t| t.snapshots), Some(1));
-    // Recorded, not counted: the sensor stood 0.1 m from the first view's.
-    let same = note_plane_support(
+    let turned = note_plane_support(
         &mut map,
         0,
-        &[(1, at(0.1))],
+        &[(0, from(0.17, 0.0))],
         view(1),
         3.0,
         half,
         PlaneEchoModel::Foot,
     )
     .unwrap();
-    assert_eq!((same.snapshots, same.confirmed), (1, false));
-    assert!(same
-        .same_view_moved_m
-        .is_some_and(|m| (m - 0.1).abs() < 1e-9));
+    assert_eq!((turned.snapshots, turned.confirmed), (1, false));
+    assert_eq!(turned.same_view_moved_m, Some(0.0));
     assert!(map.is_tentative(0));
-    // Of two supporting readings, the one far enough counts.
-    let second = note_plane_support(
-        &mut map,
-        0,
-        &[(1, at(0.1)), (2, at(0.25))],
-        view(2),
-        3.0,
-        half,
-        PlaneEchoModel::Foot,
-    )
-    .unwrap();
-    assert_eq!(
-        (second.sensor, second.snapshots, second.confirmed),
-        (2, 2, true)
-    );
-    assert_eq!(second.same_view_moved_m, None);
-    assert_eq!(map.plane_support.get(&0).unwrap().last_sensor_mm, [250, 0]);
 }
 
 proptest::proptest! {

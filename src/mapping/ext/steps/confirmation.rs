@@ -22,6 +22,7 @@ impl Mapper {
     ) {
         let (xi, half) = self.accuracy_and_half_beam();
         let echo = self.plane_echo_model();
+        let robot = self.reading_places().step.position();
         let targets: Vec<(usize, SegmentId)> = trace
             .decisions
             .iter()
@@ -44,6 +45,7 @@ impl Mapper {
                 &beams,
                 View {
                     snapshot: trace.snapshot,
+                    robot,
                     spacing_m: self.params.confirm_spacing_m,
                 },
                 xi,

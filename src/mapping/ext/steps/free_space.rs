@@ -1,6 +1,7 @@
 //! The mapper's free-space stage: segments seen through leave the map (docs/algorithm.md §8.6),
 //! and segment ends seen through are cut back (§8.18).
 
+use crate::geometry::{Point, Vec2};
 use crate::mapping::ext::beam_geometry::feature_tolerance_m;
 use crate::mapping::ext::beam_geometry::HalfCone;
 use crate::mapping::ext::free_space::{cone_box_in, refuted_segments};
@@ -133,7 +134,8 @@ impl Mapper {
 
     /// Cuts the part `free` (distances from `a` along segment `id`) that `beam` of `sensor` saw
     /// through away from it (§8.18, [`cut_of`]): an end moves, the segment splits in two, or it
-    /// goes. The readings placed in the part cut go with it (a refit, §5, would bring it back).
+    /// goes. The readings placed in the part cut go with it (a refit, §5, would bring it back),
+    /// and so do point memory's there ([`Self::forget_memory_in`]).
     fn cut_seen_through(
         &mut self,
         id: SegmentId,
@@ -161,6 +163,7 @@ impl Mapper {
             .copied()
             .collect();
         let dropped_points = s.points.len() - before.len() - after.len();
+        self.forget_memory_in(a.point, along, (near, far));
         let cut = match cut_of(
             (near, far),
             length_m,
@@ -210,6 +213,21 @@ impl Mapper {
             cut,
             dropped_points,
         })
+    }
+
+    /// Point memory (§8.1) forgets the readings it holds in the part `(near, far)` of the line
+    /// from `a` along the unit vector `along` that a look saw through (within `tol(D)` of the
+    /// line), as the segment cut loses its own: held, they would fit a piece that a MATCH
+    /// carries back over the part cut (a jamb's echoes, laid on the beam's axis, reach into a
+    /// door recess's mouth).
+    fn forget_memory_in(&mut self, a: Point, along: Vec2, (near, far): (f64, f64)) {
+        let (xi, _) = self.accuracy_and_half_beam();
+        let normal = Vec2::new(-along.y, along.x);
+        self.map.memory.retain(|m| {
+            let from_a = m.support.point - a;
+            let (d, off) = (from_a.dot(&along), from_a.dot(&normal).abs());
+            !(d > near && d < far && off <= feature_tolerance_m(xi, m.support.range_m))
+        });
     }
 
     /// Segment `id` becomes `a`–`b`, supported by `points`.

@@ -428,9 +428,10 @@ parameters! {
     /// (docs/algorithm.md §8.7).
     confirm_segments: bool, file confirm_segments: bool, flag,
         paper false, extended true, needs [];
-    /// How far a sensor must have moved since the last view that supported a segment for its
+    /// How far the robot must have moved since the last view that supported a segment for its
     /// snapshot to count as another view (docs/algorithm.md §8.7): views, not snapshots,
-    /// confirm, whatever the pace. 0: every distinct snapshot counts.
+    /// confirm, whatever the pace; turning in place is no new view. 0: every distinct snapshot
+    /// counts.
     confirm_spacing_m: f64, file confirm_spacing: f64, length,
         paper inches(6.0), extended inches(6.0), needs [];
     /// A segment made in one step from readings of several snapshots (a point-memory piece)
