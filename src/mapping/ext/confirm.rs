@@ -293,7 +293,7 @@ fn millimetres(point: &Point) -> [i32; 2] {
 /// give it: at most once a snapshot, and, after its first, only when the robot stood
 /// `view.spacing_m` or more from where it stood at the last counted view (two views of a plane
 /// from one place are one view, Kleeman and Kuc; a crawling robot's consecutive snapshots are).
-/// The robot's place, not its sensors': turning in place swings a ring's sensors half a metre
+/// The robot's place, not its sensors': turning in place swings a ring's sensors 0.2–0.3 m
 /// while every echo keeps its range, the same from a wall's foot as from a corner, a region of
 /// constant depth (Leonard and Durrant-Whyte), so a turn confirms nothing.
 /// Returns the trace record of the first supporting reading, if any.
