@@ -10,8 +10,9 @@
 //! keeps the prediction: a corridor fixes heading and lateral position, not the position along
 //! it.
 
-use crate::geometry::{ray_meets_segment_line, Point, Pose, Vec2};
+use crate::geometry::{Point, Pose, Vec2};
 use crate::mapping::ext::beam_geometry::{feature_tolerance_m, HalfCone};
+use crate::mapping::ext::confirm::supports_along_axis;
 use crate::mapping::ext::odometry_drift::OdometryDrift;
 use crate::mapping::ext::rectilinear_heading::RectilinearState;
 use crate::mapping::model::beam::Beam;
@@ -175,10 +176,7 @@ pub fn wall_observation(
     let (predicted_m, jacobian) = if along_axis {
         // Heard where the axis meets the wall, at any incidence: h = d / c, c = −n·u; moving
         // the robot moves d, turning it moves d and turns u.
-        let (met_m, met_along) = ray_meets_segment_line(&beam.origin, &beam.direction, a, b)?;
-        if met_m <= 0.0 || !(-0.1..=1.1).contains(&met_along) {
-            return None;
-        }
+        let met_m = supports_along_axis(beam, a, b, accuracy_pct)?;
         let lever = beam.origin - robot;
         let turned_u = Vec2::new(-beam.direction.y, beam.direction.x);
         let dd_dtheta = away.x * -lever.y + away.y * lever.x;
@@ -431,59 +429,27 @@ mod tests {
                 range_m: 2.0 / off.cos(),
             }
         };
+        // The robot at `robot` reading the wall `a`–`b`, its echo along the axis or at the foot.
+        let observe = |robot: &Pose, b: &Point, along_axis: bool| {
+            let at = robot.position();
+            wall_observation(&beam_at(robot), &a, b, &at, 3.0, half(), along_axis)
+        };
         let robot = Pose::new(0.0, 0.0, 0.0);
-        let o = wall_observation(
-            &beam_at(&robot),
-            &a,
-            &w,
-            &Point::origin(),
-            3.0,
-            half(),
-            true,
-        )
-        .unwrap();
+        let o = observe(&robot, &w, true).unwrap();
         assert!((o.predicted_m - 2.0 / off.cos()).abs() < 1e-12, "{o:?}");
         // ∂h/∂y = −1/cos 40° = −1.3054; ∂h/∂x = 0; ∂h/∂θ against a finite difference.
         assert!(o.jacobian.x.abs() < 1e-12 && (o.jacobian.y + 1.0 / off.cos()).abs() < 1e-12);
-        let turned = Pose::new(0.0, 0.0, 1e-6);
-        let h = wall_observation(
-            &beam_at(&turned),
-            &a,
-            &w,
-            &turned.position(),
-            3.0,
-            half(),
-            true,
-        )
-        .unwrap()
-        .predicted_m;
+        let h = observe(&Pose::new(0.0, 0.0, 1e-6), &w, true)
+            .unwrap()
+            .predicted_m;
         assert!(
             ((h - o.predicted_m) / 1e-6 - o.jacobian.z).abs() < 1e-4,
             "{o:?}"
         );
         // The plane model hears only the foot: 40° off the normal is outside the 12.5° cone.
-        assert!(wall_observation(
-            &beam_at(&robot),
-            &a,
-            &w,
-            &Point::origin(),
-            3.0,
-            half(),
-            false
-        )
-        .is_none());
+        assert!(observe(&robot, &w, false).is_none());
         // The axis past the wall's end (10 % slack) observes nothing.
-        let short = Point::new(1.2, 2.0);
-        assert!(wall_observation(
-            &beam_at(&robot),
-            &a,
-            &short,
-            &Point::origin(),
-            3.0,
-            half(),
-            true
-        )
-        .is_none());
+        assert!(observe(&robot, &Point::new(1.2, 2.0), true).is_none());
     }
 
     #[test]
