@@ -292,6 +292,9 @@ impl Mapper {
         snapshot: &Snapshot,
         recorded: Option<&[RecordedDecision]>,
     ) -> StepTrace {
+        let mended = self.hook_calibrated_snapshot(snapshot);
+        let raw_odometry = snapshot.pose;
+        let snapshot = mended.as_ref().unwrap_or(snapshot);
         // Built here and filled in place: a trace is large, and returned once, not moved through
         // the stages.
         let mut trace = StepTrace {
@@ -301,6 +304,9 @@ impl Mapper {
             ..Default::default()
         };
         self.begin_step(snapshot, &mut trace);
+        if mended.is_some() {
+            self.hook_calibrated_trace(raw_odometry, &mut trace);
+        }
         let mut buffers = self.buffers.take().unwrap_or_default();
         self.readings_and_clusters(snapshot, &mut trace, &mut buffers);
         self.hook_readings_settled(&buffers);

@@ -203,14 +203,22 @@ fn drifting_lap_runs_at_a_crawl_keep_the_map_consistent() {
     assert_eq!(report.runs, 6 * only.len());
     assert_eq!(report.invariant_checks, report.snapshots);
     assert_eq!(report.failures, vec![], "panics or broken invariants");
-    let corrected = Params {
+    // From the first step, and from the odometry a calibration mends (§8.17).
+    let from_first_step = Params {
         pose_correction: true,
+        calibrate_first: false,
         ..Params::extended()
+    };
+    let from_calibrated = Params {
+        pose_correction: true,
+        ..Params::extended().calibrated_by((0.2, 1.5))
     };
     for kind in sonarmap::sim::SceneKind::ALL {
         let run = sonarmap::soak::family_run_under(kind, 7, LAP_RUN_SNAPSHOTS, &conditions);
-        let checked = sonarmap::soak::map_checked(&run, &corrected, true);
-        assert_eq!(checked.failure, None, "{kind:?} with pose correction");
+        for corrected in [&from_first_step, &from_calibrated] {
+            let checked = sonarmap::soak::map_checked(&run, corrected, true);
+            assert_eq!(checked.failure, None, "{kind:?} with pose correction");
+        }
     }
 }
 

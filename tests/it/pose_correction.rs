@@ -39,9 +39,11 @@ fn uncorrected_params() -> Params {
     }
 }
 
+/// `extended` with the pose corrected from the first step (not waiting for a calibration).
 fn corrected_params() -> Params {
     Params {
         pose_correction: true,
+        calibrate_first: false,
         ..Params::extended()
     }
 }
@@ -444,4 +446,81 @@ fn the_app_maps_a_drifting_run_again_from_its_drift_by_itself_and_the_next_run_w
     assert_eq!(h.state().params(), &Params::extended());
     let h = app_with(pioneer_corridor_crawl(1), Params::extended());
     assert_eq!(h.state().params(), &Params::extended());
+}
+
+/// Calibrate, then correct (§8.17): with a calibration and a heading track, each step's
+/// odometry is first turned by the tracked heading error, its position following the raw
+/// increment turned by the last step's error; the correction starts from that mended pose, and
+/// the trace keeps the raw odometry and the error taken off. Hand-computed: raw (0, 0, 0) then (1 m, 0, 0), tracked
+/// errors 0.1 and 0.2 rad, nothing read: the steps map at (0, 0, −0.1) and
+/// (cos 0.1, −sin 0.1, −0.2) = (0.995004, −0.099833, −0.2).
+#[test]
+fn a_calibrated_pass_corrects_from_the_odometry_turned_by_the_tracked_heading_error() {
+    use sonarmap::geometry::Pose;
+    use sonarmap::mapping::model::heading_track::HeadingTrack;
+    use sonarmap::run::Snapshot;
+    use std::sync::Arc;
+    let run = family_run(SceneKind::ALL[0], 1, 2);
+    let drift = (0.3, 1.0);
+    let params = Params {
+        pose_correction: true,
+        heading_track: Some(Arc::new(HeadingTrack::new(vec![0.1, 0.2], drift))),
+        ..Params::extended().calibrated_by(drift)
+    };
+    assert!(params.corrects_calibrated_odometry() && !params.corrects_heading_alone());
+    let mut mapper = Mapper::new(params, run.layout.clone(), run.sensor);
+    let blind = |t: f64, x: f64| Snapshot {
+        t,
+        pose: Pose::new(x, 0.0, 0.0),
+        ranges_m: vec![None; run.layout.len()],
+        true_pose: None,
+        reading_dt_s: Vec::new(),
+    };
+    let expected = [
+        Pose::new(0.0, 0.0, -0.1),
+        Pose::new(0.1f64.cos(), -(0.1f64.sin()), -0.2),
+    ];
+    for (k, snapshot) in [blind(0.0, 0.0), blind(1.0, 1.0)].iter().enumerate() {
+        let trace = mapper.step(snapshot);
+        let pose = trace.pose.unwrap();
+        let want = expected[k];
+        assert!(
+            (pose.x - want.x).abs() < 1e-12
+                && (pose.y - want.y).abs() < 1e-12
+                && (pose.heading_rad - want.heading_rad).abs() < 1e-12,
+            "step {k}: {pose:?}, expected {want:?}"
+        );
+        let correction = trace.correction.unwrap();
+        assert_eq!(correction.odometry, snapshot.pose, "the raw odometry");
+        let tracked_deg = correction.drift.and_then(|d| d.tracked_deg);
+        assert_eq!(tracked_deg, Some((0.1 * (k + 1) as f64).to_degrees()));
+        assert!(correction.refused.is_some(), "nothing was read");
+    }
+}
+
+/// With `calibrate_first`, `pose_correction` waits for the calibration: the first pass
+/// corrects the heading alone, step for step as `heading_correction` alone does, so a run
+/// whose first pass finds no drift maps as `extended` does; on the drifting crawl the first
+/// pass finds the drift and the second corrects the pose.
+#[test]
+fn pose_correction_waits_for_the_first_pass_to_calibrate_the_odometry() {
+    use sonarmap::suite::map_of;
+    let with_correction = Params {
+        pose_correction: true,
+        ..Params::extended()
+    };
+    assert!(with_correction.defers_pose_correction() && with_correction.corrects_heading_alone());
+    let steady = family_run(SceneKind::ALL[2], 5, 150);
+    assert_eq!(
+        map_of(&steady, &with_correction),
+        map_of(&steady, &Params::extended())
+    );
+    let run = drifting_corridor_crawl();
+    let mut first = Mapper::new(with_correction.clone(), run.layout.clone(), run.sensor);
+    let mut heading = Mapper::new(Params::extended(), run.layout.clone(), run.sensor);
+    for s in &run.snapshots {
+        assert_eq!(first.step(s).pose, heading.step(s).pose);
+    }
+    let second = first.second_pass_params().expect("the bad drift is found");
+    assert!(second.pose_correction && second.corrects_calibrated_odometry());
 }

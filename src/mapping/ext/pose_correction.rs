@@ -57,8 +57,10 @@ pub struct PoseBelief {
     pub covariance: Matrix3<f64>,
     /// The windows of wall readings and the map's axis (`heading_window`).
     pub rectilinear: RectilinearState,
-    /// The odometry's drift (`heading_correction` alone).
+    /// The odometry's drift (`heading_correction` alone, or the calibrated odometry's).
     pub drift: OdometryDrift,
+    /// The last step's raw and calibrated odometry (`pose_correction` with a calibration).
+    pub calibrated_odometry: Option<(Pose, Pose)>,
 }
 
 impl Default for PoseBelief {
@@ -68,6 +70,7 @@ impl Default for PoseBelief {
             covariance: Matrix3::zeros(),
             rectilinear: RectilinearState::default(),
             drift: OdometryDrift::default(),
+            calibrated_odometry: None,
         }
     }
 }

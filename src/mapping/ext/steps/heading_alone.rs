@@ -62,15 +62,8 @@ impl Mapper {
         let predicted = with_correction(drift_before.0);
         let tracked_rad = self.params.tracked_heading_error(self.step_index());
         let corrected = with_correction(tracked_rad.unwrap_or(drift.correction_rad()));
-        let (kappa_rad, epsilon, sigma_rad) = drift.causes();
-        let estimate = DriftEstimate {
-            heading_error_deg: drift.heading_error_rad().to_degrees(),
-            sigma_deg: sigma_rad.to_degrees(),
-            deg_per_m: kappa_rad.to_degrees(),
-            turn_pct: 100.0 * epsilon,
-            drifting: drift.drifting,
-            tracked_deg: tracked_rad.map(f64::to_degrees),
-        };
+        let estimate = self.drift_estimate(tracked_rad);
+        let drift = &self.pose_belief.drift;
         let heading = drift
             .axis_rad()
             .zip(update)
@@ -107,6 +100,21 @@ impl Mapper {
         }
     }
 
+    /// The drift filter's estimate for the trace, with the heading error a second pass took
+    /// from the first pass's track (`tracked_rad`).
+    pub(super) fn drift_estimate(&self, tracked_rad: Option<f64>) -> DriftEstimate {
+        let drift = &self.pose_belief.drift;
+        let (kappa_rad, epsilon, sigma_rad) = drift.causes();
+        DriftEstimate {
+            heading_error_deg: drift.heading_error_rad().to_degrees(),
+            sigma_deg: sigma_rad.to_degrees(),
+            deg_per_m: kappa_rad.to_degrees(),
+            turn_pct: 100.0 * epsilon,
+            drifting: drift.drifting,
+            tracked_deg: tracked_rad.map(f64::to_degrees),
+        }
+    }
+
     /// Notes the drift filter's step, after the odometry's `increment` (distance, turn), for
     /// the second pass's heading track, when this pass keeps one (`calibrate_first`,
     /// [`crate::mapping::ext::drift_smoother`]).
@@ -125,7 +133,7 @@ impl Mapper {
 
     /// At the first step: a calibrated drift (`drift_deg_per_m`, `drift_per_turn_pct`)
     /// replaces the uninformed start.
-    fn start_drift_from_calibration(&mut self) {
+    pub(super) fn start_drift_from_calibration(&mut self) {
         if let Some((deg_per_m, per_turn_pct)) = self.params.drift_calibration() {
             self.pose_belief.drift =
                 OdometryDrift::calibrated(deg_per_m.to_radians(), per_turn_pct / 100.0);
@@ -135,7 +143,7 @@ impl Mapper {
     /// Carries the drift through the odometry's `increment` (distance, turn; none at the
     /// first step); the correction and the heading error's standard deviation (radians) after
     /// it.
-    fn predict_drift(&mut self, increment: Option<(f64, f64)>) -> (f64, f64) {
+    pub(super) fn predict_drift(&mut self, increment: Option<(f64, f64)>) -> (f64, f64) {
         let drift = &mut self.pose_belief.drift;
         if let Some((distance_m, turn_rad)) = increment {
             drift.predict(distance_m, turn_rad);

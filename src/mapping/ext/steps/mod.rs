@@ -3,6 +3,7 @@
 //! them in the order listed here; each hook runs its extensions in run order.
 
 mod beams;
+mod calibrated_odometry;
 mod confirmation;
 mod corner_diagonals;
 mod echo_placement;

@@ -40,10 +40,10 @@ impl Mapper {
             return snapshot.pose;
         }
         let (predicted, prior) = self.predict(snapshot, previous);
-        let correction = if self.params.pose_correction {
-            self.correct(snapshot, previous, predicted, prior)
-        } else {
+        let correction = if self.params.corrects_heading_alone() {
             self.correct_heading_alone(snapshot, previous, predicted, prior)
+        } else {
+            self.correct(snapshot, previous, predicted, prior)
         };
         let corrected = correction.corrected;
         // Exactly the identity while the pose is the odometry's, so that a correction that

@@ -100,9 +100,28 @@ impl Params {
     }
 
     /// Whether the heading alone is corrected: `heading_correction` without `pose_correction`
-    /// (docs/algorithm.md §8.17, "the odometry's drift").
+    /// (docs/algorithm.md §8.17, "the odometry's drift"), or in the first pass of
+    /// [`Self::defers_pose_correction`].
     pub fn corrects_heading_alone(&self) -> bool {
-        self.heading_correction && !self.pose_correction
+        self.heading_correction && (!self.pose_correction || self.defers_pose_correction())
+    }
+
+    /// Whether `pose_correction` waits for a calibration: with `calibrate_first` (and
+    /// `heading_correction`), a pass not yet calibrated corrects the heading alone, and only a
+    /// second pass, calibrated by the drift the first found, corrects the pose
+    /// (docs/algorithm.md §8.17, "calibrate, then correct").
+    pub fn defers_pose_correction(&self) -> bool {
+        self.pose_correction
+            && self.calibrate_first
+            && self.heading_correction
+            && self.drift_calibration().is_none()
+    }
+
+    /// Whether the pose is corrected from the odometry the calibration mends: `pose_correction`
+    /// and `heading_correction` with a drift calibration (docs/algorithm.md §8.17, "calibrate,
+    /// then correct").
+    pub fn corrects_calibrated_odometry(&self) -> bool {
+        self.pose_correction && self.heading_correction && self.drift_calibration().is_some()
     }
 
     /// Whether a pass keeps the drift filter's steps for a second pass's heading track:
