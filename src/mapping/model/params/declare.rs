@@ -468,9 +468,10 @@ parameters! {
     settled_walls: bool, file settled_walls: bool, flag,
         paper false, extended true, needs ["confirm_segments"];
     /// Before a step's readings are matched, its pose is corrected against the confirmed walls
-    /// and point features (docs/algorithm.md §8.17). Off in both presets: on the generated
-    /// families it helps mild drift and harms runs without drift (§8.17's figures). Acts only
-    /// with `confirm_segments`.
+    /// and point features (docs/algorithm.md §8.17). With `calibrate_first` it waits for a
+    /// second pass and corrects from the odometry the first pass's drift mends. Off in both
+    /// presets: the Pioneer stand-in with drift maps better with the heading alone (§8.17's
+    /// figures). Acts only with `confirm_segments`.
     pose_correction: bool, file pose_correction: bool, flag,
         paper false, extended false, needs ["confirm_segments"];
     /// The odometry's heading drift is estimated from the lines of the sensors' wall windows
