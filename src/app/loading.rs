@@ -71,6 +71,7 @@ impl SonarApp {
             shown_title: String::new(),
         };
         app.seek(0);
+        app.calibrate_if_drifting();
         app.load_bookmarks();
         app.message = match notice {
             Some(n) => n,
@@ -379,6 +380,10 @@ impl SonarApp {
             self.len()
         );
         self.report_step_failure();
+        // A run replayed whole at once (no background job to finish) is calibrated here.
+        if !self.loaded.is_preview() {
+            self.calibrate_if_drifting();
+        }
     }
 
     /// [`Self::install_rerun`], then snapshot `resume_at` (a reload's, set while its preview

@@ -524,3 +524,49 @@ fn pose_correction_waits_for_the_first_pass_to_calibrate_the_odometry() {
     let second = first.second_pass_params().expect("the bad drift is found");
     assert!(second.pose_correction && second.corrects_calibrated_odometry());
 }
+
+/// The app does the same with `pose_correction`: its second replay corrects the pose from the
+/// odometry the calibration mends, and the inspector shows a step's raw odometry and the
+/// first pass's error taken off ("corrected by").
+#[test]
+fn the_app_corrects_a_drifting_runs_pose_from_its_calibrated_odometry() {
+    let run = drifting_corridor_crawl();
+    let last = run.snapshots.len() - 1;
+    let with_correction = Params {
+        pose_correction: true,
+        ..Params::extended()
+    };
+    let mut h = app_with(run, with_correction);
+    assert_calibrated(h.state().params());
+    assert!(h.state().shown_params().corrects_calibrated_odometry());
+    h.state_mut().push(sonarmap::app::Command::Seek(last));
+    h.run();
+    assert!(h.query_by_label("Pose correction (§8.17)").is_some());
+    assert!(h.query_by_label("corrected by").is_some());
+}
+
+/// A drifting run small enough to be replayed at once when opened (no background job) is
+/// mapped again from its drift too, as is the run the app starts on.
+#[test]
+fn a_drifting_run_opened_and_replayed_at_once_is_mapped_again_from_its_drift() {
+    use super::support::{harness, settle};
+    use sonarmap::app::{Command, SonarApp};
+    let mut h = app_with(pioneer_corridor_crawl(1), Params::extended());
+    assert_eq!(h.state().params(), &Params::extended());
+    h.state_mut().set_background_threshold(usize::MAX);
+    h.state_mut().push(Command::OpenBytes {
+        name: "drifting.json".to_owned(),
+        bytes: sonarmap::log::save_run(&drifting_corridor_crawl()).into_bytes(),
+    });
+    // The open, then the second replay it calls for.
+    settle(&mut h);
+    assert_calibrated(h.state().params());
+    assert_calibrated(h.state().shown_params());
+    // The app started on it with `extended` saved in its settings.
+    let mut storage = super::support::MemoryStorage::default();
+    eframe::App::save(h.state_mut(), &mut storage);
+    let mut h = harness(SonarApp::new(drifting_corridor_crawl(), Some(&storage)));
+    settle(&mut h);
+    settle(&mut h);
+    assert_calibrated(h.state().shown_params());
+}

@@ -105,12 +105,17 @@ impl eframe::Storage for MemoryStorage {
 }
 
 /// Steps the harness until no background work is left (re-runs, comparisons), then settles.
+/// A frame that ends idle is followed by one more: a finished replay may have queued another
+/// (`calibrate_first`'s second pass), started by the next frame.
 pub(crate) fn settle(h: &mut Harness<'static, SonarApp>) {
     let deadline = std::time::Instant::now() + std::time::Duration::from_secs(300);
     loop {
         h.step();
         if !h.state().is_loading() {
-            break;
+            h.step();
+            if !h.state().is_loading() {
+                break;
+            }
         }
         assert!(
             std::time::Instant::now() < deadline,
