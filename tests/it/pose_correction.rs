@@ -570,3 +570,25 @@ fn a_drifting_run_opened_and_replayed_at_once_is_mapped_again_from_its_drift() {
     settle(&mut h);
     assert_calibrated(h.state().shown_params());
 }
+
+/// Seeking keeps the calibrated odometry: a replay of a pose correction from calibrated
+/// odometry, resumed from checkpoints every 8 snapshots, shows each snapshot's trace as the
+/// straight run made it (the last step's raw and mended odometry ride in the checkpoints).
+#[test]
+fn a_calibrated_correction_seeks_to_the_traces_of_the_straight_run() {
+    use sonarmap::replay::Replay;
+    use std::sync::Arc;
+    let run = Arc::new(drifting_family_run(0, 11, true));
+    let params = Params {
+        pose_correction: true,
+        ..Params::extended().calibrated_by((0.2, 1.5))
+    };
+    let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor);
+    let traces: Vec<_> = run.snapshots.iter().map(|s| mapper.step(s)).collect();
+    let replay = Replay::build(run.clone(), params, 8, &mut |_| true).unwrap();
+    for k in (0..run.snapshots.len()).rev().step_by(5) {
+        let view = replay.view(k).unwrap();
+        assert_eq!(view.trace, traces[k], "snapshot {k}");
+        assert!(view.trace.correction.is_some_and(|c| c.drift.is_some()));
+    }
+}
