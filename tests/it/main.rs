@@ -4,6 +4,7 @@ mod app;
 mod app_views;
 mod architecture;
 mod cli;
+mod confirmation;
 mod echo;
 mod engine;
 mod engine_properties;

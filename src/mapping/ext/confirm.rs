@@ -144,6 +144,39 @@ pub enum PlaneEchoModel {
     Axis,
 }
 
+/// The plane test a reading takes to confirm a segment running at `direction_rad`
+/// (docs/algorithm.md §8.7, `off_axis_square_on`): `model`, except that a segment turned more
+/// than `max_turn_rad` from the map's axes (`axis_rad`, modulo 90°; none before they are set)
+/// is confirmed only from the foot of the perpendicular, not from the cone's edges.
+///
+/// ```
+/// use sonarmap::mapping::ext::confirm::{confirming_echo_model, PlaneEchoModel::*};
+/// let turn = 15f64.to_radians();
+/// // Axes at 2°: a segment at 32° is 30° off them, one at 94° 2°.
+/// let axis = Some(2f64.to_radians());
+/// assert_eq!(confirming_echo_model(NearestInCone, 32f64.to_radians(), axis, turn), Foot);
+/// assert_eq!(confirming_echo_model(NearestInCone, 94f64.to_radians(), axis, turn), NearestInCone);
+/// assert_eq!(confirming_echo_model(NearestInCone, 32f64.to_radians(), None, turn), NearestInCone);
+/// // A single ray hears along its axis whatever the wall's direction.
+/// assert_eq!(confirming_echo_model(Axis, 32f64.to_radians(), axis, turn), Axis);
+/// ```
+pub fn confirming_echo_model(
+    model: PlaneEchoModel,
+    direction_rad: f64,
+    axis_rad: Option<f64>,
+    max_turn_rad: f64,
+) -> PlaneEchoModel {
+    let off_axis = axis_rad.is_some_and(|axis| {
+        crate::mapping::ext::rectilinear_heading::deviation_from_axes(direction_rad, axis).abs()
+            > max_turn_rad
+    });
+    if off_axis && model == PlaneEchoModel::NearestInCone {
+        PlaneEchoModel::Foot
+    } else {
+        model
+    }
+}
+
 /// Whether `beam` of a sensor whose echoes come from its axis alone supports the segment
 /// `a`–`b` as a plane: the axis meets the segment (10 % of its length of slack at either end)
 /// at the range within the tolerance, at any incidence (a single ray hears whatever it meets

@@ -115,6 +115,11 @@ pub const ALL: &[Extension] = &[
         source: "Kleeman and Kuc: a plane told from a corner from two positions",
     },
     Extension {
+        parameter: "off_axis_square_on",
+        section: "8.7",
+        source: "Kleeman and Kuc: a plane echoes from the foot of the perpendicular; Nguyen, Harati, Martinelli and Siegwart 2006: indoor walls along two axes",
+    },
+    Extension {
         parameter: "refit_unconfirms",
         section: "8.7",
         source: "beyond the literature (sonarmap): a refit that moves a wall takes back its confirmation",

@@ -2,8 +2,9 @@
 //! confirmation, refits that unconfirm, and the plane gate on a new face.
 
 use crate::mapping::ext::confirm::{
-    baseline_pair, note_baseline_support, note_plane_support, refit_moved_off, supports, View,
-    CONFIRMING_BASELINE_M, CONFIRMING_BASELINE_TURN_RAD,
+    baseline_pair, confirming_echo_model, note_baseline_support, note_plane_support,
+    refit_moved_off, supports, PlaneEchoModel, View, CONFIRMING_BASELINE_M,
+    CONFIRMING_BASELINE_TURN_RAD,
 };
 use crate::mapping::model::beam::Beam;
 use crate::mapping::model::ext_trace::UnconfirmedTrace;
@@ -39,6 +40,7 @@ impl Mapper {
                     None => continue,
                 },
             };
+            let echo = self.confirming_echo(target, echo);
             if let Some(t) = note_plane_support(
                 &mut self.map,
                 target,
@@ -175,5 +177,27 @@ impl Mapper {
             )
             .is_some()
         })
+    }
+}
+
+impl Mapper {
+    /// The plane test that confirms `target`: `echo`, or with `off_axis_square_on` the foot of
+    /// the perpendicular alone for a segment turned more than `θ_o` from the map's axes
+    /// ([`confirming_echo_model`]; the axes of the heading correction or of the pose
+    /// correction's windows, §8.17).
+    fn confirming_echo(&self, target: SegmentId, echo: PlaneEchoModel) -> PlaneEchoModel {
+        if !self.params.off_axis_square_on {
+            return echo;
+        }
+        let belief = &self.pose_belief;
+        let axis_rad = belief.drift.axis_ref_rad.or(belief.rectilinear.axis_rad);
+        match self.map.segment(target) {
+            Some(s) => {
+                let along = s.b.point - s.a.point;
+                let direction_rad = along.y.atan2(along.x);
+                confirming_echo_model(echo, direction_rad, axis_rad, self.params.orientation_rad)
+            }
+            None => echo,
+        }
     }
 }

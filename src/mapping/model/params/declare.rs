@@ -445,6 +445,13 @@ parameters! {
     /// `confirm_segments`.
     refit_unconfirms: bool, file refit_unconfirms: bool, flag,
         paper false, extended true, needs ["confirm_segments"];
+    /// A segment turned more than `θ_o` from the map's axes (the walls' axis the heading
+    /// correction keeps, §8.17) is confirmed only by readings that see it square on (its
+    /// normal inside the cone), not by echoes off the cone's edges: a corner's chord drawn by
+    /// edge echoes is not confirmed (docs/algorithm.md §8.7). Acts only with
+    /// `confirm_segments`, once the axis is set.
+    off_axis_square_on: bool, file off_axis_square_on: bool, flag,
+        paper false, extended true, needs ["confirm_segments"];
     /// A NEW FACE needs a reading that supports it as a plane (docs/algorithm.md §8.7).
     plane_gate: bool, file plane_gate: bool, flag,
         paper false, extended true, needs [];
