@@ -15,7 +15,6 @@ use sonarmap::mapping::{Mapper, Params};
 use sonarmap::replay::Replay;
 use sonarmap::run::Run;
 use sonarmap::sim::{family_plan, load_plan, repeat_laps, simulate, Model, SceneKind};
-use sonarmap::suite::map_of;
 use sonarmap::units::Units;
 use std::collections::BTreeMap;
 use std::io::Write;
