@@ -46,3 +46,23 @@ fn a_corner_chord_drawn_by_cone_edge_echoes_is_not_confirmed_off_the_maps_axes()
     );
     assert_eq!(confirmed_off_axis(9, &Params::extended()), vec![]);
 }
+
+/// The trace says why such a reading did not count: it heard the segment only off its
+/// cone's edge, and the segment lies more than θ_o off the map's axes.
+#[test]
+fn an_edge_echo_refused_off_the_axes_is_traced_with_the_segments_turn() {
+    use sonarmap::mapping::Mapper;
+    let run = pioneer_corridor_crawl(9);
+    let mut mapper = Mapper::new(Params::extended(), run.layout.clone(), run.sensor);
+    let refused: Vec<f64> = run
+        .snapshots
+        .iter()
+        .flat_map(|s| mapper.step(s).plane_support)
+        .filter_map(|p| p.off_axis_deg)
+        .collect();
+    assert!(!refused.is_empty());
+    assert!(
+        refused.iter().all(|&deg| deg > 15.0 && deg <= 45.0),
+        "{refused:?}"
+    );
+}

@@ -225,6 +225,20 @@ fn plane_support(ctx: &InspectCtx, out: &mut Vec<RichText>) {
         } else {
             "tentative"
         };
+        if let Some(off_deg) = p.off_axis_deg {
+            out.push(RichText::new(format!(
+                "plane support not counted: sensor {} read {}, s{} lies {} away, but only off \
+                 the cone's edge, and s{} is {off_deg:.1}° off the map's axes, more than θ_o \
+                 (off_axis_square_on: it must be seen square on); {} view(s), {state}",
+                p.sensor,
+                ctx.len(p.range_m),
+                p.segment,
+                ctx.len(p.distance_m),
+                p.segment,
+                p.snapshots,
+            )));
+            continue;
+        }
         if let Some(moved_m) = p.same_view_moved_m {
             out.push(RichText::new(format!(
                 "plane support not counted: sensor {} read {}, s{} lies {} away, but the robot \

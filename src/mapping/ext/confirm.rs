@@ -144,37 +144,30 @@ pub enum PlaneEchoModel {
     Axis,
 }
 
-/// The plane test a reading takes to confirm a segment running at `direction_rad`
-/// (docs/algorithm.md §8.7, `off_axis_square_on`): `model`, except that a segment turned more
-/// than `max_turn_rad` from the map's axes (`axis_rad`, modulo 90°; none before they are set)
-/// is confirmed only from the foot of the perpendicular, not from the cone's edges.
+/// How far a segment running at `direction_rad` is turned from the map's axes (`axis_rad`,
+/// modulo 90°; none before they are set), radians, when more than `max_turn_rad`: such a
+/// segment is confirmed only from the foot of the perpendicular, not from the cone's edges
+/// (docs/algorithm.md §8.7, `off_axis_square_on`).
 ///
 /// ```
-/// use sonarmap::mapping::ext::confirm::{confirming_echo_model, PlaneEchoModel::*};
+/// use sonarmap::mapping::ext::confirm::off_axis_turn_rad;
 /// let turn = 15f64.to_radians();
 /// // Axes at 2°: a segment at 32° is 30° off them, one at 94° 2°.
 /// let axis = Some(2f64.to_radians());
-/// assert_eq!(confirming_echo_model(NearestInCone, 32f64.to_radians(), axis, turn), Foot);
-/// assert_eq!(confirming_echo_model(NearestInCone, 94f64.to_radians(), axis, turn), NearestInCone);
-/// assert_eq!(confirming_echo_model(NearestInCone, 32f64.to_radians(), None, turn), NearestInCone);
-/// // A single ray hears along its axis whatever the wall's direction.
-/// assert_eq!(confirming_echo_model(Axis, 32f64.to_radians(), axis, turn), Axis);
+/// let off = off_axis_turn_rad(32f64.to_radians(), axis, turn).unwrap();
+/// assert!((off.to_degrees() - 30.0).abs() < 1e-9);
+/// assert_eq!(off_axis_turn_rad(94f64.to_radians(), axis, turn), None);
+/// assert_eq!(off_axis_turn_rad(32f64.to_radians(), None, turn), None);
 /// ```
-pub fn confirming_echo_model(
-    model: PlaneEchoModel,
+pub fn off_axis_turn_rad(
     direction_rad: f64,
     axis_rad: Option<f64>,
     max_turn_rad: f64,
-) -> PlaneEchoModel {
-    let off_axis = axis_rad.is_some_and(|axis| {
-        crate::mapping::ext::rectilinear_heading::deviation_from_axes(direction_rad, axis).abs()
-            > max_turn_rad
-    });
-    if off_axis && model == PlaneEchoModel::NearestInCone {
-        PlaneEchoModel::Foot
-    } else {
-        model
-    }
+) -> Option<f64> {
+    let axis = axis_rad?;
+    let turn_rad =
+        crate::mapping::ext::rectilinear_heading::deviation_from_axes(direction_rad, axis).abs();
+    (turn_rad > max_turn_rad).then_some(turn_rad)
 }
 
 /// Whether `beam` of a sensor whose echoes come from its axis alone supports the segment
@@ -362,6 +355,7 @@ pub fn note_plane_support(
             confirmed: p.confirmed(),
             baseline: None,
             same_view_moved_m: moved_m,
+            off_axis_deg: None,
         });
     }
     let support = map.plane_support.update(id, |support| {
@@ -382,6 +376,7 @@ pub fn note_plane_support(
         confirmed: support.confirmed(),
         baseline: None,
         same_view_moved_m: None,
+        off_axis_deg: None,
     })
 }
 
@@ -542,6 +537,7 @@ pub fn note_baseline_support(
         confirmed: true,
         baseline: Some(pair),
         same_view_moved_m: None,
+        off_axis_deg: None,
     })
 }
 

@@ -55,6 +55,11 @@ pub struct PlaneSupportTrace {
     /// view that did, metres, under `confirm_spacing` (the same view, docs/algorithm.md §8.7).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub same_view_moved_m: Option<f64>,
+    /// When the reading did not count: it heard the segment only off its cone's edge, and the
+    /// segment is turned this far from the map's axes, degrees, more than `θ_o`
+    /// (`off_axis_square_on`, docs/algorithm.md §8.7).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub off_axis_deg: Option<f64>,
 }
 
 /// A confirmed segment that a refit (§5) moved off its line and so lost its confirmation

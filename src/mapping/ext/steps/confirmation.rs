@@ -2,12 +2,11 @@
 //! confirmation, refits that unconfirm, and the plane gate on a new face.
 
 use crate::mapping::ext::confirm::{
-    baseline_pair, confirming_echo_model, note_baseline_support, note_plane_support,
-    refit_moved_off, supports, PlaneEchoModel, View, CONFIRMING_BASELINE_M,
-    CONFIRMING_BASELINE_TURN_RAD,
+    baseline_pair, note_baseline_support, note_plane_support, off_axis_turn_rad, refit_moved_off,
+    supports, PlaneEchoModel, View, CONFIRMING_BASELINE_M, CONFIRMING_BASELINE_TURN_RAD,
 };
 use crate::mapping::model::beam::Beam;
-use crate::mapping::model::ext_trace::UnconfirmedTrace;
+use crate::mapping::model::ext_trace::{PlaneSupportTrace, UnconfirmedTrace};
 use crate::mapping::model::map::{SegmentId, SupportPoint};
 use crate::mapping::model::support::ReadingRef;
 use crate::mapping::model::trace::{NewSegmentTrace, Outcome, StepTrace};
@@ -40,8 +39,13 @@ impl Mapper {
                     None => continue,
                 },
             };
-            let echo = self.confirming_echo(target, echo);
-            if let Some(t) = note_plane_support(
+            // Off the map's axes, a cone sensor confirms from the foot alone.
+            let off_axis_rad = self.off_axis_turn(target);
+            let confirming = match off_axis_rad {
+                Some(_) if echo == PlaneEchoModel::NearestInCone => PlaneEchoModel::Foot,
+                _ => echo,
+            };
+            let noted = note_plane_support(
                 &mut self.map,
                 target,
                 &beams,
@@ -52,11 +56,16 @@ impl Mapper {
                 },
                 xi,
                 half,
-                echo,
-            ) {
-                if self.record_trace {
-                    trace.plane_support.push(t);
+                confirming,
+            );
+            let refused = match (&noted, off_axis_rad) {
+                (None, Some(turn_rad)) if confirming != echo && self.record_trace => {
+                    self.edge_echo_refused(target, &beams, echo, turn_rad)
                 }
+                _ => None,
+            };
+            if self.record_trace {
+                trace.plane_support.extend(noted.or(refused));
             }
         }
     }
@@ -181,23 +190,56 @@ impl Mapper {
 }
 
 impl Mapper {
-    /// The plane test that confirms `target`: `echo`, or with `off_axis_square_on` the foot of
-    /// the perpendicular alone for a segment turned more than `θ_o` from the map's axes
-    /// ([`confirming_echo_model`]; the axes of the heading correction or of the pose
-    /// correction's windows, §8.17).
-    fn confirming_echo(&self, target: SegmentId, echo: PlaneEchoModel) -> PlaneEchoModel {
+    /// With `off_axis_square_on`, how far `target` is turned from the map's axes (those of the
+    /// heading correction, or of the pose correction's windows, §8.17), radians, when more
+    /// than `θ_o` ([`off_axis_turn_rad`]).
+    fn off_axis_turn(&self, target: SegmentId) -> Option<f64> {
         if !self.params.off_axis_square_on {
-            return echo;
+            return None;
         }
         let belief = &self.pose_belief;
         let axis_rad = belief.drift.axis_ref_rad.or(belief.rectilinear.axis_rad);
-        match self.map.segment(target) {
-            Some(s) => {
-                let along = s.b.point - s.a.point;
-                let direction_rad = along.y.atan2(along.x);
-                confirming_echo_model(echo, direction_rad, axis_rad, self.params.orientation_rad)
-            }
-            None => echo,
-        }
+        let s = self.map.segment(target)?;
+        let along = s.b.point - s.a.point;
+        off_axis_turn_rad(
+            along.y.atan2(along.x),
+            axis_rad,
+            self.params.orientation_rad,
+        )
+    }
+
+    /// The record of a reading that supported `target` only off its cone's edge (`echo`, the
+    /// plane test without the rule) and so did not count, `target` being `turn_rad` off the
+    /// map's axes (docs/algorithm.md §8.7).
+    fn edge_echo_refused(
+        &self,
+        target: SegmentId,
+        beams: &[(usize, Beam)],
+        echo: PlaneEchoModel,
+        turn_rad: f64,
+    ) -> Option<PlaneSupportTrace> {
+        let s = self.map.segment(target)?;
+        let (a, b) = (s.a.point, s.b.point);
+        let (xi, half) = self.accuracy_and_half_beam();
+        let (sensor, beam, distance_m) = beams.iter().find_map(|(sensor, beam)| {
+            supports(beam, &a, &b, xi, half, echo).map(|d| (*sensor, *beam, d))
+        })?;
+        let support = self
+            .map
+            .plane_support
+            .get(&target)
+            .copied()
+            .unwrap_or_default();
+        Some(PlaneSupportTrace {
+            segment: target,
+            sensor,
+            range_m: beam.range_m,
+            distance_m,
+            snapshots: support.snapshots,
+            confirmed: support.confirmed(),
+            baseline: None,
+            same_view_moved_m: None,
+            off_axis_deg: Some(turn_rad.to_degrees()),
+        })
     }
 }
