@@ -340,22 +340,14 @@ pub fn note_plane_support(
         let [x, y] = p.last_view_mm;
         (view.robot.x - f64::from(x) / 1000.0).hypot(view.robot.y - f64::from(y) / 1000.0)
     });
-    let (sensor, beam, distance_m) = beams.iter().find_map(|(sensor, beam)| {
-        supports(beam, &a, &b, accuracy_pct, half_beam_rad, echo).map(|d| (*sensor, *beam, d))
-    })?;
+    let (sensor, beam, distance_m) =
+        first_plane_support(beams, &a, &b, accuracy_pct, half_beam_rad, echo)?;
     if moved_m.is_some_and(|m| m < view.spacing_m) {
         // Supported, but from the last view's place: recorded, not counted.
         let p = before.filter(|p| p.last_snapshot != view.snapshot)?;
         return Some(PlaneSupportTrace {
-            segment: id,
-            sensor,
-            range_m: beam.range_m,
-            distance_m,
-            snapshots: p.snapshots,
-            confirmed: p.confirmed(),
-            baseline: None,
             same_view_moved_m: moved_m,
-            off_axis_deg: None,
+            ..PlaneSupportTrace::new(id, sensor, beam.range_m, distance_m, &p)
         });
     }
     let support = map.plane_support.update(id, |support| {
@@ -367,16 +359,27 @@ pub fn note_plane_support(
         support.last_view_mm = millimetres(&view.robot);
         Some(*support)
     })?;
-    Some(PlaneSupportTrace {
-        segment: id,
+    Some(PlaneSupportTrace::new(
+        id,
         sensor,
-        range_m: beam.range_m,
+        beam.range_m,
         distance_m,
-        snapshots: support.snapshots,
-        confirmed: support.confirmed(),
-        baseline: None,
-        same_view_moved_m: None,
-        off_axis_deg: None,
+        &support,
+    ))
+}
+
+/// The first of `beams` (each with its sensor) that supports the segment `a`–`b` as a plane
+/// under `echo` ([`supports`]): its sensor, beam and the distance the plane predicts.
+pub fn first_plane_support(
+    beams: &[(usize, Beam)],
+    a: &Point,
+    b: &Point,
+    accuracy_pct: f64,
+    half_beam_rad: f64,
+    echo: PlaneEchoModel,
+) -> Option<(usize, Beam, f64)> {
+    beams.iter().find_map(|(sensor, beam)| {
+        supports(beam, a, b, accuracy_pct, half_beam_rad, echo).map(|d| (*sensor, *beam, d))
     })
 }
 

@@ -80,6 +80,30 @@ pub struct UnconfirmedTrace {
     pub limits_m: [f64; 2],
 }
 
+impl PlaneSupportTrace {
+    /// The record of `sensor`'s reading `range_m` supporting `segment` at `distance_m`, which
+    /// now has `support`'s views; no baseline, and counted unless a field set after says not.
+    pub fn new(
+        segment: SegmentId,
+        sensor: usize,
+        range_m: f64,
+        distance_m: f64,
+        support: &crate::mapping::model::plane_supports::PlaneSupport,
+    ) -> Self {
+        Self {
+            segment,
+            sensor,
+            range_m,
+            distance_m,
+            snapshots: support.snapshots,
+            confirmed: support.confirmed(),
+            baseline: None,
+            same_view_moved_m: None,
+            off_axis_deg: None,
+        }
+    }
+}
+
 /// A segment removed as a corner's diagonal, for the trace.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DiagonalTrace {

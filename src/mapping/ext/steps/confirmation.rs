@@ -2,8 +2,9 @@
 //! confirmation, refits that unconfirm, and the plane gate on a new face.
 
 use crate::mapping::ext::confirm::{
-    baseline_pair, note_baseline_support, note_plane_support, off_axis_turn_rad, refit_moved_off,
-    supports, PlaneEchoModel, View, CONFIRMING_BASELINE_M, CONFIRMING_BASELINE_TURN_RAD,
+    baseline_pair, first_plane_support, note_baseline_support, note_plane_support,
+    off_axis_turn_rad, refit_moved_off, supports, PlaneEchoModel, View, CONFIRMING_BASELINE_M,
+    CONFIRMING_BASELINE_TURN_RAD,
 };
 use crate::mapping::model::beam::Beam;
 use crate::mapping::model::ext_trace::{PlaneSupportTrace, UnconfirmedTrace};
@@ -221,25 +222,17 @@ impl Mapper {
         let s = self.map.segment(target)?;
         let (a, b) = (s.a.point, s.b.point);
         let (xi, half) = self.accuracy_and_half_beam();
-        let (sensor, beam, distance_m) = beams.iter().find_map(|(sensor, beam)| {
-            supports(beam, &a, &b, xi, half, echo).map(|d| (*sensor, *beam, d))
-        })?;
-        let support = self
-            .map
-            .plane_support
-            .get(&target)
-            .copied()
-            .unwrap_or_default();
+        let (sensor, beam, distance_m) = first_plane_support(beams, &a, &b, xi, half, echo)?;
+        let support = self.map.plane_support.get(&target).copied();
         Some(PlaneSupportTrace {
-            segment: target,
-            sensor,
-            range_m: beam.range_m,
-            distance_m,
-            snapshots: support.snapshots,
-            confirmed: support.confirmed(),
-            baseline: None,
-            same_view_moved_m: None,
             off_axis_deg: Some(turn_rad.to_degrees()),
+            ..PlaneSupportTrace::new(
+                target,
+                sensor,
+                beam.range_m,
+                distance_m,
+                &support.unwrap_or_default(),
+            )
         })
     }
 }
