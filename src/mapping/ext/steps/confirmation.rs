@@ -40,12 +40,12 @@ impl Mapper {
                     None => continue,
                 },
             };
-            // Off the map's axes, a cone sensor confirms from the foot alone.
-            let off_axis_rad = self.off_axis_turn(target);
-            let confirming = match off_axis_rad {
-                Some(_) if echo == PlaneEchoModel::NearestInCone => PlaneEchoModel::Foot,
-                _ => echo,
-            };
+            // Off the map's axes, a sensor that hears its cone's edges confirms from the foot
+            // alone.
+            let off_axis_rad = (echo == PlaneEchoModel::NearestInCone)
+                .then(|| self.off_axis_turn(target))
+                .flatten();
+            let confirming = off_axis_rad.map_or(echo, |_| PlaneEchoModel::Foot);
             let noted = note_plane_support(
                 &mut self.map,
                 target,
@@ -60,7 +60,7 @@ impl Mapper {
                 confirming,
             );
             let refused = match (&noted, off_axis_rad) {
-                (None, Some(turn_rad)) if confirming != echo && self.record_trace => {
+                (None, Some(turn_rad)) if self.record_trace => {
                     self.edge_echo_refused(target, &beams, echo, turn_rad)
                 }
                 _ => None,
