@@ -158,7 +158,7 @@ impl Mapper {
     }
 
     /// The odometry's drift as the heading correction found it, once it has latched (its
-    /// causes, or its heading error, were significant at some step): degrees per metre and percent of the angle
+    /// causes were significant at some step): degrees per metre and percent of the angle
     /// turned now, the calibration a second pass may start from (`drift_deg_per_m`,
     /// `drift_per_turn_pct`; docs/algorithm.md §8.17). `None` otherwise, and without the
     /// heading correction alone.

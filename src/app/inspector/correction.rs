@@ -196,9 +196,9 @@ fn drift_rows(ui: &mut egui::Ui, d: &DriftEstimate) {
             ui,
             "corrected",
             if d.drifting {
-                "yes: the drift or the heading error is significant"
+                "yes: the drift is significant"
             } else {
-                "not yet: no significant drift or heading error"
+                "not yet: no significant drift"
             },
         ),
     }

@@ -50,15 +50,6 @@ pub const MIN_TURN_ERROR: f64 = 0.004;
 /// How many of its standard deviations a cause must be from 0 to count (2; 2.5 and 3 latched
 /// later on drifting runs, and none of them on runs without drift).
 pub const SIGNIFICANT_SIGMAS: f64 = 2.0;
-/// The smallest heading error the correction acts on when the drift's causes are not
-/// significant (0.5°): wheel noise and turn errors that do not repeat (drift.py's 1 % of each
-/// turn) walk the heading away as far as a systematic drift does, with no cause the filter can
-/// find.
-pub const MIN_HEADING_ERROR_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
-/// How many of its standard deviations the heading error must be from 0 to count (3: the lines'
-/// noise moves the estimate by about half a line's deviation, so 2 latched on runs without
-/// drift; docs/algorithm.md §8.17).
-pub const ERROR_SIGNIFICANT_SIGMAS: f64 = 3.0;
 /// How far an update may pull, in standard deviations of its innovation: a line further off
 /// is not the wall the filter expects.
 pub const GATE_SIGMAS: f64 = 3.0;
@@ -78,10 +69,10 @@ pub struct OdometryDrift {
     pub covariance: Matrix4<f64>,
     /// The reference axis in the map's frame (radians in [0, 90°)), once the walls set it.
     pub axis_ref_rad: Option<f64>,
-    /// Whether a cause of drift, or the heading error itself, has been significant (and beyond
-    /// the smallest the correction acts on) at some step: until then the odometry is taken as
-    /// it is, since correcting a heading that does not drift only adds the lines' noise to it,
-    /// and the position would integrate that noise.
+    /// Whether a cause of drift has been significant (and beyond the smallest the correction
+    /// acts on) at some step: until then the odometry is taken as it is, since correcting a
+    /// heading that does not drift only adds the lines' noise to it, and the position would
+    /// integrate that noise.
     pub drifting: bool,
 }
 
@@ -158,37 +149,9 @@ impl OdometryDrift {
         }
     }
 
-    /// Latches [`Self::drifting`] once [`Self::causes_significant`] or
-    /// [`Self::error_significant`].
+    /// Latches [`Self::drifting`] once [`Self::causes_significant`].
     pub fn note_significance(&mut self) {
-        self.drifting |= self.causes_significant() || self.error_significant();
-    }
-
-    /// Whether the heading error itself, once the walls have set the axis, is beyond both
-    /// [`MIN_HEADING_ERROR_RAD`] and [`ERROR_SIGNIFICANT_SIGMAS`] of its standard deviation: the
-    /// error has walked away whatever its cause.
-    ///
-    /// ```
-    /// use nalgebra::{Matrix4, Vector4};
-    /// use sonarmap::mapping::ext::odometry_drift::OdometryDrift;
-    /// // 0.8° within 0.2° (4 σ) counts; within 0.3° (2.7 σ) it does not, nor does 0.4° within
-    /// // 0.1° (under 0.5°), nor anything before the axis is set.
-    /// let with = |error_deg: f64, sigma_deg: f64, axis: Option<f64>| OdometryDrift {
-    ///     mean: Vector4::new(error_deg.to_radians(), 0.0, 0.0, 0.0),
-    ///     covariance: Matrix4::from_diagonal(&Vector4::new(sigma_deg.to_radians().powi(2), 0.0, 0.0, 0.0)),
-    ///     axis_ref_rad: axis,
-    ///     drifting: false,
-    /// };
-    /// assert!(with(0.8, 0.2, Some(0.0)).error_significant());
-    /// assert!(!with(0.8, 0.3, Some(0.0)).error_significant());
-    /// assert!(!with(0.4, 0.1, Some(0.0)).error_significant());
-    /// assert!(!with(0.8, 0.2, None).error_significant());
-    /// ```
-    pub fn error_significant(&self) -> bool {
-        let error_rad = self.mean[B].abs();
-        self.axis_ref_rad.is_some()
-            && error_rad >= MIN_HEADING_ERROR_RAD
-            && error_rad >= ERROR_SIGNIFICANT_SIGMAS * self.covariance[(B, B)].max(0.0).sqrt()
+        self.drifting |= self.causes_significant();
     }
 
     /// Whether the drift per metre or per radian turned is beyond both its smallest value
