@@ -226,7 +226,9 @@ fn a_single_ray_sensor_maps_at_a_crawl_what_it_maps_at_the_papers_pace() {
 /// pass latched on a drift it does not have would be mapped again, and the second pass must map
 /// it better. Seed 21's l-room (specular) did so until §8.18 cut its overruns (confirmed 0.600
 /// spurious, 0.210 covered; 0.412 and 0.484 after the second pass); now it maps at 0.056 and
-/// 0.767 with or without the heading correction, and no run of the seed latches.
+/// 0.767 with or without the heading correction, and no run of the seed's twelve scenes
+/// latches. Two of them, that l-room and `pillars-24` (specular), latched under a latch on the
+/// heading error itself, tried in stop 55 and left out (docs/algorithm.md §8.17).
 #[test]
 fn a_calibrated_suite_without_drift_is_the_plain_suite_and_a_false_latch_would_be_mended() {
     let run = |calibrate_first: bool| {
@@ -234,7 +236,7 @@ fn a_calibrated_suite_without_drift_is_the_plain_suite_and_a_false_latch_would_b
             calibrate_first,
             ..Params::extended()
         };
-        run_suite(3, 21, &params)
+        run_suite(12, 21, &params)
     };
     let (calibrated, plain) = (run(true), run(false));
     let mut mended = Vec::new();
