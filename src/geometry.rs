@@ -80,9 +80,17 @@ impl Pose {
 }
 
 /// `a` (radians) in `(-π, π]`.
+///
+/// An angle already within a turn of it skips the remainder: `x % τ` is `x` exactly for
+/// `0 ≤ x < τ` (the floating-point remainder is exact), so both ways give the same bits.
 pub fn wrap_pi(a: f64) -> f64 {
     use std::f64::consts::{PI, TAU};
-    let r = (a + PI).rem_euclid(TAU) - PI;
+    let shifted = a + PI;
+    let r = if (0.0..TAU).contains(&shifted) {
+        shifted - PI
+    } else {
+        shifted.rem_euclid(TAU) - PI
+    };
     if r <= -PI {
         r + TAU
     } else {
@@ -315,6 +323,37 @@ pub fn fit_line_tls(points: &[Point]) -> Option<(Point, Vec2)> {
 mod tests {
     use super::*;
     use std::f64::consts::PI;
+
+    #[test]
+    fn wrap_pi_gives_the_remainders_bits_with_or_without_its_shortcut() {
+        use std::f64::consts::TAU;
+        let by_remainder = |a: f64| {
+            let r = (a + PI).rem_euclid(TAU) - PI;
+            if r <= -PI {
+                r + TAU
+            } else {
+                r
+            }
+        };
+        let mut angles = vec![
+            0.0,
+            -0.0,
+            PI,
+            -PI,
+            TAU,
+            -TAU,
+            1e-300,
+            -1e-300,
+            3.0 * PI,
+            -7.5,
+        ];
+        angles.extend([PI.next_up(), (-PI).next_down(), (TAU - PI).next_down()]);
+        angles.extend((-4000..4000).map(|k| f64::from(k) * 0.00157 + 1e-7 * f64::from(k % 7)));
+        for a in angles {
+            assert_eq!(wrap_pi(a).to_bits(), by_remainder(a).to_bits(), "{a:e}");
+        }
+        assert!(wrap_pi(f64::NAN).is_nan());
+    }
 
     #[test]
     fn segments_cross_only_inside_both() {
