@@ -236,7 +236,7 @@ impl Lineage {
         // In the step's order: refits that lost their confirmation (§8.7), correlation (§6),
         // then free space (§8.6), corner diagonals (§8.11) and the links that left with a
         // segment (§8.3).
-        for u in &trace.unconfirmed {
+        for u in trace.unconfirmed.iter().filter(|u| !u.tentative) {
             self.push(u.segment, LineageEvent::Unconfirmed { snapshot });
         }
         for (correlation, c) in trace.correlations.iter().enumerate() {

@@ -186,12 +186,17 @@ fn seen_through(ctx: &InspectCtx, out: &mut Vec<RichText>) {
     }
 }
 
-/// One line for each of the step's confirmed segments a refit moved off their line (§8.7).
+/// One line for each of the step's segments a refit moved off their line (§8.7).
 fn unconfirmed(ctx: &InspectCtx, out: &mut Vec<RichText>) {
     for u in &ctx.view.trace.unconfirmed {
+        let outcome = if u.tentative {
+            "the support counted for its old line is dropped (refit_recounts)"
+        } else {
+            "tentative again"
+        };
         out.push(RichText::new(format!(
             "refit moved s{} off its line (turned {:.1}°, limit {:.1}°; ends {} and {} off it, \
-             limits {} and {}): tentative again",
+             limits {} and {}): {outcome}",
             u.segment,
             u.turn_rad.to_degrees(),
             ctx.params.orientation_rad.to_degrees(),

@@ -417,6 +417,7 @@ pub fn refit_moved_off(
         turn_rad > max_turn_rad || off_line_m[0] > limits_m[0] || off_line_m[1] > limits_m[1];
     moved.then(|| UnconfirmedTrace {
         segment: 0,
+        tentative: false,
         before,
         after: [after[0].point, after[1].point],
         turn_rad,

@@ -125,6 +125,11 @@ pub const ALL: &[Extension] = &[
         source: "beyond the literature (sonarmap): a refit that moves a wall takes back its confirmation",
     },
     Extension {
+        parameter: "refit_recounts",
+        section: "8.7",
+        source: "beyond the literature (sonarmap): support counted for a line is not support for the line a refit turned it into",
+    },
+    Extension {
         parameter: "baseline_confirm",
         section: "8.7",
         source: "Kleeman and Kuc: two sensors on a baseline",

@@ -78,6 +78,10 @@ pub struct UnconfirmedTrace {
     pub off_line_m: [f64; 2],
     /// Their limits, `2·tol(D)` with `D` each end-point's range, metres.
     pub limits_m: [f64; 2],
+    /// The segment was tentative: the support counted for its old line was dropped
+    /// (`refit_recounts`); otherwise it was confirmed and is tentative again.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub tentative: bool,
 }
 
 impl PlaneSupportTrace {

@@ -9,6 +9,7 @@ use crate::mapping::ext::confirm::{
 use crate::mapping::model::beam::Beam;
 use crate::mapping::model::ext_trace::{PlaneSupportTrace, UnconfirmedTrace};
 use crate::mapping::model::map::{SegmentId, SupportPoint};
+use crate::mapping::model::plane_supports::PlaneSupport;
 use crate::mapping::model::support::ReadingRef;
 use crate::mapping::model::trace::{NewSegmentTrace, Outcome, StepTrace};
 use crate::mapping::Mapper;
@@ -72,10 +73,23 @@ impl Mapper {
     }
 
     /// §8.7 `refit_unconfirms`: a confirmed segment that a refit of this step moved off its
-    /// line ([`refit_moved_off`]) is tentative again.
+    /// line ([`refit_moved_off`]) is tentative again; `refit_recounts`: a tentative one
+    /// drops the support counted for its old line.
     pub(in crate::mapping) fn unconfirm_moved_refits(&mut self, trace: &mut StepTrace) {
+        let p = &self.params;
+        let (confirmed_too, tentative_too) = (p.refit_unconfirms, p.refit_recounts);
         for u in &trace.updates {
-            if u.refit.is_none() || !self.map.is_confirmed(u.segment) {
+            if u.refit.is_none() {
+                continue;
+            }
+            let confirmed = self.map.is_confirmed(u.segment);
+            let counted = |s: &PlaneSupport| s.snapshots > 0;
+            let acts = if confirmed {
+                confirmed_too
+            } else {
+                tentative_too && self.map.plane_support.get(&u.segment).is_some_and(counted)
+            };
+            if !acts {
                 continue;
             }
             let Some(s) = self.map.segment(u.segment) else {
@@ -93,6 +107,7 @@ impl Mapper {
                 // Kept in the slim trace too: the lineage of a segment reads it there.
                 trace.unconfirmed.push(UnconfirmedTrace {
                     segment: u.segment,
+                    tentative: !confirmed,
                     ..moved
                 });
             }

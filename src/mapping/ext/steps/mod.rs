@@ -163,7 +163,7 @@ impl Mapper {
         if !self.params.confirm_segments {
             return;
         }
-        if self.params.refit_unconfirms {
+        if self.params.refit_unconfirms || self.params.refit_recounts {
             self.unconfirm_moved_refits(trace);
         }
         self.note_plane_support(new_segments, trace);

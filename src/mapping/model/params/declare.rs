@@ -445,6 +445,11 @@ parameters! {
     /// `confirm_segments`.
     refit_unconfirms: bool, file refit_unconfirms: bool, flag,
         paper false, extended true, needs ["confirm_segments"];
+    /// A tentative segment that a refit (§5) moved off its line, as `refit_unconfirms`
+    /// tests it, drops the plane support counted for its old line: its next supporting view
+    /// counts as its first (docs/algorithm.md §8.7). Acts only with `confirm_segments`.
+    refit_recounts: bool, file refit_recounts: bool, flag,
+        paper false, extended true, needs ["confirm_segments"];
     /// A segment turned more than `θ_o` from the map's axes (the walls' axis the heading
     /// correction keeps, §8.17) is confirmed only by readings that see it square on (its
     /// normal inside the cone), not by echoes off the cone's edges: a corner's chord drawn by
