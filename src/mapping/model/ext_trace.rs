@@ -62,8 +62,9 @@ pub struct PlaneSupportTrace {
     pub off_axis_deg: Option<f64>,
 }
 
-/// A confirmed segment that a refit (§5) moved off its line and so lost its confirmation
-/// (docs/algorithm.md §8.7, `refit_unconfirms`).
+/// A segment that a refit (§5) moved off its line: a confirmed one lost its confirmation
+/// (`refit_unconfirms`), a tentative one the support counted for its old line
+/// (`refit_recounts`; docs/algorithm.md §8.7).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct UnconfirmedTrace {
     /// The segment (the refit's first piece, which keeps the id).
