@@ -24,7 +24,7 @@ use crate::mapping::model::ext_trace::PlaneSupportTrace;
 use crate::mapping::model::ext_trace::UnconfirmedTrace;
 use crate::mapping::model::map::EndPoint;
 use crate::mapping::model::map::{Map, SegmentId};
-use crate::mapping::model::plane_supports::CONFIRMING_SNAPSHOTS;
+use crate::mapping::model::plane_supports::{PlaneSupport, CONFIRMING_SNAPSHOTS};
 use crate::mapping::model::support::ReadingRef;
 
 /// How far apart along a segment the sensors of two readings of one step must have stood for
@@ -336,7 +336,7 @@ pub fn note_plane_support(
     let (a, b) = (s.a.point, s.b.point);
     let before = map.plane_support.get(&id).copied();
     // How far the robot stood from the last counted view's place, when there is one.
-    let moved_m = before.filter(|p| p.snapshots > 0).map(|p| {
+    let moved_m = before.filter(PlaneSupport::counted).map(|p| {
         let [x, y] = p.last_view_mm;
         (view.robot.x - f64::from(x) / 1000.0).hypot(view.robot.y - f64::from(y) / 1000.0)
     });
@@ -351,7 +351,7 @@ pub fn note_plane_support(
         });
     }
     let support = map.plane_support.update(id, |support| {
-        if support.snapshots > 0 && support.last_snapshot == view.snapshot {
+        if support.counted() && support.last_snapshot == view.snapshot {
             return None;
         }
         support.snapshots += 1;

@@ -34,6 +34,12 @@ impl PlaneSupport {
     pub fn confirmed(&self) -> bool {
         self.snapshots >= CONFIRMING_SNAPSHOTS
     }
+
+    /// At least one view counted: the supporting views a segment holds toward its
+    /// confirmation (a support recorded from the last view's place counts none).
+    pub fn counted(&self) -> bool {
+        self.snapshots > 0
+    }
 }
 
 /// Plane support by segment id, ordered by id.

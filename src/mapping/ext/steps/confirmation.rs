@@ -83,11 +83,15 @@ impl Mapper {
                 continue;
             }
             let confirmed = self.map.is_confirmed(u.segment);
-            let counted = |s: &PlaneSupport| s.snapshots > 0;
             let acts = if confirmed {
                 confirmed_too
             } else {
-                tentative_too && self.map.plane_support.get(&u.segment).is_some_and(counted)
+                tentative_too
+                    && self
+                        .map
+                        .plane_support
+                        .get(&u.segment)
+                        .is_some_and(PlaneSupport::counted)
             };
             if !acts {
                 continue;
