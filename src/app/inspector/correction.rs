@@ -130,6 +130,13 @@ fn heading_row(ui: &mut egui::Ui, h: &HeadingObservation) {
         "lines' σ, sensors",
         format!("{:.2}°, {:?}", h.sigma_deg, h.sensors),
     );
+    if let Some(gate_deg) = h.widened_gate_deg {
+        kv(
+            ui,
+            "axis gate",
+            format!("{gate_deg:.1}° (heading uncertain)"),
+        );
+    }
 }
 
 /// The eigen-directions of the readings' information, each with whether it says more than the

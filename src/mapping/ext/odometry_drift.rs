@@ -23,6 +23,7 @@
 //! instead of each line's noise: on a robot whose odometry does not drift, `κ` and `ε` settle
 //! near 0 and the heading stays put.
 
+use crate::mapping::ext::rectilinear_heading::{AXIS_GATE_RAD, WIDE_GATE_MAX_RAD};
 use nalgebra::{Matrix4, Vector4};
 
 /// The prior standard deviation of the drift per metre driven (0.5°/m: the bad end of UMBmark's
@@ -250,6 +251,39 @@ impl OdometryDrift {
         -(self.mean[B] - self.mean[A])
     }
 
+    /// The variance of `b − a`, what the lines observe (radians²).
+    fn observed_variance(&self) -> f64 {
+        let h = observation();
+        (h.transpose() * self.covariance * h)[(0, 0)]
+    }
+
+    /// How far from the expected axis a line may lie and count (radians): [`AXIS_GATE_RAD`],
+    /// widened to [`GATE_SIGMAS`] standard deviations of `b − a` when the estimate is that
+    /// uncertain, up to [`WIDE_GATE_MAX_RAD`]. After a U-turn with the error per radian turned
+    /// still unknown (5 %), the heading may be 9° off; the lines of the next pass, beyond 5°,
+    /// would be refused for good and the error kept.
+    ///
+    /// ```
+    /// use nalgebra::{Matrix4, Vector4};
+    /// use sonarmap::mapping::ext::odometry_drift::OdometryDrift;
+    /// let mut drift = OdometryDrift::default();
+    /// drift.axis_ref_rad = Some(0.0);
+    /// // b − a known within 1°: the 5° gate.
+    /// drift.covariance = Matrix4::from_diagonal(&Vector4::new(1f64.to_radians().powi(2), 0.0, 0.0, 0.0));
+    /// assert!((drift.axis_gate_rad().to_degrees() - 5.0).abs() < 1e-12);
+    /// // A U-turn (π) with the error per radian turned 5 % unknown: σ 9°, gate 20° at most.
+    /// drift.covariance = Matrix4::from_diagonal(&Vector4::new(0.0, 0.0, 0.05f64.powi(2), 0.0));
+    /// drift.predict(0.0, std::f64::consts::PI);
+    /// assert!((drift.axis_gate_rad().to_degrees() - 20.0).abs() < 1e-12);
+    /// // σ 4°: 12°.
+    /// drift.covariance = Matrix4::from_diagonal(&Vector4::new(4f64.to_radians().powi(2), 0.0, 0.0, 0.0));
+    /// assert!((drift.axis_gate_rad().to_degrees() - 12.0).abs() < 1e-9);
+    /// ```
+    pub fn axis_gate_rad(&self) -> f64 {
+        (GATE_SIGMAS * self.observed_variance().max(0.0).sqrt())
+            .clamp(AXIS_GATE_RAD, WIDE_GATE_MAX_RAD)
+    }
+
     /// Updates with the lines' innovation `innovation_rad` (their deviation from the reference
     /// axis after [`Self::expected_rotation_rad`]) of standard deviation `sigma_rad`; refused
     /// beyond [`GATE_SIGMAS`].
@@ -268,8 +302,8 @@ impl OdometryDrift {
     /// assert!(update.taken && (update.innovation_after_rad.to_degrees() - (1.0 - expected)).abs() < 1e-9);
     /// ```
     pub fn update(&mut self, innovation_rad: f64, sigma_rad: f64) -> DriftUpdate {
-        let h = Vector4::new(1.0, 0.0, 0.0, -1.0);
-        let variance = (h.transpose() * self.covariance * h)[(0, 0)] + sigma_rad * sigma_rad;
+        let h = observation();
+        let variance = self.observed_variance() + sigma_rad * sigma_rad;
         let mut update = DriftUpdate {
             innovation_rad,
             innovation_after_rad: innovation_rad,
@@ -290,6 +324,11 @@ impl OdometryDrift {
         update.taken = true;
         update
     }
+}
+
+/// The lines' observation row: they observe `b − a`.
+fn observation() -> Vector4<f64> {
+    Vector4::new(1.0, 0.0, 0.0, -1.0)
 }
 
 #[cfg(test)]
@@ -401,6 +440,48 @@ mod tests {
         }
         let latched_at = latched_at.expect("a 0.2°/m drift is found within 30 m");
         assert!(latched_at > 1, "latched at once");
+    }
+
+    #[test]
+    fn after_a_u_turn_the_lines_of_the_next_pass_bring_the_heading_back() {
+        use crate::mapping::ext::rectilinear_heading::{axis_deviation, LineFit};
+        // The axis is known (0) and the heading right when the robot turns on the spot by
+        // 180°; its wheelbase is 5 % off, so its odometry comes out of the turn 9° off. The
+        // next pass's wall lines lie 9° from the axis in the odometry's frame. The estimate's
+        // σ is 9° (the error per radian turned unknown within 5 %), so the gate opens to 20°:
+        // lines of 40 readings count and bring the error back within 0.5°. At the 5° gate, or
+        // with six readings, they would count for nothing.
+        let mut drift = OdometryDrift::default();
+        drift.set_axis(0.0, 0.1f64.to_radians());
+        drift.predict(0.0, std::f64::consts::PI);
+        let error_rad = 0.05 * std::f64::consts::PI;
+        let line = |readings| LineFit {
+            direction_rad: error_rad,
+            sigma_rad: 0.3f64.to_radians(),
+            rms_m: 0.01,
+            span_m: 2.0,
+            readings,
+        };
+        let deviation = |drift: &OdometryDrift, readings, gate_rad| {
+            axis_deviation(
+                [line(readings)].into_iter(),
+                drift.expected_rotation_rad(),
+                0.0,
+                gate_rad,
+            )
+        };
+        assert_eq!(deviation(&drift, 40, AXIS_GATE_RAD), None);
+        assert_eq!(deviation(&drift, 6, drift.axis_gate_rad()), None);
+        assert_eq!(drift.axis_gate_rad(), WIDE_GATE_MAX_RAD);
+        for _ in 0..10 {
+            drift.predict(0.015, 0.0);
+            let (innovation, sigma) = deviation(&drift, 40, drift.axis_gate_rad()).unwrap();
+            assert!(drift.update(innovation, sigma).taken);
+        }
+        let off_deg = (drift.heading_error_rad() - error_rad).to_degrees();
+        assert!(off_deg.abs() < 0.5, "{off_deg}°");
+        // Known again, the gate is back to 5°.
+        assert_eq!(drift.axis_gate_rad(), AXIS_GATE_RAD);
     }
 
     #[test]

@@ -25,6 +25,14 @@ pub const MIN_SIGMA_RAD: f64 = 0.3 * std::f64::consts::PI / 180.0;
 pub const AXIS_MAX_SIGMA_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
 /// Fewest readings in a window for a line.
 pub const MIN_WINDOW_READINGS: usize = 6;
+/// The widest the axis gate opens while the heading is uncertain (20°,
+/// [`crate::mapping::ext::odometry_drift::OdometryDrift::axis_gate_rad`]): a U-turn at the bad
+/// end of UMBmark's wheelbase errors (5 %) turns the heading 9° off, and a wall at 45° to the
+/// axes stays more than twice as far.
+pub const WIDE_GATE_MAX_RAD: f64 = 20.0 * std::f64::consts::PI / 180.0;
+/// Fewest readings of a line that counts beyond [`AXIS_GATE_RAD`] (12, twice
+/// [`MIN_WINDOW_READINGS`]): one ghost among six readings can turn a line several degrees.
+pub const WIDE_GATE_MIN_READINGS: usize = 2 * MIN_WINDOW_READINGS;
 /// The largest RMS distance of a window's readings from their line (3 cm): more is not one
 /// straight wall.
 pub const MAX_LINE_RMS_M: f64 = 0.03;
@@ -265,25 +273,44 @@ pub fn deviation_from_axes(direction_rad: f64, axis_rad: f64) -> f64 {
 }
 
 /// The heading observation the windows' lines give: their deviations from the axes (lines in
-/// the odometry's frame, turned into the map by `odometry_to_map_rad`), those within
-/// [`AXIS_GATE_RAD`], averaged with weights 1/σ²; with their standard deviation. Each reading
-/// stays in its window for as many steps as the window holds readings, so a line's σ is
-/// widened by the root of its readings: over the steps that reuse them, they say once what
-/// they know. `None` when no line counts.
+/// the odometry's frame, turned into the map by `odometry_to_map_rad`), those that count
+/// ([`counts_within`] `gate_rad`), averaged with weights 1/σ²; with their standard deviation.
+/// Each reading stays in its window for as many steps as the window holds readings, so a
+/// line's σ is widened by the root of its readings: over the steps that reuse them, they say
+/// once what they know. `None` when no line counts.
 pub fn axis_deviation(
     lines: impl Iterator<Item = LineFit>,
     odometry_to_map_rad: f64,
     axis_rad: f64,
+    gate_rad: f64,
 ) -> Option<(f64, f64)> {
     let (sum, weight) = lines.fold((0.0, 0.0), |(sum, weight), line| {
         let d = deviation_from_axes(line.direction_rad + odometry_to_map_rad, axis_rad);
-        if d.abs() > AXIS_GATE_RAD {
+        if !counts_within(&line, d, gate_rad) {
             return (sum, weight);
         }
         let w = 1.0 / (line.sigma_rad * line.sigma_rad * line.readings as f64);
         (sum + d * w, weight + w)
     });
     (weight > 0.0).then(|| (sum / weight, (1.0 / weight).sqrt()))
+}
+
+/// Whether `line`, `deviation_rad` from the nearer axis, counts within `gate_rad`: within
+/// [`AXIS_GATE_RAD`] any line does; beyond it, up to `gate_rad` (a gate widened while the
+/// heading is uncertain), only a line of [`WIDE_GATE_MIN_READINGS`] or more.
+///
+/// ```
+/// use sonarmap::mapping::ext::rectilinear_heading::{counts_within, LineFit};
+/// let line = |readings| LineFit { direction_rad: 0.0, sigma_rad: 0.01, rms_m: 0.0, span_m: 2.0, readings };
+/// let deg = |d: f64| d.to_radians();
+/// assert!(counts_within(&line(6), deg(4.0), deg(5.0)));
+/// assert!(!counts_within(&line(6), deg(8.0), deg(15.0)));
+/// assert!(counts_within(&line(12), deg(-8.0), deg(15.0)));
+/// assert!(!counts_within(&line(40), deg(16.0), deg(15.0)));
+/// ```
+pub fn counts_within(line: &LineFit, deviation_rad: f64, gate_rad: f64) -> bool {
+    let off_rad = deviation_rad.abs();
+    off_rad <= AXIS_GATE_RAD || (off_rad <= gate_rad && line.readings >= WIDE_GATE_MIN_READINGS)
 }
 
 #[cfg(test)]
@@ -316,9 +343,9 @@ mod tests {
         // under the 0.3° floor.
         assert!(0.005 / 1.1f64.sqrt() < MIN_SIGMA_RAD);
         assert!((fit.sigma_rad - MIN_SIGMA_RAD).abs() < 1e-12, "{fit:?}");
-        let (d, _) = axis_deviation([fit].into_iter(), 0.0, 0.0).unwrap();
+        let (d, _) = axis_deviation([fit].into_iter(), 0.0, 0.0, AXIS_GATE_RAD).unwrap();
         assert!((d - turn).abs() < 1e-9);
-        let (d, _) = axis_deviation([fit].into_iter(), -turn, 0.0).unwrap();
+        let (d, _) = axis_deviation([fit].into_iter(), -turn, 0.0, AXIS_GATE_RAD).unwrap();
         assert!(d.abs() < 1e-9);
     }
 
@@ -326,7 +353,10 @@ mod tests {
     fn lines_beyond_the_gate_and_scattered_windows_say_nothing() {
         let diagonal: Vec<(f64, f64)> = (0..8).map(|k| (0.1 * k as f64, 0.1 * k as f64)).collect();
         let fit = fit_line(&window(&diagonal, 0.1), 1.0).unwrap();
-        assert_eq!(axis_deviation([fit].into_iter(), 0.0, 0.0), None);
+        assert_eq!(
+            axis_deviation([fit].into_iter(), 0.0, 0.0, AXIS_GATE_RAD),
+            None
+        );
         // A zig-zag 5 cm either side: not one wall.
         let zigzag: Vec<(f64, f64)> = (0..8)
             .map(|k| (0.1 * k as f64, if k % 2 == 0 { 0.05 } else { -0.05 }))

@@ -440,7 +440,12 @@ pub struct HeadingObservation {
     pub deviation_after_deg: f64,
     /// The deviation's standard deviation, degrees.
     pub sigma_deg: f64,
-    /// The sensors whose windows gave a line this step (a line beyond the 5° gate counts for
+    /// The sensors whose windows gave a line this step (a line beyond the gate counts for
     /// nothing).
     pub sensors: Vec<usize>,
+    /// The gate, degrees, when the heading's uncertainty widened it beyond 5° (after a turn,
+    /// lines of 12 readings or more up to three of its standard deviations off, at most 20°).
+    /// Absent at 5°.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub widened_gate_deg: Option<f64>,
 }

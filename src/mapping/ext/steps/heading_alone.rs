@@ -8,7 +8,9 @@ use super::pose_correction::{odometry_increment, readings_trace, sigmas};
 use crate::geometry::Pose;
 use crate::mapping::ext::odometry_drift::{DriftUpdate, OdometryDrift};
 use crate::mapping::ext::pose_correction::MIN_WALL_LENGTH_M;
-use crate::mapping::ext::rectilinear_heading::{axis_deviation, walls_axis, HeadingLines};
+use crate::mapping::ext::rectilinear_heading::{
+    axis_deviation, walls_axis, HeadingLines, AXIS_GATE_RAD,
+};
 use crate::mapping::model::ext_trace::{
     CorrectionRefusal, CorrectionTrace, DriftEstimate, HeadingObservation, ObservedDirection,
 };
@@ -17,9 +19,16 @@ use crate::mapping::Mapper;
 use crate::run::Snapshot;
 use nalgebra::Matrix3;
 
-/// A step's update of the drift by its wall lines, and the lines' standard deviation
-/// (radians).
-type LinesUpdate = Option<(DriftUpdate, f64)>;
+/// A step's update of the drift by its wall lines.
+#[derive(Clone, Copy, Debug)]
+struct LinesUpdate {
+    /// What the update did.
+    update: DriftUpdate,
+    /// The lines' standard deviation, radians.
+    sigma_rad: f64,
+    /// How far from the axis a line could lie and count, radians.
+    gate_rad: f64,
+}
 
 impl Mapper {
     /// The step's pose with its heading corrected by the odometry's estimated drift (once it
@@ -67,12 +76,14 @@ impl Mapper {
         let heading = drift
             .axis_rad()
             .zip(update)
-            .map(|(axis_rad, (u, sigma_rad))| HeadingObservation {
+            .map(|(axis_rad, lines_update)| HeadingObservation {
                 axis_deg: axis_rad.to_degrees(),
-                deviation_deg: u.innovation_rad.to_degrees(),
-                deviation_after_deg: u.innovation_after_rad.to_degrees(),
-                sigma_deg: sigma_rad.to_degrees(),
+                deviation_deg: lines_update.update.innovation_rad.to_degrees(),
+                deviation_after_deg: lines_update.update.innovation_after_rad.to_degrees(),
+                sigma_deg: lines_update.sigma_rad.to_degrees(),
                 sensors: lines.iter().map(|(s, _)| *s).collect(),
+                widened_gate_deg: (lines_update.gate_rad > AXIS_GATE_RAD)
+                    .then(|| lines_update.gate_rad.to_degrees()),
             });
         self.pose_belief.covariance = prior;
         // With no readings matched (the settled windows), there is nothing to re-associate.
@@ -153,7 +164,7 @@ impl Mapper {
 
     /// Updates the drift with the step's wall `lines` once the walls have set the axis (or
     /// sets it from the confirmed walls), then notes whether the odometry drifts.
-    fn update_drift(&mut self, lines: &HeadingLines) -> LinesUpdate {
+    fn update_drift(&mut self, lines: &HeadingLines) -> Option<LinesUpdate> {
         let update = match self.pose_belief.drift.axis_ref_rad {
             None => {
                 let walls = self.confirmed_wall_directions();
@@ -167,9 +178,15 @@ impl Mapper {
             Some(axis_ref_rad) => {
                 let drift = &mut self.pose_belief.drift;
                 let rotation_rad = drift.expected_rotation_rad();
+                let gate_rad = drift.axis_gate_rad();
                 let fits = lines.iter().map(|(_, l)| *l);
-                axis_deviation(fits, rotation_rad, axis_ref_rad)
-                    .map(|(innovation, sigma)| (drift.update(innovation, sigma), sigma))
+                axis_deviation(fits, rotation_rad, axis_ref_rad, gate_rad).map(
+                    |(innovation, sigma)| LinesUpdate {
+                        update: drift.update(innovation, sigma),
+                        sigma_rad: sigma,
+                        gate_rad,
+                    },
+                )
             }
         };
         self.pose_belief.drift.note_significance();
@@ -200,25 +217,25 @@ impl Mapper {
 }
 
 /// Why the lines did not correct the step: the first step, or an innovation beyond the gate.
-fn refusal(first_step: bool, update: LinesUpdate) -> Option<CorrectionRefusal> {
+fn refusal(first_step: bool, update: Option<LinesUpdate>) -> Option<CorrectionRefusal> {
     if first_step {
         return Some(CorrectionRefusal::FirstStep);
     }
     update
-        .filter(|(u, _)| !u.taken)
-        .map(|(u, _)| CorrectionRefusal::BeyondBound {
+        .filter(|l| !l.update.taken)
+        .map(|l| CorrectionRefusal::BeyondBound {
             shift_m: 0.0,
-            turn_deg: u.innovation_rad.to_degrees(),
+            turn_deg: l.update.innovation_rad.to_degrees(),
         })
 }
 
 /// The direction the lines observed (heading), with their information, when they updated.
-fn lines_direction(update: LinesUpdate) -> Option<ObservedDirection> {
+fn lines_direction(update: Option<LinesUpdate>) -> Option<ObservedDirection> {
     update
-        .filter(|(u, _)| u.taken)
-        .map(|(_, sigma_rad)| ObservedDirection {
+        .filter(|l| l.update.taken)
+        .map(|l| ObservedDirection {
             direction: [0.0, 0.0, 1.0],
-            information: 1.0 / (sigma_rad * sigma_rad),
+            information: 1.0 / (l.sigma_rad * l.sigma_rad),
             observed: true,
         })
 }

@@ -7,6 +7,7 @@ use crate::geometry::{wrap_pi, Point, Pose};
 use crate::mapping::ext::pose_correction::RangeObservation;
 use crate::mapping::ext::rectilinear_heading::{
     along_motion, axis_deviation, axis_line, fit_line, push, turned_beyond_gate, HeadingLines,
+    AXIS_GATE_RAD,
 };
 use crate::mapping::model::ext_trace::{CorrectionTarget, HeadingObservation};
 use crate::mapping::Mapper;
@@ -131,7 +132,12 @@ impl Mapper {
     ) -> Option<(f64, f64)> {
         let axis_rad = self.pose_belief.rectilinear.axis_rad?;
         let rotation_rad = wrap_pi(estimate.heading_rad - snapshot.pose.heading_rad);
-        axis_deviation(lines.iter().map(|(_, l)| *l), rotation_rad, axis_rad)
+        axis_deviation(
+            lines.iter().map(|(_, l)| *l),
+            rotation_rad,
+            axis_rad,
+            AXIS_GATE_RAD,
+        )
     }
 
     /// The heading observation at `estimate`: zero deviation expected, the deviation predicted;
@@ -167,6 +173,7 @@ impl Mapper {
             deviation_after_deg: after_rad.to_degrees(),
             sigma_deg: sigma_rad.to_degrees(),
             sensors: lines.iter().map(|(s, _)| *s).collect(),
+            widened_gate_deg: None,
         })
     }
 }
