@@ -114,6 +114,9 @@ struct Calibration {
     drift_per_turn_pct: f64,
     /// The snapshots the first pass's smoothed heading errors cover (0: the drift alone).
     heading_track_snapshots: usize,
+    /// Whether the second pass corrects the pose against the map (`pose_correction`, set or
+    /// switched on by `revisit_laps`).
+    pose_correction: bool,
 }
 
 impl Calibration {
@@ -125,6 +128,7 @@ impl Calibration {
                 drift_deg_per_m,
                 drift_per_turn_pct,
                 heading_track_snapshots: params.heading_track.as_ref().map_or(0, |t| t.len()),
+                pose_correction: params.pose_correction,
             })
     }
 }

@@ -185,8 +185,16 @@ impl Mapper {
                 .as_ref()
                 .and_then(DriftHistory::smoothed)
                 .map(|errors_rad| Arc::new(HeadingTrack::new(errors_rad, drift))),
+            pose_correction: p.pose_correction || self.came_back(),
             ..p.calibrated_by(drift)
         })
+    }
+
+    /// Whether this pass drove at least `revisit_laps` laps of its map
+    /// ([`Map::laps_driven`]; docs/algorithm.md §8.17, "runs that come back").
+    fn came_back(&self) -> bool {
+        let laps = self.params.revisit_laps;
+        laps > 0 && self.map.laps_driven().is_some_and(|driven| driven >= laps as f64)
     }
 
     /// Index the next step will get.

@@ -50,6 +50,11 @@ pub const ALL: &[Extension] = &[
         source: "Borenstein and Feng 1996 (UMBmark): the odometry's systematic errors measured first, then corrected; Rauch, Tung and Striebel 1965: the heading errors smoothed over the whole run",
     },
     Extension {
+        parameter: "revisit_laps",
+        section: "8.17",
+        source: "Leonard and Durrant-Whyte 1991, Crowley 1989: the pose corrected against the map's walls, on runs that come back to them",
+    },
+    Extension {
         parameter: "explain_readings",
         section: "8.5",
         source: "Leonard and Durrant-Whyte 1992: a point target explains its echoes",

@@ -100,6 +100,22 @@ impl Map {
         self.plane_support.is_confirmed(id)
     }
 
+    /// How many laps of its map the robot drove: the distance driven ([`Map::travelled_m`])
+    /// over the perimeter of the confirmed fitted walls' bounding box (docs/algorithm.md §8.17,
+    /// "runs that come back"); `None` without a confirmed wall.
+    pub fn laps_driven(&self) -> Option<f64> {
+        let (low, high) = self
+            .segments
+            .iter()
+            .filter(|s| s.kind == SegmentKind::Fitted && self.is_confirmed(s.id))
+            .flat_map(|s| [s.a.point, s.b.point])
+            .fold(None, |bounds: Option<(Point, Point)>, p| {
+                Some(bounds.map_or((p, p), |(low, high)| (low.inf(&p), high.sup(&p))))
+            })?;
+        let perimeter_m = 2.0 * ((high.x - low.x) + (high.y - low.y));
+        (perimeter_m > 0.0).then(|| self.travelled_m / perimeter_m)
+    }
+
     /// The confirmed point features ([`PointFeature::is_confirmed`]), by id.
     pub fn confirmed_features(&self) -> impl Iterator<Item = &PointFeature> {
         self.features.iter().filter(|f| f.is_confirmed())

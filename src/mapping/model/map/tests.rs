@@ -31,3 +31,25 @@ fn lookups_find_every_segment_through_many_removals_and_pushes() {
     }
     assert_eq!(map.segments.len(), present.len());
 }
+
+#[test]
+fn the_laps_driven_are_the_distance_over_the_confirmed_walls_perimeter() {
+    use crate::mapping::model::plane_supports::{PlaneSupport, CONFIRMING_SNAPSHOTS};
+    // Walls along two sides of a 4 m × 2 m room (perimeter 12 m) confirmed, and a tentative
+    // one outside it; 30 m driven: 2.5 laps.
+    let mut map = Map::from_segments(vec![
+        test_wall(0, (0.0, 0.0), (4.0, 0.0), 1.0),
+        test_wall(1, (4.0, 0.0), (4.0, 2.0), 1.0),
+        test_wall(2, (9.0, 9.0), (10.0, 9.0), 1.0),
+    ]);
+    map.travelled_m = 30.0;
+    assert_eq!(map.laps_driven(), None);
+    for id in [0, 1] {
+        let support = PlaneSupport {
+            snapshots: CONFIRMING_SNAPSHOTS,
+            ..Default::default()
+        };
+        map.plane_support.insert(id, support);
+    }
+    assert_eq!(map.laps_driven(), Some(2.5));
+}

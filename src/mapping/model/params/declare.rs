@@ -483,7 +483,8 @@ parameters! {
     /// and point features (docs/algorithm.md §8.17). With `calibrate_first` it waits for a
     /// second pass and corrects from the odometry the first pass's drift mends. Off in both
     /// presets: the Pioneer stand-in with drift maps better with the heading alone (§8.17's
-    /// figures). Acts only with `confirm_segments`.
+    /// figures); `revisit_laps` switches it on for the second pass of a run that comes back to
+    /// its walls. Acts only with `confirm_segments`.
     pose_correction: bool, file pose_correction: bool, flag,
         paper false, extended false, needs ["confirm_segments"];
     /// The odometry's heading drift is estimated from the lines of the sensors' wall windows
@@ -500,6 +501,15 @@ parameters! {
     /// `heading_correction`.
     calibrate_first: bool, file calibrate_first: bool, flag,
         paper false, extended true, needs ["heading_correction"];
+    /// A second pass (`calibrate_first`) also corrects the pose against the confirmed map
+    /// (`pose_correction`, from the odometry the first pass mends) when the first pass drove at
+    /// least this many laps of its map: the distance driven over the perimeter of the
+    /// confirmed walls' bounding box. A robot that comes back to walls it mapped laps before
+    /// drifts away from them without bound on its heading alone; on a single pass the pose
+    /// correction follows the walls it has just drawn (docs/algorithm.md §8.17, "runs that
+    /// come back"). 0: never. Acts only with `calibrate_first`.
+    revisit_laps: usize, file revisit_laps: usize, count,
+        paper 0, extended 3, needs ["calibrate_first"];
     /// The odometry's known heading drift per metre driven, degrees (a calibration, such as a
     /// first pass's estimate: `calibrate_first`). With it or `drift_per_turn` non-zero, the
     /// heading correction starts from them, taken as known within a tenth of its priors, and
