@@ -270,14 +270,21 @@ impl SonarApp {
                         let s = job.started.elapsed().as_secs_f64();
                         self.last_rerun_s = Some(s);
                         self.install_resuming(replay, resume_at);
-                        let tracked = self.loaded.replay.params().heading_track.is_some();
+                        let params = self.loaded.replay.params();
+                        let tracked = params.heading_track.is_some();
+                        let corrects_pose = params.pose_correction;
                         self.message = match self.calibrating_from.take() {
                             Some((deg_per_m, per_turn_pct)) => format!(
                                 "mapped again from the drift the first pass found \
-                                 ({deg_per_m:+.3}°/m, {per_turn_pct:+.2} % of turns){} \
+                                 ({deg_per_m:+.3}°/m, {per_turn_pct:+.2} % of turns){}{} \
                                  (calibrate_first) in {s:.2} s",
                                 if tracked {
                                     " and its heading errors, smoothed"
+                                } else {
+                                    ""
+                                },
+                                if corrects_pose {
+                                    ", the pose corrected against the map"
                                 } else {
                                     ""
                                 }

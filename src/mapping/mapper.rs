@@ -194,7 +194,11 @@ impl Mapper {
     /// ([`Map::laps_driven`]; docs/algorithm.md §8.17, "runs that come back").
     fn came_back(&self) -> bool {
         let laps = self.params.revisit_laps;
-        laps > 0 && self.map.laps_driven().is_some_and(|driven| driven >= laps as f64)
+        laps > 0
+            && self
+                .map
+                .laps_driven()
+                .is_some_and(|driven| driven >= laps as f64)
     }
 
     /// Index the next step will get.
