@@ -172,7 +172,8 @@ impl Mapper {
     /// The parameters of a second pass (`calibrate_first`): these with the drift this mapper
     /// found as their calibration ([`Self::found_drift`]), when they had none and it
     /// found one, and the heading errors of its steps smoothed over the whole pass (when it
-    /// ran every step from the first); else `None`, the one pass standing.
+    /// ran every step from the first), with `pose_correction` on when this pass came back to
+    /// its walls (`revisit_laps`); else `None`, the one pass standing.
     pub fn second_pass_params(&self) -> Option<Params> {
         let p = &self.params;
         if !p.calibrate_first || p.drift_calibration().is_some() {

@@ -134,7 +134,7 @@ fn heading_row(ui: &mut egui::Ui, h: &HeadingObservation) {
         kv(
             ui,
             "axis gate",
-            format!("{gate_deg:.1}° (heading uncertain)"),
+            format!("{gate_deg:.1}°, widened (heading uncertain)"),
         );
     }
 }

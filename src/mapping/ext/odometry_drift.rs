@@ -469,13 +469,17 @@ mod tests {
                 0.0,
                 gate_rad,
             )
+            .map(|seen| (seen.deviation_rad, seen.sigma_rad, seen.beyond_axis_gate))
         };
         assert_eq!(deviation(&drift, 40, AXIS_GATE_RAD), None);
         assert_eq!(deviation(&drift, 6, drift.axis_gate_rad()), None);
         assert_eq!(drift.axis_gate_rad(), WIDE_GATE_MAX_RAD);
+        let (innovation, sigma, beyond) = deviation(&drift, 40, drift.axis_gate_rad()).unwrap();
+        assert!(beyond, "the widened gate took the line");
+        assert!(drift.update(innovation, sigma).taken);
         for _ in 0..10 {
             drift.predict(0.015, 0.0);
-            let (innovation, sigma) = deviation(&drift, 40, drift.axis_gate_rad()).unwrap();
+            let (innovation, sigma, _) = deviation(&drift, 40, drift.axis_gate_rad()).unwrap();
             assert!(drift.update(innovation, sigma).taken);
         }
         let off_deg = (drift.heading_error_rad() - error_rad).to_degrees();

@@ -272,6 +272,17 @@ pub fn deviation_from_axes(direction_rad: f64, axis_rad: f64) -> f64 {
     }
 }
 
+/// What the windows' lines say of the heading ([`axis_deviation`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AxisDeviation {
+    /// The lines' mean deviation from the nearer axis, radians.
+    pub deviation_rad: f64,
+    /// Its standard deviation, radians.
+    pub sigma_rad: f64,
+    /// Whether a line beyond [`AXIS_GATE_RAD`] counted (a widened gate took it).
+    pub beyond_axis_gate: bool,
+}
+
 /// The heading observation the windows' lines give: their deviations from the axes (lines in
 /// the odometry's frame, turned into the map by `odometry_to_map_rad`), those that count
 /// ([`counts_within`] `gate_rad`), averaged with weights 1/σ²; with their standard deviation.
@@ -283,16 +294,21 @@ pub fn axis_deviation(
     odometry_to_map_rad: f64,
     axis_rad: f64,
     gate_rad: f64,
-) -> Option<(f64, f64)> {
-    let (sum, weight) = lines.fold((0.0, 0.0), |(sum, weight), line| {
-        let d = deviation_from_axes(line.direction_rad + odometry_to_map_rad, axis_rad);
-        if !counts_within(&line, d, gate_rad) {
-            return (sum, weight);
-        }
-        let w = 1.0 / (line.sigma_rad * line.sigma_rad * line.readings as f64);
-        (sum + d * w, weight + w)
-    });
-    (weight > 0.0).then(|| (sum / weight, (1.0 / weight).sqrt()))
+) -> Option<AxisDeviation> {
+    let (sum, weight, beyond_axis_gate) =
+        lines.fold((0.0, 0.0, false), |(sum, weight, beyond), line| {
+            let d = deviation_from_axes(line.direction_rad + odometry_to_map_rad, axis_rad);
+            if !counts_within(&line, d, gate_rad) {
+                return (sum, weight, beyond);
+            }
+            let w = 1.0 / (line.sigma_rad * line.sigma_rad * line.readings as f64);
+            (sum + d * w, weight + w, beyond || d.abs() > AXIS_GATE_RAD)
+        });
+    (weight > 0.0).then(|| AxisDeviation {
+        deviation_rad: sum / weight,
+        sigma_rad: (1.0 / weight).sqrt(),
+        beyond_axis_gate,
+    })
 }
 
 /// Whether `line`, `deviation_rad` from the nearer axis, counts within `gate_rad`: within
@@ -343,10 +359,10 @@ mod tests {
         // under the 0.3° floor.
         assert!(0.005 / 1.1f64.sqrt() < MIN_SIGMA_RAD);
         assert!((fit.sigma_rad - MIN_SIGMA_RAD).abs() < 1e-12, "{fit:?}");
-        let (d, _) = axis_deviation([fit].into_iter(), 0.0, 0.0, AXIS_GATE_RAD).unwrap();
-        assert!((d - turn).abs() < 1e-9);
-        let (d, _) = axis_deviation([fit].into_iter(), -turn, 0.0, AXIS_GATE_RAD).unwrap();
-        assert!(d.abs() < 1e-9);
+        let seen = axis_deviation([fit].into_iter(), 0.0, 0.0, AXIS_GATE_RAD).unwrap();
+        assert!((seen.deviation_rad - turn).abs() < 1e-9 && !seen.beyond_axis_gate);
+        let seen = axis_deviation([fit].into_iter(), -turn, 0.0, AXIS_GATE_RAD).unwrap();
+        assert!(seen.deviation_rad.abs() < 1e-9);
     }
 
     #[test]

@@ -443,9 +443,9 @@ pub struct HeadingObservation {
     /// The sensors whose windows gave a line this step (a line beyond the gate counts for
     /// nothing).
     pub sensors: Vec<usize>,
-    /// The gate, degrees, when the heading's uncertainty widened it beyond 5° (after a turn,
-    /// lines of 12 readings or more up to three of its standard deviations off, at most 20°).
-    /// Absent at 5°.
+    /// The gate, degrees, when a line beyond 5° counted through it: the heading's uncertainty
+    /// widens it (after a turn, lines of 12 readings or more up to three of its standard
+    /// deviations off, at most 20°). Absent when every line that counted was within 5°.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub widened_gate_deg: Option<f64>,
 }

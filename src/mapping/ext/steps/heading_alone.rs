@@ -8,13 +8,10 @@ use super::pose_correction::{odometry_increment, readings_trace, sigmas};
 use crate::geometry::Pose;
 use crate::mapping::ext::odometry_drift::{DriftUpdate, OdometryDrift};
 use crate::mapping::ext::pose_correction::MIN_WALL_LENGTH_M;
-use crate::mapping::ext::rectilinear_heading::{
-    axis_deviation, walls_axis, HeadingLines, AXIS_GATE_RAD,
-};
+use crate::mapping::ext::rectilinear_heading::{axis_deviation, walls_axis, HeadingLines};
 use crate::mapping::model::ext_trace::{
     CorrectionRefusal, CorrectionTrace, DriftEstimate, HeadingObservation, ObservedDirection,
 };
-use crate::mapping::model::map::SegmentKind;
 use crate::mapping::Mapper;
 use crate::run::Snapshot;
 use nalgebra::Matrix3;
@@ -26,8 +23,8 @@ struct LinesUpdate {
     update: DriftUpdate,
     /// The lines' standard deviation, radians.
     sigma_rad: f64,
-    /// How far from the axis a line could lie and count, radians.
-    gate_rad: f64,
+    /// The gate, radians, when a line beyond [`AXIS_GATE_RAD`] counted through it.
+    widened_gate_rad: Option<f64>,
 }
 
 impl Mapper {
@@ -82,8 +79,7 @@ impl Mapper {
                 deviation_after_deg: lines_update.update.innovation_after_rad.to_degrees(),
                 sigma_deg: lines_update.sigma_rad.to_degrees(),
                 sensors: lines.iter().map(|(s, _)| *s).collect(),
-                widened_gate_deg: (lines_update.gate_rad > AXIS_GATE_RAD)
-                    .then(|| lines_update.gate_rad.to_degrees()),
+                widened_gate_deg: lines_update.widened_gate_rad.map(f64::to_degrees),
             });
         self.pose_belief.covariance = prior;
         // With no readings matched (the settled windows), there is nothing to re-associate.
@@ -180,13 +176,11 @@ impl Mapper {
                 let rotation_rad = drift.expected_rotation_rad();
                 let gate_rad = drift.axis_gate_rad();
                 let fits = lines.iter().map(|(_, l)| *l);
-                axis_deviation(fits, rotation_rad, axis_ref_rad, gate_rad).map(
-                    |(innovation, sigma)| LinesUpdate {
-                        update: drift.update(innovation, sigma),
-                        sigma_rad: sigma,
-                        gate_rad,
-                    },
-                )
+                axis_deviation(fits, rotation_rad, axis_ref_rad, gate_rad).map(|seen| LinesUpdate {
+                    update: drift.update(seen.deviation_rad, seen.sigma_rad),
+                    sigma_rad: seen.sigma_rad,
+                    widened_gate_rad: seen.beyond_axis_gate.then_some(gate_rad),
+                })
             }
         };
         self.pose_belief.drift.note_significance();
@@ -204,9 +198,7 @@ impl Mapper {
     /// correction may match ([`MIN_WALL_LENGTH_M`] or longer).
     fn confirmed_wall_directions(&self) -> Vec<(f64, f64)> {
         self.map
-            .segments
-            .iter()
-            .filter(|s| s.kind == SegmentKind::Fitted && self.map.is_confirmed(s.id))
+            .confirmed_fitted()
             .map(|s| {
                 let d = s.b.point - s.a.point;
                 (d.y.atan2(d.x), d.norm())

@@ -138,6 +138,7 @@ impl Mapper {
             axis_rad,
             AXIS_GATE_RAD,
         )
+        .map(|seen| (seen.deviation_rad, seen.sigma_rad))
     }
 
     /// The heading observation at `estimate`: zero deviation expected, the deviation predicted;

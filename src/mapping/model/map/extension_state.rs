@@ -100,14 +100,20 @@ impl Map {
         self.plane_support.is_confirmed(id)
     }
 
+    /// The confirmed fitted segments (walls, not connecting segments), in id order.
+    pub fn confirmed_fitted(&self) -> impl Iterator<Item = &Segment> {
+        self.segments
+            .iter()
+            .map(|s| s.as_ref())
+            .filter(|s| s.kind == SegmentKind::Fitted && self.is_confirmed(s.id))
+    }
+
     /// How many laps of its map the robot drove: the distance driven ([`Map::travelled_m`])
     /// over the perimeter of the confirmed fitted walls' bounding box (docs/algorithm.md §8.17,
     /// "runs that come back"); `None` without a confirmed wall.
     pub fn laps_driven(&self) -> Option<f64> {
         let (low, high) = self
-            .segments
-            .iter()
-            .filter(|s| s.kind == SegmentKind::Fitted && self.is_confirmed(s.id))
+            .confirmed_fitted()
             .flat_map(|s| [s.a.point, s.b.point])
             .fold(None, |bounds: Option<(Point, Point)>, p| {
                 Some(bounds.map_or((p, p), |(low, high)| (low.inf(&p), high.sup(&p))))

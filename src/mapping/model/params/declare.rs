@@ -522,7 +522,8 @@ parameters! {
     drift_per_turn_pct: f64, file drift_per_turn_pct: f64, number,
         paper 0.0, extended 0.0, needs ["heading_correction"];
     /// Distance driven over which a sensor's wall readings, laid out by the odometry, form a
-    /// line whose deviation from the map's nearer axis (within 5°) observes heading
+    /// line whose deviation from the map's nearer axis (within 5°, or the drift filter's
+    /// widened gate) observes heading
     /// (docs/algorithm.md §8.17); 0 is off. Acts only with `pose_correction` or
     /// `heading_correction`.
     heading_window_m: f64, file heading_window: f64, length,
