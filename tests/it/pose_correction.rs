@@ -619,6 +619,17 @@ fn a_drifting_run_that_comes_back_to_its_walls_is_mapped_again_with_its_pose_cor
     assert!(driven >= 3.0, "{driven} laps");
     let second = first.second_pass_params().expect("the bad drift is found");
     assert!(second.pose_correction);
+    // With `revisit_laps` 0 the same laps are mapped again with the heading alone.
+    let never = Params {
+        revisit_laps: 0,
+        ..Params::extended()
+    };
+    let mut first_never = Mapper::new(never, laps.layout.clone(), laps.sensor);
+    for s in &laps.snapshots {
+        first_never.step(s);
+    }
+    let heading_only = first_never.second_pass_params().expect("the same drift");
+    assert!(!heading_only.pose_correction);
     let position_rms = |params: Params| {
         let mut mapper = Mapper::new(params, laps.layout.clone(), laps.sensor);
         let squares: f64 = laps

@@ -323,6 +323,10 @@ pub fn axis_deviation(
 /// assert!(!counts_within(&line(6), deg(8.0), deg(15.0)));
 /// assert!(counts_within(&line(12), deg(-8.0), deg(15.0)));
 /// assert!(!counts_within(&line(40), deg(16.0), deg(15.0)));
+/// // A wall 25° or 45° off the axes never counts, the gate at its widest (20°).
+/// use sonarmap::mapping::ext::rectilinear_heading::WIDE_GATE_MAX_RAD;
+/// assert!(!counts_within(&line(40), deg(25.0), WIDE_GATE_MAX_RAD));
+/// assert!(!counts_within(&line(40), deg(45.0), WIDE_GATE_MAX_RAD));
 /// ```
 pub fn counts_within(line: &LineFit, deviation_rad: f64, gate_rad: f64) -> bool {
     let off_rad = deviation_rad.abs();

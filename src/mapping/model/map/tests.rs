@@ -35,16 +35,21 @@ fn lookups_find_every_segment_through_many_removals_and_pushes() {
 #[test]
 fn the_laps_driven_are_the_distance_over_the_confirmed_walls_perimeter() {
     use crate::mapping::model::plane_supports::{PlaneSupport, CONFIRMING_SNAPSHOTS};
-    // Walls along two sides of a 4 m × 2 m room (perimeter 12 m) confirmed, and a tentative
-    // one outside it; 30 m driven: 2.5 laps.
+    // Walls along two sides of a 4 m × 2 m room (perimeter 12 m) confirmed, a tentative one
+    // outside it and a confirmed connecting segment outside it; 30 m driven: 2.5 laps.
+    let connecting = Segment {
+        kind: SegmentKind::Interpolated,
+        ..test_wall(3, (-5.0, -5.0), (-4.0, -5.0), 1.0)
+    };
     let mut map = Map::from_segments(vec![
         test_wall(0, (0.0, 0.0), (4.0, 0.0), 1.0),
         test_wall(1, (4.0, 0.0), (4.0, 2.0), 1.0),
         test_wall(2, (9.0, 9.0), (10.0, 9.0), 1.0),
+        connecting,
     ]);
     map.travelled_m = 30.0;
     assert_eq!(map.laps_driven(), None);
-    for id in [0, 1] {
+    for id in [0, 1, 3] {
         let support = PlaneSupport {
             snapshots: CONFIRMING_SNAPSHOTS,
             ..Default::default()
