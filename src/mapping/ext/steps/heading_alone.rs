@@ -23,7 +23,8 @@ struct LinesUpdate {
     update: DriftUpdate,
     /// The lines' standard deviation, radians.
     sigma_rad: f64,
-    /// The gate, radians, when a line beyond [`AXIS_GATE_RAD`] counted through it.
+    /// The gate, radians, when a line beyond
+    /// [`crate::mapping::ext::rectilinear_heading::AXIS_GATE_RAD`] counted through it.
     widened_gate_rad: Option<f64>,
 }
 
