@@ -347,6 +347,7 @@ impl Mapper {
     fn begin_step(&mut self, snapshot: &Snapshot, trace: &mut StepTrace) {
         let index = self.next_snapshot;
         self.next_snapshot += 1;
+        self.map.note_driven(&snapshot.pose);
         if let Some(last) = self.last_pose {
             let step_m = last.distance_to(&snapshot.pose);
             self.map.travelled_m += step_m;

@@ -146,6 +146,10 @@ pub struct Map {
     /// steps summed (point memory's span, docs/algorithm.md §8.1).
     #[serde(default)]
     pub travelled_m: f64,
+    /// The bounding box of the poses driven so far, lowest and highest corner (the laps of
+    /// [`Map::laps_driven`]); `None` before the first snapshot.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub driven_box: Option<(Point, Point)>,
     /// The poses of the last snapshots, oldest first, as many as point memory spans (the plane
     /// test of a remembered reading needs its sensor's place; docs/algorithm.md §8.7).
     #[serde(default)]
@@ -223,6 +227,7 @@ impl PartialEq for Map {
             && self.faces == other.faces
             && self.memory == other.memory
             && self.travelled_m == other.travelled_m
+            && self.driven_box == other.driven_box
             && self.recent_poses == other.recent_poses
             && self.recent_reading_poses == other.recent_reading_poses
             && self.features == other.features

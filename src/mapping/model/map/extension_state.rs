@@ -109,17 +109,24 @@ impl Map {
     }
 
     /// How many laps of its map the robot drove: the distance driven ([`Map::travelled_m`])
-    /// over the perimeter of the confirmed fitted walls' bounding box (docs/algorithm.md §8.17,
-    /// "runs that come back"); `None` without a confirmed wall.
+    /// over the larger of two perimeters, the confirmed fitted walls' bounding box's and the
+    /// driven poses' ([`Map::driven_box`]), so that walls confirmed along a short stretch of a
+    /// long pass do not count laps never driven (docs/algorithm.md §8.17, "runs that come
+    /// back"); `None` without a confirmed wall.
     pub fn laps_driven(&self) -> Option<f64> {
-        let (low, high) = self
-            .confirmed_fitted()
-            .flat_map(|s| [s.a.point, s.b.point])
-            .fold(None, |bounds: Option<(Point, Point)>, p| {
-                Some(bounds.map_or((p, p), |(low, high)| (low.inf(&p), high.sup(&p))))
-            })?;
-        let perimeter_m = 2.0 * ((high.x - low.x) + (high.y - low.y));
+        let walls = bounding_box(self.confirmed_fitted().flat_map(|s| [s.a.point, s.b.point]))?;
+        let perimeter_m = |(low, high): (Point, Point)| 2.0 * ((high.x - low.x) + (high.y - low.y));
+        let perimeter_m = perimeter_m(walls).max(self.driven_box.map_or(0.0, perimeter_m));
         (perimeter_m > 0.0).then(|| self.travelled_m / perimeter_m)
+    }
+
+    /// Widens [`Map::driven_box`] to hold `pose`.
+    pub(crate) fn note_driven(&mut self, pose: &Pose) {
+        let p = pose.position();
+        self.driven_box = Some(
+            self.driven_box
+                .map_or((p, p), |(low, high)| (low.inf(&p), high.sup(&p))),
+        );
     }
 
     /// The confirmed point features ([`PointFeature::is_confirmed`]), by id.
@@ -179,4 +186,13 @@ impl Map {
         self.feature_index.insert(f.id, feature_filing(&f));
         self.features[i] = f;
     }
+}
+
+/// The lowest and highest corners of `points`' bounding box; `None` without a point.
+fn bounding_box(points: impl Iterator<Item = Point>) -> Option<(Point, Point)> {
+    points.fold(None, |bounds, p| {
+        Some(bounds.map_or((p, p), |(low, high): (Point, Point)| {
+            (low.inf(&p), high.sup(&p))
+        }))
+    })
 }

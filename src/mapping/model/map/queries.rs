@@ -85,6 +85,7 @@ impl Map {
             faces: self.faces.clone(),
             memory: self.memory.clone(),
             travelled_m: self.travelled_m,
+            driven_box: self.driven_box,
             recent_poses: self.recent_poses.clone(),
             recent_reading_poses: self.recent_reading_poses.clone(),
             features: self.features.clone(),

@@ -33,7 +33,7 @@ fn lookups_find_every_segment_through_many_removals_and_pushes() {
 }
 
 #[test]
-fn the_laps_driven_are_the_distance_over_the_confirmed_walls_perimeter() {
+fn the_laps_driven_are_the_distance_over_the_larger_of_the_walls_and_the_paths_perimeters() {
     use crate::mapping::model::plane_supports::{PlaneSupport, CONFIRMING_SNAPSHOTS};
     // Walls along two sides of a 4 m × 2 m room (perimeter 12 m) confirmed, a tentative one
     // outside it and a confirmed connecting segment outside it; 30 m driven: 2.5 laps.
@@ -57,4 +57,11 @@ fn the_laps_driven_are_the_distance_over_the_confirmed_walls_perimeter() {
         map.plane_support.insert(id, support);
     }
     assert_eq!(map.laps_driven(), Some(2.5));
+    // Poses driven inside the room leave the walls' perimeter the larger one.
+    map.note_driven(&Pose::new(1.0, 0.5, 0.0));
+    map.note_driven(&Pose::new(3.0, 1.5, 0.0));
+    assert_eq!(map.laps_driven(), Some(2.5));
+    // A pass 10 m along and 1 m across (perimeter 22 m) counts over its own box: 30/22 laps.
+    map.note_driven(&Pose::new(11.0, 0.5, 0.0));
+    assert_eq!(map.laps_driven(), Some(30.0 / 22.0));
 }
