@@ -320,6 +320,9 @@ impl Mapper {
         if mended.is_some() {
             self.hook_calibrated_trace(raw_odometry, &mut trace);
         }
+        if self.hook_stood_still(&raw_odometry, &mut trace) {
+            return trace;
+        }
         let mut buffers = self.buffers.take().unwrap_or_default();
         self.readings_and_clusters(snapshot, &mut trace, &mut buffers);
         self.hook_readings_settled(&buffers);

@@ -24,5 +24,6 @@ mod pose_correction;
 mod scene;
 mod seen_through;
 mod sim;
+mod standstill;
 mod suite;
 mod support;

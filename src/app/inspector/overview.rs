@@ -22,6 +22,7 @@ pub(super) fn nothing_ui(ui: &mut egui::Ui, ctx: &InspectCtx, commands: &mut Vec
         .weak(),
     );
     warnings_ui(ui, ctx);
+    standstill_ui(ui, ctx);
     super::correction::correction_ui(ui, ctx, commands);
     super::extensions::extensions_ui(ui, ctx);
 }
@@ -48,6 +49,18 @@ fn warnings_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
     }
 }
 
+/// A step that stood still (docs/algorithm.md §8.19): why it mapped nothing.
+fn standstill_ui(ui: &mut egui::Ui, ctx: &InspectCtx) {
+    if let Some(still) = &ctx.view.trace.stood_still {
+        ui.label(RichText::new(format!(
+            "stood still since snapshot {} (moved {}, turned {:.2}°): readings set aside, no new view (standstill)",
+            still.since_snapshot,
+            ctx.len(still.moved_m),
+            still.turned_rad.to_degrees()
+        )));
+    }
+}
+
 pub(super) fn robot_ui(ui: &mut egui::Ui, ctx: &InspectCtx, commands: &mut Vec<Command>) {
     heading(ui, "Robot");
     if let Some(pose) = ctx.view.trace.pose {
@@ -63,6 +76,7 @@ pub(super) fn robot_ui(ui: &mut egui::Ui, ctx: &InspectCtx, commands: &mut Vec<C
         });
     }
     warnings_ui(ui, ctx);
+    standstill_ui(ui, ctx);
     super::correction::correction_ui(ui, ctx, commands);
 }
 

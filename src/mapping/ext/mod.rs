@@ -18,13 +18,14 @@ pub mod rectilinear_heading;
 pub mod round_reflectors;
 pub mod seen_through_ends;
 pub mod settled_walls;
+pub mod standstill;
 mod steps;
 
 /// One extension: the parameter that switches it on, its section of docs/algorithm.md, and
 /// where the idea comes from (as docs/algorithm.md §7 and §8 cite it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Extension {
-    /// Its parameter (a flag, or a count that is off at 0).
+    /// Its parameter (a flag, or a count or a length that is off at 0).
     pub parameter: &'static str,
     /// Its section of docs/algorithm.md.
     pub section: &'static str,
@@ -53,6 +54,11 @@ pub const ALL: &[Extension] = &[
         parameter: "revisit_laps",
         section: "8.17",
         source: "Leonard and Durrant-Whyte 1991, Crowley 1989: the pose corrected against the map's walls, on runs that come back to them",
+    },
+    Extension {
+        parameter: "standstill",
+        section: "8.19",
+        source: "Grisetti, Stachniss and Burgard 2007 (GMapping): a scan is taken once the robot has moved or turned (linearUpdate, angularUpdate)",
     },
     Extension {
         parameter: "explain_readings",

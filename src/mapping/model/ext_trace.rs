@@ -374,6 +374,18 @@ pub enum CorrectionRefusal {
     NoBetter,
 }
 
+/// A step whose robot stood still since the last mapped snapshot: its readings were set aside
+/// (docs/algorithm.md §8.19).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StandstillTrace {
+    /// The last snapshot that was mapped.
+    pub since_snapshot: usize,
+    /// How far the odometry moved since it, metres.
+    pub moved_m: f64,
+    /// How far it turned since it, radians (absolute).
+    pub turned_rad: f64,
+}
+
 /// A step's pose correction against the confirmed map (docs/algorithm.md §8.17).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CorrectionTrace {

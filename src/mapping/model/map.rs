@@ -150,6 +150,10 @@ pub struct Map {
     /// [`Map::laps_driven`]); `None` before the first snapshot.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub driven_box: Option<(Point, Point)>,
+    /// The last mapped snapshot and its odometry pose, while standstill is on (a snapshot
+    /// that stood still since is set aside, docs/algorithm.md §8.19).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub last_mapped: Option<(usize, Pose)>,
     /// The poses of the last snapshots, oldest first, as many as point memory spans (the plane
     /// test of a remembered reading needs its sensor's place; docs/algorithm.md §8.7).
     #[serde(default)]
@@ -228,6 +232,7 @@ impl PartialEq for Map {
             && self.memory == other.memory
             && self.travelled_m == other.travelled_m
             && self.driven_box == other.driven_box
+            && self.last_mapped == other.last_mapped
             && self.recent_poses == other.recent_poses
             && self.recent_reading_poses == other.recent_reading_poses
             && self.features == other.features

@@ -14,6 +14,7 @@ mod point_features;
 mod point_memory;
 mod pose_correction;
 mod settled_walls;
+mod standstill;
 
 use crate::mapping::model::map::{EndPoint, SegmentId, SupportPoint};
 use crate::mapping::model::trace::{NewSegmentTrace, StepTrace};

@@ -86,6 +86,7 @@ impl Map {
             memory: self.memory.clone(),
             travelled_m: self.travelled_m,
             driven_box: self.driven_box,
+            last_mapped: self.last_mapped,
             recent_poses: self.recent_poses.clone(),
             recent_reading_poses: self.recent_reading_poses.clone(),
             features: self.features.clone(),

@@ -171,13 +171,16 @@ macro_rules! set_number {
     };
 }
 
-/// Whether a field is "on" (a set flag, a count above 0); other kinds never are.
+/// Whether a field is "on" (a set flag, a count or a length above 0); other kinds never are.
 macro_rules! is_on {
     (flag, $v:expr) => {
         $v
     };
     (count, $v:expr) => {
         $v > 0
+    };
+    (length, $v:expr) => {
+        $v > 0.0
     };
     ($other:ident, $v:expr) => {
         false
@@ -317,7 +320,7 @@ macro_rules! parameters {
                 }
             }
 
-            /// Whether parameter `name` is on (a set flag, a count above 0).
+            /// Whether parameter `name` is on (a set flag, a count or a length above 0).
             pub fn is_on(&self, name: &str) -> bool {
                 match name {
                     $( stringify!($file) => is_on!($conv, self.$field), )*
@@ -379,6 +382,11 @@ parameters! {
     /// `memory_snapshots` alone (docs/algorithm.md §8.1).
     memory_travel_m: f64, file memory_travel: f64, length,
         paper inches(100.0), extended inches(100.0), needs [];
+    /// A snapshot whose odometry pose lies within this distance of the last mapped snapshot's
+    /// (and turned less than 0.1°) adds no view: the robot stood still, and its readings are
+    /// set aside, not mapped (docs/algorithm.md §8.19); 0: every snapshot is mapped.
+    standstill_m: f64, file standstill: f64, length,
+        paper 0.0, extended 0.001, needs [];
     /// Link distance of remembered points (§8.1).
     memory_gap_m: f64, file memory_gap: f64, length,
         paper inches(12.0), extended inches(12.0), needs [];

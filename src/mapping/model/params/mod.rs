@@ -183,6 +183,7 @@ impl Params {
         non_negative("memory_min_span", self.memory_min_span_m)?;
         non_negative("confirm_spacing", self.confirm_spacing_m)?;
         non_negative("heading_window", self.heading_window_m)?;
+        non_negative("standstill", self.standstill_m)?;
         if !(self.orientation_rad.is_finite()
             && (0.0..=std::f64::consts::FRAC_PI_2).contains(&self.orientation_rad))
         {

@@ -69,6 +69,10 @@ pub struct StepTrace {
     /// free-space sweep of §8.6 (docs/algorithm.md §8.12).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub settled: Vec<SettledTrace>,
+    /// The robot stood still since the last mapped snapshot, and this step's readings were set
+    /// aside (docs/algorithm.md §8.19).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stood_still: Option<crate::mapping::model::ext_trace::StandstillTrace>,
     /// The pose correction against the confirmed map (docs/algorithm.md §8.17).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub correction: Option<crate::mapping::model::ext_trace::CorrectionTrace>,
