@@ -80,7 +80,12 @@ pub fn decisions_ui(
         .id_salt("decisions_scroll")
         .show(ui, |ui| {
             if decisions.is_empty() {
-                ui.label(RichText::new("no segment was fitted in this snapshot").weak());
+                let why = if ctx.view.trace.stood_still.is_some() {
+                    "the robot stood still: this snapshot's readings were set aside (standstill, §8.19)"
+                } else {
+                    "no segment was fitted in this snapshot"
+                };
+                ui.label(RichText::new(why).weak());
             }
             for d in decisions.iter().filter(|d| filter.keeps(d, ctx.truth)) {
                 let selected = matches!(selection, SceneId::NewSegment(i) if i == d.new_segment);

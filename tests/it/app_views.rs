@@ -364,3 +364,41 @@ fn the_inspector_says_when_a_plane_support_was_the_same_view() {
         .query_by_label_contains("plane support not counted")
         .is_some());
 }
+
+/// A step that stood still says so in the decisions and the inspector (docs/algorithm.md
+/// §8.19, `standstill`).
+#[test]
+fn the_inspector_says_when_the_robot_stood_still() {
+    use sonarmap::mapping::Params;
+    let mut run = super::support::pioneer_corridor_crawl(2);
+    run.snapshots.truncate(30);
+    // Snapshot 20 read again five times from the same pose: snapshots 21–25 stand still.
+    let standing = run.snapshots[20].clone();
+    let later: Vec<_> = run.snapshots.split_off(21);
+    for k in 1..=5 {
+        run.snapshots.push(sonarmap::run::Snapshot {
+            t: standing.t + 0.3 * k as f64,
+            ..standing.clone()
+        });
+    }
+    run.snapshots.extend(
+        later
+            .into_iter()
+            .map(|s| sonarmap::run::Snapshot { t: s.t + 1.5, ..s }),
+    );
+    let mut h = harness(SonarApp::new(run, None));
+    settle(&mut h);
+    h.state_mut().push(Command::SetParams(Params::extended()));
+    settle(&mut h);
+    h.state_mut().push(Command::Seek(23));
+    h.run();
+    assert!(h
+        .query_by_label_contains("stood still since snapshot 20")
+        .is_some());
+    assert!(h
+        .query_by_label_contains("the robot stood still: this snapshot's readings were set aside")
+        .is_some());
+    h.state_mut().push(Command::Seek(27));
+    h.run();
+    assert!(h.query_by_label_contains("stood still since").is_none());
+}
