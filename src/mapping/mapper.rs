@@ -305,6 +305,9 @@ impl Mapper {
         snapshot: &Snapshot,
         recorded: Option<&[RecordedDecision]>,
     ) -> StepTrace {
+        if let Some(still) = self.hook_stood_still(snapshot) {
+            return still;
+        }
         let mended = self.hook_calibrated_snapshot(snapshot);
         let raw_odometry = snapshot.pose;
         let snapshot = mended.as_ref().unwrap_or(snapshot);
@@ -319,9 +322,6 @@ impl Mapper {
         self.begin_step(snapshot, &mut trace);
         if mended.is_some() {
             self.hook_calibrated_trace(raw_odometry, &mut trace);
-        }
-        if self.hook_stood_still(&raw_odometry, &mut trace) {
-            return trace;
         }
         let mut buffers = self.buffers.take().unwrap_or_default();
         self.readings_and_clusters(snapshot, &mut trace, &mut buffers);
@@ -380,12 +380,16 @@ impl Mapper {
             self.step_reading_poses.clear();
         }
         self.hook_step_started(index);
-        if snapshot.ranges_m.len() != self.layout.len() {
-            trace.warnings.push(Warning::RangeCount {
-                given: snapshot.ranges_m.len(),
-                expected: self.layout.len(),
-            });
-        }
+        trace.warnings.extend(self.range_count_warning(snapshot));
+    }
+
+    /// The warning of §4 for a snapshot with another number of ranges than the layout has
+    /// sensors.
+    pub(super) fn range_count_warning(&self, snapshot: &Snapshot) -> Option<Warning> {
+        (snapshot.ranges_m.len() != self.layout.len()).then(|| Warning::RangeCount {
+            given: snapshot.ranges_m.len(),
+            expected: self.layout.len(),
+        })
     }
 
     /// Point memory's linkage (§8.1) forgets what it had linked: the map it linked is replaced.

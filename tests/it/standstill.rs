@@ -2,6 +2,7 @@
 //! corridor stand-in with pauses.
 
 use super::support::{layout_of, pioneer_corridor_crawl, snapshot_at_origin};
+use proptest::prelude::*;
 use sonarmap::geometry::Pose;
 use sonarmap::mapping::{Map, Mapper, Params};
 use sonarmap::run::Run;
@@ -122,4 +123,35 @@ fn the_stand_in_with_pauses_maps_as_without_them_but_not_in_paper() {
         &map_of(&paused, &paper),
         &map_of(&run, &paper)
     ));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(12))]
+    /// A pause anywhere in a generated lap run, with or without drift, leaves `extended`'s map
+    /// as without it, and every paused snapshot is set aside with nothing mapped.
+    #[test]
+    fn a_pause_anywhere_in_a_generated_run_leaves_its_map_as_without_it(
+        kind in prop::sample::select(sonarmap::sim::SceneKind::ALL.to_vec()),
+        seed in 0u64..10_000,
+        at in 0usize..300,
+        pause in 1usize..60,
+        drifts in any::<bool>(),
+    ) {
+        let conditions = sonarmap::suite::Conditions {
+            drift: drifts.then_some(sonarmap::sim::OdometryError::MILD),
+            ..sonarmap::suite::Conditions::PLAIN
+        };
+        let run = sonarmap::soak::family_run_under(kind, seed, 300, &conditions);
+        let paused = with_pauses(&run, &[at], pause);
+        let extended = Params::extended();
+        prop_assert!(same_geometry(&map_of(&paused, &extended), &map_of(&run, &extended)));
+        let mut mapper = Mapper::new(extended, paused.layout.clone(), paused.sensor);
+        for (k, snapshot) in paused.snapshots.iter().enumerate() {
+            let trace = mapper.step(snapshot);
+            if (at + 1..=at + pause).contains(&k) {
+                prop_assert!(trace.stood_still.is_some_and(|s| s.since_snapshot <= at), "{}", k);
+                prop_assert!(trace.readings.is_empty() && trace.decisions.is_empty());
+            }
+        }
+    }
 }

@@ -41,6 +41,9 @@ fn refusal_text(refusal: &CorrectionRefusal) -> String {
         CorrectionRefusal::NoBetter => {
             "the corrected pose explained the readings no better than the prediction".to_string()
         }
+        CorrectionRefusal::StoodStill => {
+            "the robot stood still: the pose stays where the last mapped step put it".to_string()
+        }
     }
 }
 

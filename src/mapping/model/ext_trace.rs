@@ -372,6 +372,9 @@ pub enum CorrectionRefusal {
     },
     /// The corrected pose explained the readings no better than the prediction.
     NoBetter,
+    /// The robot stood still since the last mapped snapshot: its pose stays where that step
+    /// put it (docs/algorithm.md §8.19).
+    StoodStill,
 }
 
 /// A step whose robot stood still since the last mapped snapshot: its readings were set aside
