@@ -61,8 +61,9 @@ impl Mapper {
         }
         let mut sigma = sigmas(&self.pose_belief.covariance);
         let tracked_rad = self.params.tracked_heading_error(self.next_snapshot - 1);
+        // As the steps that map record it: the heading alone's, or the calibrated pass's.
         let drift = (self.params.corrects_heading_alone()
-            || self.params.drift_calibration().is_some())
+            || self.params.corrects_calibrated_odometry())
         .then(|| self.drift_estimate(tracked_rad));
         if let Some(d) = &drift {
             sigma[2] = d.sigma_deg;

@@ -122,11 +122,7 @@ impl Map {
 
     /// Widens [`Map::driven_box`] to hold `pose`.
     pub(crate) fn note_driven(&mut self, pose: &Pose) {
-        let p = pose.position();
-        self.driven_box = Some(
-            self.driven_box
-                .map_or((p, p), |(low, high)| (low.inf(&p), high.sup(&p))),
-        );
+        self.driven_box = Some(grown_box(self.driven_box, pose.position()));
     }
 
     /// The confirmed point features ([`PointFeature::is_confirmed`]), by id.
@@ -190,9 +186,10 @@ impl Map {
 
 /// The lowest and highest corners of `points`' bounding box; `None` without a point.
 fn bounding_box(points: impl Iterator<Item = Point>) -> Option<(Point, Point)> {
-    points.fold(None, |bounds, p| {
-        Some(bounds.map_or((p, p), |(low, high): (Point, Point)| {
-            (low.inf(&p), high.sup(&p))
-        }))
-    })
+    points.fold(None, |bounds, p| Some(grown_box(bounds, p)))
+}
+
+/// The box `bounds` (lowest and highest corners; none yet) widened to hold `p`.
+fn grown_box(bounds: Option<(Point, Point)>, p: Point) -> (Point, Point) {
+    bounds.map_or((p, p), |(low, high)| (low.inf(&p), high.sup(&p)))
 }
