@@ -192,14 +192,9 @@ impl Mapper {
     }
 
     /// Whether this pass drove at least `revisit_laps` laps of its map
-    /// ([`Map::laps_driven`]; docs/algorithm.md §8.17, "runs that come back").
+    /// ([`Params::came_back`]).
     fn came_back(&self) -> bool {
-        let laps = self.params.revisit_laps;
-        laps > 0
-            && self
-                .map
-                .laps_driven()
-                .is_some_and(|driven| driven >= laps as f64)
+        self.params.came_back(self.map.laps_driven())
     }
 
     /// Index the next step will get.

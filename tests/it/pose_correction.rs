@@ -428,6 +428,54 @@ fn the_inspector_maps_a_drifting_run_again_from_the_drift_it_shows() {
     super::support::settle(&mut h);
     assert_calibrated(h.state().params());
     assert!(h.state().params().heading_track.is_none());
+    // A single pass of the corridor, under one lap of its map: the heading alone.
+    assert!(!h.state().params().pose_correction);
+}
+
+/// On a run that came back to its walls by the step shown (`revisit_laps` laps of its map),
+/// "Map again from this drift" also corrects the pose against the map, as the second pass of
+/// `calibrate_first` does (docs/algorithm.md §8.17, "runs that come back"); at a step before the
+/// robot had driven those laps, it does not.
+#[test]
+fn the_inspector_maps_a_run_that_came_back_again_with_its_pose_corrected() {
+    use sonarmap::sim::Pace;
+    use sonarmap::soak::family_run_under;
+    use sonarmap::suite::Conditions;
+    let conditions = Conditions {
+        drift: Some(OdometryError::BAD),
+        pace: Pace::PLAN,
+    };
+    let laps = family_run_under(SceneKind::Room, 1, 1500, &conditions);
+    let once = Params {
+        calibrate_first: false,
+        ..Params::extended()
+    };
+    let mut mapper = Mapper::new(once.clone(), laps.layout.clone(), laps.sensor);
+    let driven: Vec<Option<f64>> = laps
+        .snapshots
+        .iter()
+        .map(|s| {
+            mapper.step(s);
+            mapper.map().laps_driven()
+        })
+        .collect();
+    let last = laps.snapshots.len() - 1;
+    assert!(driven[last].is_some_and(|l| l >= 3.0), "{:?}", driven[last]);
+    // The last step with a drift estimate shown before the third lap.
+    let early = (0..last)
+        .rev()
+        .find(|&k| driven[k].is_some_and(|l| l < 2.5))
+        .expect("a step before the third lap");
+    for (k, corrected) in [(early, false), (last, true)] {
+        let mut h = app_with(laps.clone(), once.clone());
+        h.state_mut().push(sonarmap::app::Command::Seek(k));
+        h.run();
+        h.get_by_label("Map again from this drift").click();
+        super::support::settle(&mut h);
+        let params = h.state().params();
+        assert!(params.drift_calibration().is_some(), "snapshot {k}");
+        assert_eq!(params.pose_correction, corrected, "snapshot {k}");
+    }
 }
 
 /// With `calibrate_first` (as in `extended`) the app maps a drifting run again by itself, from the

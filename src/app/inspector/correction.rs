@@ -10,6 +10,7 @@ use crate::geometry::Pose;
 use crate::mapping::model::ext_trace::{
     CorrectionRefusal, CorrectionTarget, DriftEstimate, HeadingObservation, ObservedDirection,
 };
+use crate::mapping::Params;
 use egui::RichText;
 
 /// `pose` as position and heading.
@@ -164,19 +165,36 @@ fn directions_ui(ui: &mut egui::Ui, directions: &[ObservedDirection]) {
 
 /// "Map again from this drift": the run mapped again with the drift estimated here as the
 /// odometry's calibration (`drift_deg_per_m`, `drift_per_turn_pct`), corrected from its first
-/// step, as `calibrate_first` does with the last step's (docs/algorithm.md §8.17).
+/// step, as `calibrate_first` does with the last step's; and, as there, with its pose corrected
+/// against the map when the robot has driven `revisit_laps` laps of it by this step
+/// (docs/algorithm.md §8.17, "runs that come back").
 fn calibrate_button(
     ui: &mut egui::Ui,
     ctx: &InspectCtx,
     d: &DriftEstimate,
     commands: &mut Vec<Command>,
 ) {
-    let calibrated = ctx.params.calibrated_by((d.deg_per_m, d.turn_pct));
+    let laps_driven = ctx.view.map_after.laps_driven();
+    let came_back = ctx.params.came_back(laps_driven);
+    let calibrated = Params {
+        pose_correction: ctx.params.pose_correction || came_back,
+        ..ctx.params.calibrated_by((d.deg_per_m, d.turn_pct))
+    };
+    let pose = if came_back {
+        format!(
+            "; the robot drove {:.1} laps of its map by here (revisit_laps {}), so the pose is \
+             corrected against the map too (pose_correction)",
+            laps_driven.unwrap_or_default(),
+            ctx.params.revisit_laps
+        )
+    } else {
+        String::new()
+    };
     let button = ui
         .button("Map again from this drift")
         .on_hover_text(format!(
             "Replays the run with the odometry calibrated as {:+.3}°/m and {:+.2} % of turns, \
-         corrected from the first step (drift_deg_per_m, drift_per_turn_pct)",
+         corrected from the first step (drift_deg_per_m, drift_per_turn_pct){pose}",
             d.deg_per_m, d.turn_pct
         ));
     if button.clicked() {

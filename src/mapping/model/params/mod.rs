@@ -99,6 +99,24 @@ impl Params {
         }
     }
 
+    /// Whether a pass that drove `laps_driven` laps of its map
+    /// ([`Map::laps_driven`](crate::mapping::model::map::Map::laps_driven); `None` without a
+    /// confirmed wall) came back to its walls: at least `revisit_laps`, never when it is 0
+    /// (docs/algorithm.md §8.17, "runs that come back"). Such a run is mapped again with its
+    /// pose corrected against the map.
+    ///
+    /// ```
+    /// use sonarmap::mapping::Params;
+    /// let p = Params::extended(); // revisit_laps 3
+    /// assert!(p.came_back(Some(3.0)) && !p.came_back(Some(2.9)) && !p.came_back(None));
+    /// let never = Params { revisit_laps: 0, ..p };
+    /// assert!(!never.came_back(Some(100.0)));
+    /// ```
+    pub fn came_back(&self, laps_driven: Option<f64>) -> bool {
+        let laps = self.revisit_laps;
+        laps > 0 && laps_driven.is_some_and(|driven| driven >= laps as f64)
+    }
+
     /// Whether the heading alone is corrected: `heading_correction` without `pose_correction`
     /// (docs/algorithm.md §8.17, "the odometry's drift"), or in the first pass of
     /// [`Self::defers_pose_correction`].
