@@ -216,7 +216,7 @@ fn ratio(num: f64, den: f64) -> f64 {
     }
 }
 
-/// The steps [`bench`] reports to its progress callback on a run of `snapshots`: every
+/// The steps [`bench()`] reports to its progress callback on a run of `snapshots`: every
 /// engine pass (trace off and on, `repeats` each) and, unless `engine_only`, the replay.
 pub fn bench_steps(snapshots: usize, repeats: usize, engine_only: bool) -> usize {
     let engine = 2 * repeats.max(1) * snapshots;

@@ -102,7 +102,7 @@ fn sides(trace: &StepTrace) -> Vec<(Vec<ReadingRef>, DecisionSide)> {
 }
 
 /// The decisions of one snapshot that differ between trace `a` and trace `b`, in A's order
-/// then B's segments that A lacks, each marked direct (see [`classify`] for the cause).
+/// then B's segments that A lacks, each marked direct (see `classify` for the cause).
 pub fn diff_step(a: &StepTrace, b: &StepTrace) -> Vec<DecisionDifference> {
     let (sa, sb) = (sides(a), sides(b));
     let mut out = Vec::new();

@@ -22,7 +22,7 @@ pub struct Snapshot {
     pub true_pose: Option<Pose>,
     /// Each reading's own time minus `t`, seconds, one per sensor, for a run whose sonars fire
     /// in sequence; empty when every reading was taken at `t`. The engine converts a reading
-    /// with the pose of its own moment ([`Snapshot::reading_fraction`]).
+    /// with the pose of its own moment ([`reading_poses`](crate::mapping::paper::reading_poses::reading_poses)).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub reading_dt_s: Vec<f64>,
 }

@@ -115,7 +115,7 @@ impl SonarApp {
     // Opening and reloading.
 
     /// Asks for a path for `purpose`: the system dialog when it can work, else (or when it
-    /// fails) the in-app dialog, which [`Self::poll_file_dialog`] follows frame by frame.
+    /// fails) the in-app dialog, which `dialogs_ui` follows frame by frame.
     fn ask_path(&mut self, purpose: FilePurpose) {
         let folder = self.settings.recent_folders().into_iter().next();
         let file_name = match purpose {

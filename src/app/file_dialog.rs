@@ -26,7 +26,7 @@ pub const BACKEND_ENV: &str = "SONARMAP_FILE_DIALOG";
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum DialogBackend {
-    /// The system dialog when [`probe_system`] finds one, else the in-app dialog.
+    /// The system dialog when `probe_system` finds one, else the in-app dialog.
     #[default]
     Auto,
     /// Always the system dialog (the in-app one still opens when it fails).
@@ -36,7 +36,7 @@ pub enum DialogBackend {
 }
 
 impl DialogBackend {
-    /// The backend named by [`BACKEND_ENV`], when set to a known name.
+    /// The backend named by `BACKEND_ENV`, when set to a known name.
     pub fn from_env() -> Option<Self> {
         match std::env::var(BACKEND_ENV).ok()?.trim() {
             "in-app" | "inapp" | "in_app" => Some(DialogBackend::InApp),

@@ -163,7 +163,7 @@ pub fn map_toolbar_ui(
     commands
 }
 
-/// Which plot [`map_view_ui`] draws: its id, and the group whose pan and zoom it shares.
+/// Which plot `map_view_ui` draws: its id, and the group whose pan and zoom it shares.
 #[derive(Clone, Copy, Debug)]
 pub struct MapPlot {
     /// The plot's id (one per plot on screen).

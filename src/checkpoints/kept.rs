@@ -18,7 +18,7 @@ use std::sync::Arc;
 /// in about 350 of 2,500 runs of 64 ids, against 190 of 630 of 256.
 const RUN_IDS: usize = 64;
 
-/// A map's segments in runs of [`RUN_IDS`] consecutive ids (run `r` lists those with ids in
+/// A map's segments in runs of `RUN_IDS` consecutive ids (run `r` lists those with ids in
 /// `r * RUN_IDS..(r + 1) * RUN_IDS`, in order; a run of ids none of which is in the map is
 /// empty), each run shared with the
 /// checkpoint before while none of its segments changed. A late `paper` checkpoint changes about

@@ -123,7 +123,7 @@ impl Checkpoints {
 
     /// Notes the step after the latest state (or the last step noted): its segments updated
     /// held `points_updated` supporting points once it ran. A catch-up through it will take
-    /// about [`STEP_COST`] plus that.
+    /// about `STEP_COST` plus that.
     pub fn note_step(&mut self, points_updated: usize) {
         if let Some(last) = self.costs.last_mut() {
             *last += STEP_COST + points_updated as f64;
@@ -163,7 +163,7 @@ impl Checkpoints {
     }
 
     /// The estimated cost of the slowest seek (of the last snapshot of an interval): the
-    /// restore of its state and the catch-up through it, in the units of [`STEP_COST`].
+    /// restore of its state and the catch-up through it, in the units of `STEP_COST`.
     pub fn slowest_seek_cost(&self) -> f64 {
         let seeks = self.restore_costs.iter().zip(&self.costs);
         seeks.map(|(r, c)| r + c).fold(0.0, f64::max)

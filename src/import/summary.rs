@@ -55,10 +55,10 @@ pub struct ImportSummary {
     pub skipped: Vec<Skipped>,
     /// Anything else the user should know.
     pub warnings: Vec<String>,
-    /// Skipped places beyond the first [`KEPT`] (counted, not kept: a hostile file must not
+    /// Skipped places beyond the first `KEPT` (counted, not kept: a hostile file must not
     /// grow the summary without bound).
     pub skipped_more: usize,
-    /// Warnings beyond the first [`KEPT`].
+    /// Warnings beyond the first `KEPT`.
     pub warnings_more: usize,
 }
 

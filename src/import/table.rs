@@ -89,7 +89,7 @@ fn is_firing_table(text: &str, n: usize, form: TableForm, file: &str) -> bool {
 }
 
 /// Imports a table (and the poses table of `options.poses`): a ring a line, or one reading a
-/// line ([`super::firings`]). `file` names it in errors. Pure.
+/// line (`super::firings`). `file` names it in errors. Pure.
 pub fn import_table(
     bytes: &[u8],
     file: &str,

@@ -7,7 +7,7 @@ use crate::mapping::model::trace::{CandidateTrace, DecisionTrace, Outcome, Rule,
 use crate::mapping::paper::matching::{evaluate_pair, SegmentEnds};
 
 /// What one decision of a step was, enough to take it again without testing candidates
-/// ([`Mapper::step_as_recorded`]).
+/// ([`Mapper::step_as_recorded`](crate::mapping::Mapper::step_as_recorded)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RecordedDecision {
     /// The outcome.

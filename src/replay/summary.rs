@@ -102,7 +102,7 @@ pub const TRUTH_SAMPLES: usize = 32;
 
 /// The map's figures against the floor plan after one step (`eval`'s spurious fraction and
 /// coverage), sampled every shortest checkpoint spacing or less often (see
-/// [`Replay::truth_curve`]).
+/// [`Replay::truth_curve`](super::Replay::truth_curve)).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TruthSample {
     /// The step.

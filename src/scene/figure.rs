@@ -1,7 +1,7 @@
 //! Figures: one step's scene exported for a page, as the screen shows it or in the figure
 //! style. The scene is built at the page's scale ([`super::svg::page_world_per_px`]), so its
 //! labels are decluttered for the page exactly as the map view declutters them for the screen
-//! (the same [`super::declutter::TextBoxes`]). The app's export and `run --svg` both come here.
+//! (the same `super::declutter::TextBoxes`). The app's export and `run --svg` both come here.
 
 use super::build::{build_scene, SceneInput, ViewOptions};
 use super::layer::LayerSet;

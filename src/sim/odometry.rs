@@ -1,5 +1,5 @@
 //! Odometry that drifts: what a differential-drive robot's wheel encoders report of a path
-//! (Borenstein and Feng's UMBmark, the paper's reference [1]). The path a run was simulated
+//! (Borenstein and Feng's UMBmark, the paper's reference \[1\]). The path a run was simulated
 //! along is the truth; it moves to each snapshot's `true_pose`, and `pose` becomes dead
 //! reckoning from the first pose with:
 //! - systematic error: unequal wheel diameters (`E_d`, the right wheel's over the left's, their

@@ -71,13 +71,13 @@ fn edge_factor(beam: &Beam, normal: &Vec2, half: HalfCone) -> Option<f64> {
 }
 
 /// The range `beam` reads from the plane `normal · x = offset_m` (see [`incidence_cosine`]); `None`
-/// beyond [`MAX_INCIDENCE_RAD`].
+/// beyond [`MAX_INCIDENCE_RAD`](super::beam_geometry::MAX_INCIDENCE_RAD).
 fn predicted_range(beam: &Beam, normal: &Vec2, offset_m: f64, half: HalfCone) -> Option<f64> {
     edge_factor(beam, normal, half).map(|k| k * (offset_m - normal.dot(&beam.origin.coords)))
 }
 
 /// `|predicted − read| / tol` of `beam` for the plane `normal · x = offset_m`; infinite beyond
-/// [`MAX_INCIDENCE_RAD`].
+/// [`MAX_INCIDENCE_RAD`](super::beam_geometry::MAX_INCIDENCE_RAD).
 fn residual_over_tolerance(
     beam: &Beam,
     normal: &Vec2,
@@ -92,7 +92,7 @@ fn residual_over_tolerance(
 
 /// The best offset for the normal `normal` and its cost (sum of squared residuals over
 /// squared tolerances), or `None` when some reading could not have come from such a line
-/// (its incidence beyond [`MAX_INCIDENCE_RAD`], or the line behind its sensor).
+/// (its incidence beyond [`MAX_INCIDENCE_RAD`](super::beam_geometry::MAX_INCIDENCE_RAD), or the line behind its sensor).
 ///
 /// `weights` holds each beam's weight, its tolerance to the power −2 ([`range_weights`]):
 /// the fit asks for the cost of some thirty normals, and the weights are the same for all.

@@ -26,7 +26,7 @@ fn single_linkage_groups(points: &[Point], gap_m: f64) -> (Vec<usize>, Vec<usize
     (linkage.members, linkage.group_ends)
 }
 
-/// [`single_linkage_groups`]'s work, its vectors kept from one step to the next (point memory
+/// `single_linkage_groups`'s work, its vectors kept from one step to the next (point memory
 /// links its readings every step).
 #[derive(Clone, Debug, Default)]
 pub struct Linkage {
@@ -133,7 +133,7 @@ impl Linkage {
         }
     }
 
-    /// Groups `points` into `members` and `group_ends` (see [`single_linkage_groups`]).
+    /// Groups `points` into `members` and `group_ends` (see `single_linkage_groups`).
     pub(super) fn group(&mut self, points: &[Point], gap_m: f64) {
         let n = points.len();
         fn root(parent: &mut [usize], mut i: usize) -> usize {

@@ -4,7 +4,7 @@
 //!
 //! A wheeled robot's heading error is mostly systematic: unequal wheel diameters turn it a
 //! little with every metre driven, and a wrong wheelbase scales every turn (Borenstein and
-//! Feng's UMBmark, 1996, the paper's reference [1]). So the filter estimates those two causes as
+//! Feng's UMBmark, 1996, the paper's reference \[1\]). So the filter estimates those two causes as
 //! well as the error itself, the odometry calibrated on line as in Martinelli, Tomatis and
 //! Siegwart's "Simultaneous localization and odometry self calibration" (2007) and Roy and
 //! Thrun's on-line self-calibration (1999). Its state is

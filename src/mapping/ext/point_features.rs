@@ -95,7 +95,7 @@ pub fn explains(at: &Point, beam: &Beam, accuracy_pct: f64, half_beam_rad: f64) 
 
 /// Whether the confirmed rounded reflector of centre `at` and radius `radius_m` (a pillar,
 /// docs/algorithm.md §8.14; 0 for a point, [`explains`]) explains `beam`: the range of its echo
-/// ([`round_echo`]) is the reading's within the tolerance. When the centre lies inside the beam
+/// ([`round_echo`](super::beam_geometry::round_echo)) is the reading's within the tolerance. When the centre lies inside the beam
 /// that is `|at − o| − radius_m`; a point outside it explains nothing.
 ///
 /// ```
@@ -296,7 +296,7 @@ fn feature_reach(beam: &Beam, accuracy_pct: f64, half_beam_rad: f64) -> (Point, 
 }
 
 /// Of the features `near` (id, place and radius), the one that explains `beam`
-/// ([`explains_round`]) whose echo's range ([`round_echo`]) is nearest the reading's (the lower
+/// ([`explains_round`]) whose echo's range ([`round_echo`](super::beam_geometry::round_echo)) is nearest the reading's (the lower
 /// id on a tie).
 fn nearest_explaining(
     near: impl Iterator<Item = (u32, Point, f64)>,

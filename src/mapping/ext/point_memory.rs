@@ -47,12 +47,12 @@ fn is_stack(readings: &[SupportPoint], accuracy_pct: f64) -> bool {
 /// `memory_snapshots`, adds this snapshot's one-point clusters, links readings within
 /// `memory_gap` into groups (single linkage), orders each group along its principal axis, fits
 /// it by §3, and returns the pieces of at least `memory_min_points` points (their readings leave
-/// the memory but, with `memory_joints`, a piece's joint, [`joint_end`], §8.16); with
-/// `memory_stacks`, a piece that is a stack ([`is_stack`], §8.15) leaves the memory too but is
+/// the memory but, with `memory_joints`, a piece's joint, `joint_end`, §8.16); with
+/// `memory_stacks`, a piece that is a stack (`is_stack`, §8.15) leaves the memory too but is
 /// not returned. With `record` false (an untraced step) the trace only says how many readings
 /// are held; the memory and the pieces are the same either way. After a first step, only the
 /// groups around the readings just added and those fitted last step are looked for
-/// ([`Linkage::group_from_seeds`]): the others are too small to fit; with neither, none is.
+/// (`Linkage::group_from_seeds`): the others are too small to fit; with neither, none is.
 pub fn memory_step(
     memory: &mut Vec<MemoryPoint>,
     singles: &[SupportPoint],

@@ -199,7 +199,7 @@ fn gather_near_walls(map: &Map, beam: &Beam, rule: &SettleRule, near: &mut Vec<N
 /// ([`plane_echo`](crate::mapping::ext::confirm::plane_echo), the test a reading takes to confirm it, §8.7,
 /// the echo taken where `rule.echo` says) and the echo point lies at least
 /// `rule.end_margin_m` inside both ends of the chain of confirmed walls along its line that
-/// overlap or leave gaps within the tolerance ([`chained_inside_m`]): a wall mapped as pieces
+/// overlap or leave gaps within the tolerance (`chained_inside_m`): a wall mapped as pieces
 /// settles readings near the joints of its pieces, not at its ends. The walls are those the
 /// grid files in the box of the beam's cone within one tolerance of the range (where the echo
 /// point of a wall that explains it lies), widened by the margin; `near` is scratch.

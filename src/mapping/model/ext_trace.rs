@@ -151,7 +151,7 @@ pub struct EchoFitTrace {
     /// The largest distance a reading moved from its beam axis, metres.
     pub moved_max_m: f64,
     /// Readings whose echo point lies behind a confirmed wall, which their sound would have
-    /// met first ([`echo_behind_confirmed_wall`]); more than half, and the piece is dropped.
+    /// met first ([`echo_behind_confirmed_wall`](crate::mapping::ext::echo_fit::echo_behind_confirmed_wall)); more than half, and the piece is dropped.
     #[serde(default)]
     pub behind_confirmed_wall: usize,
 }

@@ -188,7 +188,7 @@ pub struct Map {
     #[serde(default)]
     pub tracks_links: bool,
     /// The two fitted segments each connecting segment joins, while tracked: a connecting
-    /// segment leaves with either of them ([`Map::drop_dangling_links`]).
+    /// segment leaves with either of them (`Map::drop_dangling_links`).
     #[serde(default)]
     pub link_ends: BTreeMap<SegmentId, [SegmentId; 2]>,
     /// Whether a segment left the map since the last [`Map::drop_dangling_links`].

@@ -6,7 +6,7 @@ use crate::mapping::paper::matching::SegmentEnds;
 
 /// How far from new segment `new` a map segment can lie and still pass a §4 test, or fail
 /// only its orientation, under `params` with `max_end_range_m` the largest end-point range in
-/// the map (the bound of [`Mapper`]'s candidate search; docs/algorithm.md §4).
+/// the map (the bound of [`Mapper`](crate::mapping::Mapper)'s candidate search; docs/algorithm.md §4).
 pub fn candidate_reach_m(params: &Params, max_end_range_m: f64, new: &SegmentEnds) -> f64 {
     let h = (new.b.point - new.a.point).norm() / 2.0;
     let thr =

@@ -58,7 +58,7 @@ fn nearest_candidate(candidates: &[Candidate]) -> Option<&Candidate> {
 }
 
 /// Decides what becomes of new segment `new_index` (docs/algorithm.md §4): the decision of
-/// [`decide_by_the_rule`], reached faster.
+/// [`decide_by_the_rule`](super::matching::decide_by_the_rule), reached faster.
 ///
 /// First every candidate, nearest first, with all three tests and MPC (or containment): the
 /// first pass is a MATCH. Then EPC against the outermost segments of their faces, in the same

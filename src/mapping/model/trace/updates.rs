@@ -89,7 +89,7 @@ pub struct UpdateTrace {
     pub absorbed: Vec<AbsorbTrace>,
     /// Whether the segment's supporting points were found in order along the updated line
     /// before the new ones went in (`None` when that was not asked); recorded so that a replay
-    /// catching up spares the pass over every point ([`UpdateRequest::support_in_order`]). Not
+    /// catching up spares the pass over every point ([`UpdateRequest::support_in_order`](crate::mapping::paper::update::UpdateRequest::support_in_order)). Not
     /// written to trace files.
     #[serde(skip)]
     pub support_in_order: Option<bool>,
