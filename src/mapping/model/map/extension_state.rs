@@ -42,7 +42,9 @@ impl Map {
     }
 
     /// Notes the pose of `snapshot` and its sensors' own (`reading_poses`, empty when its
-    /// readings were taken at its pose), keeping the last `keep` snapshots'.
+    /// readings were taken at its pose), keeping those of the last `keep` snapshots by number:
+    /// a snapshot set aside while the robot stood still (docs/algorithm.md §8.19) has no pose
+    /// here, and still counts, so that a pause keeps no older pose than the same run without it.
     pub(crate) fn note_pose(
         &mut self,
         snapshot: usize,
@@ -51,7 +53,8 @@ impl Map {
         keep: usize,
     ) {
         self.recent_poses.push((snapshot, pose));
-        let excess = self.recent_poses.len().saturating_sub(keep);
+        let first_kept = (snapshot + 1).saturating_sub(keep);
+        let excess = self.recent_poses.partition_point(|&(k, _)| k < first_kept);
         self.recent_poses.drain(..excess);
         if !reading_poses.is_empty() {
             self.recent_reading_poses
