@@ -23,6 +23,16 @@ fn drifting_family_run(kind: usize, seed: u64, bad: bool) -> sonarmap::run::Run 
     with_odometry(&family_run(SceneKind::ALL[kind], seed, 150), &error, seed)
 }
 
+/// A room's lap driven on to 1,500 snapshots (8.7 laps) with the bad drift going on over the
+/// laps: a run that comes back to its walls.
+fn drifting_room_laps() -> sonarmap::run::Run {
+    let conditions = sonarmap::suite::Conditions {
+        drift: Some(OdometryError::BAD),
+        pace: sonarmap::sim::Pace::PLAN,
+    };
+    sonarmap::soak::family_run_under(SceneKind::Room, 1, 1500, &conditions)
+}
+
 /// `extended` with the heading alone corrected from the walls.
 fn heading_params() -> Params {
     Params {
@@ -438,14 +448,7 @@ fn the_inspector_maps_a_drifting_run_again_from_the_drift_it_shows() {
 /// robot had driven those laps, it does not.
 #[test]
 fn the_inspector_maps_a_run_that_came_back_again_with_its_pose_corrected() {
-    use sonarmap::sim::Pace;
-    use sonarmap::soak::family_run_under;
-    use sonarmap::suite::Conditions;
-    let conditions = Conditions {
-        drift: Some(OdometryError::BAD),
-        pace: Pace::PLAN,
-    };
-    let laps = family_run_under(SceneKind::Room, 1, 1500, &conditions);
+    let laps = drifting_room_laps();
     let once = Params {
         calibrate_first: false,
         ..Params::extended()
@@ -651,14 +654,7 @@ fn a_calibrated_correction_seeks_to_the_traces_of_the_straight_run() {
 /// 1.83 m); the single pass above is not.
 #[test]
 fn a_drifting_run_that_comes_back_to_its_walls_is_mapped_again_with_its_pose_corrected() {
-    use sonarmap::sim::Pace;
-    use sonarmap::soak::family_run_under;
-    use sonarmap::suite::Conditions;
-    let conditions = Conditions {
-        drift: Some(OdometryError::BAD),
-        pace: Pace::PLAN,
-    };
-    let laps = family_run_under(SceneKind::Room, 1, 1500, &conditions);
+    let laps = drifting_room_laps();
     let mut first = Mapper::new(Params::extended(), laps.layout.clone(), laps.sensor);
     for s in &laps.snapshots {
         first.step(s);
