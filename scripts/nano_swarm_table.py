@@ -24,7 +24,7 @@ Written:
     k * step-s seconds and its frames 1/15 s apart (the sensors' rate);
   - OUT_PREFIX.layout.json: the 32 zones as sensors (`sonarmap-layout`), sensor d * 8 + c for
     direction d (front, back, left, right) and zone c, mounted 0.02 / 0.02 / 0.025 / 0.025 m out
-    along their direction;
+    along their direction; a zone's echo lies on its axis (`"echo": "axis"`);
   - OUT_PREFIX.plan.json (with --notebook and --env): the walls of `NAME = Environment([Line(x1,
     y1, x2, y2), ...])` in the notebook, in the motion-capture frame, where the odometry starts,
     and the keyframes' motion-capture poses as its path;
@@ -70,7 +70,7 @@ def layout(name):
         "format": "sonarmap-layout", "version": 1, "units": "m", "name": name,
         "robot": {"radius": 0.05, "sonars": sonars},
         "sensor": {"max_range": 4.0, "min_range": 0.02, "beam_width_deg": ZONE_STEP_DEG,
-                   "accuracy_pct": 3.0},
+                   "echo": "axis"},
     }
 
 
