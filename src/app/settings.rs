@@ -218,6 +218,7 @@ impl Settings {
                 )
             }
         };
+        let stored = with_missing_params_from_preset(stored);
         let mut merged = match serde_json::to_value(Settings::default()) {
             Ok(Value::Object(map)) => map,
             _ => return (Settings::default(), None),
@@ -323,6 +324,29 @@ impl Settings {
         self.recent.insert(0, path.to_path_buf());
         self.recent.truncate(MAX_RECENT);
     }
+}
+
+/// `stored` with its parameter set (`params`) completed from the preset it is compared with
+/// (`preset`, else the default's): a set saved before a parameter existed takes that preset's
+/// value for it, so an `extended` set saved by an older version runs with the extensions added
+/// since, instead of with them off.
+fn with_missing_params_from_preset(
+    mut stored: serde_json::Map<String, serde_json::Value>,
+) -> serde_json::Map<String, serde_json::Value> {
+    use serde_json::Value;
+    let Some(Value::Object(params)) = stored.get("params") else {
+        return stored;
+    };
+    let preset = stored
+        .get("preset")
+        .and_then(|p| serde_json::from_value::<Preset>(p.clone()).ok())
+        .unwrap_or(Settings::default().preset);
+    let Ok(Value::Object(mut completed)) = serde_json::to_value(Params::preset(preset)) else {
+        return stored;
+    };
+    completed.extend(params.clone());
+    stored.insert("params".to_owned(), Value::Object(completed));
+    stored
 }
 
 #[cfg(test)]

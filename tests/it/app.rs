@@ -7,6 +7,7 @@ use egui_kittest::Harness;
 use sonarmap::app::{
     decision_row_text, snapshot_label, Command, CompareState, Settings, SonarApp, SETTINGS_KEY,
 };
+use sonarmap::mapping::Params;
 use sonarmap::scene::{Layer, SceneId};
 use std::path::PathBuf;
 
@@ -626,6 +627,37 @@ fn a_parameter_set_saves_and_loads_in_the_params_format() {
     let run = sonarmap::assets::default_run().unwrap();
     let again = SonarApp::new(run, Some(&storage));
     assert_eq!(again.params().t_gap_m, tuned.t_gap_m);
+}
+
+#[test]
+fn a_parameter_set_saved_before_a_parameter_existed_takes_its_presets_value_for_it() {
+    let run = sonarmap::assets::default_run().unwrap();
+    // An extended set as an older version saved it: no `standstill_m`, no `revisit_laps`, and
+    // one edited value.
+    let mut saved = serde_json::to_value(Params::extended()).unwrap();
+    let fields = saved.as_object_mut().unwrap();
+    fields.remove("standstill_m");
+    fields.remove("revisit_laps");
+    fields.insert("t_gap_m".to_owned(), serde_json::json!(0.5));
+    for (preset, expected) in [("extended", Params::extended()), ("paper", Params::paper())] {
+        let mut storage = MemoryStorage::default();
+        let settings = serde_json::json!({ "preset": preset, "params": saved });
+        storage
+            .0
+            .insert(SETTINGS_KEY.to_owned(), settings.to_string());
+        let app = SonarApp::new(run.clone(), Some(&storage));
+        assert_eq!(app.params().standstill_m, expected.standstill_m, "{preset}");
+        assert_eq!(app.params().revisit_laps, expected.revisit_laps, "{preset}");
+        assert_eq!(app.params().t_gap_m, 0.5, "{preset}: the saved value stays");
+    }
+    assert_ne!(
+        Params::extended().standstill_m,
+        Params::paper().standstill_m
+    );
+    assert_ne!(
+        Params::extended().revisit_laps,
+        Params::paper().revisit_laps
+    );
 }
 
 #[test]

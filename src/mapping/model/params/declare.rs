@@ -216,8 +216,8 @@ macro_rules! parameters {
             paper $paper:expr, extended $extended:expr, needs [$($need:literal),*];
     )*) => {
         /// Every parameter of the mapper. Lengths in metres, angles in radians.
-        /// Persisted sets (the app's settings) written before a parameter existed take the
-        /// paper's value for it.
+        /// A set deserialized without a parameter takes the paper's value for it; the app's
+        /// persisted set takes the value of the preset it is compared with.
         #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
         #[serde(default)]
         pub struct Params {
