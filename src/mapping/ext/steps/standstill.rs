@@ -48,19 +48,24 @@ impl Mapper {
             pose: Some(pose),
             warnings: self.range_count_warning(snapshot).into_iter().collect(),
             stood_still: Some(still),
-            correction: self.stood_still_correction(snapshot, pose),
+            correction: self.stood_still_correction(snapshot, index, pose),
             ..Default::default()
         })
     }
 
-    /// With a pose correction on, the record of a step set aside: the pose kept, refused as
-    /// [`CorrectionRefusal::StoodStill`], the drift as it stands.
-    fn stood_still_correction(&self, snapshot: &Snapshot, pose: Pose) -> Option<CorrectionTrace> {
+    /// With a pose correction on, the record of the step `index` set aside: the pose kept,
+    /// refused as [`CorrectionRefusal::StoodStill`], the drift as it stands.
+    fn stood_still_correction(
+        &self,
+        snapshot: &Snapshot,
+        index: usize,
+        pose: Pose,
+    ) -> Option<CorrectionTrace> {
         if !self.params.corrects_pose() {
             return None;
         }
         let mut sigma = sigmas(&self.pose_belief.covariance);
-        let tracked_rad = self.params.tracked_heading_error(self.next_snapshot - 1);
+        let tracked_rad = self.params.tracked_heading_error(index);
         // As the steps that map record it: the heading alone's, or the calibrated pass's.
         let drift = (self.params.corrects_heading_alone()
             || self.params.corrects_calibrated_odometry())
