@@ -69,6 +69,21 @@ pub struct EvalArgs {
     /// `near` (the default) looks within 15° of the plan's frame, `anywhere` over the whole turn.
     #[arg(long, value_enum, value_name = "SEARCH", num_args = 0..=1, default_missing_value = "near", conflicts_with = "suite")]
     pub align: Option<AlignArg>,
+    /// Judge the map's end-points within `max(1 in, P % of their range)` of a wall instead of
+    /// the mapping's own ξ (`accuracy_pct`): one yardstick for maps made with different ξ, as a
+    /// real run is scored (issue 40 uses 3).
+    #[arg(long, value_name = "P", conflicts_with = "suite", value_parser = positive_pct)]
+    pub score_accuracy_pct: Option<f64>,
+}
+
+/// A percentage greater than 0 and at most 100.
+fn positive_pct(text: &str) -> std::result::Result<f64, String> {
+    let value: f64 = text.parse().map_err(|e| format!("{e}"))?;
+    if value.is_finite() && value > 0.0 && value <= 100.0 {
+        Ok(value)
+    } else {
+        Err(format!("{value} is not a percentage in (0, 100]"))
+    }
 }
 
 /// Where `eval --align` looks for the transform.
@@ -105,6 +120,9 @@ struct EvalOutput {
     /// With `calibrate_first`, the drift the first pass found (`null` when none).
     #[serde(skip_serializing_if = "Option::is_none")]
     calibration: Option<Option<Calibration>>,
+    /// The tolerance the end-points were judged with, when `--score-accuracy-pct` set it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    score_accuracy_pct: Option<f64>,
 }
 
 /// The odometry's drift a first pass found (`calibrate_first`).
@@ -167,12 +185,17 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
     }
     let params = mapper.params().clone();
     let map = mapper.map();
+    // The map's parameters, with the scoring tolerance's ξ when the user gave one.
+    let judged = Params {
+        accuracy_pct: args.score_accuracy_pct.unwrap_or(params.accuracy_pct),
+        ..params.clone()
+    };
     let score = |m: &sonarmap::mapping::Map| match args.align {
-        Some(AlignArg::Near) => evaluate_aligned(m, &run, &floor_plan, &params, Search::Near(None)),
+        Some(AlignArg::Near) => evaluate_aligned(m, &run, &floor_plan, &judged, Search::Near(None)),
         Some(AlignArg::Anywhere) => {
-            evaluate_aligned(m, &run, &floor_plan, &params, Search::Anywhere)
+            evaluate_aligned(m, &run, &floor_plan, &judged, Search::Anywhere)
         }
-        None => evaluate(m, &run, &floor_plan, &params),
+        None => evaluate(m, &run, &floor_plan, &judged),
     };
     let report = score(map);
     // Point features are judged against the plan the whole map was scored on.
@@ -196,9 +219,10 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
             .flatten(),
         point_features: has_features.then_some(features),
         true_point_features: has_features
-            .then(|| sonarmap::eval::true_point_features(map, &scored_plan, &params)),
+            .then(|| sonarmap::eval::true_point_features(map, &scored_plan, &judged)),
         confirmed: sonarmap::eval::confirmed_map(map).map(|m| score(&m)),
         calibration: params.calibrate_first.then(|| Calibration::of(&params)),
+        score_accuracy_pct: args.score_accuracy_pct,
     };
     emit(&serde_json::to_string_pretty(&out)?)?;
     Ok(())

@@ -349,6 +349,46 @@ fn eval_align_on_a_simulated_run_finds_almost_no_turn_and_scores_no_worse() {
 }
 
 #[test]
+fn eval_scores_with_a_given_tolerance_and_maps_as_without_it() {
+    // Mapped with ξ = 12 %: by default its end-points are judged within 12 % of their range,
+    // with --score-accuracy-pct 3 within 3 %, which fewer of them meet; the map is the same.
+    let dir = tempfile::tempdir().unwrap();
+    let params = dir.path().join("wide.json");
+    std::fs::write(&params, r#"{"preset": "extended", "accuracy_pct": 12}"#).unwrap();
+    let log = assets("building.log.json");
+    let score = |extra: &[&str]| {
+        let mut args = vec![
+            "eval",
+            log.to_str().unwrap(),
+            "--params",
+            params.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let out = sonarmap(&args);
+        assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+        serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+    };
+    let own = score(&[]);
+    let same = score(&["--score-accuracy-pct", "12"]);
+    let strict = score(&["--score-accuracy-pct", "3"]);
+    assert!(own.get("score_accuracy_pct").is_none());
+    assert_eq!(strict["score_accuracy_pct"], 3.0);
+    let count = |v: &serde_json::Value, key: &str| v[key].as_u64().unwrap();
+    for key in ["segments", "true_segments"] {
+        assert_eq!(count(&own, key), count(&same, key), "{key}");
+    }
+    assert_eq!(count(&own, "segments"), count(&strict, "segments"));
+    assert!(
+        count(&strict, "true_segments") < count(&own, "true_segments"),
+        "{own} {strict}"
+    );
+    check_fails(
+        &["eval", log.to_str().unwrap(), "--score-accuracy-pct", "0"],
+        &["--score-accuracy-pct", "percentage"],
+    );
+}
+
+#[test]
 fn eval_with_a_plan_and_params_file() {
     let dir = tempfile::tempdir().unwrap();
     let params = dir.path().join("p.json");
