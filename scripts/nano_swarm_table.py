@@ -42,6 +42,7 @@ DIRECTIONS_DEG = [0.0, 180.0, 90.0, -90.0]
 MOUNT_OFFSET_M = [0.02, 0.02, 0.025, 0.025]
 FRAMES = 15
 FRAME_BYTES = 76
+FRAME_RATE_HZ = 15.0  # the sensors' rate: a burst's frames are placed this far apart
 
 
 def bearing_deg(zone):
@@ -114,13 +115,17 @@ def main():
         true_out.write("# t x y heading (m, deg): motion capture at each keyframe\n")
         for k in sorted(scans):
             key = f"{a.drone}/{k}"
-            x, y, yaw = odometry[key] if a.poses == "odometry" else truth[key]
+            poses = odometry if a.poses == "odometry" else truth
+            if key not in poses:
+                source = "poses.csv" if a.poses == "odometry" else "vicon_poses.csv"
+                raise SystemExit(f"{a.exp_dir}/{source}: no pose of keyframe {key}")
+            x, y, yaw = poses[key]
             if key in truth:
                 tx, ty, tyaw = truth[key]
                 true_out.write(f"{k * a.step_s:.3f} {tx:.4f} {ty:.4f} {math.degrees(tyaw):.3f}\n")
                 path.append([tx, ty, math.degrees(tyaw)])
             for i, (ranges, dx, dy, dyaw) in enumerate(frames(scans[k])):
-                t = k * a.step_s + i / 15.0
+                t = k * a.step_s + i / FRAME_RATE_HZ
                 cells = ["-" if r < 0 else f"{r / 1000 / cos_bearing[s]:.4f}" for s, r in enumerate(ranges)]
                 out.write(f"{t:.3f} {x + dx:.4f} {y + dy:.4f} {math.degrees(yaw + dyaw):.3f} " + " ".join(cells) + "\n")
     json.dump(layout(f"Crazyflie, 4 x VL53L5CX (8 zones each), {a.exp_dir}"), open(a.out_prefix + ".layout.json", "w"), indent=1)
