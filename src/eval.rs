@@ -312,6 +312,16 @@ pub fn truth_figures(
     (part.spurious_fraction(), coverage)
 }
 
+/// The parameters a map made with `params` is judged with: the same, with the resolution's ξ
+/// replaced by `score_accuracy_pct` when one is given (`eval --score-accuracy-pct`), so maps made
+/// with different ξ share one tolerance.
+pub fn judged_with(params: &Params, score_accuracy_pct: Option<f64>) -> Params {
+    Params {
+        accuracy_pct: score_accuracy_pct.unwrap_or(params.accuracy_pct),
+        ..params.clone()
+    }
+}
+
 /// Compares `map` with `floor_plan`; `run` gives the readings (for visibility) and the units,
 /// `params` the resolution `ξ`, `θ_o`, `t_gap`, `d_max` and `min_range`.
 pub fn evaluate(map: &Map, run: &Run, floor_plan: &FloorPlan, params: &Params) -> EvalReport {

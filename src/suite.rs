@@ -3,7 +3,9 @@
 //! project's sensor models ([`Model::Specular`], [`Model::Axis`]), mapped and scored by
 //! [`crate::eval`]. The same `N`, `S` and parameters always give the same figures.
 
-use crate::eval::{confirmed_map, evaluate, map_verdicts, true_point_features, Verdict};
+use crate::eval::{
+    confirmed_map, evaluate, judged_with, map_verdicts, true_point_features, Verdict,
+};
 use crate::geometry::Pose;
 use crate::mapping::{Map, Mapper, Params};
 use crate::pose_error::{pose_error, pose_error_of};
@@ -149,6 +151,9 @@ pub struct SuiteSummary {
     /// The summary of the confirmed segments alone, when segments must be confirmed.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub confirmed: Option<Box<SuiteSummary>>,
+    /// The ξ the end-points were judged with, when `eval --score-accuracy-pct` set it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub score_accuracy_pct: Option<f64>,
 }
 
 fn median(mut v: Vec<f64>) -> Option<f64> {
@@ -252,7 +257,7 @@ pub fn run_suite_drifting(
         drift: drift.copied(),
         ..Conditions::PLAIN
     };
-    run_suite_with(scenes, seed, params, &conditions, &mut |_| true).expect("never cancelled")
+    run_suite_with(scenes, seed, params, &conditions, None, &mut |_| true).expect("never cancelled")
 }
 
 /// How a suite's runs are driven: the odometry's error and the robot's pace and firing order.
@@ -279,15 +284,17 @@ pub fn run_suite_with(
     seed: u64,
     params: &Params,
     conditions: &Conditions,
+    score_accuracy_pct: Option<f64>,
     progress: &mut dyn FnMut(usize) -> bool,
 ) -> Result<Vec<SuiteLine>, Cancelled> {
+    let judged = judged_with(params, score_accuracy_pct);
     let mut lines = Vec::with_capacity(2 * scenes);
     for (kind, s, plan) in suite_plans(scenes, seed) {
         for (model, name) in [(Model::Specular, "specular"), (Model::Axis, "axis")] {
             let run = simulate_paced(&plan, model, s, &conditions.pace);
             let run = drifted(run, conditions.drift.as_ref(), s);
             let (map, poses) = map_and_poses_of(&run, params);
-            let figures = scene_figures(&map, &run, params).expect("a family plan has walls");
+            let figures = scene_figures(&map, &run, &judged).expect("a family plan has walls");
             lines.push(SuiteLine {
                 family: kind.name(),
                 seed: s,
@@ -350,6 +357,7 @@ pub fn summarise(lines: &[SuiteLine]) -> SuiteSummary {
         true_point_features: lines.iter().map(|l| l.figures.true_point_features).sum(),
         pose: PoseFigures::mean(&lines.iter().filter_map(|l| l.pose).collect::<Vec<_>>()),
         confirmed: (!confirmed.is_empty()).then(|| Box::new(summarise(&confirmed))),
+        score_accuracy_pct: None,
     }
 }
 

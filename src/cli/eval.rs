@@ -71,8 +71,8 @@ pub struct EvalArgs {
     pub align: Option<AlignArg>,
     /// Judge the map's end-points within `max(1 in, P % of their range)` of a wall instead of
     /// the mapping's own ξ (`accuracy_pct`): one yardstick for maps made with different ξ, as a
-    /// real run is scored (issue 40 uses 3).
-    #[arg(long, value_name = "P", conflicts_with = "suite", value_parser = positive_pct)]
+    /// real run is scored (issue 40 uses 3). With --suite, every scene's maps.
+    #[arg(long, value_name = "P", value_parser = positive_pct)]
     pub score_accuracy_pct: Option<f64>,
 }
 
@@ -164,6 +164,7 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
                 drift: args.drift.error(),
                 pace: args.pace.pace()?,
             },
+            score_accuracy_pct: args.score_accuracy_pct,
         };
         return suite_command(&suite, &params);
     };
@@ -185,11 +186,7 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
     }
     let params = mapper.params().clone();
     let map = mapper.map();
-    // The map's parameters, with the scoring tolerance's ξ when the user gave one.
-    let judged = Params {
-        accuracy_pct: args.score_accuracy_pct.unwrap_or(params.accuracy_pct),
-        ..params.clone()
-    };
+    let judged = sonarmap::eval::judged_with(&params, args.score_accuracy_pct);
     let score = |m: &sonarmap::mapping::Map| match args.align {
         Some(AlignArg::Near) => evaluate_aligned(m, &run, &floor_plan, &judged, Search::Near(None)),
         Some(AlignArg::Anywhere) => {

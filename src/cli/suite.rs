@@ -21,6 +21,8 @@ pub struct SuiteArgs<'a> {
     pub logs_from: Option<&'a Path>,
     /// `--drift` and the pace: how every run is driven.
     pub conditions: sonarmap::suite::Conditions,
+    /// `--score-accuracy-pct`: the ξ the maps are judged with, instead of the mapping's own.
+    pub score_accuracy_pct: Option<f64>,
 }
 
 /// `eval --suite N`: one JSON line per scene and sensor model, then the summary
@@ -40,18 +42,23 @@ pub fn suite_command(args: &SuiteArgs, params: &Params) -> Result<()> {
         args.seed,
         params,
         &args.conditions,
+        args.score_accuracy_pct,
         &mut |runs| progress.set(runs).is_ok(),
     )
     .map_err(|_| Interrupted)?;
     for (i, (family, seed, path)) in elsewhere.into_iter().enumerate() {
-        lines.push(log_line(family, seed, &path, params, &args.conditions)?);
+        lines.push(log_line(family, seed, &path, params, args)?);
         progress.set(generated + i + 1)?;
     }
     drop(progress);
     for line in &lines {
         emit(&serde_json::to_string(line)?)?;
     }
-    emit(&serde_json::to_string(&sonarmap::suite::summarise(&lines))?)?;
+    let summary = sonarmap::suite::SuiteSummary {
+        score_accuracy_pct: args.score_accuracy_pct,
+        ..sonarmap::suite::summarise(&lines)
+    };
+    emit(&serde_json::to_string(&summary)?)?;
     Ok(())
 }
 
@@ -85,11 +92,12 @@ fn log_line(
     seed: u64,
     path: &Path,
     params: &Params,
-    conditions: &sonarmap::suite::Conditions,
+    args: &SuiteArgs,
 ) -> Result<SuiteLine> {
-    let run = sonarmap::suite::drifted(read_run(path)?, conditions.drift.as_ref(), seed);
+    let run = sonarmap::suite::drifted(read_run(path)?, args.conditions.drift.as_ref(), seed);
     let (map, poses) = sonarmap::suite::map_and_poses_of(&run, params);
-    let figures = sonarmap::suite::scene_figures(&map, &run, params)
+    let judged = sonarmap::eval::judged_with(params, args.score_accuracy_pct);
+    let figures = sonarmap::suite::scene_figures(&map, &run, &judged)
         .ok_or_else(|| anyhow!("{}: the log has no floor_plan", path.display()))?;
     Ok(SuiteLine {
         family,

@@ -389,6 +389,48 @@ fn eval_scores_with_a_given_tolerance_and_maps_as_without_it() {
 }
 
 #[test]
+fn eval_suite_scores_with_a_given_tolerance_and_maps_as_without_it() {
+    // The suite's scenes mapped with ξ = 12 %: every scene's map is the same whatever the
+    // tolerance it is judged with; held to 3 % fewer segments are true, and the summary says
+    // which tolerance judged them.
+    let dir = tempfile::tempdir().unwrap();
+    let params = dir.path().join("wide.json");
+    std::fs::write(&params, r#"{"preset": "extended", "accuracy_pct": 12}"#).unwrap();
+    let suite = |extra: &[&str]| {
+        let mut args = vec!["eval", "--suite", "2", "--params", params.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        let out = sonarmap(&args);
+        assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+        text(&out.stdout)
+            .lines()
+            .map(|line| serde_json::from_str::<serde_json::Value>(line).unwrap())
+            .collect::<Vec<_>>()
+    };
+    let own = suite(&[]);
+    let same = suite(&["--score-accuracy-pct", "12"]);
+    let strict = suite(&["--score-accuracy-pct", "3"]);
+    assert_eq!(own.len(), 5, "four runs and the summary");
+    let count = |v: &serde_json::Value, key: &str| v[key].as_u64().unwrap();
+    for ((a, b), c) in own.iter().zip(&same).zip(&strict) {
+        for key in ["segments", "true_segments"] {
+            assert_eq!(count(a, key), count(b, key), "{key}: {a} {b}");
+        }
+        assert_eq!(count(a, "segments"), count(c, "segments"), "{a} {c}");
+        assert!(
+            count(c, "true_segments") <= count(a, "true_segments"),
+            "{a} {c}"
+        );
+    }
+    let (own_summary, strict_summary) = (own.last().unwrap(), strict.last().unwrap());
+    assert!(own_summary.get("score_accuracy_pct").is_none());
+    assert_eq!(strict_summary["score_accuracy_pct"], 3.0);
+    assert!(
+        count(strict_summary, "true_segments") < count(own_summary, "true_segments"),
+        "{own_summary} {strict_summary}"
+    );
+}
+
+#[test]
 fn eval_with_a_plan_and_params_file() {
     let dir = tempfile::tempdir().unwrap();
     let params = dir.path().join("p.json");

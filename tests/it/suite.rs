@@ -169,7 +169,7 @@ fn extended_holds_at_a_crawl_what_it_maps_at_the_papers_pace() {
         ..Conditions::PLAIN
     };
     let confirmed = |params: &Params, conditions: &Conditions| {
-        let lines = run_suite_with(4, 13, params, conditions, &mut |_| true).unwrap();
+        let lines = run_suite_with(4, 13, params, conditions, None, &mut |_| true).unwrap();
         summarise(&lines)
             .confirmed
             .expect("extended confirms segments")
@@ -206,7 +206,8 @@ fn a_single_ray_sensor_maps_at_a_crawl_what_it_maps_at_the_papers_pace() {
         ..Conditions::PLAIN
     };
     let axis_confirmed = |conditions: &Conditions| {
-        let lines = run_suite_with(4, 13, &Params::extended(), conditions, &mut |_| true).unwrap();
+        let lines =
+            run_suite_with(4, 13, &Params::extended(), conditions, None, &mut |_| true).unwrap();
         summarise(&of_model(&lines, "axis"))
             .confirmed
             .expect("extended confirms segments")
