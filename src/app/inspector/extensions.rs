@@ -2,7 +2,8 @@
 //! numbers: arcs filed as corners or edges, readings explained by a feature, segments a reading
 //! saw past, plane support, the plane gate, echo placement (§8.10), corner diagonals (§8.11),
 //! readings a confirmed wall settled (§8.12), pillars found among the diagonals' echoes
-//! (§8.14), the stacks point memory let go (§8.15) and the joints it kept (§8.16).
+//! (§8.14), where point memory cut a bent group (§8.1), the stacks it let go (§8.15) and the
+//! joints it kept (§8.16).
 
 use super::context::InspectCtx;
 use super::widgets::heading;
@@ -42,6 +43,29 @@ fn stacks(ctx: &InspectCtx, out: &mut Vec<RichText>) {
                 2.0 * xi,
                 ctx.len(near_m),
                 ctx.len(far_m),
+            )));
+        }
+    }
+}
+
+/// One line for each place point memory cut a group's axis order before its fit (§8.1).
+fn cuts(ctx: &InspectCtx, out: &mut Vec<RichText>) {
+    let Some(memory) = &ctx.view.trace.memory else {
+        return;
+    };
+    for group in &memory.groups {
+        for &k in &group.cuts {
+            let (before, after) = (&group.points[k - 1], &group.points[k]);
+            out.push(RichText::new(format!(
+                "point memory cut: readings {}/{} and {}/{} (snapshot/sensor) follow each other \
+                 along the group's axis but lie {} apart, more than memory_gap {}: the group is \
+                 bent (a corner), and its runs are fitted apart, so no piece spans the gap",
+                before.reading.snapshot(),
+                before.reading.sensor(),
+                after.reading.snapshot(),
+                after.reading.sensor(),
+                ctx.len((after.point - before.point).norm()),
+                ctx.len(ctx.params.memory_gap_m),
             )));
         }
     }
@@ -366,6 +390,7 @@ const EXTENSION_LINES: &[fn(&InspectCtx, &mut Vec<RichText>)] = &[
     arcs,
     explained,
     settled,
+    cuts,
     stacks,
     joints,
     refuted,

@@ -8,7 +8,7 @@ use crate::mapping::ext::memory_linkage::{Linkage, Seeds};
 use crate::mapping::model::map::{MemoryPoint, ReadingRef, SupportPoint};
 use crate::mapping::model::params::Params;
 use crate::mapping::model::trace::{MemoryGroupTrace, MemoryTrace};
-use crate::mapping::paper::fit::split_recursive;
+use crate::mapping::paper::fit::split_range;
 use crate::sonar::balls_intersect;
 
 /// One fitted memory piece that became a new segment.
@@ -375,7 +375,10 @@ fn fit_group(
     };
     let mut splits = Vec::new();
     let mut pieces = Vec::new();
-    split_recursive(&points, params, &mut splits, &mut pieces);
+    let runs = runs_within_gap(&points, params.memory_gap_m);
+    for &[first, last] in runs.iter().filter(|[first, last]| first < last) {
+        split_range(&points, first, last, params, &mut splits, &mut pieces);
+    }
     let mut piece_segments = Vec::with_capacity(pieces.len());
     let mut stacks = Vec::new();
     for (k, &[first, last]) in pieces.iter().enumerate() {
@@ -422,7 +425,27 @@ fn fit_group(
         pieces,
         piece_segments,
         stacks,
+        cuts: runs.iter().skip(1).map(|&[first, _]| first).collect(),
     })
+}
+
+/// The runs of `points` (ordered along their group's axis) whose neighbours lie within
+/// `gap_m` of each other, as `[first, last]` (§8.1): a group is linked within the gap in the
+/// plane, but ordered along one axis the readings of a bent chain (two walls at a corner)
+/// interleave, and the two walls' readings may meet in a piece across a gap no reading
+/// spans, fitting a chord. Each run is split by §3 on its own, as a ring's clusters are
+/// broken at `t_gap` (§3.2) before they are fitted.
+fn runs_within_gap(points: &[SupportPoint], gap_m: f64) -> Vec<[usize; 2]> {
+    let mut runs = Vec::new();
+    let mut first = 0;
+    for i in 1..=points.len() {
+        let breaks = i == points.len() || (points[i].point - points[i - 1].point).norm() > gap_m;
+        if breaks {
+            runs.push([first, i - 1]);
+            first = i;
+        }
+    }
+    runs
 }
 
 /// Whether a piece's end readings lie closer than `memory_min_span` (§8.1): at a crawl, a few

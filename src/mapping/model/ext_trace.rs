@@ -275,6 +275,11 @@ pub struct MemoryGroupTrace {
     /// no line (docs/algorithm.md §8.15).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub stacks: Vec<usize>,
+    /// Where the axis order was cut before the fit (indices into `points`): each starts a run
+    /// whose first reading lies more than `memory_gap` from the one before (docs/algorithm.md
+    /// §8.1).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub cuts: Vec<usize>,
 }
 
 /// What point memory did in this step.

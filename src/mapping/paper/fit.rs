@@ -56,7 +56,9 @@ pub fn split_recursive(
     }
 }
 
-fn split_range(
+/// [`split_recursive`] of `points[first..=last]` (`first < last`), its splits and pieces
+/// indexed in `points`.
+pub fn split_range(
     points: &[SupportPoint],
     first: usize,
     last: usize,

@@ -271,3 +271,61 @@ fn memory_fits_remembered_singles_and_expires_old_ones() {
     let (t, _) = step(&mut memory, &[], 6);
     assert_eq!(t.expired, vec![ReadingRef::new(3, 0)]);
 }
+
+#[test]
+fn a_bent_group_is_cut_where_its_axis_order_jumps_past_the_gap() {
+    // A wall along y = 0 read at x = 0.6, 0.7, 1.0 and a wall along x = 0.7 read at y = 0.3,
+    // 0.5, all at 2 m: one group, (0.7, 0) and (0.7, 0.3) linked at 0.3 ≤ 0.3048. Ordered
+    // along the group's axis, (0.7, 0.5), (0.7, 0.3), (0.6, 0), (0.7, 0), (1.0, 0), the second
+    // wall's readings end at (0.7, 0.3), 0.316 m from the next (> 0.3048): the order is cut
+    // there. Fitted whole, §3 would split it at (0.6, 0) into the first wall's three readings
+    // and a chord of three, (0.7, 0.5)–(0.6, 0) (0.51 m, longer than the 0.3048 m a piece
+    // needs), across the corner; cut, the second wall's
+    // two readings are too few for a piece and stay to grow.
+    let p = paper_with_memory();
+    let readings = [
+        sp(0, 0, 0.6, 0.0, 2.0),
+        sp(1, 0, 0.7, 0.0, 2.0),
+        sp(2, 0, 1.0, 0.0, 2.0),
+        sp(3, 1, 0.7, 0.3, 2.0),
+        sp(4, 1, 0.7, 0.5, 2.0),
+    ];
+    let memory: Vec<MemoryPoint> = readings
+        .iter()
+        .map(|&support| MemoryPoint {
+            support,
+            travelled_m: 0.0,
+        })
+        .collect();
+    let mut taken = Taken {
+        used: vec![false; memory.len()],
+        in_segment: vec![false; memory.len()],
+        joints: Vec::new(),
+        pieces: Vec::new(),
+    };
+    let group = fit_group(&memory, &[0, 1, 2, 3, 4], 0, &p, true, &mut taken).expect("traced");
+    let order: Vec<(f64, f64)> = group
+        .points
+        .iter()
+        .map(|q| (q.point.x, q.point.y))
+        .collect();
+    assert_eq!(
+        order,
+        vec![(0.7, 0.5), (0.7, 0.3), (0.6, 0.0), (0.7, 0.0), (1.0, 0.0)]
+    );
+    assert_eq!(group.pieces, vec![[0, 1], [2, 4]]);
+    assert_eq!(taken.pieces.len(), 1);
+    let wall: Vec<ReadingRef> = taken.pieces[0].points.iter().map(|q| q.reading).collect();
+    assert_eq!(
+        wall,
+        vec![
+            ReadingRef::new(0, 0),
+            ReadingRef::new(1, 0),
+            ReadingRef::new(2, 0)
+        ]
+    );
+    assert_eq!(taken.used, vec![true, true, true, false, false]);
+    assert_eq!(group.cuts, vec![2]);
+    // The runs themselves: cut once, at the 0.316 m jump.
+    assert_eq!(runs_within_gap(&group.points, 0.3048), vec![[0, 1], [2, 4]]);
+}
