@@ -540,8 +540,8 @@ mod tests {
         assert!(switches().any(|name| name == "memory_joints"));
         assert_eq!(
             switches().count(),
-            23,
-            "correlate and the 22 extension flags"
+            24,
+            "correlate and the 23 extension flags"
         );
         // The counts too: `min_piece_points` was missing from the panel.
         let p = Params {

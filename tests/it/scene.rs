@@ -184,6 +184,7 @@ fn perceive(run: &Run, k: usize) -> StepTrace {
                 distance_m,
                 t_gap_m,
                 is_break: distance_m > t_gap_m,
+                across_right_angle: false,
             }
         })
         .collect();

@@ -2,8 +2,8 @@
 //! numbers: arcs filed as corners or edges, readings explained by a feature, segments a reading
 //! saw past, plane support, the plane gate, echo placement (§8.10), corner diagonals (§8.11),
 //! readings a confirmed wall settled (§8.12), pillars found among the diagonals' echoes
-//! (§8.14), where point memory cut a bent group (§8.1), the stacks it let go (§8.15) and the
-//! joints it kept (§8.16).
+//! (§8.14), cluster links broken across a right angle (§8.20), where point memory cut a bent
+//! group (§8.1), the stacks it let go (§8.15) and the joints it kept (§8.16).
 
 use super::context::InspectCtx;
 use super::widgets::heading;
@@ -45,6 +45,35 @@ fn stacks(ctx: &InspectCtx, out: &mut Vec<RichText>) {
                 ctx.len(far_m),
             )));
         }
+    }
+}
+
+/// One line for each cluster link broken across a right angle that `t_gap` would have kept
+/// (§8.20).
+fn right_angle_breaks(ctx: &InspectCtx, out: &mut Vec<RichText>) {
+    let mounts = &ctx.run.layout.mounts;
+    for g in &ctx.view.trace.gaps {
+        if !g.across_right_angle || g.distance_m > g.t_gap_m {
+            continue;
+        }
+        let apart_deg = match (mounts.get(g.from_sensor), mounts.get(g.to_sensor)) {
+            (Some(a), Some(b)) => {
+                let d = (a.heading_rad - b.heading_rad)
+                    .to_degrees()
+                    .rem_euclid(360.0);
+                format!("{:.0}°", d.min(360.0 - d))
+            }
+            _ => "?".to_string(),
+        };
+        out.push(RichText::new(format!(
+            "right-angle break: sensors {} and {}, axes {apart_deg} apart, read points {} apart \
+             (within t_gap {}), but no plane echoes to both from inside their cones: two \
+             clusters, not a chord across a corner",
+            g.from_sensor,
+            g.to_sensor,
+            ctx.len(g.distance_m),
+            ctx.len(g.t_gap_m),
+        )));
     }
 }
 
@@ -390,6 +419,7 @@ const EXTENSION_LINES: &[fn(&InspectCtx, &mut Vec<RichText>)] = &[
     arcs,
     explained,
     settled,
+    right_angle_breaks,
     cuts,
     stacks,
     joints,

@@ -15,6 +15,7 @@ pub mod point_features;
 pub mod point_memory;
 pub mod pose_correction;
 pub mod rectilinear_heading;
+pub mod right_angle_break;
 pub mod round_reflectors;
 pub mod seen_through_ends;
 pub mod settled_walls;
@@ -104,6 +105,11 @@ pub const ALL: &[Extension] = &[
         parameter: "memory_joints",
         section: "8.16",
         source: "beyond the literature (sonarmap): pieces of one chain share a reading",
+    },
+    Extension {
+        parameter: "right_angle_break",
+        section: "8.20",
+        source: "Kleeman and Kuc: a plane echoes from within the beam, so sonars a right angle apart never hear one plane on their axes",
     },
     Extension {
         parameter: "plane_gate",

@@ -4,7 +4,7 @@
 use super::Mapper;
 use crate::mapping::model::map::SupportPoint;
 use crate::mapping::model::trace::{ClusterTrace, NewSegmentTrace, SegmentSource, StepTrace};
-use crate::mapping::paper::cluster::cluster_points;
+use crate::mapping::paper::cluster::cluster_points_breaking;
 use crate::mapping::paper::fit::{piece_end_points, split_recursive};
 use crate::mapping::paper::readings::convert_readings;
 use crate::mapping::step::{FittedStep, StepBuffers};
@@ -30,11 +30,12 @@ impl Mapper {
         );
         let (ranks, wraps) = (&self.bearing_ranks.0, self.bearing_ranks.1);
         self.hook_readings_kept(trace, buffers);
-        cluster_points(
+        cluster_points_breaking(
             &buffers.kept,
             ranks,
             wraps,
             self.params.t_gap_m,
+            &|a, b| self.breaks_across_right_angle(a, b),
             &mut buffers.clusters,
         );
         if self.record_trace {

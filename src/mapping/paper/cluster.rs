@@ -67,6 +67,20 @@ pub fn cluster_points(
     t_gap_m: f64,
     out: &mut Clusters,
 ) {
+    cluster_points_breaking(kept, rank_of_sensor, wraps, t_gap_m, &|_, _| false, out);
+}
+
+/// [`cluster_points`] with an extension's breaks: `breaks(a, b)` ends a cluster between
+/// neighbouring readings of sensors `a` and `b` whatever their distance (`right_angle_break`,
+/// docs/algorithm.md §8.20), and the gap records it.
+pub fn cluster_points_breaking(
+    kept: &[SupportPoint],
+    rank_of_sensor: &[usize],
+    wraps: bool,
+    t_gap_m: f64,
+    breaks: &dyn Fn(usize, usize) -> bool,
+    out: &mut Clusters,
+) {
     let Clusters {
         members,
         ends,
@@ -95,12 +109,14 @@ pub fn cluster_points(
     gaps.extend((0..link_count).map(|i| {
         let (a, b) = (&kept[chain[i]], &kept[chain[(i + 1) % n]]);
         let distance_m = (a.point - b.point).norm();
+        let across_right_angle = breaks(a.reading.sensor(), b.reading.sensor());
         GapTrace {
             from_sensor: a.reading.sensor(),
             to_sensor: b.reading.sensor(),
             distance_m,
             t_gap_m,
-            is_break: distance_m > t_gap_m,
+            is_break: distance_m > t_gap_m || across_right_angle,
+            across_right_angle,
         }
     }));
     // Start after a break when the chain is circular, so no cluster spans the seam.

@@ -41,7 +41,8 @@ pub fn colinearity_flip_pct(c: &ColinearityTest) -> f64 {
 
 /// The t_gap flip points of `cluster` among a step's `gaps`: the largest gap inside it (a
 /// t_gap below it breaks the cluster; `None` for a single point) and the gaps that ended it on
-/// either side (a t_gap at or above one joins the neighbour; `None` where no break bounds it).
+/// either side (a t_gap at or above one joins the neighbour; `None` where no break bounds it,
+/// or where the break is across a right angle, §8.20, which no t_gap joins).
 pub fn cluster_gap_flips(
     cluster: &ClusterTrace,
     gaps: &[GapTrace],
@@ -56,10 +57,12 @@ pub fn cluster_gap_flips(
     let before = gaps
         .iter()
         .find(|g| g.is_break && Some(&g.to_sensor) == first)
+        .filter(|g| !g.across_right_angle)
         .map(|g| g.distance_m);
     let after = gaps
         .iter()
         .find(|g| g.is_break && Some(&g.from_sensor) == last)
+        .filter(|g| !g.across_right_angle)
         .map(|g| g.distance_m);
     (inner, [before, after])
 }
@@ -75,6 +78,7 @@ mod tests {
             distance_m,
             t_gap_m: 1.0,
             is_break: distance_m > 1.0,
+            across_right_angle: false,
         }
     }
 

@@ -189,6 +189,7 @@ fn fixture_step() -> StepTrace {
         distance_m: 2.1,
         t_gap_m: 1.0,
         is_break: true,
+        across_right_angle: false,
     }];
     step.new_segments = vec![
         new_segment((1.5, -0.4), (1.5, 0.4)),

@@ -13,6 +13,7 @@ mod heading_windows;
 mod point_features;
 mod point_memory;
 mod pose_correction;
+mod right_angle_break;
 mod settled_walls;
 mod standstill;
 

@@ -465,6 +465,11 @@ parameters! {
     /// `confirm_segments`, once the axis is set.
     off_axis_square_on: bool, file off_axis_square_on: bool, flag,
         paper false, extended true, needs ["confirm_segments"];
+    /// Neighbouring readings of two cone sonars whose axes lie a right angle or more apart are
+    /// never one cluster: no plane echoes to both from within their cones (docs/algorithm.md
+    /// §8.20).
+    right_angle_break: bool, file right_angle_break: bool, flag,
+        paper false, extended true, needs [];
     /// A NEW FACE needs a reading that supports it as a plane (docs/algorithm.md §8.7).
     plane_gate: bool, file plane_gate: bool, flag,
         paper false, extended true, needs [];

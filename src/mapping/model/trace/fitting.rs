@@ -47,8 +47,12 @@ pub struct GapTrace {
     pub distance_m: f64,
     /// The threshold `t_gap`, metres.
     pub t_gap_m: f64,
-    /// True when `distance > t_gap`: a cluster ends here.
+    /// True when a cluster ends here: `distance > t_gap`, or the link is across a right angle.
     pub is_break: bool,
+    /// True when `right_angle_break` broke the link: the two sensors' axes lie a right angle or
+    /// more apart (docs/algorithm.md §8.20).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub across_right_angle: bool,
 }
 
 /// One test of the recursive fit (docs/algorithm.md §3): the farthest point of a piece.
