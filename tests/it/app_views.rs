@@ -402,3 +402,48 @@ fn the_inspector_says_when_the_robot_stood_still() {
     h.run();
     assert!(h.query_by_label_contains("stood still since").is_none());
 }
+
+/// A step whose cluster link was broken across a right angle says so in the inspector, once
+/// for the pair (docs/algorithm.md §8.20, `right_angle_break`).
+#[test]
+fn the_inspector_names_a_link_broken_across_a_right_angle() {
+    use sonarmap::geometry::Pose;
+    use sonarmap::mapping::Params;
+    use sonarmap::sonar::{SensorLayout, SensorMount};
+    // Four sonars at the centre (front, left, back, right); each snapshot reads 0.3 m ahead and
+    // 0.4 m to the left, 0.5 m apart, within t_gap.
+    let mut run = super::support::pioneer_corridor_crawl(2);
+    let mount = |deg: f64| SensorMount {
+        x_m: 0.0,
+        y_m: 0.0,
+        heading_rad: deg.to_radians(),
+    };
+    run.layout = SensorLayout {
+        mounts: vec![mount(0.0), mount(90.0), mount(180.0), mount(-90.0)],
+    };
+    run.sensor.min_range_m = 0.02;
+    run.snapshots = (0..3)
+        .map(|k| sonarmap::run::Snapshot {
+            t: k as f64,
+            pose: Pose::new(0.01 * k as f64, 0.0, 0.0),
+            ranges_m: vec![Some(0.3), Some(0.4), None, None],
+            true_pose: None,
+            reading_dt_s: Vec::new(),
+        })
+        .collect();
+    let params = Params {
+        min_range_m: 0.02,
+        ..Params::extended()
+    };
+    let mut h = harness(SonarApp::new(run, None));
+    settle(&mut h);
+    h.state_mut().push(Command::SetParams(params));
+    settle(&mut h);
+    h.state_mut().push(Command::Seek(1));
+    h.run();
+    let lines = h.query_all_by_label_contains("right-angle break").count();
+    assert_eq!(lines, 1, "one line for the pair of sensors 0 and 1");
+    assert!(h
+        .query_by_label_contains("sensors 0 and 1, axes 90° apart")
+        .is_some());
+}

@@ -52,8 +52,17 @@ fn stacks(ctx: &InspectCtx, out: &mut Vec<RichText>) {
 /// (§8.20).
 fn right_angle_breaks(ctx: &InspectCtx, out: &mut Vec<RichText>) {
     let mounts = &ctx.run.layout.mounts;
-    for g in &ctx.view.trace.gaps {
-        if !g.across_right_angle || g.distance_m > g.t_gap_m {
+    let gaps = &ctx.view.trace.gaps;
+    for (i, g) in gaps.iter().enumerate() {
+        // A ring's chain of two readings links them both ways round: one line for the pair.
+        let pair = |h: &crate::mapping::model::trace::GapTrace| {
+            (
+                h.from_sensor.min(h.to_sensor),
+                h.from_sensor.max(h.to_sensor),
+            )
+        };
+        let listed = gaps[..i].iter().any(|h| pair(h) == pair(g));
+        if !g.across_right_angle || g.distance_m > g.t_gap_m || listed {
             continue;
         }
         let apart_deg = match (mounts.get(g.from_sensor), mounts.get(g.to_sensor)) {
