@@ -4,6 +4,7 @@
 use super::progress::Progress;
 use super::support_growth::SupportGrowth;
 use anyhow::{bail, Result};
+use sonarmap::mapping::model::trace::DiscardReason;
 use sonarmap::mapping::{Mapper, Outcome, Params, StepTrace};
 use sonarmap::run::Run;
 
@@ -38,6 +39,8 @@ pub struct Mapping {
     traces: Vec<StepTrace>,
     summary: Summary,
     growth: SupportGrowth,
+    /// Whether the min_range warning was given ([`Summary::min_range_warning`]).
+    min_range_warned: bool,
 }
 
 impl Mapping {
@@ -49,6 +52,7 @@ impl Mapping {
             mapper: Mapper::new(params, run.layout.clone(), run.sensor).with_trace(keep_traces),
             traces: Vec::new(),
             summary: Summary::default(),
+            min_range_warned: false,
         }
     }
 
@@ -69,6 +73,12 @@ impl Mapping {
             self.record(trace);
             if !report(self.mapper.next_snapshot()) {
                 return Err(super::interrupt::Interrupted.into());
+            }
+        }
+        if !self.min_range_warned {
+            if let Some(warning) = self.summary.min_range_warning(run, self.mapper.params()) {
+                progress.warn(&warning);
+                self.min_range_warned = true;
             }
         }
         Ok(())
@@ -99,6 +109,10 @@ pub struct Summary {
     pub kept: usize,
     /// Readings discarded.
     pub discarded: usize,
+    /// Echoes: readings with a range below the sensor's maximum.
+    pub echoes: usize,
+    /// Echoes discarded below `min_range`.
+    pub below_min_range: usize,
     /// Segments in the map.
     pub segments: usize,
     /// Decisions by outcome.
@@ -123,6 +137,14 @@ impl Summary {
             } else {
                 self.kept += 1;
             }
+            match r.discarded {
+                Some(DiscardReason::NoEcho | DiscardReason::AtMaxRange) => {}
+                Some(DiscardReason::BelowMinRange) => {
+                    self.echoes += 1;
+                    self.below_min_range += 1;
+                }
+                _ => self.echoes += 1,
+            }
         }
         for d in &trace.decisions {
             match d.outcome {
@@ -132,6 +154,34 @@ impl Summary {
                 Outcome::NewFace => self.new_faces += 1,
             }
         }
+    }
+}
+
+/// The share of echoes below `min_range` past which a run whose sensor reads nearer is warned.
+const MIN_RANGE_WARNING_SHARE: f64 = 0.1;
+
+impl Summary {
+    /// A warning when `min_range` discarded at least a tenth of the echoes that `run`'s sensor
+    /// reads (its own `min_range` is smaller): `min_range` is the Polaroid's blind zone (6 in),
+    /// and a small robot's sonars read walls nearer than that.
+    pub fn min_range_warning(&self, run: &Run, params: &Params) -> Option<String> {
+        let share = self.below_min_range as f64 / self.echoes.max(1) as f64;
+        (share >= MIN_RANGE_WARNING_SHARE && run.sensor.min_range_m < params.min_range_m).then(
+            || {
+                let length = |m: f64| format!("{:.3} {}", run.units.from_m(m), run.units.symbol());
+                format!(
+                "{}: {} of {} echoes ({:.0} %) lay below min_range {} and were discarded, though \
+                 this log's sensor reads from {}; set min_range in --params to map them (README, \
+                 parameters)",
+                run.name,
+                self.below_min_range,
+                self.echoes,
+                100.0 * share,
+                length(params.min_range_m),
+                length(run.sensor.min_range_m),
+            )
+            },
+        )
     }
 }
 

@@ -774,3 +774,74 @@ fn run_svg_takes_the_view_layers_size_and_writes_a_png_beside_it() {
     assert!(text(&o.stderr).contains("walls"), "{}", text(&o.stderr));
     assert!(!dir.path().join("x.svg").exists());
 }
+
+#[test]
+fn run_warns_when_min_range_discards_echoes_its_sensor_reads() {
+    // A robot with four sonars whose sensor reads from 2 cm, 10 cm from every wall of a narrow
+    // passage: with the Polaroid's 6 in `min_range` every echo is discarded, and `run` says
+    // so, naming the parameter; with `min_range` at 2 cm it maps them and says nothing.
+    use sonarmap::geometry::Pose;
+    use sonarmap::run::{Run, Snapshot};
+    use sonarmap::sonar::{SensorLayout, SensorMount, SensorSpec};
+    let dir = tempfile::tempdir().unwrap();
+    let mount = |deg: f64| SensorMount {
+        x_m: 0.0,
+        y_m: 0.0,
+        heading_rad: deg.to_radians(),
+    };
+    let run = Run {
+        name: "passage".to_string(),
+        units: sonarmap::units::Units::Metres,
+        robot_radius_m: Some(0.05),
+        layout: SensorLayout {
+            mounts: vec![mount(90.0), mount(-90.0)],
+        },
+        sensor: SensorSpec {
+            min_range_m: 0.02,
+            ..SensorSpec::default()
+        },
+        floor_plan: None,
+        snapshots: (0..20)
+            .map(|k| Snapshot {
+                t: k as f64,
+                pose: Pose::new(0.02 * k as f64, 0.0, 0.0),
+                ranges_m: vec![Some(0.1), Some(0.1)],
+                true_pose: None,
+                reading_dt_s: Vec::new(),
+            })
+            .collect(),
+    };
+    let log = dir.path().join("passage.json");
+    std::fs::write(&log, sonarmap::log::save_run(&run)).unwrap();
+    let near = dir.path().join("near.json");
+    std::fs::write(
+        &near,
+        r#"{"preset": "extended", "units": "m", "min_range": 0.02}"#,
+    )
+    .unwrap();
+    let out = sonarmap(&["run", log.to_str().unwrap(), "--preset", "extended"]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("warning: passage: 40 of 40 echoes (100 %) lay below min_range 0.152 m")
+            && err.contains("reads from 0.020 m; set min_range in --params"),
+        "{err}"
+    );
+    let out = sonarmap(&[
+        "run",
+        log.to_str().unwrap(),
+        "--params",
+        near.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(
+        !text(&out.stderr).contains("min_range"),
+        "{}",
+        text(&out.stderr)
+    );
+    assert!(
+        text(&out.stdout).contains("readings kept 40"),
+        "{}",
+        text(&out.stdout)
+    );
+}
