@@ -375,9 +375,10 @@ fn fit_group(
     };
     let mut splits = Vec::new();
     let mut pieces = Vec::new();
-    let runs = runs_within_gap(&points, params.memory_gap_m);
-    for &[first, last] in runs.iter().filter(|[first, last]| first < last) {
-        split_range(&points, first, last, params, &mut splits, &mut pieces);
+    for [first, last] in runs_within_gap(&points, params.memory_gap_m) {
+        if first < last {
+            split_range(&points, first, last, params, &mut splits, &mut pieces);
+        }
     }
     let mut piece_segments = Vec::with_capacity(pieces.len());
     let mut stacks = Vec::new();
@@ -419,13 +420,19 @@ fn fit_group(
             });
         }
     }
-    record.then_some(MemoryGroupTrace {
-        points,
-        splits,
-        pieces,
-        piece_segments,
-        stacks,
-        cuts: runs.iter().skip(1).map(|&[first, _]| first).collect(),
+    record.then(|| {
+        let cuts = runs_within_gap(&points, params.memory_gap_m)
+            .skip(1)
+            .map(|[first, _]| first)
+            .collect();
+        MemoryGroupTrace {
+            points,
+            splits,
+            pieces,
+            piece_segments,
+            stacks,
+            cuts,
+        }
     })
 }
 
@@ -435,17 +442,13 @@ fn fit_group(
 /// interleave, and the two walls' readings may meet in a piece across a gap no reading
 /// spans, fitting a chord. Each run is split by §3 on its own, as a ring's clusters are
 /// broken at `t_gap` (§3.2) before they are fitted.
-fn runs_within_gap(points: &[SupportPoint], gap_m: f64) -> Vec<[usize; 2]> {
-    let mut runs = Vec::new();
-    let mut first = 0;
-    for i in 1..=points.len() {
-        let breaks = i == points.len() || (points[i].point - points[i - 1].point).norm() > gap_m;
-        if breaks {
-            runs.push([first, i - 1]);
-            first = i;
-        }
-    }
-    runs
+fn runs_within_gap(points: &[SupportPoint], gap_m: f64) -> impl Iterator<Item = [usize; 2]> + '_ {
+    let gap_sq = gap_m * gap_m;
+    let breaks = (1..points.len())
+        .filter(move |&i| (points[i].point - points[i - 1].point).norm_squared() > gap_sq);
+    let starts = std::iter::once(0).chain(breaks.clone());
+    let ends = breaks.map(|i| i - 1).chain(points.len().checked_sub(1));
+    starts.zip(ends).map(|(first, last)| [first, last])
 }
 
 /// Whether a piece's end readings lie closer than `memory_min_span` (§8.1): at a crawl, a few

@@ -327,5 +327,10 @@ fn a_bent_group_is_cut_where_its_axis_order_jumps_past_the_gap() {
     assert_eq!(taken.used, vec![true, true, true, false, false]);
     assert_eq!(group.cuts, vec![2]);
     // The runs themselves: cut once, at the 0.316 m jump.
-    assert_eq!(runs_within_gap(&group.points, 0.3048), vec![[0, 1], [2, 4]]);
+    let runs: Vec<[usize; 2]> = runs_within_gap(&group.points, 0.3048).collect();
+    assert_eq!(runs, vec![[0, 1], [2, 4]]);
+    // No readings, no runs; one reading, one run of it.
+    assert_eq!(runs_within_gap(&[], 0.3048).count(), 0);
+    let one: Vec<[usize; 2]> = runs_within_gap(&group.points[..1], 0.3048).collect();
+    assert_eq!(one, vec![[0, 0]]);
 }
