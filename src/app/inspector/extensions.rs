@@ -86,26 +86,37 @@ fn right_angle_breaks(ctx: &InspectCtx, out: &mut Vec<RichText>) {
     }
 }
 
-/// One line for each place point memory cut a group's axis order before its fit (§8.1).
+/// One line for each group whose axis order point memory cut before its fit (§8.1).
 fn cuts(ctx: &InspectCtx, out: &mut Vec<RichText>) {
     let Some(memory) = &ctx.view.trace.memory else {
         return;
     };
     for group in &memory.groups {
-        for &k in &group.cuts {
-            let (before, after) = (&group.points[k - 1], &group.points[k]);
-            out.push(RichText::new(format!(
-                "point memory cut: readings {}/{} and {}/{} (snapshot/sensor) follow each other \
-                 along the group's axis but lie {} apart, more than memory_gap {}: the group is \
-                 bent (a corner), and its runs are fitted apart, so no piece spans the gap",
-                before.reading.snapshot(),
-                before.reading.sensor(),
-                after.reading.snapshot(),
-                after.reading.sensor(),
-                ctx.len((after.point - before.point).norm()),
-                ctx.len(ctx.params.memory_gap_m),
-            )));
-        }
+        // Each cut: the readings either side of it and their distance.
+        let pairs: Vec<_> = group
+            .cuts
+            .iter()
+            .filter_map(|&k| Some((group.points.get(k.checked_sub(1)?)?, group.points.get(k)?)))
+            .map(|(a, b)| (a, b, (b.point - a.point).norm()))
+            .collect();
+        let Some(&(a, b, _)) = pairs.first() else {
+            continue;
+        };
+        let widest_m = pairs.iter().map(|p| p.2).fold(0.0, f64::max);
+        out.push(RichText::new(format!(
+            "point memory cut: a group of {} readings is cut in {} place(s) where readings next \
+             along its axis lie more than memory_gap {} apart (first between {}/{} and {}/{}, \
+             snapshot/sensor; widest {}): the group is bent (a corner), and its runs are fitted \
+             apart, so no piece spans a gap",
+            group.points.len(),
+            pairs.len(),
+            ctx.len(ctx.params.memory_gap_m),
+            a.reading.snapshot(),
+            a.reading.sensor(),
+            b.reading.snapshot(),
+            b.reading.sensor(),
+            ctx.len(widest_m),
+        )));
     }
 }
 

@@ -441,7 +441,7 @@ fn fit_group(
 /// plane, but ordered along one axis the readings of a bent chain (two walls at a corner)
 /// interleave, and the two walls' readings may meet in a piece across a gap no reading
 /// spans, fitting a chord. Each run is split by §3 on its own, as a ring's clusters are
-/// broken at `t_gap` (§3.2) before they are fitted.
+/// broken at `t_gap` (paper §3.1, docs/algorithm.md §2) before they are fitted.
 fn runs_within_gap(points: &[SupportPoint], gap_m: f64) -> impl Iterator<Item = [usize; 2]> + '_ {
     let gap_sq = gap_m * gap_m;
     let breaks = (1..points.len())
