@@ -127,6 +127,9 @@ pub struct Summary {
     pub poses: Vec<sonarmap::geometry::Pose>,
 }
 
+/// The share of echoes below `min_range` past which a run whose sensor reads nearer is warned.
+const MIN_RANGE_WARNING_SHARE: f64 = 0.1;
+
 impl Summary {
     fn add(&mut self, trace: &StepTrace) {
         self.snapshots += 1;
@@ -155,33 +158,27 @@ impl Summary {
             }
         }
     }
-}
 
-/// The share of echoes below `min_range` past which a run whose sensor reads nearer is warned.
-const MIN_RANGE_WARNING_SHARE: f64 = 0.1;
-
-impl Summary {
     /// A warning when `min_range` discarded at least a tenth of the echoes that `run`'s sensor
     /// reads (its own `min_range` is smaller): `min_range` is the Polaroid's blind zone (6 in),
     /// and a small robot's sonars read walls nearer than that.
     pub fn min_range_warning(&self, run: &Run, params: &Params) -> Option<String> {
         let share = self.below_min_range as f64 / self.echoes.max(1) as f64;
-        (share >= MIN_RANGE_WARNING_SHARE && run.sensor.min_range_m < params.min_range_m).then(
-            || {
-                let length = |m: f64| format!("{:.3} {}", run.units.from_m(m), run.units.symbol());
-                format!(
-                "{}: {} of {} echoes ({:.0} %) lay below min_range {} and were discarded, though \
-                 this log's sensor reads from {}; set min_range in --params to map them (README, \
-                 parameters)",
-                run.name,
-                self.below_min_range,
-                self.echoes,
-                100.0 * share,
-                length(params.min_range_m),
-                length(run.sensor.min_range_m),
-            )
-            },
-        )
+        if share < MIN_RANGE_WARNING_SHARE || run.sensor.min_range_m >= params.min_range_m {
+            return None;
+        }
+        let length = |m: f64| format!("{:.3} {}", run.units.from_m(m), run.units.symbol());
+        Some(format!(
+            "{}: {} of {} echoes ({:.0} %) lay below min_range {} and were discarded, though this \
+             log's sensor reads from {}; set min_range in --params to map them (README, \
+             parameters)",
+            run.name,
+            self.below_min_range,
+            self.echoes,
+            100.0 * share,
+            length(params.min_range_m),
+            length(run.sensor.min_range_m),
+        ))
     }
 }
 
