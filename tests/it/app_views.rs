@@ -409,18 +409,12 @@ fn the_inspector_says_when_the_robot_stood_still() {
 fn the_inspector_names_a_link_broken_across_a_right_angle() {
     use sonarmap::geometry::Pose;
     use sonarmap::mapping::Params;
-    use sonarmap::sonar::{SensorLayout, SensorMount};
     // Four sonars at the centre (front, left, back, right); each snapshot reads 0.3 m ahead and
     // 0.4 m to the left, 0.5 m apart, within t_gap.
     let mut run = super::support::pioneer_corridor_crawl(2);
-    let mount = |deg: f64| SensorMount {
-        x_m: 0.0,
-        y_m: 0.0,
-        heading_rad: deg.to_radians(),
-    };
-    run.layout = SensorLayout {
-        mounts: vec![mount(0.0), mount(90.0), mount(180.0), mount(-90.0)],
-    };
+    run.layout = super::support::layout_of(
+        [0.0f64, 90.0, 180.0, -90.0].map(|deg| (0.0, 0.0, deg.to_radians())),
+    );
     run.sensor.min_range_m = 0.02;
     run.snapshots = (0..3)
         .map(|k| sonarmap::run::Snapshot {

@@ -782,20 +782,14 @@ fn run_warns_when_min_range_discards_echoes_its_sensor_reads() {
     // so, naming the parameter; with `min_range` at 2 cm it maps them and says nothing.
     use sonarmap::geometry::Pose;
     use sonarmap::run::{Run, Snapshot};
-    use sonarmap::sonar::{SensorLayout, SensorMount, SensorSpec};
+    use sonarmap::sonar::SensorSpec;
+    use std::f64::consts::FRAC_PI_2;
     let dir = tempfile::tempdir().unwrap();
-    let mount = |deg: f64| SensorMount {
-        x_m: 0.0,
-        y_m: 0.0,
-        heading_rad: deg.to_radians(),
-    };
     let run = Run {
         name: "passage".to_string(),
         units: sonarmap::units::Units::Metres,
         robot_radius_m: Some(0.05),
-        layout: SensorLayout {
-            mounts: vec![mount(90.0), mount(-90.0)],
-        },
+        layout: super::support::layout_of([(0.0, 0.0, FRAC_PI_2), (0.0, 0.0, -FRAC_PI_2)]),
         sensor: SensorSpec {
             min_range_m: 0.02,
             ..SensorSpec::default()
