@@ -441,3 +441,33 @@ fn the_inspector_names_a_link_broken_across_a_right_angle() {
         .query_by_label_contains("sensors 0 and 1, axes 90° apart")
         .is_some());
 }
+
+/// A step where point memory cut a bent group before its fit says so in the inspector, with
+/// the group's size and the widest gap (docs/algorithm.md §8.1).
+#[test]
+fn the_inspector_says_where_point_memory_cut_a_group() {
+    use sonarmap::mapping::{Mapper, Params};
+    let mut run = super::support::pioneer_corridor_crawl(2);
+    run.snapshots.truncate(400);
+    let mut mapper = Mapper::new(Params::extended(), run.layout.clone(), run.sensor);
+    let cut = run
+        .snapshots
+        .iter()
+        .map(|s| mapper.step(s))
+        .find(|t| {
+            t.memory
+                .as_ref()
+                .is_some_and(|m| m.groups.iter().any(|g| !g.cuts.is_empty()))
+        })
+        .expect("the crawl's point memory cuts a group at the corridor's corners")
+        .snapshot;
+    let mut h = harness(SonarApp::new(run, None));
+    settle(&mut h);
+    h.state_mut().push(Command::SetParams(Params::extended()));
+    settle(&mut h);
+    h.state_mut().push(Command::Seek(cut));
+    h.run();
+    assert!(h
+        .query_by_label_contains("point memory cut: a group of")
+        .is_some());
+}
