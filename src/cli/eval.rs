@@ -185,6 +185,9 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
             map_run(&run, calibrated, None, false).with_context(|| log.display().to_string())?;
     }
     let params = mapper.params().clone();
+    if let Some(warning) = summary.min_range_warning(&run, &params) {
+        eprintln!("warning: {warning}");
+    }
     let map = mapper.map();
     let judged = sonarmap::eval::judged_with(&params, args.score_accuracy_pct);
     let score = |m: &sonarmap::mapping::Map| match args.align {

@@ -39,8 +39,6 @@ pub struct Mapping {
     traces: Vec<StepTrace>,
     summary: Summary,
     growth: SupportGrowth,
-    /// Whether the min_range warning was given ([`Summary::min_range_warning`]).
-    min_range_warned: bool,
 }
 
 impl Mapping {
@@ -52,7 +50,6 @@ impl Mapping {
             mapper: Mapper::new(params, run.layout.clone(), run.sensor).with_trace(keep_traces),
             traces: Vec::new(),
             summary: Summary::default(),
-            min_range_warned: false,
         }
     }
 
@@ -73,12 +70,6 @@ impl Mapping {
             self.record(trace);
             if !report(self.mapper.next_snapshot()) {
                 return Err(super::interrupt::Interrupted.into());
-            }
-        }
-        if !self.min_range_warned {
-            if let Some(warning) = self.summary.min_range_warning(run, self.mapper.params()) {
-                progress.warn(&warning);
-                self.min_range_warned = true;
             }
         }
         Ok(())
@@ -161,7 +152,8 @@ impl Summary {
 
     /// A warning when `min_range` discarded at least a tenth of the echoes that `run`'s sensor
     /// reads (its own `min_range` is smaller): `min_range` is the Polaroid's blind zone (6 in),
-    /// and a small robot's sonars read walls nearer than that.
+    /// and a small robot's sonars read walls nearer than that. Given once by a command, from the
+    /// summary of the pass it reports (a second pass reads the same readings).
     pub fn min_range_warning(&self, run: &Run, params: &Params) -> Option<String> {
         let share = self.below_min_range as f64 / self.echoes.max(1) as f64;
         if share < MIN_RANGE_WARNING_SHARE || run.sensor.min_range_m >= params.min_range_m {

@@ -180,15 +180,18 @@ fn run_one(
     let run = read_run(path)?;
     let until = last_snapshot(&run, until)?;
     let what = path.display().to_string();
-    let progress = Progress::within(sweep, &what, until + 1, "snapshots");
+    let mut progress = Progress::within(sweep, &what, until + 1, "snapshots");
     let (mut mapping, mut figure) = map_for(&run, params, until, out, &progress).context(what)?;
     if let Some(calibrated) = mapping.mapper.second_pass_params() {
         drop(progress);
         let what = format!("{} (calibrated)", path.display());
-        let progress = Progress::within(sweep, &what, until + 1, "snapshots");
+        progress = Progress::within(sweep, &what, until + 1, "snapshots");
         (mapping, figure) = map_for(&run, &calibrated, until, out, &progress).context(what)?;
     }
     let (mapper, traces, summary) = mapping.finish();
+    if let Some(warning) = summary.min_range_warning(&run, mapper.params()) {
+        progress.warn(&warning);
+    }
     if let Some(path) = &out.map {
         write_atomic(path, save_map(mapper.map(), run.units, until))?;
     }

@@ -839,3 +839,53 @@ fn run_warns_when_min_range_discards_echoes_its_sensor_reads() {
         text(&out.stdout)
     );
 }
+
+#[test]
+fn a_calibrated_second_pass_warns_of_min_range_once() {
+    // The Pioneer crawl given the bad drift: `calibrate_first` finds it and maps the run again.
+    // With `min_range` at 1.5 m most echoes are discarded (the sensor reads from 0.15 m); both
+    // passes read the same readings, and `run` and `eval` say so once, not once a pass.
+    use sonarmap::sim::{with_odometry, OdometryError};
+    let dir = tempfile::tempdir().unwrap();
+    let run = with_odometry(
+        &super::support::pioneer_corridor_crawl(1),
+        &OdometryError::BAD,
+        1,
+    );
+    let log = dir.path().join("crawl.json");
+    std::fs::write(&log, sonarmap::log::save_run(&run)).unwrap();
+    let far = dir.path().join("far.json");
+    std::fs::write(
+        &far,
+        r#"{"preset": "extended", "units": "m", "min_range": 1.5}"#,
+    )
+    .unwrap();
+    let out = sonarmap(&[
+        "eval",
+        log.to_str().unwrap(),
+        "--params",
+        far.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(report["calibration"].is_object(), "two passes: {report}");
+    let err = text(&out.stderr);
+    assert_eq!(
+        err.matches("lay below min_range 1.500 m").count(),
+        1,
+        "{err}"
+    );
+    let out = sonarmap(&[
+        "run",
+        log.to_str().unwrap(),
+        "--params",
+        far.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let err = text(&out.stderr);
+    assert_eq!(
+        err.matches("lay below min_range 1.500 m").count(),
+        1,
+        "{err}"
+    );
+}
