@@ -7,6 +7,7 @@
 
 use super::context::InspectCtx;
 use super::widgets::heading;
+use crate::geometry::wrap_pi;
 use crate::mapping::ext::beam_geometry::feature_tolerance_m;
 use crate::mapping::ext::corner_diagonals::CORNER_WALL_REACH_M;
 use crate::mapping::ext::point_memory::range_span_m;
@@ -66,12 +67,10 @@ fn right_angle_breaks(ctx: &InspectCtx, out: &mut Vec<RichText>) {
             continue;
         }
         let apart_deg = match (mounts.get(g.from_sensor), mounts.get(g.to_sensor)) {
-            (Some(a), Some(b)) => {
-                let d = (a.heading_rad - b.heading_rad)
-                    .to_degrees()
-                    .rem_euclid(360.0);
-                format!("{:.0}°", d.min(360.0 - d))
-            }
+            (Some(a), Some(b)) => format!(
+                "{:.0}°",
+                wrap_pi(a.heading_rad - b.heading_rad).abs().to_degrees()
+            ),
             _ => "?".to_string(),
         };
         out.push(RichText::new(format!(
