@@ -540,8 +540,8 @@ mod tests {
         assert!(switches().any(|name| name == "memory_joints"));
         assert_eq!(
             switches().count(),
-            24,
-            "correlate and the 23 extension flags"
+            25,
+            "correlate and the 24 extension flags"
         );
         // The counts too: `min_piece_points` was missing from the panel.
         let p = Params {

@@ -697,3 +697,49 @@ fn a_drifting_run_that_comes_back_to_its_walls_is_mapped_again_with_its_pose_cor
         "position RMS {corrected} m against {heading_alone} m"
     );
 }
+
+/// The building asset's run (a synchro-drive robot turning its sonar ring as it drives, 38 m)
+/// given the mild drift: its sensors' windows never hold one heading for a metre, so only the
+/// walls' windows (`wall_windows`) observe the heading, and they hold it (docs/algorithm.md
+/// §8.17).
+#[test]
+fn the_walls_windows_hold_the_heading_of_a_robot_that_turns_as_it_drives() {
+    use sonarmap::pose_error::{pose_error, pose_error_of};
+    let path = super::support::asset("building.log.json");
+    let bytes = std::fs::read(&path).unwrap();
+    let truth = sonarmap::log::load_run(&bytes, "building.log.json").unwrap();
+    let run = with_odometry(&truth, &OdometryError::MILD, 1);
+    let mapped = |wall_windows: bool| {
+        let params = Params {
+            wall_windows,
+            ..heading_params()
+        };
+        let mut mapper = Mapper::new(params, run.layout.clone(), run.sensor);
+        let mut observed = 0;
+        let poses: Vec<_> = run
+            .snapshots
+            .iter()
+            .map(|s| {
+                let trace = mapper.step(s);
+                observed += usize::from(trace.correction.and_then(|c| c.heading).is_some());
+                trace.pose.unwrap()
+            })
+            .collect();
+        (
+            pose_error_of(&run, poses).unwrap().rms_heading_deg,
+            observed,
+        )
+    };
+    let odometry_deg = pose_error(&run).unwrap().rms_heading_deg;
+    let (_, sensors_observed) = mapped(false);
+    let (walls_deg, walls_observed) = mapped(true);
+    assert_eq!(sensors_observed, 0, "the sensors' windows observed heading");
+    assert!(
+        walls_observed > run.snapshots.len() / 10,
+        "{walls_observed} steps observed heading"
+    );
+    assert!(
+        walls_deg < 0.5 * odometry_deg,
+        "heading RMS {walls_deg:.2}° with the walls' windows, {odometry_deg:.2}° odometry"
+    );
+}

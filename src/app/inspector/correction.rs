@@ -129,11 +129,25 @@ fn heading_row(ui: &mut egui::Ui, h: &HeadingObservation) {
             h.deviation_deg, h.deviation_after_deg
         ),
     );
-    kv(
-        ui,
-        "lines' σ, sensors",
-        format!("{:.2}°, {:?}", h.sigma_deg, h.sensors),
-    );
+    if h.walls.is_empty() {
+        kv(
+            ui,
+            "lines' σ, sensors",
+            format!("{:.2}°, {:?}", h.sigma_deg, h.sensors),
+        );
+    } else {
+        let walls: Vec<String> = h.walls.iter().map(|w| format!("s{w}")).collect();
+        kv(
+            ui,
+            "lines' σ, walls",
+            format!(
+                "{:.2}°, {} (sensors {:?})",
+                h.sigma_deg,
+                walls.join(", "),
+                h.sensors
+            ),
+        );
+    }
     if let Some(gate_deg) = h.widened_gate_deg {
         kv(
             ui,

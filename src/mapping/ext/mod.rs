@@ -107,6 +107,11 @@ pub const ALL: &[Extension] = &[
         source: "beyond the literature (sonarmap): pieces of one chain share a reading",
     },
     Extension {
+        parameter: "wall_windows",
+        section: "8.17",
+        source: "Kleeman and Kuc: a plane's echo returns from within the beam along its normal, so one wall's echoes from any sensor lie on a line parallel to it; the line observes heading as in Nguyen et al.'s orthogonal SLAM",
+    },
+    Extension {
         parameter: "right_angle_break",
         section: "8.20",
         source: "Kleeman and Kuc: a plane echoes from within the beam, so sonars a right angle apart never hear one plane on their axes",

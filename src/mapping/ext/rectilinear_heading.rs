@@ -11,6 +11,7 @@
 //! follows the walls the drifting poses have just drawn.
 
 use crate::geometry::{wrap_pi, Point, Vec2};
+use crate::mapping::model::map::SegmentId;
 use std::collections::VecDeque;
 use std::f64::consts::FRAC_PI_2;
 
@@ -61,7 +62,27 @@ pub struct RectilinearState {
     /// The lines the last step's settled readings gave (`heading_correction` alone with
     /// `settled_walls`): the next step's observation.
     pub pending_lines: HeadingLines,
+    /// The walls whose windows gave `pending_lines`, when they are the walls' (else empty).
+    pub pending_walls: Vec<SegmentId>,
+    /// With `wall_windows`: each confirmed wall's window of its settled echoes, in the order
+    /// the walls were first read.
+    pub wall_windows: Vec<WallEchoWindow>,
 }
+
+/// One confirmed wall's recent echoes in the odometry's frame (`wall_windows`, §8.17).
+#[derive(Clone, Debug, PartialEq)]
+pub struct WallEchoWindow {
+    /// The wall that settled the readings.
+    pub wall: SegmentId,
+    /// Its echoes, oldest first, each with the distance driven when it was read (metres).
+    pub echoes: WallWindow,
+    /// The odometry's heading (radians, unwrapped) when the window began.
+    pub began_heading_rad: f64,
+}
+
+/// The most a wall's window lets the odometry turn (90°): the wheelbase's error turns every
+/// later echo by its share of the turn, 5° after a U-turn at 3 %.
+pub const WALL_WINDOW_TURN_GATE_RAD: f64 = std::f64::consts::FRAC_PI_2;
 
 /// The lines of the sensors whose reading a confirmed wall explained this step: (sensor, line
 /// in the odometry's frame).

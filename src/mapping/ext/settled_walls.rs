@@ -75,6 +75,32 @@ pub fn settles(beam: &Beam, a: &Point, b: &Point, rule: &SettleRule) -> Option<(
     (inside_m >= rule.end_margin_m).then_some((echo.range_m, inside_m))
 }
 
+/// Where the wall `a`–`b` sent `beam`'s echo from, at the measured range: the beam's origin
+/// plus its range towards the wall's echo point under `rule` (the foot of the perpendicular, or
+/// where the cone's edge meets the wall). A wall's echoes placed so lie on a line parallel to
+/// it whichever sensor read them, where points on the beams' axes would not (docs/algorithm.md
+/// §8.17, `wall_windows`).
+///
+/// ```
+/// use sonarmap::geometry::{Point, Vec2};
+/// use sonarmap::mapping::ext::settled_walls::{echo_at_range, SettleRule};
+/// use sonarmap::mapping::ext::confirm::PlaneEchoModel;
+/// use sonarmap::mapping::model::beam::Beam;
+/// // The wall y = 2 read 10° off its normal at 2.01 m: the echo comes from the foot (0, 2),
+/// // so the point lies straight ahead of the sensor at the range read, not on the axis.
+/// let dir = Vec2::new(80f64.to_radians().cos(), 80f64.to_radians().sin());
+/// let beam = Beam { origin: Point::origin(), direction: dir, range_m: 2.01 };
+/// let rule = SettleRule::new(3.0, 12.5f64.to_radians(), PlaneEchoModel::Foot, 0.3);
+/// let p = echo_at_range(&beam, &Point::new(-2.0, 2.0), &Point::new(2.0, 2.0), &rule).unwrap();
+/// assert!(p.x.abs() < 1e-12 && (p.y - 2.01).abs() < 1e-12);
+/// ```
+pub fn echo_at_range(beam: &Beam, a: &Point, b: &Point, rule: &SettleRule) -> Option<Point> {
+    let echo = rule.plane_echo(beam, a, b)?;
+    let towards = (a + (b - a) * echo.along) - beam.origin;
+    let distance_m = towards.norm();
+    (distance_m > 0.0).then(|| beam.origin + towards * (beam.range_m / distance_m))
+}
+
 impl SettleRule {
     /// The rule for a sonar of accuracy `accuracy_pct` (ξ, percent) whose beam opens
     /// `2·half_beam_rad`, a plane's echo taken as `echo` says, with the margin

@@ -461,8 +461,12 @@ pub struct HeadingObservation {
     /// The deviation's standard deviation, degrees.
     pub sigma_deg: f64,
     /// The sensors whose windows gave a line this step (a line beyond the gate counts for
-    /// nothing).
+    /// nothing); for the walls' windows, the sensor of each line's newest echo.
     pub sensors: Vec<usize>,
+    /// With `wall_windows`, when the lines are the walls' windows' (no sensor's window gave
+    /// one): those walls, in the order of `sensors`. Absent for the sensors' windows.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub walls: Vec<SegmentId>,
     /// The gate, degrees, when a line beyond 5° counted through it: the heading's uncertainty
     /// widens it (after a turn, lines of 12 readings or more up to three of its standard
     /// deviations off, at most 20°). Absent when every line that counted was within 5°.

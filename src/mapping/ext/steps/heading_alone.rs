@@ -42,13 +42,15 @@ impl Mapper {
         predicted: Pose,
         prior: Matrix3<f64>,
     ) -> CorrectionTrace {
-        let (at_prediction, lines) = if self.heading_windows_from_settled() {
-            let lines = std::mem::take(&mut self.pose_belief.rectilinear.pending_lines);
-            (Vec::new(), lines)
+        let (at_prediction, lines, walls) = if self.heading_windows_from_settled() {
+            let state = &mut self.pose_belief.rectilinear;
+            let lines = std::mem::take(&mut state.pending_lines);
+            let walls = std::mem::take(&mut state.pending_walls);
+            (Vec::new(), lines, walls)
         } else {
             let at_prediction = self.matched_readings(snapshot, previous, &predicted);
             let lines = self.heading_lines(snapshot, previous, &at_prediction);
-            (at_prediction, lines)
+            (at_prediction, lines, Vec::new())
         };
         let with_correction = |correction_rad: f64| {
             Pose::new(
@@ -80,6 +82,7 @@ impl Mapper {
                 deviation_after_deg: lines_update.update.innovation_after_rad.to_degrees(),
                 sigma_deg: lines_update.sigma_rad.to_degrees(),
                 sensors: lines.iter().map(|(s, _)| *s).collect(),
+                walls,
                 widened_gate_deg: lines_update.widened_gate_rad.map(f64::to_degrees),
             });
         self.pose_belief.covariance = prior;
@@ -193,6 +196,12 @@ impl Mapper {
     /// matched to the walls at the prediction.
     pub(super) fn heading_windows_from_settled(&self) -> bool {
         self.params.corrects_heading_alone() && self.params.settled_walls
+    }
+
+    /// Whether the settled readings' echoes are kept for the walls' windows (`wall_windows`
+    /// with [`Self::heading_windows_from_settled`]).
+    pub(in crate::mapping) fn heading_windows_by_wall(&self) -> bool {
+        self.params.wall_windows && self.heading_windows_from_settled()
     }
 
     /// The direction (radians) and length (metres) of each confirmed fitted wall the

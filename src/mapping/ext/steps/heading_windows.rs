@@ -7,9 +7,10 @@ use crate::geometry::{wrap_pi, Point, Pose};
 use crate::mapping::ext::pose_correction::RangeObservation;
 use crate::mapping::ext::rectilinear_heading::{
     along_motion, axis_deviation, axis_line, fit_line, push, turned_beyond_gate, HeadingLines,
-    AXIS_GATE_RAD,
+    WallEchoWindow, AXIS_GATE_RAD, WALL_WINDOW_TURN_GATE_RAD,
 };
 use crate::mapping::model::ext_trace::{CorrectionTarget, HeadingObservation};
+use crate::mapping::model::map::SegmentId;
 use crate::mapping::Mapper;
 use crate::run::Snapshot;
 use nalgebra::Vector3;
@@ -46,25 +47,47 @@ impl Mapper {
     /// confirmed walls settled (`settled_points`, in the map's frame) join their windows in
     /// the odometry's frame, and their lines wait for the next step's correction (one step
     /// late, instead of matching every reading to the walls again).
-    pub(super) fn windows_take_settled(&mut self, settled_points: &[(usize, Point)]) {
+    ///
+    /// With `wall_windows`, the walls' windows take `settled_echoes` as well
+    /// ([`Self::extend_wall_windows`]), and their lines stand in on a step whose sensors'
+    /// windows gave none: a robot that turns as it drives empties those.
+    pub(super) fn windows_take_settled(
+        &mut self,
+        settled_points: &[(usize, Point)],
+        settled_echoes: &[(SegmentId, usize, Point)],
+    ) {
         let Some(odometry) = self.last_pose else {
             return;
         };
         if self.params.heading_window_m <= 0.0 {
             return;
         }
+        self.pose_belief.rectilinear.pending_walls.clear();
         // Until the walls set the axis, the drift takes no lines (`update_drift`).
         let fit = self.pose_belief.drift.axis_ref_rad.is_some();
-        let lines = if self.pose_belief.odometry_to_map == Pose::default() {
-            self.extend_windows(&odometry, settled_points, fit)
-        } else {
-            let map_to_odometry = inverse(&self.pose_belief.odometry_to_map).robot_frame();
-            let readings: Vec<(usize, Point)> = settled_points
-                .iter()
-                .map(|(sensor, p)| (*sensor, map_to_odometry.to_world(p)))
-                .collect();
-            self.extend_windows(&odometry, &readings, fit)
+        let to_odometry = (self.pose_belief.odometry_to_map != Pose::default())
+            .then(|| inverse(&self.pose_belief.odometry_to_map).robot_frame());
+        let mut lines = match &to_odometry {
+            None => self.extend_windows(&odometry, settled_points, fit),
+            Some(map_to_odometry) => {
+                let readings: Vec<(usize, Point)> = settled_points
+                    .iter()
+                    .map(|(sensor, p)| (*sensor, map_to_odometry.to_world(p)))
+                    .collect();
+                self.extend_windows(&odometry, &readings, fit)
+            }
         };
+        if self.params.wall_windows {
+            let echoes: Vec<(SegmentId, usize, Point)> = settled_echoes
+                .iter()
+                .map(|&(wall, sensor, p)| (wall, sensor, to_odometry.map_or(p, |f| f.to_world(&p))))
+                .collect();
+            let (wall_lines, walls) = self.extend_wall_windows(&odometry, &echoes, fit);
+            if lines.is_empty() {
+                lines = wall_lines;
+                self.pose_belief.rectilinear.pending_walls = walls;
+            }
+        }
         self.pose_belief.rectilinear.pending_lines = lines;
     }
 
@@ -104,6 +127,64 @@ impl Mapper {
             }
         }
         lines
+    }
+
+    /// Adds `echoes` (wall, sensor, echo point in the odometry's frame) to their walls'
+    /// windows, trims every window to `heading_window` driven
+    /// (dropping the empty ones), and fits the windows that took an echo (when `fit`). Unlike a
+    /// sensor's window, a wall's window survives the robot's turns: its echoes lie on the
+    /// wall's line from any sensor, and a turn of the odometry moves them only through the
+    /// positions it integrates. Its echoes are one wall's, so a line needs no check against
+    /// the robot's motion; [`fit_line`] still wants them spread along half the window. A line
+    /// is listed under the sensor of its newest echo; the walls of the lines come second.
+    fn extend_wall_windows(
+        &mut self,
+        odometry: &Pose,
+        echoes: &[(SegmentId, usize, Point)],
+        fit: bool,
+    ) -> (HeadingLines, Vec<SegmentId>) {
+        let window_m = self.params.heading_window_m;
+        let travelled_m = self.map.travelled_m;
+        let heading_rad = odometry.heading_rad;
+        let windows = &mut self.pose_belief.rectilinear.wall_windows;
+        for window in windows.iter_mut() {
+            let turned_rad = heading_rad - window.began_heading_rad;
+            // A log's headings may wrap at ±180°: a turn counts as the smaller of both readings.
+            if turned_rad.abs().min(wrap_pi(turned_rad).abs()) > WALL_WINDOW_TURN_GATE_RAD {
+                window.echoes.clear();
+            }
+            push(&mut window.echoes, travelled_m, None, window_m);
+        }
+        windows.retain(|w| !w.echoes.is_empty());
+        for &(wall, _, point) in echoes {
+            let index = match windows.iter().position(|w| w.wall == wall) {
+                Some(index) => index,
+                None => {
+                    windows.push(WallEchoWindow {
+                        wall,
+                        echoes: Default::default(),
+                        began_heading_rad: heading_rad,
+                    });
+                    windows.len() - 1
+                }
+            };
+            windows[index].echoes.push_back((travelled_m, point));
+        }
+        let (mut lines, mut walls) = (Vec::new(), Vec::new());
+        if !fit {
+            return (lines, walls);
+        }
+        for window in windows.iter() {
+            // The newest echo of this wall this step, if any.
+            let Some(&(_, sensor, _)) = echoes.iter().rev().find(|e| e.0 == window.wall) else {
+                continue;
+            };
+            if let Some(line) = fit_line(&window.echoes, window_m) {
+                lines.push((sensor, line));
+                walls.push(window.wall);
+            }
+        }
+        (lines, walls)
     }
 
     /// With `pose_correction`, before the map has an axis: the first line that may set one
@@ -174,6 +255,7 @@ impl Mapper {
             deviation_after_deg: after_rad.to_degrees(),
             sigma_deg: sigma_rad.to_degrees(),
             sensors: lines.iter().map(|(s, _)| *s).collect(),
+            walls: Vec::new(),
             widened_gate_deg: None,
         })
     }

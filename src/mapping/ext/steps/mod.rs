@@ -63,7 +63,7 @@ impl Mapper {
     /// (§8.12) join the heading windows (§8.17).
     pub(in crate::mapping) fn hook_readings_settled(&mut self, buffers: &StepBuffers) {
         if self.heading_windows_from_settled() {
-            self.windows_take_settled(&buffers.settled_points);
+            self.windows_take_settled(&buffers.settled_points, &buffers.settled_echoes);
         }
     }
 

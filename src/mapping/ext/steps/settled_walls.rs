@@ -1,7 +1,7 @@
 //! The mapper's settled-walls stage (docs/algorithm.md §8.12).
 
 use crate::mapping::ext::settled_walls::{
-    any_settling_wall, settling_wall, SettleRule, SETTLED_END_MARGIN_GAPS,
+    any_settling_wall, echo_at_range, settling_wall, SettleRule, SETTLED_END_MARGIN_GAPS,
 };
 use crate::mapping::model::trace::{SettledTrace, StepTrace};
 use crate::mapping::step::StepBuffers;
@@ -18,6 +18,7 @@ impl Mapper {
         buffers: &mut StepBuffers,
     ) {
         buffers.settled_points.clear();
+        buffers.settled_echoes.clear();
         buffers.settled_readings.clear();
         if self.map.plane_support.is_empty() {
             return;
@@ -29,31 +30,37 @@ impl Mapper {
             self.plane_echo_model(),
             SETTLED_END_MARGIN_GAPS * self.params.memory_gap_m,
         );
-        let (near, settled_by, settled_points, settled_readings) = (
+        let (near, settled_by, settled_points, settled_echoes, settled_readings) = (
             &mut buffers.near_walls,
             &mut buffers.settled_by,
             &mut buffers.settled_points,
+            &mut buffers.settled_echoes,
             &mut buffers.settled_readings,
         );
         let keep_readings = self.trims_seen_through();
+        let keep_echoes = self.heading_windows_by_wall();
         settled_by.resize(self.layout.len(), None);
         buffers.kept.retain(|q| {
             let beam = self.step_beam_of(q);
             let hint = settled_by.get(q.reading.sensor()).copied().flatten();
-            // Traced, the wall that predicts the range best, for the trace; untraced, any.
-            let segment = if self.record_trace {
+            // Traced, the wall that predicts the range best, for the trace; with the walls'
+            // windows too, whose echoes must join the same wall's window traced or not, and
+            // after a checkpoint's restore (which starts the hints afresh); otherwise any.
+            let segment = if self.record_trace || keep_echoes {
                 let Some((segment, predicted_m, inside_m)) =
                     settling_wall(&self.map, &beam, &rule, near)
                 else {
                     return true;
                 };
-                trace.settled.push(SettledTrace {
-                    sensor: q.reading.sensor(),
-                    range_m: q.range_m,
-                    segment,
-                    predicted_m,
-                    inside_m,
-                });
+                if self.record_trace {
+                    trace.settled.push(SettledTrace {
+                        sensor: q.reading.sensor(),
+                        range_m: q.range_m,
+                        segment,
+                        predicted_m,
+                        inside_m,
+                    });
+                }
                 segment
             } else {
                 let found = any_settling_wall(&self.map, &beam, &rule, hint, near);
@@ -66,6 +73,11 @@ impl Mapper {
                 *slot = Some(segment);
             }
             settled_points.push((q.reading.sensor(), q.point));
+            if keep_echoes {
+                let wall = self.map.segment(segment);
+                let echo = wall.and_then(|w| echo_at_range(&beam, &w.a.point, &w.b.point, &rule));
+                settled_echoes.extend(echo.map(|p| (segment, q.reading.sensor(), p)));
+            }
             if keep_readings {
                 settled_readings.push(*q);
             }

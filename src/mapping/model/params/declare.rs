@@ -541,6 +541,12 @@ parameters! {
     /// `heading_correction`.
     heading_window_m: f64, file heading_window: f64, length,
         paper 2.0, extended 2.0, needs [];
+    /// The heading windows are kept per confirmed wall instead of per sensor: each settled
+    /// reading joins the window of the wall that settled it, placed where that wall's echo
+    /// came from at the measured range, and no turn of the robot empties a window
+    /// (docs/algorithm.md §8.17). Acts only with `heading_correction` and `settled_walls`.
+    wall_windows: bool, file wall_windows: bool, flag,
+        paper false, extended true, needs ["heading_correction", "settled_walls"];
     /// A point-memory piece whose readings are one place read at changing ranges (a stack:
     /// a wall square-on to a sonar the robot drives towards or away from) makes no segment;
     /// its readings leave the memory (docs/algorithm.md §8.15). Acts only with point memory.
