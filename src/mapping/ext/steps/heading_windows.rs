@@ -3,7 +3,7 @@
 //! lines give ([`crate::mapping::ext::rectilinear_heading`]).
 
 use super::pose_correction::{inverse, Matched};
-use crate::geometry::{wrap_pi, Point, Pose};
+use crate::geometry::{wrap_pi, Point, Pose, RobotFrame};
 use crate::mapping::ext::pose_correction::RangeObservation;
 use crate::mapping::ext::rectilinear_heading::{
     along_motion, axis_deviation, axis_line, fit_line, push, turned_beyond_gate, HeadingLines,
@@ -78,12 +78,11 @@ impl Mapper {
             }
         };
         if self.params.wall_windows {
-            let echoes: Vec<(SegmentId, usize, Point)> = settled_echoes
-                .iter()
-                .map(|&(wall, sensor, p)| (wall, sensor, to_odometry.map_or(p, |f| f.to_world(&p))))
-                .collect();
-            let (wall_lines, walls) = self.extend_wall_windows(&odometry, &echoes, fit);
-            if lines.is_empty() {
+            // Fitted only where they stand in.
+            let stand_in = fit && lines.is_empty();
+            let (wall_lines, walls) =
+                self.extend_wall_windows(&odometry, settled_echoes, to_odometry, stand_in);
+            if stand_in {
                 lines = wall_lines;
                 self.pose_belief.rectilinear.pending_walls = walls;
             }
@@ -129,9 +128,9 @@ impl Mapper {
         lines
     }
 
-    /// Adds `echoes` (wall, sensor, echo point in the odometry's frame) to their walls'
-    /// windows, trims every window to `heading_window` driven
-    /// (dropping the empty ones), and fits the windows that took an echo (when `fit`). Unlike a
+    /// Adds `echoes` (wall, sensor, echo point in the map's frame), carried into the
+    /// odometry's frame by `to_odometry` (none: the frames are one), to their walls' windows,
+    /// trims every window to `heading_window` driven (dropping the empty ones), and fits the windows that took an echo (when `fit`). Unlike a
     /// sensor's window, a wall's window survives the robot's turns: its echoes lie on the
     /// wall's line from any sensor, and a turn of the odometry moves them only through the
     /// positions it integrates. Its echoes are one wall's, so a line needs no check against
@@ -141,6 +140,7 @@ impl Mapper {
         &mut self,
         odometry: &Pose,
         echoes: &[(SegmentId, usize, Point)],
+        to_odometry: Option<RobotFrame>,
         fit: bool,
     ) -> (HeadingLines, Vec<SegmentId>) {
         let window_m = self.params.heading_window_m;
@@ -168,6 +168,7 @@ impl Mapper {
                     windows.len() - 1
                 }
             };
+            let point = to_odometry.map_or(point, |f| f.to_world(&point));
             windows[index].echoes.push_back((travelled_m, point));
         }
         let (mut lines, mut walls) = (Vec::new(), Vec::new());
