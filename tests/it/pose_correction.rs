@@ -743,3 +743,40 @@ fn the_walls_windows_hold_the_heading_of_a_robot_that_turns_as_it_drives() {
         "heading RMS {walls_deg:.2}° with the walls' windows, {odometry_deg:.2}° odometry"
     );
 }
+
+/// The inspector names the walls whose windows' lines stood in for the sensors' at the shown
+/// step (the building asset given the mild drift, one pass): the "lines' σ, walls" row.
+#[test]
+fn the_inspector_names_the_walls_whose_windows_observed_the_heading() {
+    use super::support::{harness, settle};
+    use sonarmap::app::{Command, SonarApp};
+    let path = super::support::asset("building.log.json");
+    let truth = sonarmap::log::load_run(&std::fs::read(&path).unwrap(), "building").unwrap();
+    let run = with_odometry(&truth, &OdometryError::MILD, 1);
+    let params = Params {
+        calibrate_first: false,
+        ..heading_params()
+    };
+    let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor);
+    let by_walls = run
+        .snapshots
+        .iter()
+        .map(|s| mapper.step(s))
+        .position(|t| {
+            t.correction
+                .and_then(|c| c.heading)
+                .is_some_and(|h| !h.walls.is_empty())
+        })
+        .expect("a step whose walls' windows observed heading");
+    let mut h = harness(SonarApp::new(run, None));
+    settle(&mut h);
+    h.state_mut().push(Command::SetParams(params));
+    settle(&mut h);
+    h.state_mut().push(Command::Seek(by_walls));
+    h.run();
+    assert!(
+        h.query_by_label("lines' σ, walls").is_some(),
+        "step {by_walls}"
+    );
+    assert!(h.query_by_label("lines' σ, sensors").is_none());
+}
