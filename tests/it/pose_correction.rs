@@ -158,31 +158,36 @@ fn heading_alone_leaves_a_run_without_drift_as_it_is() {
     }
 }
 
+/// `run` mapped with `params`: the RMS heading error of the poses the steps used (degrees), and
+/// how many steps observed heading from the walls' lines.
+fn mapped_heading(run: &sonarmap::run::Run, params: Params) -> (f64, usize) {
+    use sonarmap::pose_error::pose_error_of;
+    let mut mapper = Mapper::new(params, run.layout.clone(), run.sensor);
+    let mut observed = 0;
+    let poses: Vec<_> = run
+        .snapshots
+        .iter()
+        .map(|s| {
+            let trace = mapper.step(s);
+            observed += usize::from(trace.correction.and_then(|c| c.heading).is_some());
+            trace.pose.unwrap()
+        })
+        .collect();
+    (pose_error_of(run, poses).unwrap().rms_heading_deg, observed)
+}
+
 /// A Pioneer-like crawl (15 mm a cycle, three firing groups) there and back along a corridor,
 /// with the bad drift: the wall windows' lines hold the heading that the range readings alone
 /// let drift with the walls just drawn (docs/algorithm.md §8.17, `heading_window`).
 #[test]
 fn the_walls_axes_hold_the_heading_of_a_drifting_corridor_crawl() {
-    use sonarmap::pose_error::pose_error_of;
     let run = drifting_corridor_crawl();
     let heading_rms_deg = |heading_window_m: f64| {
         let params = Params {
             heading_window_m,
             ..corrected_params()
         };
-        let mut mapper = Mapper::new(params, run.layout.clone(), run.sensor);
-        let mut observed = 0;
-        let poses: Vec<_> = run
-            .snapshots
-            .iter()
-            .map(|s| {
-                let trace = mapper.step(s);
-                observed += usize::from(trace.correction.and_then(|c| c.heading).is_some());
-                trace.pose.unwrap()
-            })
-            .collect();
-        let error = pose_error_of(&run, poses).unwrap();
-        (error.rms_heading_deg, observed)
+        mapped_heading(&run, params)
     };
     let (without_deg, none_observed) = heading_rms_deg(0.0);
     let (with_deg, observed) = heading_rms_deg(2.0);
@@ -704,7 +709,7 @@ fn a_drifting_run_that_comes_back_to_its_walls_is_mapped_again_with_its_pose_cor
 /// §8.17).
 #[test]
 fn the_walls_windows_hold_the_heading_of_a_robot_that_turns_as_it_drives() {
-    use sonarmap::pose_error::{pose_error, pose_error_of};
+    use sonarmap::pose_error::pose_error;
     let path = super::support::asset("building.log.json");
     let bytes = std::fs::read(&path).unwrap();
     let truth = sonarmap::log::load_run(&bytes, "building.log.json").unwrap();
@@ -714,21 +719,7 @@ fn the_walls_windows_hold_the_heading_of_a_robot_that_turns_as_it_drives() {
             wall_windows,
             ..heading_params()
         };
-        let mut mapper = Mapper::new(params, run.layout.clone(), run.sensor);
-        let mut observed = 0;
-        let poses: Vec<_> = run
-            .snapshots
-            .iter()
-            .map(|s| {
-                let trace = mapper.step(s);
-                observed += usize::from(trace.correction.and_then(|c| c.heading).is_some());
-                trace.pose.unwrap()
-            })
-            .collect();
-        (
-            pose_error_of(&run, poses).unwrap().rms_heading_deg,
-            observed,
-        )
+        mapped_heading(&run, params)
     };
     let odometry_deg = pose_error(&run).unwrap().rms_heading_deg;
     let (_, sensors_observed) = mapped(false);
