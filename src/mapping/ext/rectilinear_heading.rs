@@ -103,21 +103,23 @@ pub struct LineFit {
     pub readings: usize,
 }
 
-/// Whether a robot now heading `heading_rad` has turned more than [`AXIS_GATE_RAD`] from
-/// `began_rad`. A difference within the gate is taken as it is, without wrapping it.
+/// Whether a robot now heading `heading_rad` has turned more than `gate_rad` from
+/// `began_rad` (a sensor's window: [`AXIS_GATE_RAD`]; a wall's:
+/// [`WALL_WINDOW_TURN_GATE_RAD`]). A difference within the gate is taken as it is, without
+/// wrapping it, and a log's headings that wrap at ±180° count as the turn they are.
 ///
 /// ```
-/// use sonarmap::mapping::ext::rectilinear_heading::turned_beyond_gate;
+/// use sonarmap::mapping::ext::rectilinear_heading::{turned_beyond_gate, AXIS_GATE_RAD};
 /// use std::f64::consts::{PI, TAU};
-/// assert!(!turned_beyond_gate(4f64.to_radians(), 0.0));
-/// assert!(turned_beyond_gate(6f64.to_radians(), 0.0));
+/// assert!(!turned_beyond_gate(4f64.to_radians(), 0.0, AXIS_GATE_RAD));
+/// assert!(turned_beyond_gate(6f64.to_radians(), 0.0, AXIS_GATE_RAD));
 /// // A whole turn later, or across ±180°, is within the gate.
-/// assert!(!turned_beyond_gate(TAU + 0.01, 0.0));
-/// assert!(!turned_beyond_gate(-PI + 0.01, PI - 0.01));
+/// assert!(!turned_beyond_gate(TAU + 0.01, 0.0, AXIS_GATE_RAD));
+/// assert!(!turned_beyond_gate(-PI + 0.01, PI - 0.01, AXIS_GATE_RAD));
 /// ```
-pub fn turned_beyond_gate(heading_rad: f64, began_rad: f64) -> bool {
+pub fn turned_beyond_gate(heading_rad: f64, began_rad: f64, gate_rad: f64) -> bool {
     let turned_rad = heading_rad - began_rad;
-    turned_rad.abs() > AXIS_GATE_RAD && wrap_pi(turned_rad).abs() > AXIS_GATE_RAD
+    turned_rad.abs() > gate_rad && wrap_pi(turned_rad).abs() > gate_rad
 }
 
 /// Adds `point` (read at `travelled_m`) to `window` and drops readings older than `window_m`.

@@ -112,7 +112,7 @@ impl Mapper {
         let mut lines = Vec::new();
         for (sensor, window) in state.windows.iter_mut().enumerate() {
             let began_rad = &mut state.began_heading_rad[sensor];
-            if window.is_empty() || turned_beyond_gate(heading_rad, *began_rad) {
+            if window.is_empty() || turned_beyond_gate(heading_rad, *began_rad, AXIS_GATE_RAD) {
                 window.clear();
                 *began_rad = heading_rad;
                 state.began_at[sensor] = at;
@@ -130,10 +130,11 @@ impl Mapper {
 
     /// Adds `echoes` (wall, sensor, echo point in the map's frame), carried into the
     /// odometry's frame by `to_odometry` (none: the frames are one), to their walls' windows,
-    /// trims every window to `heading_window` driven (dropping the empty ones), and fits the windows that took an echo (when `fit`). Unlike a
-    /// sensor's window, a wall's window survives the robot's turns: its echoes lie on the
-    /// wall's line from any sensor, and a turn of the odometry moves them only through the
-    /// positions it integrates. Its echoes are one wall's, so a line needs no check against
+    /// trims every window to `heading_window` driven (dropping the empty ones, and emptying
+    /// those the odometry has turned more than [`WALL_WINDOW_TURN_GATE_RAD`] from), and fits
+    /// the windows that took an echo (when `fit`). Unlike a sensor's window, a wall's window
+    /// survives the robot's smaller turns: its echoes lie on the wall's line from any sensor,
+    /// and a turn of the odometry moves them only through the positions it integrates. Its echoes are one wall's, so a line needs no check against
     /// the robot's motion; [`fit_line`] still wants them spread along half the window. A line
     /// is listed under the sensor of its newest echo; the walls of the lines come second.
     fn extend_wall_windows(
@@ -148,9 +149,8 @@ impl Mapper {
         let heading_rad = odometry.heading_rad;
         let windows = &mut self.pose_belief.rectilinear.wall_windows;
         for window in windows.iter_mut() {
-            let turned_rad = heading_rad - window.began_heading_rad;
-            // A log's headings may wrap at ±180°: a turn counts as the smaller of both readings.
-            if turned_rad.abs().min(wrap_pi(turned_rad).abs()) > WALL_WINDOW_TURN_GATE_RAD {
+            let began_rad = window.began_heading_rad;
+            if turned_beyond_gate(heading_rad, began_rad, WALL_WINDOW_TURN_GATE_RAD) {
                 window.echoes.clear();
             }
             push(&mut window.echoes, travelled_m, None, window_m);
