@@ -538,10 +538,11 @@ mod tests {
         }
         assert!(switches().any(|name| name == "memory_stacks"));
         assert!(switches().any(|name| name == "memory_joints"));
+        assert!(switches().any(|name| name == "open_windows"));
         assert_eq!(
             switches().count(),
-            25,
-            "correlate and the 24 extension flags"
+            26,
+            "correlate and the 25 extension flags"
         );
         // The counts too: `min_piece_points` was missing from the panel.
         let p = Params {

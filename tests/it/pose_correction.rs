@@ -771,3 +771,74 @@ fn the_inspector_names_the_walls_whose_windows_observed_the_heading() {
     );
     assert!(h.query_by_label("lines' σ, sensors").is_none());
 }
+
+/// A robot meeting its walls for the first time: the suite's corridor of seed 3 (specular
+/// echoes, one pass out and back) with the mild drift. Few of its readings fall on confirmed
+/// walls, so the windows of settled readings seldom observe the heading; the open windows
+/// (`open_windows`), of the readings no confirmed wall settled, observe it on many more
+/// steps and hold it (docs/algorithm.md §8.17).
+#[test]
+fn the_open_windows_hold_the_heading_of_a_robot_meeting_its_walls() {
+    use sonarmap::pose_error::pose_error;
+    let run = corridor_meeting_its_walls();
+    let mapped = |open_windows: bool| {
+        let params = Params {
+            open_windows,
+            ..heading_params()
+        };
+        mapped_heading(&run, params)
+    };
+    let odometry_deg = pose_error(&run).unwrap().rms_heading_deg;
+    let (settled_deg, settled_observed) = mapped(false);
+    let (open_deg, open_observed) = mapped(true);
+    assert!(
+        open_observed >= 2 * settled_observed,
+        "{open_observed} steps observed heading with the open windows, {settled_observed} without"
+    );
+    assert!(
+        open_deg < 0.5 * odometry_deg && open_deg < 0.5 * settled_deg,
+        "heading RMS {open_deg:.2}° with the open windows, {settled_deg:.2}° without, {odometry_deg:.2}° odometry"
+    );
+}
+
+/// The suite's corridor of seed 3, specular, one pass out and back, with the mild drift.
+fn corridor_meeting_its_walls() -> sonarmap::run::Run {
+    use sonarmap::sim::{family_plan, simulate, Model};
+    let plan = family_plan(SceneKind::CorridorWithDoors, 3);
+    with_odometry(
+        &simulate(&plan, Model::Specular, 3),
+        &OdometryError::MILD,
+        3,
+    )
+}
+
+/// The inspector says when the open windows' lines stood in at the shown step (the corridor
+/// above, one pass): the "lines' σ, open windows" row.
+#[test]
+fn the_inspector_says_when_the_open_windows_observed_the_heading() {
+    use super::support::{harness, settle};
+    use sonarmap::app::{Command, SonarApp};
+    let run = corridor_meeting_its_walls();
+    let params = Params {
+        calibrate_first: false,
+        ..heading_params()
+    };
+    let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor);
+    let by_open = run
+        .snapshots
+        .iter()
+        .map(|s| mapper.step(s))
+        .position(|t| t.correction.and_then(|c| c.heading).is_some_and(|h| h.open))
+        .expect("a step whose open windows observed heading");
+    let mut h = harness(SonarApp::new(run, None));
+    settle(&mut h);
+    h.state_mut().push(Command::SetParams(params));
+    settle(&mut h);
+    h.state_mut().push(Command::Seek(by_open));
+    h.run();
+    assert!(
+        h.query_by_label("lines' σ, open windows").is_some(),
+        "step {by_open}"
+    );
+    assert!(h.query_by_label("lines' σ, sensors").is_none());
+}

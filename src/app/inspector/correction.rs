@@ -129,7 +129,13 @@ fn heading_row(ui: &mut egui::Ui, h: &HeadingObservation) {
             h.deviation_deg, h.deviation_after_deg
         ),
     );
-    if h.walls.is_empty() {
+    if h.open {
+        kv(
+            ui,
+            "lines' σ, open windows",
+            format!("{:.2}°, sensors {:?}", h.sigma_deg, h.sensors),
+        );
+    } else if h.walls.is_empty() {
         kv(
             ui,
             "lines' σ, sensors",

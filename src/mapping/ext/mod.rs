@@ -112,6 +112,11 @@ pub const ALL: &[Extension] = &[
         source: "Kleeman and Kuc: a plane's echo returns from within the beam along its normal, so one wall's echoes from any sensor lie on a line parallel to it; the line observes heading as in Nguyen et al.'s orthogonal SLAM",
     },
     Extension {
+        parameter: "open_windows",
+        section: "8.17",
+        source: "Nguyen et al.'s orthogonal SLAM: a straight run of one sonar's readings beside the robot's motion is a wall whose direction observes heading, confirmed or not; Kleeman and Kuc: a sonar read square-on to a wall ahead returns one place, which draws no line",
+    },
+    Extension {
         parameter: "right_angle_break",
         section: "8.20",
         source: "Kleeman and Kuc: a plane echoes from within the beam, so sonars a right angle apart never hear one plane on their axes",

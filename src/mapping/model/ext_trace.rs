@@ -467,6 +467,11 @@ pub struct HeadingObservation {
     /// one): those walls, in the order of `sensors`. Absent for the sensors' windows.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub walls: Vec<SegmentId>,
+    /// With `open_windows`, true when the lines are the sensors' open windows' (readings no
+    /// confirmed wall settled; neither the sensors' windows of settled readings nor the
+    /// walls' gave one). Absent when false.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub open: bool,
     /// The gate, degrees, when a line beyond 5° counted through it: the heading's uncertainty
     /// widens it (after a turn, lines of 12 readings or more up to three of its standard
     /// deviations off, at most 20°). Absent when every line that counted was within 5°.

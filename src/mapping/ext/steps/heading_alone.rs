@@ -8,7 +8,9 @@ use super::pose_correction::{odometry_increment, readings_trace, sigmas};
 use crate::geometry::Pose;
 use crate::mapping::ext::odometry_drift::{DriftUpdate, OdometryDrift};
 use crate::mapping::ext::pose_correction::MIN_WALL_LENGTH_M;
-use crate::mapping::ext::rectilinear_heading::{axis_deviation, walls_axis, HeadingLines};
+use crate::mapping::ext::rectilinear_heading::{
+    axis_deviation, walls_axis, HeadingLines, LineSource,
+};
 use crate::mapping::model::ext_trace::{
     CorrectionRefusal, CorrectionTrace, DriftEstimate, HeadingObservation, ObservedDirection,
 };
@@ -42,15 +44,15 @@ impl Mapper {
         predicted: Pose,
         prior: Matrix3<f64>,
     ) -> CorrectionTrace {
-        let (at_prediction, lines, walls) = if self.heading_windows_from_settled() {
+        let (at_prediction, lines, source) = if self.heading_windows_from_settled() {
             let state = &mut self.pose_belief.rectilinear;
             let lines = std::mem::take(&mut state.pending_lines);
-            let walls = std::mem::take(&mut state.pending_walls);
-            (Vec::new(), lines, walls)
+            let source = std::mem::take(&mut state.pending_source);
+            (Vec::new(), lines, source)
         } else {
             let at_prediction = self.matched_readings(snapshot, previous, &predicted);
             let lines = self.heading_lines(snapshot, previous, &at_prediction);
-            (at_prediction, lines, Vec::new())
+            (at_prediction, lines, LineSource::Sensors)
         };
         let with_correction = |correction_rad: f64| {
             Pose::new(
@@ -82,7 +84,11 @@ impl Mapper {
                 deviation_after_deg: lines_update.update.innovation_after_rad.to_degrees(),
                 sigma_deg: lines_update.sigma_rad.to_degrees(),
                 sensors: lines.iter().map(|(s, _)| *s).collect(),
-                walls,
+                open: source == LineSource::Open,
+                walls: match source {
+                    LineSource::Walls(walls) => walls,
+                    _ => Vec::new(),
+                },
                 widened_gate_deg: lines_update.widened_gate_rad.map(f64::to_degrees),
             });
         self.pose_belief.covariance = prior;

@@ -6,7 +6,7 @@ use super::pose_correction::{inverse, Matched};
 use crate::geometry::{wrap_pi, Point, Pose, RobotFrame};
 use crate::mapping::ext::pose_correction::RangeObservation;
 use crate::mapping::ext::rectilinear_heading::{
-    along_motion, axis_deviation, axis_line, fit_line, push, turned_beyond_gate, HeadingLines,
+    axis_deviation, axis_line, fit_line, push, turned_beyond_gate, HeadingLines, LineSource,
     WallEchoWindow, AXIS_GATE_RAD, WALL_WINDOW_TURN_GATE_RAD,
 };
 use crate::mapping::model::ext_trace::{CorrectionTarget, HeadingObservation};
@@ -40,7 +40,7 @@ impl Mapper {
             .filter(|(sensor, _)| on_wall(*sensor))
             .map(|(sensor, b)| (sensor, b.axis_point()))
             .collect();
-        self.extend_windows(&snapshot.pose, &readings, true)
+        self.extend_windows(&snapshot.pose, &readings, true, false)
     }
 
     /// With `heading_correction` alone and `settled_walls`, at the step's end: the readings
@@ -50,11 +50,15 @@ impl Mapper {
     ///
     /// With `wall_windows`, the walls' windows take `settled_echoes` as well
     /// ([`Self::extend_wall_windows`]), and their lines stand in on a step whose sensors'
-    /// windows gave none: a robot that turns as it drives empties those.
+    /// windows gave none: a robot that turns as it drives empties those. With
+    /// `open_windows`, the readings no wall settled (`open_points`) join the sensors' open
+    /// windows, whose lines stand in after those: a robot meeting its walls for the first
+    /// time has no confirmed wall to settle its readings.
     pub(super) fn windows_take_settled(
         &mut self,
         settled_points: &[(usize, Point)],
         settled_echoes: &[(SegmentId, usize, Point)],
+        open_points: &[(usize, Point)],
     ) {
         let Some(odometry) = self.last_pose else {
             return;
@@ -62,70 +66,68 @@ impl Mapper {
         if self.params.heading_window_m <= 0.0 {
             return;
         }
-        self.pose_belief.rectilinear.pending_walls.clear();
         // Until the walls set the axis, the drift takes no lines (`update_drift`).
         let fit = self.pose_belief.drift.axis_ref_rad.is_some();
         let to_odometry = (self.pose_belief.odometry_to_map != Pose::default())
             .then(|| inverse(&self.pose_belief.odometry_to_map).robot_frame());
-        let mut lines = match &to_odometry {
-            None => self.extend_windows(&odometry, settled_points, fit),
-            Some(map_to_odometry) => {
-                let readings: Vec<(usize, Point)> = settled_points
+        let in_odometry = |points: &[(usize, Point)]| -> Vec<(usize, Point)> {
+            match &to_odometry {
+                None => points.to_vec(),
+                Some(map_to_odometry) => points
                     .iter()
                     .map(|(sensor, p)| (*sensor, map_to_odometry.to_world(p)))
-                    .collect();
-                self.extend_windows(&odometry, &readings, fit)
+                    .collect(),
             }
         };
+        let mut lines = self.extend_windows(&odometry, &in_odometry(settled_points), fit, false);
+        let mut source = LineSource::Sensors;
         if self.params.wall_windows {
             // Fitted only where they stand in.
             let stand_in = fit && lines.is_empty();
             let (wall_lines, walls) =
                 self.extend_wall_windows(&odometry, settled_echoes, to_odometry, stand_in);
-            if stand_in {
+            if stand_in && !wall_lines.is_empty() {
                 lines = wall_lines;
-                self.pose_belief.rectilinear.pending_walls = walls;
+                source = LineSource::Walls(walls);
             }
         }
-        self.pose_belief.rectilinear.pending_lines = lines;
+        if self.params.open_windows {
+            let stand_in = fit && lines.is_empty();
+            let open_lines =
+                self.extend_windows(&odometry, &in_odometry(open_points), stand_in, true);
+            if stand_in && !open_lines.is_empty() {
+                lines = open_lines;
+                source = LineSource::Open;
+            }
+        }
+        let state = &mut self.pose_belief.rectilinear;
+        state.pending_lines = lines;
+        state.pending_source = source;
     }
 
-    /// Adds `readings` (sensor, point in the odometry's frame; at most one a sensor) read
-    /// with the robot at `odometry` to their sensors' windows, trims every window to
-    /// `heading_window` driven (emptying those the robot has turned away from), and fits the
-    /// windows that took a reading (when `fit`); a line counts when it runs along the robot's
-    /// motion since its window began ([`along_motion`]).
+    /// Adds `readings` (sensor, point in the odometry's frame) read with the robot at
+    /// `odometry` to the sensors' windows of settled readings (`open`: the open windows) and
+    /// fits those that took a reading (when `fit`) ([`SensorWindows::extend`]).
     fn extend_windows(
         &mut self,
         odometry: &Pose,
         readings: &[(usize, Point)],
         fit: bool,
+        open: bool,
     ) -> HeadingLines {
-        let window_m = self.params.heading_window_m;
-        let travelled_m = self.map.travelled_m;
-        let (heading_rad, at) = (odometry.heading_rad, odometry.position());
+        let robot = (
+            odometry.position(),
+            odometry.heading_rad,
+            self.map.travelled_m,
+        );
+        let (sensors, window_m) = (self.layout.len(), self.params.heading_window_m);
         let state = &mut self.pose_belief.rectilinear;
-        let sensors = self.layout.len();
-        state.windows.resize_with(sensors, Default::default);
-        state.began_heading_rad.resize(sensors, heading_rad);
-        state.began_at.resize(sensors, at);
-        let mut lines = Vec::new();
-        for (sensor, window) in state.windows.iter_mut().enumerate() {
-            let began_rad = &mut state.began_heading_rad[sensor];
-            if window.is_empty() || turned_beyond_gate(heading_rad, *began_rad, AXIS_GATE_RAD) {
-                window.clear();
-                *began_rad = heading_rad;
-                state.began_at[sensor] = at;
-            }
-            let read = readings.iter().find(|(s, _)| *s == sensor).map(|(_, p)| *p);
-            push(window, travelled_m, read, window_m);
-            if fit && read.is_some() {
-                let motion = at - state.began_at[sensor];
-                let line = fit_line(window, window_m).filter(|l| along_motion(l, &motion));
-                lines.extend(line.map(|line| (sensor, line)));
-            }
-        }
-        lines
+        let windows = if open {
+            &mut state.open
+        } else {
+            &mut state.sensors
+        };
+        windows.extend(sensors, robot, readings, window_m, fit, open)
     }
 
     /// Adds `echoes` (wall, sensor, echo point in the map's frame), carried into the
@@ -257,6 +259,7 @@ impl Mapper {
             sigma_deg: sigma_rad.to_degrees(),
             sensors: lines.iter().map(|(s, _)| *s).collect(),
             walls: Vec::new(),
+            open: false,
             widened_gate_deg: None,
         })
     }

@@ -63,7 +63,20 @@ impl Mapper {
     /// (§8.12) join the heading windows (§8.17).
     pub(in crate::mapping) fn hook_readings_settled(&mut self, buffers: &StepBuffers) {
         if self.heading_windows_from_settled() {
-            self.windows_take_settled(&buffers.settled_points, &buffers.settled_echoes);
+            let open_points: Vec<(usize, crate::geometry::Point)> = if self.params.open_windows {
+                buffers
+                    .kept
+                    .iter()
+                    .map(|q| (q.reading.sensor(), q.point))
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            self.windows_take_settled(
+                &buffers.settled_points,
+                &buffers.settled_echoes,
+                &open_points,
+            );
         }
     }
 

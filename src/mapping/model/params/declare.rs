@@ -547,6 +547,12 @@ parameters! {
     /// (docs/algorithm.md §8.17). Acts only with `heading_correction` and `settled_walls`.
     wall_windows: bool, file wall_windows: bool, flag,
         paper false, extended true, needs ["heading_correction", "settled_walls"];
+    /// Each sensor also keeps a window of the readings no confirmed wall settled, whose
+    /// lines stand in on a step where neither the sensors' windows of settled readings nor
+    /// the walls' gave one: a robot meeting its walls for the first time (docs/algorithm.md
+    /// §8.17). Acts only with `heading_correction` and `settled_walls`.
+    open_windows: bool, file open_windows: bool, flag,
+        paper false, extended true, needs ["heading_correction", "settled_walls"];
     /// A point-memory piece whose readings are one place read at changing ranges (a stack:
     /// a wall square-on to a sonar the robot drives towards or away from) makes no segment;
     /// its readings leave the memory (docs/algorithm.md §8.15). Acts only with point memory.

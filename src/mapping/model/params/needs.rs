@@ -141,6 +141,6 @@ mod tests {
         assert!(names.contains(&"fit") && names.contains(&"memory_snapshots"));
         assert!(names.contains(&"settled_walls") && names.contains(&"min_piece_points"));
         assert!(!names.contains(&"accuracy_pct") && !names.contains(&"correlate"));
-        assert_eq!(names.len(), 29);
+        assert_eq!(names.len(), 30);
     }
 }
