@@ -739,8 +739,6 @@ fn the_walls_windows_hold_the_heading_of_a_robot_that_turns_as_it_drives() {
 /// step (the building asset given the mild drift, one pass): the "lines' σ, walls" row.
 #[test]
 fn the_inspector_names_the_walls_whose_windows_observed_the_heading() {
-    use super::support::{harness, settle};
-    use sonarmap::app::{Command, SonarApp};
     let path = super::support::asset("building.log.json");
     let truth = sonarmap::log::load_run(&std::fs::read(&path).unwrap(), "building").unwrap();
     let run = with_odometry(&truth, &OdometryError::MILD, 1);
@@ -748,23 +746,7 @@ fn the_inspector_names_the_walls_whose_windows_observed_the_heading() {
         calibrate_first: false,
         ..heading_params()
     };
-    let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor);
-    let by_walls = run
-        .snapshots
-        .iter()
-        .map(|s| mapper.step(s))
-        .position(|t| {
-            t.correction
-                .and_then(|c| c.heading)
-                .is_some_and(|h| !h.walls.is_empty())
-        })
-        .expect("a step whose walls' windows observed heading");
-    let mut h = harness(SonarApp::new(run, None));
-    settle(&mut h);
-    h.state_mut().push(Command::SetParams(params));
-    settle(&mut h);
-    h.state_mut().push(Command::Seek(by_walls));
-    h.run();
+    let (h, by_walls) = inspector_at_first_step(run, params, |h| !h.walls.is_empty());
     assert!(
         h.query_by_label("lines' σ, walls").is_some(),
         "step {by_walls}"
@@ -816,29 +798,47 @@ fn corridor_meeting_its_walls() -> sonarmap::run::Run {
 /// above, one pass): the "lines' σ, open windows" row.
 #[test]
 fn the_inspector_says_when_the_open_windows_observed_the_heading() {
-    use super::support::{harness, settle};
-    use sonarmap::app::{Command, SonarApp};
     let run = corridor_meeting_its_walls();
     let params = Params {
         calibrate_first: false,
         ..heading_params()
     };
-    let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor);
-    let by_open = run
-        .snapshots
-        .iter()
-        .map(|s| mapper.step(s))
-        .position(|t| t.correction.and_then(|c| c.heading).is_some_and(|h| h.open))
-        .expect("a step whose open windows observed heading");
-    let mut h = harness(SonarApp::new(run, None));
-    settle(&mut h);
-    h.state_mut().push(Command::SetParams(params));
-    settle(&mut h);
-    h.state_mut().push(Command::Seek(by_open));
-    h.run();
+    let (h, by_open) = inspector_at_first_step(run, params, |h| h.open);
     assert!(
         h.query_by_label("lines' σ, open windows").is_some(),
         "step {by_open}"
     );
     assert!(h.query_by_label("lines' σ, sensors").is_none());
+}
+
+/// The inspector on `run` mapped with `params`, shown at the first step whose heading
+/// observation `observed` accepts, and that step.
+fn inspector_at_first_step(
+    run: sonarmap::run::Run,
+    params: Params,
+    observed: impl Fn(&sonarmap::mapping::model::ext_trace::HeadingObservation) -> bool,
+) -> (
+    egui_kittest::Harness<'static, sonarmap::app::SonarApp>,
+    usize,
+) {
+    use super::support::{harness, settle};
+    use sonarmap::app::{Command, SonarApp};
+    let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor);
+    let step = run
+        .snapshots
+        .iter()
+        .map(|s| mapper.step(s))
+        .position(|t| {
+            t.correction
+                .and_then(|c| c.heading)
+                .is_some_and(|h| observed(&h))
+        })
+        .expect("a step with such a heading observation");
+    let mut h = harness(SonarApp::new(run, None));
+    settle(&mut h);
+    h.state_mut().push(Command::SetParams(params));
+    settle(&mut h);
+    h.state_mut().push(Command::Seek(step));
+    h.run();
+    (h, step)
 }
