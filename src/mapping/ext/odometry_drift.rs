@@ -51,6 +51,11 @@ pub const MIN_TURN_ERROR: f64 = 0.004;
 /// How many of its standard deviations a cause must be from 0 to count (2; 2.5 and 3 latched
 /// later on drifting runs, and none of them on runs without drift).
 pub const SIGNIFICANT_SIGMAS: f64 = 2.0;
+/// The smallest heading error that latches the correction by itself (1°, with
+/// [`ERROR_SIGMAS`]): at 3 m a degree moves a wall 5 cm, past the paper's tolerance.
+pub const MIN_ERROR_RAD: f64 = std::f64::consts::PI / 180.0;
+/// How many of its standard deviations the heading error must be from 0 to latch (3).
+pub const ERROR_SIGMAS: f64 = 3.0;
 /// How far an update may pull, in standard deviations of its innovation: a line further off
 /// is not the wall the filter expects.
 pub const GATE_SIGMAS: f64 = 3.0;
@@ -150,9 +155,10 @@ impl OdometryDrift {
         }
     }
 
-    /// Latches [`Self::drifting`] once [`Self::causes_significant`].
+    /// Latches [`Self::drifting`] once [`Self::causes_significant`] or
+    /// [`Self::error_significant`].
     pub fn note_significance(&mut self) {
-        self.drifting |= self.causes_significant();
+        self.drifting |= self.causes_significant() || self.error_significant();
     }
 
     /// Whether the drift per metre or per radian turned is beyond both its smallest value
@@ -165,6 +171,35 @@ impl OdometryDrift {
                 && value >= SIGNIFICANT_SIGMAS * self.covariance[(k, k)].max(0.0).sqrt()
         };
         significant(KAPPA, MIN_DRIFT_RAD_PER_M) || significant(EPSILON, MIN_TURN_ERROR)
+    }
+
+    /// Whether, once the walls have set the axis, the heading error itself is beyond both
+    /// [`MIN_ERROR_RAD`] and [`ERROR_SIGMAS`] of its standard deviation: a short run may end
+    /// before its lines have told the drift's causes apart, while its heading is already off
+    /// by more than the map can bear.
+    ///
+    /// ```
+    /// use nalgebra::{Matrix4, Vector4};
+    /// use sonarmap::mapping::ext::odometry_drift::OdometryDrift;
+    /// let mut drift = OdometryDrift::default();
+    /// drift.axis_ref_rad = Some(0.0);
+    /// // 1.2° within 0.3°: four deviations.
+    /// drift.mean = Vector4::new(1.2f64.to_radians(), 0.0, 0.0, 0.0);
+    /// drift.covariance = Matrix4::from_diagonal(&Vector4::new(0.3f64.to_radians().powi(2), 0.0, 0.0, 0.0));
+    /// assert!(drift.error_significant());
+    /// // Within 0.5°: under three deviations.
+    /// drift.covariance[(0, 0)] = 0.5f64.to_radians().powi(2);
+    /// assert!(!drift.error_significant());
+    /// // 0.9° within 0.1°: under 1°.
+    /// drift.mean[0] = 0.9f64.to_radians();
+    /// drift.covariance[(0, 0)] = 0.1f64.to_radians().powi(2);
+    /// assert!(!drift.error_significant());
+    /// ```
+    pub fn error_significant(&self) -> bool {
+        let value = self.mean[B].abs();
+        self.axis_ref_rad.is_some()
+            && value >= MIN_ERROR_RAD
+            && value >= ERROR_SIGMAS * self.covariance[(B, B)].max(0.0).sqrt()
     }
 
     /// The estimated drift per metre driven (radians) and per radian turned, with the heading
@@ -412,6 +447,34 @@ mod tests {
         assert!(error_deg.abs() < 0.15, "error {error_deg}°");
         drift.predict(0.0, std::f64::consts::PI);
         assert!((drift.heading_error_rad().to_degrees() - error_deg).abs() < 0.01);
+    }
+
+    #[test]
+    fn a_heading_error_beyond_a_degree_latches_before_its_causes_are_told_apart() {
+        // Every step drives 1 m and turns 0.5 rad, and the lines (σ 0.2°) see the error grow
+        // 0.3° a step: per metre or per radian turned, the lines cannot tell which. The
+        // causes stay insignificant, but once the error is beyond 1° and three of its
+        // deviations, the correction latches on the error itself.
+        let mut drift = OdometryDrift::default();
+        drift.set_axis(0.0, 0.1f64.to_radians());
+        let mut latched_at = None;
+        for step in 1..=12 {
+            drift.predict(1.0, 0.5);
+            let innovation = 0.3f64.to_radians() * step as f64 + drift.expected_rotation_rad();
+            drift.update(innovation, 0.2f64.to_radians());
+            drift.note_significance();
+            if drift.drifting && latched_at.is_none() {
+                latched_at = Some(step);
+                assert!(
+                    !drift.causes_significant(),
+                    "step {step}: {:?}",
+                    drift.causes()
+                );
+                assert!(drift.heading_error_rad().to_degrees() >= 1.0);
+            }
+        }
+        let step = latched_at.expect("latched on the error");
+        assert!((4..=8).contains(&step), "latched at step {step}");
     }
 
     #[test]
