@@ -27,6 +27,9 @@ pub(in crate::mapping) struct StepBuffers {
     pub(in crate::mapping) settled_by: Vec<Option<SegmentId>>,
     /// This step's settled readings (§8.12): sensor and point in the map's frame.
     pub(in crate::mapping) settled_points: Vec<(usize, Point)>,
+    /// With `open_windows` (§8.17): the step's kept readings no wall settled, sensor and point
+    /// in the map's frame.
+    pub(in crate::mapping) open_points: Vec<(usize, Point)>,
     /// With `wall_windows` (§8.17): each settled reading's wall, sensor and echo point (where
     /// the wall's echo came from, at the measured range) in the map's frame.
     pub(in crate::mapping) settled_echoes: Vec<(SegmentId, usize, Point)>,

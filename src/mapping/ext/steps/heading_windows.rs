@@ -14,6 +14,7 @@ use crate::mapping::model::map::SegmentId;
 use crate::mapping::Mapper;
 use crate::run::Snapshot;
 use nalgebra::Vector3;
+use std::borrow::Cow;
 use std::f64::consts::FRAC_PI_2;
 
 impl Mapper {
@@ -70,15 +71,7 @@ impl Mapper {
         let fit = self.pose_belief.drift.axis_ref_rad.is_some();
         let to_odometry = (self.pose_belief.odometry_to_map != Pose::default())
             .then(|| inverse(&self.pose_belief.odometry_to_map).robot_frame());
-        let in_odometry = |points: &[(usize, Point)]| -> Vec<(usize, Point)> {
-            match &to_odometry {
-                None => points.to_vec(),
-                Some(map_to_odometry) => points
-                    .iter()
-                    .map(|(sensor, p)| (*sensor, map_to_odometry.to_world(p)))
-                    .collect(),
-            }
-        };
+        let in_odometry = |points| in_odometry_frame(points, to_odometry.as_ref());
         let mut lines = self.extend_windows(&odometry, &in_odometry(settled_points), fit, false);
         let mut source = LineSource::Sensors;
         if self.params.wall_windows {
@@ -262,5 +255,21 @@ impl Mapper {
             open: false,
             widened_gate_deg: None,
         })
+    }
+}
+
+/// `points` (sensor, point in the map's frame) carried into the odometry's frame by
+/// `to_odometry`; while the odometry needs no correction (none) the frames are one, and they
+/// are taken as they are, without a copy.
+fn in_odometry_frame<'a>(
+    points: &'a [(usize, Point)],
+    to_odometry: Option<&RobotFrame>,
+) -> Cow<'a, [(usize, Point)]> {
+    match to_odometry {
+        None => Cow::Borrowed(points),
+        Some(map_to_odometry) => points
+            .iter()
+            .map(|(sensor, p)| (*sensor, map_to_odometry.to_world(p)))
+            .collect(),
     }
 }

@@ -60,22 +60,21 @@ impl Mapper {
     }
 
     /// After §1–§2: with `heading_correction` alone, the readings confirmed walls settled
-    /// (§8.12) join the heading windows (§8.17).
-    pub(in crate::mapping) fn hook_readings_settled(&mut self, buffers: &StepBuffers) {
+    /// (§8.12) join the heading windows (§8.17), and with `open_windows` the kept readings no
+    /// wall settled join the open windows.
+    pub(in crate::mapping) fn hook_readings_settled(&mut self, buffers: &mut StepBuffers) {
         if self.heading_windows_from_settled() {
-            let open_points: Vec<(usize, crate::geometry::Point)> = if self.params.open_windows {
+            buffers.open_points.clear();
+            if self.params.open_windows {
+                let kept = buffers.kept.iter();
                 buffers
-                    .kept
-                    .iter()
-                    .map(|q| (q.reading.sensor(), q.point))
-                    .collect()
-            } else {
-                Vec::new()
-            };
+                    .open_points
+                    .extend(kept.map(|q| (q.reading.sensor(), q.point)));
+            }
             self.windows_take_settled(
                 &buffers.settled_points,
                 &buffers.settled_echoes,
-                &open_points,
+                &buffers.open_points,
             );
         }
     }
