@@ -165,12 +165,14 @@ impl OdometryDrift {
     /// ([`MIN_DRIFT_RAD_PER_M`], [`MIN_TURN_ERROR`]) and [`SIGNIFICANT_SIGMAS`] of its standard
     /// deviation.
     pub fn causes_significant(&self) -> bool {
-        let significant = |k: usize, smallest: f64| {
-            let value = self.mean[k].abs();
-            value >= smallest
-                && value >= SIGNIFICANT_SIGMAS * self.covariance[(k, k)].max(0.0).sqrt()
-        };
-        significant(KAPPA, MIN_DRIFT_RAD_PER_M) || significant(EPSILON, MIN_TURN_ERROR)
+        self.beyond(KAPPA, MIN_DRIFT_RAD_PER_M, SIGNIFICANT_SIGMAS)
+            || self.beyond(EPSILON, MIN_TURN_ERROR, SIGNIFICANT_SIGMAS)
+    }
+
+    /// Whether state `k` is beyond both `smallest` and `sigmas` of its standard deviation from 0.
+    fn beyond(&self, k: usize, smallest: f64, sigmas: f64) -> bool {
+        let value = self.mean[k].abs();
+        value >= smallest && value >= sigmas * self.covariance[(k, k)].max(0.0).sqrt()
     }
 
     /// Whether, once the walls have set the axis, the heading error itself is beyond both
@@ -196,10 +198,7 @@ impl OdometryDrift {
     /// assert!(!drift.error_significant());
     /// ```
     pub fn error_significant(&self) -> bool {
-        let value = self.mean[B].abs();
-        self.axis_ref_rad.is_some()
-            && value >= MIN_ERROR_RAD
-            && value >= ERROR_SIGMAS * self.covariance[(B, B)].max(0.0).sqrt()
+        self.axis_ref_rad.is_some() && self.beyond(B, MIN_ERROR_RAD, ERROR_SIGMAS)
     }
 
     /// The estimated drift per metre driven (radians) and per radian turned, with the heading

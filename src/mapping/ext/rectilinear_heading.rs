@@ -380,11 +380,7 @@ pub fn walls_axis(walls: &[(f64, f64)], min_length_m: f64) -> Option<(f64, f64)>
         / length;
     Some((
         axis,
-        (spread2.sqrt() / (count as f64).sqrt()).max(if std::env::var_os("OLDFLOOR").is_some() {
-            0.05f64.to_radians()
-        } else {
-            MIN_WALLS_AXIS_SIGMA_RAD
-        }),
+        (spread2.sqrt() / (count as f64).sqrt()).max(MIN_WALLS_AXIS_SIGMA_RAD),
     ))
 }
 
