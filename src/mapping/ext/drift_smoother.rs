@@ -121,7 +121,7 @@ impl DriftHistory {
     /// for metre in 1..=5 {
     ///     drift.predict(1.0, 0.0);
     ///     if metre == 5 {
-    ///         drift.update(1f64.to_radians() + drift.expected_rotation_rad(), 1e-9);
+    ///         drift.update(1f64.to_radians() + drift.expected_rotation_rad(Default::default()), 1e-9, Default::default());
     ///     }
     ///     assert_eq!(drift.heading_error_rad() == 0.0, metre < 5);
     ///     history.record(metre, 1.0, 0.0, &drift);
@@ -218,7 +218,11 @@ mod tests {
         let mut history = DriftHistory::default();
         for snapshot in 0..10 {
             drift.predict(0.1, 0.0);
-            drift.update(0.002 + drift.expected_rotation_rad(), 0.01);
+            drift.update(
+                0.002 + drift.expected_rotation_rad(Default::default()),
+                0.01,
+                Default::default(),
+            );
             history.record(snapshot, 0.1, 0.0, &drift);
         }
         let errors_rad = history.smoothed().unwrap();

@@ -16,14 +16,16 @@
 //!   radians.
 //!
 //! The wall windows' lines, laid out in the odometry's frame, lie along the map's axes turned by
-//! `b`: they observe `b − a` (modulo 90°). The reference axis comes from the map's walls,
-//! drawn with the heading of their time, so `a` starts as the error that heading had
-//! ([`OdometryDrift::set_axis`]); the lines drawn at different distances driven and across
+//! `b`: they observe `b − a` (modulo 90°) as it was at their readings' mean moment, `κ` and `ε`
+//! times the distance and turn since taken off `b` (docs/algorithm.md §8.17, *Line age*). The
+//! reference axis comes from the map's walls, drawn with the heading of their time, so `a`
+//! starts as the error that heading had ([`OdometryDrift::set_axis`]); the lines drawn at
+//! different distances driven and across
 //! turns then separate `b`'s causes. The correction follows the drift the odometry shows
 //! instead of each line's noise: on a robot whose odometry does not drift, `κ` and `ε` settle
 //! near 0 and the heading stays put.
 
-use crate::mapping::ext::rectilinear_heading::{AXIS_GATE_RAD, WIDE_GATE_MAX_RAD};
+use crate::mapping::ext::rectilinear_heading::{LineAge, AXIS_GATE_RAD, WIDE_GATE_MAX_RAD};
 use nalgebra::{Matrix4, Vector4};
 
 /// The prior standard deviation of the drift per metre driven (0.5°/m: the bad end of UMBmark's
@@ -279,15 +281,30 @@ impl OdometryDrift {
         self.covariance[(A, A)] = self.covariance[(B, B)] + sigma_rad * sigma_rad;
     }
 
-    /// The rotation that carries the odometry's lines to where the estimate expects them on the
-    /// reference axis: −(b − a).
-    pub fn expected_rotation_rad(&self) -> f64 {
-        -(self.mean[B] - self.mean[A])
+    /// The rotation that carries odometry lines of age `age` to where the estimate expects
+    /// them on the reference axis: −(b − a) as it was when their readings were read, the
+    /// drift since (κ·driven + ε·turned) taken off `b`.
+    ///
+    /// ```
+    /// use nalgebra::Vector4;
+    /// use sonarmap::mapping::ext::odometry_drift::OdometryDrift;
+    /// use sonarmap::mapping::ext::rectilinear_heading::LineAge;
+    /// // b 2°, a 0.5°, κ 0.5°/m, ε 2 %: a line read 1 m and 10° ago lies along
+    /// // b − a − 0.5° − 0.2° = 0.8°.
+    /// let mut drift = OdometryDrift::default();
+    /// let deg = |d: f64| d.to_radians();
+    /// drift.mean = Vector4::new(deg(2.0), deg(0.5), 0.02, deg(0.5));
+    /// assert!((drift.expected_rotation_rad(LineAge::default()) + deg(1.5)).abs() < 1e-12);
+    /// let age = LineAge { driven_m: 1.0, turned_rad: deg(10.0) };
+    /// assert!((drift.expected_rotation_rad(age) + deg(0.8)).abs() < 1e-12);
+    /// ```
+    pub fn expected_rotation_rad(&self, age: LineAge) -> f64 {
+        -(observation(age).transpose() * self.mean)[(0, 0)]
     }
 
-    /// The variance of `b − a`, what the lines observe (radians²).
-    fn observed_variance(&self) -> f64 {
-        let h = observation();
+    /// The variance of `b − a` at age `age`, what the lines observe (radians²).
+    fn observed_variance(&self, age: LineAge) -> f64 {
+        let h = observation(age);
         (h.transpose() * self.covariance * h)[(0, 0)]
     }
 
@@ -314,13 +331,13 @@ impl OdometryDrift {
     /// assert!((drift.axis_gate_rad().to_degrees() - 12.0).abs() < 1e-9);
     /// ```
     pub fn axis_gate_rad(&self) -> f64 {
-        (GATE_SIGMAS * self.observed_variance().max(0.0).sqrt())
+        (GATE_SIGMAS * self.observed_variance(LineAge::default()).max(0.0).sqrt())
             .clamp(AXIS_GATE_RAD, WIDE_GATE_MAX_RAD)
     }
 
     /// Updates with the lines' innovation `innovation_rad` (their deviation from the reference
-    /// axis after [`Self::expected_rotation_rad`]) of standard deviation `sigma_rad`; refused
-    /// beyond [`GATE_SIGMAS`].
+    /// axis after [`Self::expected_rotation_rad`] at their `age`) of standard deviation
+    /// `sigma_rad`; refused beyond [`GATE_SIGMAS`].
     ///
     /// ```
     /// use nalgebra::{Matrix4, Vector4};
@@ -330,14 +347,14 @@ impl OdometryDrift {
     /// let mut drift = OdometryDrift::default();
     /// drift.axis_ref_rad = Some(0.0);
     /// drift.covariance = Matrix4::from_diagonal(&Vector4::new(5f64.to_radians().powi(2), 0.0, 0.0, 0.0));
-    /// let update = drift.update(1f64.to_radians(), 0.5f64.to_radians());
+    /// let update = drift.update(1f64.to_radians(), 0.5f64.to_radians(), Default::default());
     /// let expected = 25.0 / 25.25; // σ_b² / (σ_b² + σ²)
     /// assert!((drift.heading_error_rad().to_degrees() - expected).abs() < 1e-9);
     /// assert!(update.taken && (update.innovation_after_rad.to_degrees() - (1.0 - expected)).abs() < 1e-9);
     /// ```
-    pub fn update(&mut self, innovation_rad: f64, sigma_rad: f64) -> DriftUpdate {
-        let h = observation();
-        let variance = self.observed_variance() + sigma_rad * sigma_rad;
+    pub fn update(&mut self, innovation_rad: f64, sigma_rad: f64, age: LineAge) -> DriftUpdate {
+        let h = observation(age);
+        let variance = self.observed_variance(age) + sigma_rad * sigma_rad;
         let mut update = DriftUpdate {
             innovation_rad,
             innovation_after_rad: innovation_rad,
@@ -360,204 +377,13 @@ impl OdometryDrift {
     }
 }
 
-/// The lines' observation row: they observe `b − a`.
-fn observation() -> Vector4<f64> {
-    Vector4::new(1.0, 0.0, 0.0, -1.0)
+/// The observation row of lines of age `age`: they observe `b − a` as it was when their
+/// readings were read, `b − κ·driven − ε·turned − a`. A window's line fitted to readings drawn
+/// while the heading error grew lies along the error at their mean moment (a wall passed
+/// alongside drawn on an arc: its chord is the arc's tangent at the middle).
+fn observation(age: LineAge) -> Vector4<f64> {
+    Vector4::new(1.0, -age.driven_m, -age.turned_rad, -1.0)
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_prediction_is_the_motion_matrix_product_bit_for_bit() {
-        // F = I but row b = (1, d, θ, 0); the closed form must give F·x and F·P·Fᵀ + Q exactly.
-        let mut drift = OdometryDrift {
-            mean: Vector4::new(0.01, 0.002, -0.03, 0.004),
-            ..Default::default()
-        };
-        drift.covariance = Matrix4::from_fn(|i, j| {
-            let (i, j) = (i as f64, j as f64);
-            1e-4 / (1.0 + i + j) + if i == j { 1e-3 } else { 0.0 }
-        });
-        let (d, turn) = (0.137, -0.0421);
-        let motion = OdometryDrift::motion(d, turn);
-        let noise = Matrix4::from_diagonal(&Vector4::new(
-            RANDOM_HEADING_RAD_PER_SQRT_M.powi(2) * d,
-            DRIFT_RATE_CHANGE_PER_SQRT_M.powi(2) * d,
-            TURN_SCALE_CHANGE_PER_SQRT_RAD.powi(2) * turn.abs(),
-            0.0,
-        ));
-        let mean = motion * drift.mean;
-        let covariance = motion * drift.covariance * motion.transpose() + noise;
-        drift.predict(d, turn);
-        assert_eq!(drift.mean, mean);
-        assert_eq!(drift.covariance, covariance);
-    }
-
-    #[test]
-    fn a_steady_drift_is_learnt_and_then_followed_without_lines() {
-        // The odometry's heading gains 0.3° a metre. The walls give the axis 0 within 0.1°;
-        // lines along it are drawn every metre for 20 m (exact, σ 0.3°); then 10 m without
-        // lines: the error keeps growing by the learnt rate.
-        let rate = 0.3f64.to_radians();
-        let sigma = 0.3f64.to_radians();
-        let mut drift = OdometryDrift::default();
-        drift.set_axis(0.0, 0.1f64.to_radians());
-        for metre in 1..=20 {
-            drift.predict(1.0, 0.0);
-            // The line in the odometry's frame (the axis 0 turned by the error), turned by the
-            // expected rotation.
-            let innovation = rate * metre as f64 + drift.expected_rotation_rad();
-            let update = drift.update(innovation, sigma);
-            assert!(update.taken, "metre {metre}: {update:?}");
-        }
-        let (kappa, _, _) = drift.causes();
-        assert!(
-            (kappa - rate).abs() < 0.05 * rate,
-            "κ {}°/m",
-            kappa.to_degrees()
-        );
-        for _ in 0..10 {
-            drift.predict(1.0, 0.0);
-        }
-        let error_deg = (drift.heading_error_rad() - rate * 30.0).to_degrees();
-        assert!(error_deg.abs() < 0.5, "error {error_deg}°");
-    }
-
-    #[test]
-    fn odometry_that_does_not_drift_is_left_alone() {
-        // Noisy lines (±0.3°, alternating) on odometry without error, the axis known within
-        // 0.1°: the drift is never significant, so the correction stays 0, and the estimated
-        // error stays within half the lines' 0.3° (the heading's random growth lets each line
-        // move it by about half its deviation); a U-turn after them does not move it.
-        let mut drift = OdometryDrift::default();
-        let sigma = 0.3f64.to_radians();
-        drift.set_axis(0.0, 0.1f64.to_radians());
-        for metre in 1..=50 {
-            drift.predict(1.0, 0.0);
-            let line = if metre % 2 == 0 { sigma } else { -sigma };
-            drift.update(line + drift.expected_rotation_rad(), sigma);
-            drift.note_significance();
-            assert!(!drift.drifting, "metre {metre}: {:?}", drift.causes());
-            assert_eq!(drift.correction_rad(), 0.0);
-        }
-        let error_deg = drift.heading_error_rad().to_degrees();
-        assert!(error_deg.abs() < 0.15, "error {error_deg}°");
-        drift.predict(0.0, std::f64::consts::PI);
-        assert!((drift.heading_error_rad().to_degrees() - error_deg).abs() < 0.01);
-    }
-
-    #[test]
-    fn a_heading_error_beyond_a_degree_latches_before_its_causes_are_told_apart() {
-        // Every step drives 1 m and turns 0.5 rad, and the lines (σ 0.2°) see the error grow
-        // 0.3° a step: per metre or per radian turned, the lines cannot tell which. The
-        // causes stay insignificant, but once the error is beyond 1° and three of its
-        // deviations, the correction latches on the error itself.
-        let mut drift = OdometryDrift::default();
-        drift.set_axis(0.0, 0.1f64.to_radians());
-        let mut latched_at = None;
-        for step in 1..=12 {
-            drift.predict(1.0, 0.5);
-            let innovation = 0.3f64.to_radians() * step as f64 + drift.expected_rotation_rad();
-            drift.update(innovation, 0.2f64.to_radians());
-            drift.note_significance();
-            if drift.drifting && latched_at.is_none() {
-                latched_at = Some(step);
-                assert!(
-                    !drift.causes_significant(),
-                    "step {step}: {:?}",
-                    drift.causes()
-                );
-                assert!(drift.heading_error_rad().to_degrees() >= 1.0);
-            }
-        }
-        let step = latched_at.expect("latched on the error");
-        assert!((4..=8).contains(&step), "latched at step {step}");
-    }
-
-    #[test]
-    fn the_correction_waits_until_the_drift_is_significant() {
-        // Lines 0.2° a metre apart from the axis 0 (known within 0.1°), σ 0.3°: until the rate
-        // is beyond twice its deviation (and 0.05°/m) the correction is 0; from then on, the
-        // whole estimated error.
-        let mut drift = OdometryDrift::default();
-        drift.set_axis(0.0, 0.1f64.to_radians());
-        let rate = 0.2f64.to_radians();
-        let mut latched_at = None;
-        for metre in 1..=30 {
-            drift.predict(1.0, 0.0);
-            let innovation = rate * metre as f64 + drift.expected_rotation_rad();
-            drift.update(innovation, 0.3f64.to_radians());
-            drift.note_significance();
-            let (kappa, _, _) = drift.causes();
-            let kappa_sigma = drift.covariance[(KAPPA, KAPPA)].sqrt();
-            if drift.drifting {
-                latched_at.get_or_insert(metre);
-                assert_eq!(drift.correction_rad(), drift.heading_error_rad());
-            } else {
-                assert_eq!(drift.correction_rad(), 0.0);
-                assert!(kappa.abs() < MIN_DRIFT_RAD_PER_M || kappa.abs() < 2.0 * kappa_sigma);
-            }
-        }
-        let latched_at = latched_at.expect("a 0.2°/m drift is found within 30 m");
-        assert!(latched_at > 1, "latched at once");
-    }
-
-    #[test]
-    fn after_a_u_turn_the_lines_of_the_next_pass_bring_the_heading_back() {
-        use crate::mapping::ext::rectilinear_heading::{axis_deviation, LineFit};
-        // The axis is known (0) and the heading right when the robot turns on the spot by
-        // 180°; its wheelbase is 5 % off, so its odometry comes out of the turn 9° off. The
-        // next pass's wall lines lie 9° from the axis in the odometry's frame. The estimate's
-        // σ is 9° (the error per radian turned unknown within 5 %), so the gate opens to 20°:
-        // lines of 40 readings count and bring the error back within 0.5°. At the 5° gate, or
-        // with six readings, they would count for nothing.
-        let mut drift = OdometryDrift::default();
-        drift.set_axis(0.0, 0.1f64.to_radians());
-        drift.predict(0.0, std::f64::consts::PI);
-        let error_rad = 0.05 * std::f64::consts::PI;
-        let line = |readings| LineFit {
-            direction_rad: error_rad,
-            sigma_rad: 0.3f64.to_radians(),
-            rms_m: 0.01,
-            span_m: 2.0,
-            readings,
-        };
-        let deviation = |drift: &OdometryDrift, readings, gate_rad| {
-            axis_deviation(
-                [line(readings)].into_iter(),
-                drift.expected_rotation_rad(),
-                0.0,
-                gate_rad,
-            )
-            .map(|seen| (seen.deviation_rad, seen.sigma_rad, seen.beyond_axis_gate))
-        };
-        assert_eq!(deviation(&drift, 40, AXIS_GATE_RAD), None);
-        assert_eq!(deviation(&drift, 6, drift.axis_gate_rad()), None);
-        assert_eq!(drift.axis_gate_rad(), WIDE_GATE_MAX_RAD);
-        let (innovation, sigma, beyond) = deviation(&drift, 40, drift.axis_gate_rad()).unwrap();
-        assert!(beyond, "the widened gate took the line");
-        assert!(drift.update(innovation, sigma).taken);
-        for _ in 0..10 {
-            drift.predict(0.015, 0.0);
-            let (innovation, sigma, _) = deviation(&drift, 40, drift.axis_gate_rad()).unwrap();
-            assert!(drift.update(innovation, sigma).taken);
-        }
-        let off_deg = (drift.heading_error_rad() - error_rad).to_degrees();
-        assert!(off_deg.abs() < 0.5, "{off_deg}°");
-        // Known again, the gate is back to 5°.
-        assert_eq!(drift.axis_gate_rad(), AXIS_GATE_RAD);
-    }
-
-    #[test]
-    fn a_line_far_beyond_the_expected_axis_is_refused() {
-        let mut drift = OdometryDrift::default();
-        drift.predict(1.0, 0.0);
-        drift.set_axis(0.0, 0.001);
-        let before = drift.clone();
-        let update = drift.update(4f64.to_radians(), 0.001);
-        assert!(!update.taken);
-        assert_eq!(drift, before);
-    }
-}
+mod tests;

@@ -41,9 +41,54 @@ pub const MAX_LINE_RMS_M: f64 = 0.03;
 /// readings do not fix a direction better than the ranges' own noise.
 pub const MIN_LINE_RMS_M: f64 = 0.005;
 
-/// A sensor's recent wall readings in the odometry's frame, oldest first, each with the
-/// distance driven when it was read (metres).
-pub type WallWindow = VecDeque<(f64, Point)>;
+/// A reading in a window: where the odometry put it, and when, as the odometry counts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WindowReading {
+    /// The moment it was read.
+    pub read_at: OdometryMoment,
+    /// Where, in the odometry's frame.
+    pub point: Point,
+}
+
+/// A moment as the odometry counts it: the distance driven so far (metres) and the odometry's
+/// heading then (radians).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct OdometryMoment {
+    /// Distance driven, metres.
+    pub travelled_m: f64,
+    /// The odometry's heading, radians.
+    pub heading_rad: f64,
+}
+
+impl WindowReading {
+    /// `point` read `travelled_m` driven with the odometry heading `heading_rad`.
+    pub fn new(travelled_m: f64, heading_rad: f64, point: Point) -> Self {
+        let read_at = OdometryMoment {
+            travelled_m,
+            heading_rad,
+        };
+        Self { read_at, point }
+    }
+
+    /// The distance driven when it was read, metres.
+    pub fn travelled_m(&self) -> f64 {
+        self.read_at.travelled_m
+    }
+}
+
+/// A sensor's recent wall readings in the odometry's frame, oldest first.
+pub type WallWindow = VecDeque<WindowReading>;
+
+/// How far the odometry drove (metres) and turned (radians) since a line's readings were read,
+/// on average ([`LineFit::age`]): the line lies along the heading error of that moment, not
+/// of the step that uses it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LineAge {
+    /// Distance driven since, metres.
+    pub driven_m: f64,
+    /// Turn since, radians.
+    pub turned_rad: f64,
+}
 
 /// The heading state carried from step to step: each sensor's window and the map's axis.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -120,7 +165,7 @@ impl SensorWindows {
                 self.began_at[sensor] = at;
             }
             let read = readings.iter().find(|(s, _)| *s == sensor).map(|(_, p)| *p);
-            push(window, travelled_m, read, window_m);
+            push(window, (travelled_m, heading_rad), read, window_m);
             if fit && read.is_some() {
                 let motion = at - self.began_at[sensor];
                 let line = fit_line(window, window_m).filter(|l| {
@@ -165,6 +210,19 @@ pub struct LineFit {
     pub span_m: f64,
     /// The readings fitted.
     pub readings: usize,
+    /// The mean moment its readings were read: a line drawn by a drifting odometry lies along
+    /// the heading error of that moment.
+    pub read_at: OdometryMoment,
+}
+
+impl LineFit {
+    /// How far the odometry has driven and turned from the line's mean moment to `now`.
+    pub fn age(&self, now: OdometryMoment) -> LineAge {
+        LineAge {
+            driven_m: now.travelled_m - self.read_at.travelled_m,
+            turned_rad: wrap_pi(now.heading_rad - self.read_at.heading_rad),
+        }
+    }
 }
 
 /// Whether a robot now heading `heading_rad` has turned more than `gate_rad` from
@@ -186,16 +244,22 @@ pub fn turned_beyond_gate(heading_rad: f64, began_rad: f64, gate_rad: f64) -> bo
     turned_rad.abs() > gate_rad && wrap_pi(turned_rad).abs() > gate_rad
 }
 
-/// Adds `point` (read at `travelled_m`) to `window` and drops readings older than `window_m`.
-pub fn push(window: &mut WallWindow, travelled_m: f64, point: Option<Point>, window_m: f64) {
+/// Adds `point` (read at `travelled_m` driven, the odometry heading `heading_rad`) to `window`
+/// and drops readings older than `window_m`.
+pub fn push(
+    window: &mut WallWindow,
+    (travelled_m, heading_rad): (f64, f64),
+    point: Option<Point>,
+    window_m: f64,
+) {
     while window
         .front()
-        .is_some_and(|(t, _)| travelled_m - t > window_m)
+        .is_some_and(|r| travelled_m - r.travelled_m() > window_m)
     {
         window.pop_front();
     }
     if let Some(p) = point {
-        window.push_back((travelled_m, p));
+        window.push_back(WindowReading::new(travelled_m, heading_rad, p));
     }
 }
 
@@ -205,26 +269,28 @@ pub fn push(window: &mut WallWindow, travelled_m: f64, point: Option<Point>, win
 ///
 /// ```
 /// use sonarmap::geometry::Point;
-/// use sonarmap::mapping::ext::rectilinear_heading::{fit_line, WallWindow};
+/// use sonarmap::mapping::ext::rectilinear_heading::{fit_line, WallWindow, WindowReading};
 /// // Six readings 0.2 m apart along a wall at 45°, exactly on it.
-/// let w: WallWindow = (0..6).map(|k| (0.2 * k as f64, Point::new(0.2 * k as f64, 0.2 * k as f64))).collect();
+/// let w: WallWindow = (0..6).map(|k| WindowReading::new(0.2 * k as f64, 0.0, Point::new(0.2 * k as f64, 0.2 * k as f64))).collect();
 /// let fit = fit_line(&w, 1.0).unwrap();
 /// assert!((fit.direction_rad.to_degrees() - 45.0).abs() < 1e-9);
 /// assert!(fit.rms_m < 1e-12 && (fit.span_m - 1.0).abs() < 1e-12);
+/// // Read on average 0.5 m driven.
+/// assert!((fit.read_at.travelled_m - 0.5).abs() < 1e-12);
 /// ```
 pub fn fit_line(window: &WallWindow, window_m: f64) -> Option<LineFit> {
     let (first, last) = (window.front()?, window.back()?);
-    let span_m = last.0 - first.0;
+    let span_m = last.travelled_m() - first.travelled_m();
     if window.len() < MIN_WINDOW_READINGS || span_m < 0.5 * window_m {
         return None;
     }
     let n = window.len() as f64;
-    let (mx, my) = window
-        .iter()
-        .fold((0.0, 0.0), |(x, y), (_, p)| (x + p.x / n, y + p.y / n));
+    let (mx, my) = window.iter().fold((0.0, 0.0), |(x, y), r| {
+        (x + r.point.x / n, y + r.point.y / n)
+    });
     let (mut sxx, mut syy, mut sxy) = (0.0, 0.0, 0.0);
-    for (_, p) in window {
-        let (dx, dy) = (p.x - mx, p.y - my);
+    for r in window {
+        let (dx, dy) = (r.point.x - mx, r.point.y - my);
         sxx += dx * dx;
         syy += dy * dy;
         sxy += dx * dy;
@@ -240,12 +306,10 @@ pub fn fit_line(window: &WallWindow, window_m: f64) -> Option<LineFit> {
     }
     // The readings must lie along half the window, not only have been read over it: a robot
     // going to and fro reads the same few places again.
-    let (low, high) = window
-        .iter()
-        .fold((f64::MAX, f64::MIN), |(low, high), (_, p)| {
-            let along = c * (p.x - mx) + s * (p.y - my);
-            (low.min(along), high.max(along))
-        });
+    let (low, high) = window.iter().fold((f64::MAX, f64::MIN), |(low, high), r| {
+        let along = c * (r.point.x - mx) + s * (r.point.y - my);
+        (low.min(along), high.max(along))
+    });
     if high - low < 0.5 * window_m {
         return None;
     }
@@ -255,7 +319,22 @@ pub fn fit_line(window: &WallWindow, window_m: f64) -> Option<LineFit> {
         rms_m,
         span_m,
         readings: window.len(),
+        read_at: mean_moment(window),
     })
+}
+
+/// The mean moment `window`'s readings were read (headings averaged about the first's).
+fn mean_moment(window: &WallWindow) -> OdometryMoment {
+    let n = window.len() as f64;
+    let first_rad = window.front().map_or(0.0, |r| r.read_at.heading_rad);
+    let (travelled_m, turned_rad) = window.iter().fold((0.0, 0.0), |(t, h), r| {
+        let turned_rad = wrap_pi(r.read_at.heading_rad - first_rad);
+        (t + r.travelled_m() / n, h + turned_rad / n)
+    });
+    OdometryMoment {
+        travelled_m,
+        heading_rad: first_rad + turned_rad,
+    }
 }
 
 /// Fewest metres along the line a window's readings spread for each metre driven, in each half
@@ -271,12 +350,13 @@ pub const MIN_FOLLOW_M_PER_M: f64 = 0.5;
 ///
 /// ```
 /// use sonarmap::geometry::Point;
-/// use sonarmap::mapping::ext::rectilinear_heading::{fit_line, follows_the_robot, WallWindow};
+/// use sonarmap::mapping::ext::rectilinear_heading::{fit_line, follows_the_robot, WallWindow, WindowReading};
+/// let read = |k: usize, x: f64| WindowReading::new(0.1 * k as f64, 0.0, Point::new(x, 1.0));
 /// // A wall passed alongside: each reading 0.1 m further along, 0.1 m driven apart.
-/// let passed: WallWindow = (0..20).map(|k| (0.1 * k as f64, Point::new(0.1 * k as f64, 1.0))).collect();
+/// let passed: WallWindow = (0..20).map(|k| read(k, 0.1 * k as f64)).collect();
 /// assert!(follows_the_robot(&passed, &fit_line(&passed, 2.0).unwrap()));
 /// // Two places 1.8 m apart, each read while the robot drove 0.9 m: each half stands still.
-/// let two: WallWindow = (0..20).map(|k| (0.1 * k as f64, Point::new(if k < 10 { 0.0 } else { 1.8 }, 1.0))).collect();
+/// let two: WallWindow = (0..20).map(|k| read(k, if k < 10 { 0.0 } else { 1.8 })).collect();
 /// assert!(!follows_the_robot(&two, &fit_line(&two, 2.0).unwrap()));
 /// ```
 pub fn follows_the_robot(window: &WallWindow, line: &LineFit) -> bool {
@@ -284,12 +364,16 @@ pub fn follows_the_robot(window: &WallWindow, line: &LineFit) -> bool {
         return true;
     };
     let (c, s) = (line.direction_rad.cos(), line.direction_rad.sin());
-    let middle_m = 0.5 * (first.0 + last.0);
+    let middle_m = 0.5 * (first.travelled_m() + last.travelled_m());
     [false, true].into_iter().all(|late| {
         let (mut driven, mut along) = ((f64::MAX, f64::MIN), (f64::MAX, f64::MIN));
-        for (t, p) in window.iter().filter(|(t, _)| (*t > middle_m) == late) {
+        for r in window
+            .iter()
+            .filter(|r| (r.travelled_m() > middle_m) == late)
+        {
+            let (t, p) = (r.travelled_m(), r.point);
             let at = c * p.x + s * p.y;
-            driven = (driven.0.min(*t), driven.1.max(*t));
+            driven = (driven.0.min(t), driven.1.max(t));
             along = (along.0.min(at), along.1.max(at));
         }
         driven.1 <= driven.0 || along.1 - along.0 >= MIN_FOLLOW_M_PER_M * (driven.1 - driven.0)
@@ -306,7 +390,7 @@ pub fn follows_the_robot(window: &WallWindow, line: &LineFit) -> bool {
 /// ```
 /// use sonarmap::geometry::Vec2;
 /// use sonarmap::mapping::ext::rectilinear_heading::{along_motion, LineFit};
-/// let line = |deg: f64| LineFit { direction_rad: deg.to_radians(), sigma_rad: 0.01, rms_m: 0.0, span_m: 2.0, readings: 10 };
+/// let line = |deg: f64| LineFit { direction_rad: deg.to_radians(), sigma_rad: 0.01, rms_m: 0.0, span_m: 2.0, readings: 10, read_at: Default::default() };
 /// let forward = Vec2::new(2.0, 0.0);
 /// assert!(along_motion(&line(183.0), &forward));
 /// assert!(!along_motion(&line(85.0), &forward));
@@ -412,33 +496,45 @@ pub struct AxisDeviation {
     pub sigma_rad: f64,
     /// Whether a line beyond [`AXIS_GATE_RAD`] counted (a widened gate took it).
     pub beyond_axis_gate: bool,
+    /// The lines' age, averaged with the same weights: the mean deviation observes the heading
+    /// error of that long ago.
+    pub age: LineAge,
 }
 
-/// The heading observation the windows' lines give: their deviations from the axes (lines in
-/// the odometry's frame, turned into the map by `odometry_to_map_rad`), those that count
-/// ([`counts_within`] `gate_rad`), averaged with weights 1/σ²; with their standard deviation.
-/// Each reading stays in its window for as many steps as the window holds readings, so a
-/// line's σ is widened by the root of its readings: over the steps that reuse them, they say
-/// once what they know. `None` when no line counts.
+/// The heading observation the windows' lines give: their deviations from the axes (each line
+/// in the odometry's frame, with its age, turned into the map by the rotation its age expects),
+/// those that count ([`counts_within`] `gate_rad`), averaged with weights 1/σ²; with their
+/// standard deviation and mean age. Each reading stays in its window for as many steps as the
+/// window holds readings, so a line's σ is widened by the root of its readings: over the steps
+/// that reuse them, they say once what they know. `None` when no line counts.
 pub fn axis_deviation(
-    lines: impl Iterator<Item = LineFit>,
-    odometry_to_map_rad: f64,
+    lines: impl Iterator<Item = (LineFit, LineAge)>,
+    odometry_to_map_rad: impl Fn(LineAge) -> f64,
     axis_rad: f64,
     gate_rad: f64,
 ) -> Option<AxisDeviation> {
-    let (sum, weight, beyond_axis_gate) =
-        lines.fold((0.0, 0.0, false), |(sum, weight, beyond), line| {
-            let d = deviation_from_axes(line.direction_rad + odometry_to_map_rad, axis_rad);
-            if !counts_within(&line, d, gate_rad) {
-                return (sum, weight, beyond);
-            }
-            let w = 1.0 / (line.sigma_rad * line.sigma_rad * line.readings as f64);
-            (sum + d * w, weight + w, beyond || d.abs() > AXIS_GATE_RAD)
-        });
+    let (mut sum, mut weight, mut beyond_axis_gate) = (0.0, 0.0, false);
+    let (mut driven_m, mut turned_rad) = (0.0, 0.0);
+    for (line, age) in lines {
+        let d = deviation_from_axes(line.direction_rad + odometry_to_map_rad(age), axis_rad);
+        if !counts_within(&line, d, gate_rad) {
+            continue;
+        }
+        let w = 1.0 / (line.sigma_rad * line.sigma_rad * line.readings as f64);
+        sum += d * w;
+        weight += w;
+        driven_m += age.driven_m * w;
+        turned_rad += age.turned_rad * w;
+        beyond_axis_gate |= d.abs() > AXIS_GATE_RAD;
+    }
     (weight > 0.0).then(|| AxisDeviation {
         deviation_rad: sum / weight,
         sigma_rad: (1.0 / weight).sqrt(),
         beyond_axis_gate,
+        age: LineAge {
+            driven_m: driven_m / weight,
+            turned_rad: turned_rad / weight,
+        },
     })
 }
 
@@ -448,7 +544,7 @@ pub fn axis_deviation(
 ///
 /// ```
 /// use sonarmap::mapping::ext::rectilinear_heading::{counts_within, LineFit};
-/// let line = |readings| LineFit { direction_rad: 0.0, sigma_rad: 0.01, rms_m: 0.0, span_m: 2.0, readings };
+/// let line = |readings| LineFit { direction_rad: 0.0, sigma_rad: 0.01, rms_m: 0.0, span_m: 2.0, readings, read_at: Default::default() };
 /// let deg = |d: f64| d.to_radians();
 /// assert!(counts_within(&line(6), deg(4.0), deg(5.0)));
 /// assert!(!counts_within(&line(6), deg(8.0), deg(15.0)));
@@ -465,66 +561,4 @@ pub fn counts_within(line: &LineFit, deviation_rad: f64, gate_rad: f64) -> bool 
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn window(points: &[(f64, f64)], step_m: f64) -> WallWindow {
-        points
-            .iter()
-            .enumerate()
-            .map(|(k, &(x, y))| (k as f64 * step_m, Point::new(x, y)))
-            .collect()
-    }
-
-    #[test]
-    fn a_wall_drawn_by_a_robot_turned_2_degrees_deviates_2_degrees() {
-        // A wall along x = 0..1 m read every 0.1 m, drawn by odometry whose heading is 2° off:
-        // the line turns by 2°; carried into the map with no correction it deviates 2° from
-        // the axis 0, and a correction of −2° brings it to 0.
-        let turn = 2f64.to_radians();
-        let points: Vec<(f64, f64)> = (0..11)
-            .map(|k| {
-                let x = 0.1 * k as f64;
-                (x * turn.cos(), 1.5 + x * turn.sin())
-            })
-            .collect();
-        let fit = fit_line(&window(&points, 0.1), 1.0).unwrap();
-        assert!((fit.direction_rad - turn).abs() < 1e-9, "{fit:?}");
-        // Perfectly straight: the scatter floor of 5 mm over a spread of sqrt(1.1) m is 0.27°,
-        // under the 0.3° floor.
-        assert!(0.005 / 1.1f64.sqrt() < MIN_SIGMA_RAD);
-        assert!((fit.sigma_rad - MIN_SIGMA_RAD).abs() < 1e-12, "{fit:?}");
-        let seen = axis_deviation([fit].into_iter(), 0.0, 0.0, AXIS_GATE_RAD).unwrap();
-        assert!((seen.deviation_rad - turn).abs() < 1e-9 && !seen.beyond_axis_gate);
-        let seen = axis_deviation([fit].into_iter(), -turn, 0.0, AXIS_GATE_RAD).unwrap();
-        assert!(seen.deviation_rad.abs() < 1e-9);
-    }
-
-    #[test]
-    fn lines_beyond_the_gate_and_scattered_windows_say_nothing() {
-        let diagonal: Vec<(f64, f64)> = (0..8).map(|k| (0.1 * k as f64, 0.1 * k as f64)).collect();
-        let fit = fit_line(&window(&diagonal, 0.1), 1.0).unwrap();
-        assert_eq!(
-            axis_deviation([fit].into_iter(), 0.0, 0.0, AXIS_GATE_RAD),
-            None
-        );
-        // A zig-zag 5 cm either side: not one wall.
-        let zigzag: Vec<(f64, f64)> = (0..8)
-            .map(|k| (0.1 * k as f64, if k % 2 == 0 { 0.05 } else { -0.05 }))
-            .collect();
-        assert_eq!(fit_line(&window(&zigzag, 0.1), 1.0), None);
-        // Too short a span for a 2 m window.
-        assert_eq!(fit_line(&window(&diagonal, 0.1), 2.0), None);
-    }
-
-    #[test]
-    fn the_window_keeps_what_was_read_within_its_length() {
-        let mut w = WallWindow::new();
-        for k in 0..30 {
-            let t = 0.1 * k as f64;
-            push(&mut w, t, (k % 3 != 0).then(|| Point::new(t, 0.0)), 1.0);
-        }
-        assert!(w.iter().all(|(t, _)| 2.9 - t <= 1.0 + 1e-12));
-        assert_eq!(w.front().map(|p| p.0 > 1.85), Some(true));
-    }
-}
+mod tests;

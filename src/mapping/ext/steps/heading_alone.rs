@@ -9,7 +9,7 @@ use crate::geometry::Pose;
 use crate::mapping::ext::odometry_drift::{DriftUpdate, OdometryDrift};
 use crate::mapping::ext::pose_correction::MIN_WALL_LENGTH_M;
 use crate::mapping::ext::rectilinear_heading::{
-    axis_deviation, walls_axis, HeadingLines, LineSource,
+    axis_deviation, walls_axis, HeadingLines, LineSource, OdometryMoment,
 };
 use crate::mapping::model::ext_trace::{
     CorrectionRefusal, CorrectionTrace, DriftEstimate, HeadingObservation, ObservedDirection,
@@ -67,7 +67,7 @@ impl Mapper {
         // The odometry's increment since the last step (none at the first).
         let increment = previous.map(|(_, before)| odometry_increment(&before, &snapshot.pose));
         let drift_before = self.predict_drift(increment);
-        let update = self.update_drift(&lines);
+        let update = self.update_drift(&lines, snapshot);
         self.record_drift_step(increment);
         let drift = &self.pose_belief.drift;
         let predicted = with_correction(drift_before.0);
@@ -169,8 +169,13 @@ impl Mapper {
     }
 
     /// Updates the drift with the step's wall `lines` once the walls have set the axis (or
-    /// sets it from the confirmed walls), then notes whether the odometry drifts.
-    fn update_drift(&mut self, lines: &HeadingLines) -> Option<LinesUpdate> {
+    /// sets it from the confirmed walls), then notes whether the odometry drifts. Each line
+    /// observes the heading error of its readings' mean moment, its age before `snapshot`'s.
+    fn update_drift(&mut self, lines: &HeadingLines, snapshot: &Snapshot) -> Option<LinesUpdate> {
+        let now = OdometryMoment {
+            travelled_m: self.map.travelled_m,
+            heading_rad: snapshot.pose.heading_rad,
+        };
         let update = match self.pose_belief.drift.axis_ref_rad {
             None => {
                 let walls = self.confirmed_wall_directions();
@@ -183,11 +188,12 @@ impl Mapper {
             }
             Some(axis_ref_rad) => {
                 let drift = &mut self.pose_belief.drift;
-                let rotation_rad = drift.expected_rotation_rad();
                 let gate_rad = drift.axis_gate_rad();
-                let fits = lines.iter().map(|(_, l)| *l);
-                axis_deviation(fits, rotation_rad, axis_ref_rad, gate_rad).map(|seen| LinesUpdate {
-                    update: drift.update(seen.deviation_rad, seen.sigma_rad),
+                let fits = lines.iter().map(|(_, l)| (*l, l.age(now)));
+                let rotation_rad = |age| drift.expected_rotation_rad(age);
+                let seen = axis_deviation(fits, rotation_rad, axis_ref_rad, gate_rad);
+                seen.map(|seen| LinesUpdate {
+                    update: drift.update(seen.deviation_rad, seen.sigma_rad, seen.age),
                     sigma_rad: seen.sigma_rad,
                     widened_gate_rad: seen.beyond_axis_gate.then_some(gate_rad),
                 })

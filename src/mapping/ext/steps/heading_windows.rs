@@ -6,8 +6,8 @@ use super::pose_correction::{inverse, Matched};
 use crate::geometry::{wrap_pi, Point, Pose, RobotFrame};
 use crate::mapping::ext::pose_correction::RangeObservation;
 use crate::mapping::ext::rectilinear_heading::{
-    axis_deviation, axis_line, fit_line, push, turned_beyond_gate, HeadingLines, LineSource,
-    WallEchoWindow, AXIS_GATE_RAD, WALL_WINDOW_TURN_GATE_RAD,
+    axis_deviation, axis_line, fit_line, push, turned_beyond_gate, HeadingLines, LineAge,
+    LineSource, WallEchoWindow, WindowReading, AXIS_GATE_RAD, WALL_WINDOW_TURN_GATE_RAD,
 };
 use crate::mapping::model::ext_trace::{CorrectionTarget, HeadingObservation};
 use crate::mapping::model::map::SegmentId;
@@ -148,7 +148,12 @@ impl Mapper {
             if turned_beyond_gate(heading_rad, began_rad, WALL_WINDOW_TURN_GATE_RAD) {
                 window.echoes.clear();
             }
-            push(&mut window.echoes, travelled_m, None, window_m);
+            push(
+                &mut window.echoes,
+                (travelled_m, heading_rad),
+                None,
+                window_m,
+            );
         }
         windows.retain(|w| !w.echoes.is_empty());
         for &(wall, _, point) in echoes {
@@ -164,7 +169,8 @@ impl Mapper {
                 }
             };
             let point = to_odometry.map_or(point, |f| f.to_world(&point));
-            windows[index].echoes.push_back((travelled_m, point));
+            let echo = WindowReading::new(travelled_m, heading_rad, point);
+            windows[index].echoes.push_back(echo);
         }
         let (mut lines, mut walls) = (Vec::new(), Vec::new());
         if !fit {
@@ -210,8 +216,8 @@ impl Mapper {
         let axis_rad = self.pose_belief.rectilinear.axis_rad?;
         let rotation_rad = wrap_pi(estimate.heading_rad - snapshot.pose.heading_rad);
         axis_deviation(
-            lines.iter().map(|(_, l)| *l),
-            rotation_rad,
+            lines.iter().map(|(_, l)| (*l, LineAge::default())),
+            |_| rotation_rad,
             axis_rad,
             AXIS_GATE_RAD,
         )
