@@ -757,6 +757,8 @@ fn the_inspector_names_the_walls_whose_windows_observed_the_heading() {
         "step {by_walls}"
     );
     assert!(h.query_by_label("lines' σ, sensors").is_none());
+    // The lines observe the heading error of when their readings were read.
+    assert!(h.query_by_label("lines read").is_some(), "step {by_walls}");
 }
 
 /// A robot meeting its walls for the first time: the suite's corridor of seed 3 (specular
@@ -814,6 +816,8 @@ fn the_inspector_says_when_the_open_windows_observed_the_heading() {
         "step {by_open}"
     );
     assert!(h.query_by_label("lines' σ, sensors").is_none());
+    // The lines observe the heading error of when their readings were read.
+    assert!(h.query_by_label("lines read").is_some(), "step {by_open}");
 }
 
 /// The inspector on `run` mapped with `params`, shown at the first step whose heading

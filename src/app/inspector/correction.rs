@@ -154,6 +154,16 @@ fn heading_row(ui: &mut egui::Ui, h: &HeadingObservation) {
             ),
         );
     }
+    if let Some(age) = h.lines_age {
+        kv(
+            ui,
+            "lines read",
+            format!(
+                "{:.2} m, {:+.1}° ago (their heading error's moment)",
+                age.driven_m, age.turned_deg
+            ),
+        );
+    }
     if let Some(gate_deg) = h.widened_gate_deg {
         kv(
             ui,

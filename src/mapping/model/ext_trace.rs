@@ -477,4 +477,18 @@ pub struct HeadingObservation {
     /// deviations off, at most 20°). Absent when every line that counted was within 5°.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub widened_gate_deg: Option<f64>,
+    /// With `heading_correction` alone: how far the odometry drove (metres) and turned
+    /// (degrees) since the lines' readings were read, on average; the lines observe the
+    /// heading error of that moment (docs/algorithm.md §8.17, *Line age*). Absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lines_age: Option<LinesAge>,
+}
+
+/// How long ago, as the odometry counts, a step's heading lines were read on average.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LinesAge {
+    /// Distance driven since, metres.
+    pub driven_m: f64,
+    /// Turn since, degrees.
+    pub turned_deg: f64,
 }

@@ -9,10 +9,11 @@ use crate::geometry::Pose;
 use crate::mapping::ext::odometry_drift::{DriftUpdate, OdometryDrift};
 use crate::mapping::ext::pose_correction::MIN_WALL_LENGTH_M;
 use crate::mapping::ext::rectilinear_heading::{
-    axis_deviation, walls_axis, HeadingLines, LineSource, OdometryMoment,
+    axis_deviation, walls_axis, HeadingLines, LineAge, LineSource, OdometryMoment,
 };
 use crate::mapping::model::ext_trace::{
-    CorrectionRefusal, CorrectionTrace, DriftEstimate, HeadingObservation, ObservedDirection,
+    CorrectionRefusal, CorrectionTrace, DriftEstimate, HeadingObservation, LinesAge,
+    ObservedDirection,
 };
 use crate::mapping::Mapper;
 use crate::run::Snapshot;
@@ -28,6 +29,8 @@ struct LinesUpdate {
     /// The gate, radians, when a line beyond
     /// [`crate::mapping::ext::rectilinear_heading::AXIS_GATE_RAD`] counted through it.
     widened_gate_rad: Option<f64>,
+    /// The lines' mean age.
+    age: LineAge,
 }
 
 impl Mapper {
@@ -78,18 +81,8 @@ impl Mapper {
         let heading = drift
             .axis_rad()
             .zip(update)
-            .map(|(axis_rad, lines_update)| HeadingObservation {
-                axis_deg: axis_rad.to_degrees(),
-                deviation_deg: lines_update.update.innovation_rad.to_degrees(),
-                deviation_after_deg: lines_update.update.innovation_after_rad.to_degrees(),
-                sigma_deg: lines_update.sigma_rad.to_degrees(),
-                sensors: lines.iter().map(|(s, _)| *s).collect(),
-                open: source == LineSource::Open,
-                walls: match source {
-                    LineSource::Walls(walls) => walls,
-                    _ => Vec::new(),
-                },
-                widened_gate_deg: lines_update.widened_gate_rad.map(f64::to_degrees),
+            .map(|(axis_rad, lines_update)| {
+                heading_observation(axis_rad, lines_update, &lines, source)
             });
         self.pose_belief.covariance = prior;
         // With no readings matched (the settled windows), there is nothing to re-associate.
@@ -196,6 +189,7 @@ impl Mapper {
                     update: drift.update(seen.deviation_rad, seen.sigma_rad, seen.age),
                     sigma_rad: seen.sigma_rad,
                     widened_gate_rad: seen.beyond_axis_gate.then_some(gate_rad),
+                    age: seen.age,
                 })
             }
         };
@@ -227,6 +221,33 @@ impl Mapper {
             })
             .filter(|(_, length_m)| *length_m >= MIN_WALL_LENGTH_M)
             .collect()
+    }
+}
+
+/// The trace of the lines' update (`lines_update`) against the map's axis (`axis_rad`): the
+/// lines of `source`'s windows.
+fn heading_observation(
+    axis_rad: f64,
+    lines_update: LinesUpdate,
+    lines: &HeadingLines,
+    source: LineSource,
+) -> HeadingObservation {
+    HeadingObservation {
+        axis_deg: axis_rad.to_degrees(),
+        deviation_deg: lines_update.update.innovation_rad.to_degrees(),
+        deviation_after_deg: lines_update.update.innovation_after_rad.to_degrees(),
+        sigma_deg: lines_update.sigma_rad.to_degrees(),
+        sensors: lines.iter().map(|(s, _)| *s).collect(),
+        open: source == LineSource::Open,
+        walls: match source {
+            LineSource::Walls(walls) => walls,
+            _ => Vec::new(),
+        },
+        widened_gate_deg: lines_update.widened_gate_rad.map(f64::to_degrees),
+        lines_age: Some(LinesAge {
+            driven_m: lines_update.age.driven_m,
+            turned_deg: lines_update.age.turned_rad.to_degrees(),
+        }),
     }
 }
 

@@ -260,6 +260,7 @@ impl Mapper {
             walls: Vec::new(),
             open: false,
             widened_gate_deg: None,
+            lines_age: None,
         })
     }
 }
