@@ -347,8 +347,8 @@ fn a_second_pass_from_the_first_ones_drift_holds_the_drifting_crawl_better() {
 /// smoothed over the whole crawl (its trace says so). Its map is straighter than with the
 /// drift's calibration alone, which corrects the early steps by the first pass's final drift:
 /// after the best rigid alignment on the plan, its confirmed segments cover more of the walls
-/// near the path, in fewer, longer pieces, about as many of them spurious (seed 1: 0.820 covered
-/// by 34 true segments against 0.687 by 39; spurious 0.105 against 0.093).
+/// near the path, about as many of them spurious (seed 1: 0.820 covered against 0.687;
+/// spurious 0.105 against 0.093).
 #[test]
 fn the_first_passs_smoothed_heading_errors_map_the_drifting_crawl_straighter_than_its_drift_alone()
 {
@@ -709,9 +709,9 @@ fn a_drifting_run_that_comes_back_to_its_walls_is_mapped_again_with_its_pose_cor
 /// The building asset's run (a synchro-drive robot turning its sonar ring as it drives, 38 m)
 /// given the mild drift: its sensors' windows never hold one heading for a metre, so only the
 /// walls' windows (`wall_windows`) observe the heading, and they hold it (docs/algorithm.md
-/// §8.17): 3.3° RMS in one pass against the odometry's 6.3°. (1.9° while the lines were taken
-/// as drawn at the step; their age now also carries the wheelbase error's share of turns the
-/// window spans, which one pass knows only roughly.)
+/// §8.17): 3.3° RMS in one pass against the odometry's 6.3°. (A line's age carries the
+/// wheelbase error's share of the turns its window spans, up to 90°, which one pass knows
+/// only roughly: 2.5° when the lines were taken as drawn at the step.)
 #[test]
 fn the_walls_windows_hold_the_heading_of_a_robot_that_turns_as_it_drives() {
     use sonarmap::pose_error::pose_error;

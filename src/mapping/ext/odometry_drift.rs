@@ -20,10 +20,9 @@
 //! times the distance and turn since taken off `b` (docs/algorithm.md §8.17, *Line age*). The
 //! reference axis comes from the map's walls, drawn with the heading of their time, so `a`
 //! starts as the error that heading had ([`OdometryDrift::set_axis`]); the lines drawn at
-//! different distances driven and across
-//! turns then separate `b`'s causes. The correction follows the drift the odometry shows
-//! instead of each line's noise: on a robot whose odometry does not drift, `κ` and `ε` settle
-//! near 0 and the heading stays put.
+//! different distances driven and across turns then separate `b`'s causes. The correction
+//! follows the drift the odometry shows instead of each line's noise: on a robot whose odometry
+//! does not drift, `κ` and `ε` settle near 0 and the heading stays put.
 
 use crate::mapping::ext::rectilinear_heading::{LineAge, AXIS_GATE_RAD, WIDE_GATE_MAX_RAD};
 use nalgebra::{Matrix4, Vector4};
@@ -302,7 +301,8 @@ impl OdometryDrift {
         -(observation(age).transpose() * self.mean)[(0, 0)]
     }
 
-    /// The variance of `b − a` at age `age`, what the lines observe (radians²).
+    /// The variance of what lines of age `age` observe, `b − κ·driven − ε·turned − a`
+    /// (radians²).
     fn observed_variance(&self, age: LineAge) -> f64 {
         let h = observation(age);
         (h.transpose() * self.covariance * h)[(0, 0)]

@@ -183,7 +183,7 @@ impl SensorWindows {
 pub struct WallEchoWindow {
     /// The wall that settled the readings.
     pub wall: SegmentId,
-    /// Its echoes, oldest first, each with the distance driven when it was read (metres).
+    /// Its echoes, oldest first, each with the odometry's moment when it was read.
     pub echoes: WallWindow,
     /// The odometry's heading (radians, unwrapped) when the window began.
     pub began_heading_rad: f64,

@@ -481,14 +481,15 @@ pub struct HeadingObservation {
     /// (degrees) since the lines' readings were read, on average; the lines observe the
     /// heading error of that moment (docs/algorithm.md §8.17, *Line age*). Absent otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub lines_age: Option<LinesAge>,
+    pub lines_age: Option<HeadingLinesAge>,
 }
 
-/// How long ago, as the odometry counts, a step's heading lines were read on average.
+/// How long ago, as the odometry counts, a step's heading lines were read on average (the
+/// trace's form of [`crate::mapping::ext::rectilinear_heading::LineAge`], in degrees).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct LinesAge {
+pub struct HeadingLinesAge {
     /// Distance driven since, metres.
     pub driven_m: f64,
-    /// Turn since, degrees.
+    /// Turn since, degrees, counter-clockwise positive.
     pub turned_deg: f64,
 }

@@ -240,7 +240,8 @@ fn a_line_drawn_while_the_heading_drifts_observes_the_error_of_its_mean_moment()
         with_age.deviation_rad.to_degrees().abs() < 1e-4,
         "{with_age:?}"
     );
-    assert_eq!(with_age.age, age);
+    assert!((with_age.age.driven_m - age.driven_m).abs() < 1e-12);
+    assert!((with_age.age.turned_rad - age.turned_rad).abs() < 1e-12);
     let as_now = seen(&|_: &LineFit| LineAge::default());
     assert!(
         (as_now.deviation_rad.to_degrees() + 0.5).abs() < 1e-4,
@@ -257,4 +258,47 @@ fn a_line_far_beyond_the_expected_axis_is_refused() {
     let update = drift.update(4f64.to_radians(), 0.001, LineAge::default());
     assert!(!update.taken);
     assert_eq!(drift, before);
+}
+
+#[test]
+fn lines_of_two_ages_observe_the_error_at_their_weighted_mean_age() {
+    use crate::mapping::ext::rectilinear_heading::{axis_deviation, LineFit, OdometryMoment};
+    // The filter: b = 2°, κ = 0.4°/m, ε = 3 %, a = 0.5°. Two lines of equal weight: one read
+    // 1 m and 0° ago, one 2 m and 20° ago. Each lies where the filter expects it at its own
+    // age (b − κd − εθ − a: 1.1°, then 1.1° − 0.4° − 0.6° = 0.1°), so the deviation is 0; their
+    // mean age is 1.5 m and 10°, and the update's row at that age predicts the same.
+    let deg = |d: f64| d.to_radians();
+    let mut drift = OdometryDrift::default();
+    drift.set_axis(0.0, 0.0);
+    drift.mean = Vector4::new(deg(2.0), deg(0.4), 0.03, deg(0.5));
+    let now = OdometryMoment {
+        travelled_m: 5.0,
+        heading_rad: deg(30.0),
+    };
+    let line = |direction_deg: f64, travelled_m: f64, heading_deg: f64| LineFit {
+        direction_rad: deg(direction_deg),
+        sigma_rad: deg(0.5),
+        rms_m: 0.01,
+        span_m: 2.0,
+        readings: 10,
+        read_at: OdometryMoment {
+            travelled_m,
+            heading_rad: deg(heading_deg),
+        },
+    };
+    let lines = [line(1.1, 4.0, 30.0), line(0.1, 3.0, 10.0)];
+    let ages: Vec<LineAge> = lines.iter().map(|l| l.age(now)).collect();
+    assert!(
+        (ages[1].driven_m - 2.0).abs() < 1e-12 && (ages[1].turned_rad - deg(20.0)).abs() < 1e-12
+    );
+    let rotation = |age| drift.expected_rotation_rad(age);
+    let pairs = lines.iter().copied().zip(ages.iter().copied());
+    let seen = axis_deviation(pairs, rotation, 0.0, AXIS_GATE_RAD).unwrap();
+    assert!(seen.deviation_rad.to_degrees().abs() < 1e-9, "{seen:?}");
+    assert!((seen.age.driven_m - 1.5).abs() < 1e-12);
+    assert!((seen.age.turned_rad - deg(10.0)).abs() < 1e-12);
+    // The update takes that innovation at the mean age: nothing to correct.
+    let before = drift.mean;
+    let update = drift.update(seen.deviation_rad, seen.sigma_rad, seen.age);
+    assert!(update.taken && (drift.mean - before).norm() < 1e-12);
 }

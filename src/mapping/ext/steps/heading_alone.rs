@@ -12,7 +12,7 @@ use crate::mapping::ext::rectilinear_heading::{
     axis_deviation, walls_axis, HeadingLines, LineAge, LineSource, OdometryMoment,
 };
 use crate::mapping::model::ext_trace::{
-    CorrectionRefusal, CorrectionTrace, DriftEstimate, HeadingObservation, LinesAge,
+    CorrectionRefusal, CorrectionTrace, DriftEstimate, HeadingLinesAge, HeadingObservation,
     ObservedDirection,
 };
 use crate::mapping::Mapper;
@@ -244,7 +244,7 @@ fn heading_observation(
             _ => Vec::new(),
         },
         widened_gate_deg: lines_update.widened_gate_rad.map(f64::to_degrees),
-        lines_age: Some(LinesAge {
+        lines_age: Some(HeadingLinesAge {
             driven_m: lines_update.age.driven_m,
             turned_deg: lines_update.age.turned_rad.to_degrees(),
         }),

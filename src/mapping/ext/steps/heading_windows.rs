@@ -215,6 +215,8 @@ impl Mapper {
     ) -> Option<(f64, f64)> {
         let axis_rad = self.pose_belief.rectilinear.axis_rad?;
         let rotation_rad = wrap_pi(estimate.heading_rad - snapshot.pose.heading_rad);
+        // With `pose_correction` the lines are taken as drawn at the step (§8.17, *Line age*
+        // is the drift filter's).
         axis_deviation(
             lines.iter().map(|(_, l)| (*l, LineAge::default())),
             |_| rotation_rad,
