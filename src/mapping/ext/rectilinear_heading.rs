@@ -138,8 +138,8 @@ pub struct SensorWindows {
 
 impl SensorWindows {
     /// Adds `readings` (sensor, point in the odometry's frame; the first of each sensor's)
-    /// read with the robot at `at` and `heading_rad` (odometry), `travelled_m` driven, to the
-    /// windows of `sensors` sensors, trims every window to `window_m` driven (emptying those
+    /// read with the robot at `at` (odometry) at the moment `now`, to the windows of `sensors`
+    /// sensors, trims every window to `window_m` driven (emptying those
     /// the robot has turned away from), and fits the windows that took a reading (when
     /// `fit`); a line counts when it runs along the robot's motion since its window began
     /// ([`along_motion`]) and, in `open` windows, whose readings no confirmed wall vouches
@@ -147,12 +147,13 @@ impl SensorWindows {
     pub fn extend(
         &mut self,
         sensors: usize,
-        (at, heading_rad, travelled_m): (Point, f64, f64),
+        (at, now): (Point, OdometryMoment),
         readings: &[(usize, Point)],
         window_m: f64,
         fit: bool,
         open: bool,
     ) -> HeadingLines {
+        let heading_rad = now.heading_rad;
         self.windows.resize_with(sensors, Default::default);
         self.began_heading_rad.resize(sensors, heading_rad);
         self.began_at.resize(sensors, at);
@@ -165,7 +166,7 @@ impl SensorWindows {
                 self.began_at[sensor] = at;
             }
             let read = readings.iter().find(|(s, _)| *s == sensor).map(|(_, p)| *p);
-            push(window, (travelled_m, heading_rad), read, window_m);
+            push(window, now, read, window_m);
             if fit && read.is_some() {
                 let motion = at - self.began_at[sensor];
                 let line = fit_line(window, window_m).filter(|l| {
@@ -244,22 +245,20 @@ pub fn turned_beyond_gate(heading_rad: f64, began_rad: f64, gate_rad: f64) -> bo
     turned_rad.abs() > gate_rad && wrap_pi(turned_rad).abs() > gate_rad
 }
 
-/// Adds `point` (read at `travelled_m` driven, the odometry heading `heading_rad`) to `window`
-/// and drops readings older than `window_m`.
-pub fn push(
-    window: &mut WallWindow,
-    (travelled_m, heading_rad): (f64, f64),
-    point: Option<Point>,
-    window_m: f64,
-) {
+/// Adds `point` (read at the moment `now`) to `window` and drops readings older than
+/// `window_m` driven.
+pub fn push(window: &mut WallWindow, now: OdometryMoment, point: Option<Point>, window_m: f64) {
     while window
         .front()
-        .is_some_and(|r| travelled_m - r.travelled_m() > window_m)
+        .is_some_and(|r| now.travelled_m - r.travelled_m() > window_m)
     {
         window.pop_front();
     }
-    if let Some(p) = point {
-        window.push_back(WindowReading::new(travelled_m, heading_rad, p));
+    if let Some(point) = point {
+        window.push_back(WindowReading {
+            read_at: now,
+            point,
+        });
     }
 }
 

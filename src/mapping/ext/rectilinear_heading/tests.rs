@@ -62,12 +62,11 @@ fn the_window_keeps_what_was_read_within_its_length() {
     let mut w = WallWindow::new();
     for k in 0..30 {
         let t = 0.1 * k as f64;
-        push(
-            &mut w,
-            (t, 0.0),
-            (k % 3 != 0).then(|| Point::new(t, 0.0)),
-            1.0,
-        );
+        let now = OdometryMoment {
+            travelled_m: t,
+            heading_rad: 0.0,
+        };
+        push(&mut w, now, (k % 3 != 0).then(|| Point::new(t, 0.0)), 1.0);
     }
     assert!(w.iter().all(|r| 2.9 - r.travelled_m() <= 1.0 + 1e-12));
     assert_eq!(w.front().map(|r| r.travelled_m() > 1.85), Some(true));

@@ -9,7 +9,7 @@ use crate::geometry::Pose;
 use crate::mapping::ext::odometry_drift::{DriftUpdate, OdometryDrift};
 use crate::mapping::ext::pose_correction::MIN_WALL_LENGTH_M;
 use crate::mapping::ext::rectilinear_heading::{
-    axis_deviation, walls_axis, HeadingLines, LineAge, LineSource, OdometryMoment,
+    axis_deviation, walls_axis, HeadingLines, LineAge, LineSource,
 };
 use crate::mapping::model::ext_trace::{
     CorrectionRefusal, CorrectionTrace, DriftEstimate, HeadingLinesAge, HeadingObservation,
@@ -165,10 +165,7 @@ impl Mapper {
     /// sets it from the confirmed walls), then notes whether the odometry drifts. Each line
     /// observes the heading error of its readings' mean moment, its age before `snapshot`'s.
     fn update_drift(&mut self, lines: &HeadingLines, snapshot: &Snapshot) -> Option<LinesUpdate> {
-        let now = OdometryMoment {
-            travelled_m: self.map.travelled_m,
-            heading_rad: snapshot.pose.heading_rad,
-        };
+        let now = self.odometry_moment(&snapshot.pose);
         let update = match self.pose_belief.drift.axis_ref_rad {
             None => {
                 let walls = self.confirmed_wall_directions();

@@ -7,7 +7,8 @@ use crate::geometry::{wrap_pi, Point, Pose, RobotFrame};
 use crate::mapping::ext::pose_correction::RangeObservation;
 use crate::mapping::ext::rectilinear_heading::{
     axis_deviation, axis_line, fit_line, push, turned_beyond_gate, HeadingLines, LineAge,
-    LineSource, WallEchoWindow, WindowReading, AXIS_GATE_RAD, WALL_WINDOW_TURN_GATE_RAD,
+    LineSource, OdometryMoment, WallEchoWindow, WindowReading, AXIS_GATE_RAD,
+    WALL_WINDOW_TURN_GATE_RAD,
 };
 use crate::mapping::model::ext_trace::{CorrectionTarget, HeadingObservation};
 use crate::mapping::model::map::SegmentId;
@@ -108,11 +109,7 @@ impl Mapper {
         fit: bool,
         open: bool,
     ) -> HeadingLines {
-        let robot = (
-            odometry.position(),
-            odometry.heading_rad,
-            self.map.travelled_m,
-        );
+        let robot = (odometry.position(), self.odometry_moment(odometry));
         let (sensors, window_m) = (self.layout.len(), self.params.heading_window_m);
         let state = &mut self.pose_belief.rectilinear;
         let windows = if open {
@@ -140,20 +137,15 @@ impl Mapper {
         fit: bool,
     ) -> (HeadingLines, Vec<SegmentId>) {
         let window_m = self.params.heading_window_m;
-        let travelled_m = self.map.travelled_m;
-        let heading_rad = odometry.heading_rad;
+        let now = self.odometry_moment(odometry);
+        let heading_rad = now.heading_rad;
         let windows = &mut self.pose_belief.rectilinear.wall_windows;
         for window in windows.iter_mut() {
             let began_rad = window.began_heading_rad;
             if turned_beyond_gate(heading_rad, began_rad, WALL_WINDOW_TURN_GATE_RAD) {
                 window.echoes.clear();
             }
-            push(
-                &mut window.echoes,
-                (travelled_m, heading_rad),
-                None,
-                window_m,
-            );
+            push(&mut window.echoes, now, None, window_m);
         }
         windows.retain(|w| !w.echoes.is_empty());
         for &(wall, _, point) in echoes {
@@ -169,8 +161,10 @@ impl Mapper {
                 }
             };
             let point = to_odometry.map_or(point, |f| f.to_world(&point));
-            let echo = WindowReading::new(travelled_m, heading_rad, point);
-            windows[index].echoes.push_back(echo);
+            windows[index].echoes.push_back(WindowReading {
+                read_at: now,
+                point,
+            });
         }
         let (mut lines, mut walls) = (Vec::new(), Vec::new());
         if !fit {
@@ -187,6 +181,15 @@ impl Mapper {
             }
         }
         (lines, walls)
+    }
+
+    /// The moment of the odometry pose `odometry` of this step, as the heading windows count
+    /// it: the distance driven so far and its heading.
+    pub(super) fn odometry_moment(&self, odometry: &Pose) -> OdometryMoment {
+        OdometryMoment {
+            travelled_m: self.map.travelled_m,
+            heading_rad: odometry.heading_rad,
+        }
     }
 
     /// With `pose_correction`, before the map has an axis: the first line that may set one
