@@ -32,6 +32,14 @@ use nalgebra::{Matrix4, Vector4};
 pub const DRIFT_RATE_PRIOR_RAD_PER_M: f64 = 0.5 * std::f64::consts::PI / 180.0;
 /// The prior standard deviation of the error per radian turned (5 %).
 pub const TURN_ERROR_PRIOR: f64 = 0.05;
+/// The largest error per radian turned the estimate may take (10 %, twice its prior): beyond
+/// it the filter is explaining something else. Driving straight, the odometry's small turns
+/// are its own wheel noise, so a heading that wanders faster than the random growth the
+/// filter allows ([`RANDOM_HEADING_RAD_PER_SQRT_M`]) correlates with them and reads as an
+/// error per turn: on the Pioneer stand-in given `drift.py`'s wheel noise of 5 mm per √m, the
+/// estimate reached 19 % before a U-turn and then turned the map 35° (docs/algorithm.md §8.17,
+/// "Bounded causes").
+pub const MAX_TURN_ERROR: f64 = 2.0 * TURN_ERROR_PRIOR;
 /// The heading error's random growth per metre driven (0.2°/√m, wheel noise and slip), as a
 /// standard deviation. Wheel noise of 1 mm per √m on each wheel of a 0.33 m wheelbase (the
 /// mild drift of both drift models, `OdometryError::MILD` and `drift.py`) grows the heading by
@@ -337,7 +345,8 @@ impl OdometryDrift {
 
     /// Updates with the lines' innovation `innovation_rad` (their deviation from the reference
     /// axis after [`Self::expected_rotation_rad`] at their `age`) of standard deviation
-    /// `sigma_rad`; refused beyond [`GATE_SIGMAS`].
+    /// `sigma_rad`; refused beyond [`GATE_SIGMAS`]. The error per radian turned is held
+    /// within [`MAX_TURN_ERROR`].
     ///
     /// ```
     /// use nalgebra::{Matrix4, Vector4};
@@ -366,6 +375,9 @@ impl OdometryDrift {
         }
         let gain = self.covariance * h / variance;
         self.mean += gain * innovation_rad;
+        // The estimate projected onto its bound (Simon and Chia 2002, Kalman filtering with
+        // state inequality constraints); the covariance is left as the update made it.
+        self.mean[EPSILON] = self.mean[EPSILON].clamp(-MAX_TURN_ERROR, MAX_TURN_ERROR);
         // Joseph's form keeps the covariance symmetric and positive.
         let keep = Matrix4::identity() - gain * h.transpose();
         self.covariance = keep * self.covariance * keep.transpose()

@@ -302,3 +302,30 @@ fn lines_of_two_ages_observe_the_error_at_their_weighted_mean_age() {
     let update = drift.update(seen.deviation_rad, seen.sigma_rad, seen.age);
     assert!(update.taken && (drift.mean - before).norm() < 1e-12);
 }
+
+#[test]
+fn an_error_per_turn_beyond_twice_its_prior_is_held_at_the_bound() {
+    // Only ε is uncertain (5 %); a line read a quarter turn ago (turned −π/2) observes
+    // b − ε·(−π/2) − a, so ε's gain is 1 / (π/2) = 0.6366 with an exact line. An innovation
+    // of 0.2 rad (within the gate of 3 × 0.0785 rad) would move ε by 0.1273, past the 10 %
+    // bound: it stops there.
+    let uncertain_turn_error = || OdometryDrift {
+        covariance: Matrix4::from_diagonal(&Vector4::new(0.0, 0.0, 0.05f64.powi(2), 0.0)),
+        axis_ref_rad: Some(0.0),
+        ..Default::default()
+    };
+    let quarter_turn_ago = LineAge {
+        driven_m: 0.0,
+        turned_rad: -std::f64::consts::FRAC_PI_2,
+    };
+    let mut drift = uncertain_turn_error();
+    assert!(drift.update(0.2, 1e-6, quarter_turn_ago).taken);
+    assert_eq!(drift.causes().1, MAX_TURN_ERROR);
+    // Negative, it stops at the other bound; a small innovation is taken whole.
+    let mut drift = uncertain_turn_error();
+    drift.update(-0.2, 1e-6, quarter_turn_ago);
+    assert_eq!(drift.causes().1, -MAX_TURN_ERROR);
+    let mut drift = uncertain_turn_error();
+    drift.update(0.05, 1e-6, quarter_turn_ago);
+    assert!((drift.causes().1 - 0.05 / std::f64::consts::FRAC_PI_2).abs() < 1e-6);
+}
