@@ -123,6 +123,7 @@ impl Kept {
             last_pose: self.state.last_pose,
             last_t_s: self.state.last_t_s,
             pose_belief: self.state.pose_belief.clone(),
+            last_echoes: self.state.last_echoes.clone(),
             next_snapshot: self.state.next_snapshot,
         }
     }

@@ -40,6 +40,7 @@ fn state(map: Map) -> MapperState {
         last_pose: None,
         last_t_s: None,
         pose_belief: Default::default(),
+        last_echoes: Default::default(),
         next_snapshot: 0,
     }
 }

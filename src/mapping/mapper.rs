@@ -2,6 +2,7 @@
 
 use crate::geometry::{Pose, RobotFrame};
 use crate::mapping::ext::drift_smoother::DriftHistory;
+use crate::mapping::ext::echo_agreement::LastEchoes;
 use crate::mapping::ext::pose_correction::PoseBelief;
 use crate::mapping::model::heading_track::HeadingTrack;
 use crate::mapping::model::map::{Map, Segment};
@@ -41,6 +42,8 @@ pub struct Mapper {
     pub(super) last_t_s: Option<f64>,
     /// The pose estimate pose correction carries (docs/algorithm.md §8.17).
     pub(super) pose_belief: PoseBelief,
+    /// Each sensor's last echo (`echo_agreement`, docs/algorithm.md §8.21).
+    pub(super) last_echoes: LastEchoes,
     /// The drift filter's steps from the first snapshot, for the second pass's heading track
     /// (`calibrate_first` on a pass not yet calibrated; `None` otherwise, and once resumed
     /// from a state).
@@ -70,6 +73,8 @@ pub struct MapperState {
     pub last_t_s: Option<f64>,
     /// The pose estimate pose correction carries (docs/algorithm.md §8.17).
     pub pose_belief: PoseBelief,
+    /// Each sensor's last echo (`echo_agreement`, docs/algorithm.md §8.21).
+    pub last_echoes: LastEchoes,
     /// Index of the next snapshot.
     pub next_snapshot: usize,
 }
@@ -94,6 +99,7 @@ impl Mapper {
             last_pose: None,
             last_t_s: None,
             pose_belief: PoseBelief::default(),
+            last_echoes: LastEchoes::default(),
             drift_history,
             step_reading_poses: Vec::new(),
             step_frame: None,
@@ -209,6 +215,7 @@ impl Mapper {
             last_pose: self.last_pose,
             last_t_s: self.last_t_s,
             pose_belief: self.pose_belief.clone(),
+            last_echoes: self.last_echoes.clone(),
             next_snapshot: self.next_snapshot,
         }
     }
@@ -222,6 +229,7 @@ impl Mapper {
             last_pose: self.last_pose,
             last_t_s: self.last_t_s,
             pose_belief: self.pose_belief.clone(),
+            last_echoes: self.last_echoes.clone(),
             next_snapshot: self.next_snapshot,
         };
         (state, &self.map.segments)
@@ -235,6 +243,7 @@ impl Mapper {
         self.last_pose = state.last_pose;
         self.last_t_s = state.last_t_s;
         self.pose_belief = state.pose_belief;
+        self.last_echoes = state.last_echoes;
         self.next_snapshot = state.next_snapshot;
         self.drift_history = None;
     }
@@ -247,6 +256,7 @@ impl Mapper {
         self.last_pose = state.last_pose;
         self.last_t_s = state.last_t_s;
         self.pose_belief = state.pose_belief.clone();
+        self.last_echoes = state.last_echoes.clone();
         self.next_snapshot = state.next_snapshot;
         self.drift_history = None;
     }
@@ -320,6 +330,9 @@ impl Mapper {
         }
         let mut buffers = self.buffers.take().unwrap_or_default();
         self.readings_and_clusters(snapshot, &mut trace, &mut buffers);
+        if self.params.echo_agreement {
+            self.remember_echoes(snapshot);
+        }
         self.hook_readings_settled(&mut buffers);
         let mut fitted = self.fit_clusters(&mut trace, &mut buffers);
         self.hook_fitted(&mut fitted, &mut trace, &mut buffers);

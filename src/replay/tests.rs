@@ -166,3 +166,38 @@ fn build_can_be_cancelled() {
     let r = Replay::build(run, Params::paper(), 4, &mut |done| done < 5);
     assert_eq!(r.err(), Some(Cancelled));
 }
+
+#[test]
+fn views_with_echo_agreement_equal_a_replay_from_zero() {
+    // Every fifth snapshot, sonar 4 hears a short crosstalk echo that `echo_agreement`
+    // (§8.21) sets aside; a view restored from a checkpoint must compare each reading with the
+    // same last echo as the run from zero does.
+    let mut run = wall_run(40);
+    for s in run.snapshots.iter_mut().step_by(5).skip(1) {
+        s.ranges_m[4] = Some(inches(12.0));
+    }
+    let run = Arc::new(run);
+    let params = Params {
+        echo_agreement: true,
+        ..Params::extended()
+    };
+    let replay = Replay::build(run.clone(), params.clone(), 7, &mut |_| true).unwrap();
+    let mut mapper = Mapper::new(params, run.layout.clone(), run.sensor);
+    let mut set_aside = 0;
+    for k in (0..run.snapshots.len()).rev() {
+        // Seek backwards: each view restores a checkpoint rather than stepping on.
+        let _ = replay.view(k).unwrap();
+    }
+    for k in 0..run.snapshots.len() {
+        let trace = mapper.step(&run.snapshots[k]);
+        set_aside += trace
+            .readings
+            .iter()
+            .filter(|r| {
+                r.discarded == Some(crate::mapping::model::trace::DiscardReason::ShorterThanLast)
+            })
+            .count();
+        assert_eq!(replay.view(k).unwrap().trace, trace, "trace {k}");
+    }
+    assert_eq!(set_aside, 7, "the crosstalk echoes");
+}

@@ -316,3 +316,42 @@ fn a_wall_read_once_a_step_by_one_sonar_is_one_segment_with_joints_and_pieces_wi
         );
     }
 }
+
+/// §8.21 (`echo_agreement`): one sonar facing +y, the robot driving along x 15 mm a step past
+/// the wall y = 2 (2.0 m). A crosstalk echo of 0.8 m among the wall's is much shorter than the
+/// sensor's last (2.0 m, tolerance 2 × 6 cm at 3 % plus 15 mm driven: 0.135 m) and is set
+/// aside; the wall's next reading, longer than it, is kept; 1.9 m (0.1 m shorter) and a
+/// doorway's 3.5 m are kept; the wall after the doorway, 1.5 m nearer in one step, loses its
+/// first reading (the rule's cost). Without the flag every reading is kept.
+#[test]
+fn a_reading_much_shorter_than_the_sensors_last_is_set_aside() {
+    use sonarmap::mapping::model::trace::DiscardReason;
+    let ranges = [2.0, 2.0, 2.0, 0.8, 2.0, 1.9, 3.5, 2.0];
+    let discarded = |echo_agreement: bool| {
+        let params = Params {
+            echo_agreement,
+            ..Params::extended()
+        };
+        assert_eq!(params.accuracy_pct, 3.0);
+        let mut mapper = Mapper::new(params, row(&[0.0]), SensorSpec::default());
+        ranges
+            .iter()
+            .enumerate()
+            .map(|(k, &range_m)| {
+                let trace = mapper.step(&Snapshot {
+                    t: k as f64,
+                    pose: Pose::new(0.015 * k as f64, 0.0, 0.0),
+                    ranges_m: vec![Some(range_m)],
+                    true_pose: None,
+                    reading_dt_s: Vec::new(),
+                });
+                trace.readings[0].discarded
+            })
+            .collect::<Vec<_>>()
+    };
+    let mut expected = vec![None; ranges.len()];
+    expected[3] = Some(DiscardReason::ShorterThanLast);
+    expected[7] = Some(DiscardReason::ShorterThanLast);
+    assert_eq!(discarded(true), expected);
+    assert_eq!(discarded(false), vec![None; ranges.len()]);
+}

@@ -35,6 +35,7 @@ pub(super) fn reason_name(r: DiscardReason) -> &'static str {
         DiscardReason::AtMaxRange => "at the sensor's maximum range (no echo)",
         DiscardReason::BeyondDMax => "beyond d_max",
         DiscardReason::BelowMinRange => "below min_range",
+        DiscardReason::ShorterThanLast => "much shorter than the sensor's last echo (§8.21)",
     }
 }
 

@@ -7,6 +7,7 @@ pub mod confirm;
 pub mod constant_depth;
 pub mod corner_diagonals;
 pub mod drift_smoother;
+pub mod echo_agreement;
 pub mod echo_fit;
 pub mod free_space;
 pub mod memory_linkage;
@@ -60,6 +61,11 @@ pub const ALL: &[Extension] = &[
         parameter: "standstill",
         section: "8.19",
         source: "Grisetti, Stachniss and Burgard 2007 (GMapping): a scan is taken once the robot has moved or turned (linearUpdate, angularUpdate)",
+    },
+    Extension {
+        parameter: "echo_agreement",
+        section: "8.21",
+        source: "Borenstein and Koren 1995 (EERUF): a reading counts when the sensor's next firing agrees",
     },
     Extension {
         parameter: "explain_readings",

@@ -29,7 +29,7 @@ impl Mapper {
             &mut buffers.kept,
         );
         let (ranks, wraps) = (&self.bearing_ranks.0, self.bearing_ranks.1);
-        self.hook_readings_kept(trace, buffers);
+        self.hook_readings_kept(snapshot, trace, buffers);
         cluster_points_breaking(
             &buffers.kept,
             ranks,

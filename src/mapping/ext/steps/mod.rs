@@ -6,6 +6,7 @@ mod beams;
 mod calibrated_odometry;
 mod confirmation;
 mod corner_diagonals;
+mod echo_agreement;
 mod echo_placement;
 mod free_space;
 mod heading_alone;
@@ -21,6 +22,7 @@ use crate::mapping::model::map::{EndPoint, SegmentId, SupportPoint};
 use crate::mapping::model::trace::{NewSegmentTrace, StepTrace};
 use crate::mapping::step::{FittedStep, StepBuffers};
 use crate::mapping::Mapper;
+use crate::run::Snapshot;
 
 impl Mapper {
     /// At the step's start: the pose is kept while a remembered reading may need it (§8.7 plane
@@ -44,13 +46,18 @@ impl Mapper {
         }
     }
 
-    /// After §1, before §2: readings a confirmed feature explains (§8.5) and readings a
-    /// confirmed wall settles (§8.12) leave `buffers.kept`.
+    /// After §1, before §2: readings much shorter than their sensor's last (§8.21), readings a
+    /// confirmed feature explains (§8.5) and readings a confirmed wall settles (§8.12) leave
+    /// `buffers.kept`.
     pub(in crate::mapping) fn hook_readings_kept(
         &self,
+        snapshot: &Snapshot,
         trace: &mut StepTrace,
         buffers: &mut StepBuffers,
     ) {
+        if self.params.echo_agreement {
+            self.drop_shorter_than_last(snapshot, trace, buffers);
+        }
         if self.params.explain_readings {
             self.drop_explained_readings(trace, &mut buffers.kept, &mut buffers.confirmed_features);
         }

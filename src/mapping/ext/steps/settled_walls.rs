@@ -130,6 +130,7 @@ mod tests {
             last_pose: None,
             last_t_s: None,
             pose_belief: Default::default(),
+            last_echoes: Default::default(),
             next_snapshot: 1,
         });
         let trace = mapper.step(&Snapshot {

@@ -465,6 +465,10 @@ parameters! {
     /// `confirm_segments`, once the axis is set.
     off_axis_square_on: bool, file off_axis_square_on: bool, flag,
         paper false, extended true, needs ["confirm_segments"];
+    /// A reading much shorter than its sensor's last echo is set aside as crosstalk or an early
+    /// echo by another path (docs/algorithm.md §8.21).
+    echo_agreement: bool, file echo_agreement: bool, flag,
+        paper false, extended false, needs [];
     /// Neighbouring readings of two cone sonars whose axes lie a right angle or more apart are
     /// never one cluster: no plane echoes to both from within their cones (docs/algorithm.md
     /// §8.20).

@@ -17,6 +17,8 @@ pub enum DiscardReason {
     BeyondDMax,
     /// `D < min_range`.
     BelowMinRange,
+    /// Much shorter than the sensor's last echo (`echo_agreement`, docs/algorithm.md §8.21).
+    ShorterThanLast,
 }
 
 /// One sensor's reading in this snapshot.
