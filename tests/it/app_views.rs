@@ -471,3 +471,52 @@ fn the_inspector_says_where_point_memory_cut_a_group() {
         .query_by_label_contains("point memory cut: a group of")
         .is_some());
 }
+
+/// `echo_agreement` (docs/algorithm.md §8.21): a crosstalk echo among a wall's readings, on the
+/// Pioneer stand-in's crawl, is set aside, and the inspector gives its status and the numbers
+/// of the refusal (the sensor's last echo, how much shorter, the tolerance).
+#[test]
+fn the_inspector_gives_a_refused_short_readings_last_echo() {
+    use sonarmap::app::Command;
+    use sonarmap::mapping::model::trace::DiscardReason;
+    use sonarmap::mapping::{Mapper, Params};
+    use sonarmap::scene::SceneId;
+    let mut run = super::support::pioneer_corridor_crawl(1);
+    let (snapshot, sensor) = (1..run.snapshots.len())
+        .flat_map(|k| (0..8).map(move |s| (k, s)))
+        .find(|&(k, s)| {
+            let echo = |j: usize| run.snapshots[j].ranges_m[s].filter(|d| *d > 1.5 && *d < 4.0);
+            echo(k - 1).is_some() && echo(k).is_some()
+        })
+        .expect("a sensor reading a wall twice");
+    run.snapshots[snapshot].ranges_m[sensor] = Some(0.5);
+    let params = Params {
+        echo_agreement: true,
+        ..Params::extended()
+    };
+    let mut mapper = Mapper::new(params.clone(), run.layout.clone(), run.sensor);
+    let trace = run
+        .snapshots
+        .iter()
+        .take(snapshot + 1)
+        .map(|s| mapper.step(s))
+        .last()
+        .unwrap();
+    assert_eq!(
+        trace.readings[sensor].discarded,
+        Some(DiscardReason::ShorterThanLast)
+    );
+    let mut h = super::support::harness(sonarmap::app::SonarApp::new(run, None));
+    super::support::settle(&mut h);
+    h.state_mut().push(Command::SetParams(params));
+    super::support::settle(&mut h);
+    h.state_mut().push(Command::Seek(snapshot));
+    h.run();
+    h.state_mut()
+        .push(Command::Select(SceneId::Reading { snapshot, sensor }));
+    h.run();
+    assert!(h
+        .query_by_label_contains("much shorter than the sensor's last echo")
+        .is_some());
+    assert!(h.query_by_label("sensor's last echo").is_some());
+}

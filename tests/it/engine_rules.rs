@@ -327,7 +327,7 @@ fn a_wall_read_once_a_step_by_one_sonar_is_one_segment_with_joints_and_pieces_wi
 fn a_reading_much_shorter_than_the_sensors_last_is_set_aside() {
     use sonarmap::mapping::model::trace::DiscardReason;
     let ranges = [2.0, 2.0, 2.0, 0.8, 2.0, 1.9, 3.5, 2.0];
-    let discarded = |echo_agreement: bool| {
+    let readings = |echo_agreement: bool| {
         let params = Params {
             echo_agreement,
             ..Params::extended()
@@ -345,13 +345,25 @@ fn a_reading_much_shorter_than_the_sensors_last_is_set_aside() {
                     true_pose: None,
                     reading_dt_s: Vec::new(),
                 });
-                trace.readings[0].discarded
+                trace.readings[0].clone()
             })
+            .collect::<Vec<_>>()
+    };
+    let with = readings(true);
+    // The crosstalk reading's numbers: its sensor's last echo 2.0 m, tolerance 2 × 0.06 +
+    // 0.015 m.
+    let refused = with[3].shorter_than_last.expect("the refusal's numbers");
+    assert_eq!(refused.last_m, 2.0);
+    assert!((refused.tolerance_m - 0.135).abs() < 1e-9, "{refused:?}");
+    let discarded = |readings: Vec<sonarmap::mapping::model::trace::ReadingTrace>| {
+        readings
+            .into_iter()
+            .map(|r| r.discarded)
             .collect::<Vec<_>>()
     };
     let mut expected = vec![None; ranges.len()];
     expected[3] = Some(DiscardReason::ShorterThanLast);
     expected[7] = Some(DiscardReason::ShorterThanLast);
-    assert_eq!(discarded(true), expected);
-    assert_eq!(discarded(false), vec![None; ranges.len()]);
+    assert_eq!(discarded(with), expected);
+    assert_eq!(discarded(readings(false)), vec![None; ranges.len()]);
 }

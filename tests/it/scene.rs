@@ -164,6 +164,7 @@ fn perceive(run: &Run, k: usize) -> StepTrace {
                 ball_radius_m: r.map_or(0.0, |d| XI_PCT * d / 100.0),
                 discarded,
                 cluster: None,
+                shorter_than_last: None,
             }
         })
         .collect();

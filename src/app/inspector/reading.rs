@@ -62,6 +62,18 @@ pub(super) fn reading_ui(
                 RichText::new(format!("discarded: {}", reason_name(reason))).color(FAIL),
             ),
         }
+        if let (Some(s), Some(range_m)) = (r.shorter_than_last, r.range_m) {
+            kv(
+                ui,
+                "sensor's last echo",
+                format!(
+                    "{}: {} shorter, more than the {} it may be",
+                    ctx.len(s.last_m),
+                    ctx.len(s.last_m - range_m),
+                    ctx.len(s.tolerance_m)
+                ),
+            );
+        }
         kv(
             ui,
             "cluster",

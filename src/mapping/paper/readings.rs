@@ -85,6 +85,7 @@ pub fn convert_readings(
             ball_radius_m,
             discarded,
             cluster: None,
+            shorter_than_last: None,
         });
     }
     traces

@@ -45,6 +45,7 @@ fn reading(
         ball_radius_m: if point.is_some() { 0.03 } else { 0.0 },
         discarded,
         cluster: None,
+        shorter_than_last: None,
     }
 }
 

@@ -3,14 +3,14 @@
 
 use crate::geometry::wrap_pi;
 use crate::mapping::ext::echo_agreement::{shorter_than_last, shorter_tolerance_m, LastEchoes};
-use crate::mapping::model::trace::{DiscardReason, StepTrace};
+use crate::mapping::model::trace::{DiscardReason, ShorterThanLastTrace, StepTrace};
 use crate::mapping::step::StepBuffers;
 use crate::mapping::Mapper;
 use crate::run::Snapshot;
 
 impl Mapper {
     /// §8.21: drops from `buffers.kept` each reading much shorter than its sensor's last echo
-    /// ([`shorter_than_last`]), the trace saying so (`shorter_than_last`).
+    /// ([`shorter_than_last`]), the trace saying so with the last echo and the tolerance.
     pub(super) fn drop_shorter_than_last(
         &self,
         snapshot: &Snapshot,
@@ -32,8 +32,13 @@ impl Mapper {
                 shorter_tolerance_m(q.range_m, last_m, accuracy_pct, driven_m, turned_rad)
             });
             let refused = shorter_than_last(q.range_m, last_m, tolerance_m);
-            if refused {
-                trace.readings[sensor].discarded = Some(DiscardReason::ShorterThanLast);
+            if let (true, Some(last_m)) = (refused, last_m) {
+                let reading = &mut trace.readings[sensor];
+                reading.discarded = Some(DiscardReason::ShorterThanLast);
+                reading.shorter_than_last = Some(ShorterThanLastTrace {
+                    last_m,
+                    tolerance_m,
+                });
             }
             !refused
         });

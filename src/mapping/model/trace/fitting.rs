@@ -36,6 +36,20 @@ pub struct ReadingTrace {
     pub discarded: Option<DiscardReason>,
     /// Index of the cluster it joined (kept readings only).
     pub cluster: Option<usize>,
+    /// Why `echo_agreement` set it aside (docs/algorithm.md §8.21): the sensor's last echo and
+    /// the tolerance; `None` otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shorter_than_last: Option<ShorterThanLastTrace>,
+}
+
+/// A reading set aside as much shorter than its sensor's last echo (`echo_agreement`,
+/// docs/algorithm.md §8.21).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ShorterThanLastTrace {
+    /// The sensor's last echo, metres.
+    pub last_m: f64,
+    /// How much shorter it may be and agree, metres.
+    pub tolerance_m: f64,
 }
 
 /// The distance between two neighbouring kept points (docs/algorithm.md §2).
