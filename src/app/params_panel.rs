@@ -541,8 +541,8 @@ mod tests {
         assert!(switches().any(|name| name == "open_windows"));
         assert_eq!(
             switches().count(),
-            26,
-            "correlate and the 25 extension flags"
+            27,
+            "correlate and the 26 extension flags"
         );
         // The counts too: `min_piece_points` was missing from the panel.
         let p = Params {

@@ -519,4 +519,10 @@ fn the_inspector_gives_a_refused_short_readings_last_echo() {
         .query_by_label_contains("much shorter than the sensor's last echo")
         .is_some());
     assert!(h.query_by_label("sensor's last echo").is_some());
+    let last_m = trace.readings[sensor]
+        .shorter_than_last
+        .expect("the refusal's numbers")
+        .last_m;
+    let row = format!("{last_m:.3} m: {:.3} m shorter", last_m - 0.5);
+    assert!(h.query_by_label_contains(&row).is_some(), "{row}");
 }

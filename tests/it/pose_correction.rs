@@ -856,7 +856,7 @@ fn inspector_at_first_step(
 /// the drift filter allows; 2.5° per 10 m and the wheelbase 1 % off) on the Pioneer stand-in's
 /// crawl, seeds 1–10, one pass: driving straight, the odometry's small turns are its wheel
 /// noise and read as an error per turn, which the filter holds within ±10 %. Unbounded, the
-/// estimate reached 12–17 % on seeds 2, 3, 5 and 9, and the U-turn then left the heading
+/// estimate reached 12–17 % on seeds 2, 3 and 9, and the U-turn then left their heading
 /// 19.5–21.6° RMS off (docs/algorithm.md §8.17, *Bounded causes*); bounded, 5.0° at worst.
 #[test]
 fn a_wandering_odometrys_u_turn_does_not_spin_the_map() {
@@ -889,7 +889,7 @@ fn a_wandering_odometrys_u_turn_does_not_spin_the_map() {
             "seed {seed}: {largest_turn_error_pct:.1} % of turns"
         );
         assert!(
-            heading_deg < 6.0,
+            heading_deg < 5.5,
             "seed {seed}: heading {heading_deg:.2}° RMS"
         );
     }

@@ -128,8 +128,9 @@ pub struct DriftUpdate {
 pub const CALIBRATED_PRIOR_FACTOR: f64 = 0.1;
 
 impl OdometryDrift {
-    /// A drift known beforehand: `kappa_rad_per_m` per metre and `epsilon` per radian turned,
-    /// each within [`CALIBRATED_PRIOR_FACTOR`] of its prior, taken off from the first step.
+    /// A drift known beforehand: `kappa_rad_per_m` per metre and `epsilon` per radian turned
+    /// (held within [`MAX_TURN_ERROR`]), each within [`CALIBRATED_PRIOR_FACTOR`] of its prior,
+    /// taken off from the first step.
     ///
     /// ```
     /// use sonarmap::mapping::ext::odometry_drift::OdometryDrift;
@@ -141,7 +142,7 @@ impl OdometryDrift {
     pub fn calibrated(kappa_rad_per_m: f64, epsilon: f64) -> Self {
         let mut drift = Self::default();
         drift.mean[KAPPA] = kappa_rad_per_m;
-        drift.mean[EPSILON] = epsilon;
+        drift.mean[EPSILON] = epsilon.clamp(-MAX_TURN_ERROR, MAX_TURN_ERROR);
         let factor2 = CALIBRATED_PRIOR_FACTOR * CALIBRATED_PRIOR_FACTOR;
         drift.covariance[(KAPPA, KAPPA)] *= factor2;
         drift.covariance[(EPSILON, EPSILON)] *= factor2;
@@ -374,16 +375,22 @@ impl OdometryDrift {
             return update;
         }
         let gain = self.covariance * h / variance;
+        let mean_before = self.mean;
         self.mean += gain * innovation_rad;
         // The estimate projected onto its bound (Simon and Chia 2002, Kalman filtering with
         // state inequality constraints); the covariance is left as the update made it.
-        self.mean[EPSILON] = self.mean[EPSILON].clamp(-MAX_TURN_ERROR, MAX_TURN_ERROR);
+        let unbounded = self.mean[EPSILON];
+        self.mean[EPSILON] = unbounded.clamp(-MAX_TURN_ERROR, MAX_TURN_ERROR);
         // Joseph's form keeps the covariance symmetric and positive.
         let keep = Matrix4::identity() - gain * h.transpose();
         self.covariance = keep * self.covariance * keep.transpose()
             + gain * gain.transpose() * (sigma_rad * sigma_rad);
-        update.innovation_after_rad =
-            innovation_rad - (h.transpose() * gain)[(0, 0)] * innovation_rad;
+        // What the estimate's change leaves, the bound included.
+        update.innovation_after_rad = if self.mean[EPSILON] == unbounded {
+            innovation_rad - (h.transpose() * gain)[(0, 0)] * innovation_rad
+        } else {
+            innovation_rad - h.dot(&(self.mean - mean_before))
+        };
         update.taken = true;
         update
     }

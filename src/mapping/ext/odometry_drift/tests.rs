@@ -319,8 +319,15 @@ fn an_error_per_turn_beyond_twice_its_prior_is_held_at_the_bound() {
         turned_rad: -std::f64::consts::FRAC_PI_2,
     };
     let mut drift = uncertain_turn_error();
-    assert!(drift.update(0.2, 1e-6, quarter_turn_ago).taken);
+    let update = drift.update(0.2, 1e-6, quarter_turn_ago);
+    assert!(update.taken);
     assert_eq!(drift.causes().1, MAX_TURN_ERROR);
+    // What is left of the innovation is what the bounded estimate leaves: 0.2 − 0.1·π/2.
+    let left_rad = 0.2 - 0.1 * std::f64::consts::FRAC_PI_2;
+    assert!(
+        (update.innovation_after_rad - left_rad).abs() < 1e-9,
+        "{update:?}"
+    );
     // Negative, it stops at the other bound; a small innovation is taken whole.
     let mut drift = uncertain_turn_error();
     drift.update(-0.2, 1e-6, quarter_turn_ago);

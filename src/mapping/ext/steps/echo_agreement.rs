@@ -46,7 +46,7 @@ impl Mapper {
 
     /// §8.21: keeps `snapshot`'s echoes (finite, under the sensor's maximum range) and the
     /// odometry's moment, for the next step.
-    pub(in crate::mapping) fn remember_echoes(&mut self, snapshot: &Snapshot) {
+    pub(super) fn remember_echoes(&mut self, snapshot: &Snapshot) {
         let max_range_m = self.sensor.max_range_m;
         let echo = |r: &Option<f64>| r.filter(|d| d.is_finite() && *d < max_range_m);
         self.last_echoes = LastEchoes {

@@ -66,6 +66,13 @@ impl Mapper {
         }
     }
 
+    /// After §1–§2: with `echo_agreement`, the step's echoes are kept for the next (§8.21).
+    pub(in crate::mapping) fn hook_echoes_read(&mut self, snapshot: &Snapshot) {
+        if self.params.echo_agreement {
+            self.remember_echoes(snapshot);
+        }
+    }
+
     /// After §1–§2: with `heading_correction` alone, the readings confirmed walls settled
     /// (§8.12) join the heading windows (§8.17), and with `open_windows` the kept readings no
     /// wall settled join the open windows.
