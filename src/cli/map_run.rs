@@ -132,7 +132,7 @@ impl Summary {
                 self.kept += 1;
             }
             match r.discarded {
-                Some(DiscardReason::NoEcho | DiscardReason::AtMaxRange) => {}
+                Some(reason) if reason.means_no_echo() => {}
                 Some(DiscardReason::BelowMinRange) => {
                     self.echoes += 1;
                     self.below_min_range += 1;

@@ -330,7 +330,7 @@ impl Mapper {
         }
         let mut buffers = self.buffers.take().unwrap_or_default();
         self.readings_and_clusters(snapshot, &mut trace, &mut buffers);
-        self.hook_echoes_read(snapshot);
+        self.hook_echoes_read(snapshot, &trace);
         self.hook_readings_settled(&mut buffers);
         let mut fitted = self.fit_clusters(&mut trace, &mut buffers);
         self.hook_fitted(&mut fitted, &mut trace, &mut buffers);

@@ -57,16 +57,16 @@ pub fn shorter_tolerance_m(
 }
 
 /// Whether `range_m` is shorter than the sensor's last range `last_m` by more than `tolerance_m`
-/// ([`shorter_tolerance_m`]). With no last echo nothing is refused.
+/// ([`shorter_tolerance_m`]). (A sensor without a last echo has nothing to compare with: the
+/// step refuses none of its readings.)
 ///
 /// ```
 /// use sonarmap::mapping::ext::echo_agreement::shorter_than_last;
-/// assert!(shorter_than_last(1.0, Some(2.0), 0.2));
-/// assert!(!shorter_than_last(1.85, Some(2.0), 0.2));
+/// assert!(shorter_than_last(1.0, 2.0, 0.2));
+/// assert!(!shorter_than_last(1.85, 2.0, 0.2));
 /// // Longer is never refused: a surface that ends gives way to a farther one.
-/// assert!(!shorter_than_last(4.0, Some(2.0), 0.2));
-/// assert!(!shorter_than_last(1.0, None, 0.2));
+/// assert!(!shorter_than_last(4.0, 2.0, 0.2));
 /// ```
-pub fn shorter_than_last(range_m: f64, last_m: Option<f64>, tolerance_m: f64) -> bool {
-    last_m.is_some_and(|last_m| range_m < last_m - tolerance_m)
+pub fn shorter_than_last(range_m: f64, last_m: f64, tolerance_m: f64) -> bool {
+    range_m < last_m - tolerance_m
 }

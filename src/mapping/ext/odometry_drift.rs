@@ -385,7 +385,8 @@ impl OdometryDrift {
         let keep = Matrix4::identity() - gain * h.transpose();
         self.covariance = keep * self.covariance * keep.transpose()
             + gain * gain.transpose() * (sigma_rad * sigma_rad);
-        // What the estimate's change leaves, the bound included.
+        // What the estimate's change leaves, the bound included (unbounded, the gain's own
+        // formula, as the traces have always had it bit for bit).
         update.innovation_after_rad = if self.mean[EPSILON] == unbounded {
             innovation_rad - (h.transpose() * gain)[(0, 0)] * innovation_rad
         } else {

@@ -3,7 +3,7 @@
 
 use crate::geometry::wrap_pi;
 use crate::mapping::ext::echo_agreement::{shorter_than_last, shorter_tolerance_m, LastEchoes};
-use crate::mapping::model::trace::{DiscardReason, ShorterThanLastTrace, StepTrace};
+use crate::mapping::model::trace::{DiscardReason, ReadingTrace, ShorterThanLastTrace, StepTrace};
 use crate::mapping::step::StepBuffers;
 use crate::mapping::Mapper;
 use crate::run::Snapshot;
@@ -27,30 +27,35 @@ impl Mapper {
         let accuracy_pct = self.params.accuracy_pct;
         buffers.kept.retain(|q| {
             let sensor = q.reading.sensor();
-            let last_m = last.ranges_m.get(sensor).copied().flatten();
-            let tolerance_m = last_m.map_or(0.0, |last_m| {
-                shorter_tolerance_m(q.range_m, last_m, accuracy_pct, driven_m, turned_rad)
-            });
-            let refused = shorter_than_last(q.range_m, last_m, tolerance_m);
-            if let (true, Some(last_m)) = (refused, last_m) {
-                let reading = &mut trace.readings[sensor];
-                reading.discarded = Some(DiscardReason::ShorterThanLast);
-                reading.shorter_than_last = Some(ShorterThanLastTrace {
-                    last_m,
-                    tolerance_m,
-                });
+            // Without a last echo nothing is refused.
+            let Some(last_m) = last.ranges_m.get(sensor).copied().flatten() else {
+                return true;
+            };
+            let tolerance_m =
+                shorter_tolerance_m(q.range_m, last_m, accuracy_pct, driven_m, turned_rad);
+            if !shorter_than_last(q.range_m, last_m, tolerance_m) {
+                return true;
             }
-            !refused
+            let reading = &mut trace.readings[sensor];
+            reading.discarded = Some(DiscardReason::ShorterThanLast);
+            reading.shorter_than_last = Some(ShorterThanLastTrace {
+                last_m,
+                tolerance_m,
+            });
+            false
         });
     }
 
-    /// §8.21: keeps `snapshot`'s echoes (finite, under the sensor's maximum range) and the
-    /// odometry's moment, for the next step.
-    pub(super) fn remember_echoes(&mut self, snapshot: &Snapshot) {
-        let max_range_m = self.sensor.max_range_m;
-        let echo = |r: &Option<f64>| r.filter(|d| d.is_finite() && *d < max_range_m);
+    /// §8.21: keeps the step's echoes (its readings' ranges but where the sensor heard none,
+    /// [`DiscardReason::means_no_echo`]) and the odometry's moment of `snapshot`, for the next
+    /// step.
+    pub(super) fn remember_echoes(&mut self, snapshot: &Snapshot, trace: &StepTrace) {
+        let echo = |r: &ReadingTrace| {
+            r.range_m
+                .filter(|_| !r.discarded.is_some_and(DiscardReason::means_no_echo))
+        };
         self.last_echoes = LastEchoes {
-            ranges_m: snapshot.ranges_m.iter().map(echo).collect(),
+            ranges_m: trace.readings.iter().map(echo).collect(),
             read_at: Some(self.odometry_moment(&snapshot.pose)),
         };
     }

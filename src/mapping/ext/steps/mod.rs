@@ -67,9 +67,9 @@ impl Mapper {
     }
 
     /// After §1–§2: with `echo_agreement`, the step's echoes are kept for the next (§8.21).
-    pub(in crate::mapping) fn hook_echoes_read(&mut self, snapshot: &Snapshot) {
+    pub(in crate::mapping) fn hook_echoes_read(&mut self, snapshot: &Snapshot, trace: &StepTrace) {
         if self.params.echo_agreement {
-            self.remember_echoes(snapshot);
+            self.remember_echoes(snapshot, trace);
         }
     }
 

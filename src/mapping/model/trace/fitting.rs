@@ -21,6 +21,14 @@ pub enum DiscardReason {
     ShorterThanLast,
 }
 
+impl DiscardReason {
+    /// Whether the sensor heard no echo (`NoEcho`, or a range at the maximum that drivers use
+    /// for it); any other reason discards an echo.
+    pub fn means_no_echo(self) -> bool {
+        matches!(self, Self::NoEcho | Self::AtMaxRange)
+    }
+}
+
 /// One sensor's reading in this snapshot.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ReadingTrace {
