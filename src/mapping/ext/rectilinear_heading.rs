@@ -159,13 +159,18 @@ impl SensorWindows {
         self.began_at.resize(sensors, at);
         let mut lines = Vec::new();
         for (sensor, window) in self.windows.iter_mut().enumerate() {
+            let read = readings.iter().find(|(s, _)| *s == sensor).map(|(_, p)| *p);
+            // An empty window that takes nothing stays empty; where it began is set when it
+            // next takes a reading (a sparse ring leaves most windows so).
+            if window.is_empty() && read.is_none() {
+                continue;
+            }
             let began_rad = &mut self.began_heading_rad[sensor];
             if window.is_empty() || turned_beyond_gate(heading_rad, *began_rad, AXIS_GATE_RAD) {
                 window.clear();
                 *began_rad = heading_rad;
                 self.began_at[sensor] = at;
             }
-            let read = readings.iter().find(|(s, _)| *s == sensor).map(|(_, p)| *p);
             push(window, now, read, window_m);
             if fit && read.is_some() {
                 let motion = at - self.began_at[sensor];
