@@ -132,15 +132,15 @@ pub fn family_run(kind: SceneKind, seed: u64, snapshots: usize) -> Run {
     family_run_under(kind, seed, snapshots, &Conditions::PLAIN)
 }
 
-/// [`family_run`] simulated at `conditions.pace` and, repeated, given `conditions.drift`
-/// (seeded with `seed`): the odometry drifts on over the laps.
+/// [`family_run`] simulated at `conditions.pace` with `conditions.bounces` and, repeated, given
+/// `conditions.drift` (seeded with `seed`): the odometry drifts on over the laps.
 pub fn family_run_under(
     kind: SceneKind,
     seed: u64,
     snapshots: usize,
     conditions: &Conditions,
 ) -> Run {
-    let plan = family_plan(kind, seed);
+    let plan = conditions.simulated(family_plan(kind, seed));
     let model = if seed.is_multiple_of(2) {
         Model::Specular
     } else {

@@ -267,13 +267,24 @@ pub struct Conditions {
     pub drift: Option<OdometryError>,
     /// The pace and firing order every run is simulated at.
     pub pace: Pace,
+    /// The mirror bounces of every run's echoes (`sim.bounces`), instead of its plan's.
+    pub bounces: Option<u32>,
 }
 
 impl Conditions {
+    /// `plan` with these conditions' bounces, when they set them.
+    pub fn simulated(&self, mut plan: Plan) -> Plan {
+        if let Some(bounces) = self.bounces {
+            plan.sim.bounces = bounces;
+        }
+        plan
+    }
+
     /// The plans' own paths, the ring fired at once, the odometry the truth.
     pub const PLAIN: Conditions = Conditions {
         drift: None,
         pace: Pace::PLAN,
+        bounces: None,
     };
 }
 
@@ -290,6 +301,7 @@ pub fn run_suite_with(
     let judged = judged_with(params, score_accuracy_pct);
     let mut lines = Vec::with_capacity(2 * scenes);
     for (kind, s, plan) in suite_plans(scenes, seed) {
+        let plan = conditions.simulated(plan);
         for (model, name) in [(Model::Specular, "specular"), (Model::Axis, "axis")] {
             let run = simulate_paced(&plan, model, s, &conditions.pace);
             let run = drifted(run, conditions.drift.as_ref(), s);

@@ -163,6 +163,7 @@ pub fn eval_command(args: &EvalArgs) -> Result<()> {
             conditions: sonarmap::suite::Conditions {
                 drift: args.drift.error(),
                 pace: args.pace.pace()?,
+                bounces: args.pace.bounces,
             },
             score_accuracy_pct: args.score_accuracy_pct,
         };

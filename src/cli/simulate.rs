@@ -5,7 +5,7 @@ use super::output::write_atomic;
 use anyhow::Result;
 use clap::{Args, ValueEnum};
 use sonarmap::log::save_run;
-use sonarmap::sim::{load_plan, simulate_paced, Model, OdometryError, Pace};
+use sonarmap::sim::{load_plan, simulate_paced, Model, OdometryError, Pace, MAX_BOUNCES};
 use std::path::PathBuf;
 
 /// `sonarmap simulate`.
@@ -27,12 +27,13 @@ pub struct SimulateArgs {
     /// 0.06 % apart (about 1 deg per 10 m), wheelbase 1 % off; bad: 0.3 % (5 deg per 10 m), 3 %.
     #[arg(long, value_enum, default_value = "none")]
     pub drift: DriftArg,
-    /// The robot's pace and firing order.
+    /// The robot's pace and firing order, and the echoes' bounces.
     #[command(flatten)]
     pub pace: PaceArgs,
 }
 
-/// The robot's pace and its sonars' firing order (`simulate`, `eval --suite`).
+/// The robot's pace and its sonars' firing order, and how often their echoes bounce
+/// (`simulate`, `eval --suite`, `soak`).
 #[derive(Debug, Args)]
 pub struct PaceArgs {
     /// Re-cut the plan's path into firing cycles this many metres apart (a crawl: 0.015; the
@@ -50,6 +51,10 @@ pub struct PaceArgs {
     /// 1: the whole ring at once.
     #[arg(long, value_name = "G", default_value_t = 1)]
     pub firing_groups: usize,
+    /// Surfaces a specular ray may be mirrored off before one echoes it (multipath: the range
+    /// read is the whole path); overrides the plans' `sim.bounces` (default 0).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(0..=i64::from(MAX_BOUNCES)))]
+    pub bounces: Option<u32>,
 }
 
 impl PaceArgs {
@@ -105,7 +110,10 @@ impl DriftArg {
 
 /// Runs `sonarmap simulate`.
 pub fn simulate_command(args: &SimulateArgs) -> Result<()> {
-    let plan = load_plan(&read(&args.plan)?, &args.plan.display().to_string())?;
+    let mut plan = load_plan(&read(&args.plan)?, &args.plan.display().to_string())?;
+    if let Some(bounces) = args.pace.bounces {
+        plan.sim.bounces = bounces;
+    }
     let model = match args.model {
         ModelArg::Specular => Model::Specular,
         ModelArg::Axis => Model::Axis,

@@ -89,6 +89,7 @@ pub fn soak_command(args: &SoakArgs) -> Result<()> {
         &sonarmap::suite::Conditions {
             drift: args.drift.error(),
             pace: args.pace.pace()?,
+            bounces: args.pace.bounces,
         },
         &mut progress.callback(),
     )

@@ -7,6 +7,8 @@
 //! roughness, or when it hits within `corner_tolerance` of a concave corner (a corner reflector
 //! returns sound whatever the angle). The range is the nearest echoing distance in the cone, so a
 //! mirror-like wall echoes only when its normal lies within the cone, at the normal distance.
+//! With bounces (`sim.bounces`), a ray a surface does not echo is mirrored on, and the range is
+//! the whole path to the surface that echoes it (multipath).
 //! `Axis`: one ray on the beam axis, the first hit whatever the angle.
 
 use crate::geometry::{ray_meets_segment_line, unit, Point, Pose, Vec2};
@@ -68,6 +70,8 @@ pub struct Hit {
     pub incidence_rad: f64,
     /// The roughness of the surface hit, radians.
     pub roughness_rad: f64,
+    /// The surface's unit normal there (either side).
+    pub normal: Vec2,
 }
 
 /// The geometry the simulator casts rays against.
@@ -153,6 +157,7 @@ impl World {
                     point: origin + dir * t,
                     incidence_rad: dir.dot(&normal).abs().min(1.0).acos(),
                     roughness_rad: w.roughness_rad.unwrap_or(self.default_roughness_rad),
+                    normal,
                 });
             }
         }
@@ -177,6 +182,7 @@ impl World {
                     point,
                     incidence_rad: dir.dot(&normal).abs().min(1.0).acos(),
                     roughness_rad: self.default_roughness_rad,
+                    normal,
                 });
             }
         }
@@ -191,14 +197,40 @@ impl World {
         })
     }
 
+    /// How far sound sent from `origin` along `dir` travels before a surface returns it, or
+    /// `None`. A surface echoes when the ray meets it within its roughness of the normal, or near
+    /// a concave corner; otherwise it mirrors the ray on, at most `bounces` times, and the echo
+    /// of the last surface comes back the way the sound went (the multipath of a specular room,
+    /// Kuc and Siegel 1987: the range read is the whole path, as if through the mirror).
+    fn echo_along(&self, origin: &Point, dir: &Vec2, bounces: u32) -> Option<f64> {
+        let (mut from, mut dir, mut travelled_m) = (*origin, *dir, 0.0);
+        for left in (0..=bounces).rev() {
+            let hit = self.cast(&from, &dir)?;
+            travelled_m += hit.distance_m;
+            if hit.incidence_rad <= hit.roughness_rad + 1e-9
+                || self.near_concave_corner(&from, &hit)
+            {
+                return Some(travelled_m);
+            }
+            if left == 0 {
+                break;
+            }
+            dir -= hit.normal * (2.0 * dir.dot(&hit.normal));
+            from = hit.point;
+        }
+        None
+    }
+
     /// The noise-free range a sonar at `sensor` (position and beam heading) reads, or `None`
-    /// when nothing echoes (range limits are the caller's).
+    /// when nothing echoes (range limits are the caller's). With the specular model, a ray may
+    /// be mirrored off `bounces` surfaces that do not echo it ([`World::echo_along`]).
     pub fn echo_range(
         &self,
         sensor: &Pose,
         beam_width_rad: f64,
         ray_step_rad: f64,
         model: Model,
+        bounces: u32,
     ) -> Option<f64> {
         let origin = sensor.position();
         match model {
@@ -240,13 +272,9 @@ impl World {
                 let mut best: Option<f64> = None;
                 for off in offsets {
                     let dir = unit(sensor.heading_rad + off);
-                    let Some(hit) = self.cast(&origin, &dir) else {
-                        continue;
-                    };
-                    let echoes = hit.incidence_rad <= hit.roughness_rad + 1e-9
-                        || self.near_concave_corner(&origin, &hit);
-                    if echoes && best.is_none_or(|b| hit.distance_m < b) {
-                        best = Some(hit.distance_m);
+                    let echo = self.echo_along(&origin, &dir, bounces);
+                    if let Some(distance_m) = echo.filter(|&d| best.is_none_or(|b| d < b)) {
+                        best = Some(distance_m);
                     }
                 }
                 best

@@ -16,6 +16,6 @@ pub use odometry::{with_odometry, OdometryError};
 pub use pace::{pose_at, resample_path, Pace};
 pub use plan::{
     interpolate_path, load_plan, plan_from_file, plan_to_file, Plan, PlanFile, SimFile,
-    SimSettings, DEFAULT_ROUGHNESS_DEG, PLAN_FORMAT,
+    SimSettings, DEFAULT_ROUGHNESS_DEG, MAX_BOUNCES, PLAN_FORMAT,
 };
 pub use simulate::{simulate, simulate_paced};

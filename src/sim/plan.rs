@@ -78,7 +78,14 @@ pub struct SimFile {
     /// A ray hitting this close to a concave corner echoes whatever its angle (default 1 in).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub corner_tolerance: Option<f64>,
+    /// Surfaces a ray may be mirrored off before one echoes it (multipath), 0 to
+    /// [`MAX_BOUNCES`] (default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bounces: Option<u32>,
 }
+
+/// The most mirror bounces a plan's `sim.bounces` may ask for.
+pub const MAX_BOUNCES: u32 = 4;
 
 /// Simulator settings in metres and radians.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -93,6 +100,8 @@ pub struct SimSettings {
     pub ray_step_rad: f64,
     /// Corner reflector distance, metres.
     pub corner_tolerance_m: f64,
+    /// Surfaces a ray may be mirrored off before one echoes it (multipath; 0: none).
+    pub bounces: u32,
 }
 
 impl Default for SimSettings {
@@ -103,6 +112,7 @@ impl Default for SimSettings {
             ghost: 0.0,
             ray_step_rad: 1f64.to_radians(),
             corner_tolerance_m: inches(1.0),
+            bounces: 0,
         }
     }
 }
@@ -170,6 +180,7 @@ pub fn plan_to_file(plan: &Plan) -> PlanFile {
             ghost: Some(plan.sim.ghost),
             ray_step_deg: Some(deg(plan.sim.ray_step_rad)),
             corner_tolerance: Some(len(plan.sim.corner_tolerance_m)),
+            bounces: (plan.sim.bounces > 0).then_some(plan.sim.bounces),
         }),
     }
 }
@@ -278,6 +289,18 @@ fn sim_settings(s: SimFile, units: Units, f: &str) -> Result<SimSettings, LogErr
             d.corner_tolerance_m,
             &|x| units.to_m(x),
         )?,
+        bounces: match s.bounces {
+            None => d.bounces,
+            Some(n) if n <= MAX_BOUNCES => n,
+            Some(n) => {
+                return Err(bad(
+                    f,
+                    "$.sim.bounces".to_owned(),
+                    n,
+                    "a whole number of bounces from 0 to 4",
+                ))
+            }
+        },
     })
 }
 

@@ -73,6 +73,7 @@ pub fn simulate_paced(plan: &Plan, model: Model, seed: u64, pace: &Pace) -> Run 
                         sensor.beam_width_rad,
                         sim.ray_step_rad,
                         model,
+                        sim.bounces,
                     );
                     noisy_range(truth, [u_drop, u_ghost, u_noise, u_far], &sensor, &sim)
                 })

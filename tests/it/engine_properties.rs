@@ -177,10 +177,11 @@ fn every_scene_kind_in_every_parameter_set_keeps_the_map_consistent_over_laps() 
 }
 
 #[test]
-fn drifting_lap_runs_at_a_crawl_keep_the_map_consistent() {
-    // Every kind crawling 2 cm a cycle, the sonars fired in four groups, with the bad drift of
-    // a differential-drive robot carried over the laps, in both presets and with pose
-    // correction (docs/algorithm.md §8.17).
+fn drifting_lap_runs_at_a_crawl_with_multipath_keep_the_map_consistent() {
+    // Every kind crawling 2 cm a cycle, the sonars fired in four groups, their rays mirrored
+    // off up to two surfaces that do not echo them, with the bad drift of a differential-drive
+    // robot carried over the laps, in both presets and with pose correction
+    // (docs/algorithm.md §8.17).
     let conditions = sonarmap::suite::Conditions {
         drift: Some(sonarmap::sim::OdometryError::BAD),
         pace: sonarmap::sim::Pace {
@@ -189,6 +190,7 @@ fn drifting_lap_runs_at_a_crawl_keep_the_map_consistent() {
             firing_groups: 4,
             ..sonarmap::sim::Pace::PLAN
         },
+        bounces: Some(2),
     };
     let only = ["paper", "extended"].map(String::from);
     let report = sonarmap::soak::soak_variants_named(

@@ -29,6 +29,7 @@ fn drifting_room_laps() -> sonarmap::run::Run {
     let conditions = sonarmap::suite::Conditions {
         drift: Some(OdometryError::BAD),
         pace: sonarmap::sim::Pace::PLAN,
+        bounces: None,
     };
     sonarmap::soak::family_run_under(SceneKind::Room, 1, 1500, &conditions)
 }

@@ -16,12 +16,87 @@ fn wall(ax: f64, ay: f64, bx: f64, by: f64, roughness_deg: Option<f64>) -> Wall 
 }
 
 fn echo(world: &World, x: f64, y: f64, heading_deg: f64, model: Model) -> Option<f64> {
+    echo_bounced(world, x, y, heading_deg, model, 0)
+}
+
+fn echo_bounced(
+    world: &World,
+    x: f64,
+    y: f64,
+    heading_deg: f64,
+    model: Model,
+    bounces: u32,
+) -> Option<f64> {
     world.echo_range(
         &Pose::new(x, y, heading_deg.to_radians()),
         BEAM.to_radians(),
         1f64.to_radians(),
         model,
+        bounces,
     )
+}
+
+/// A mirror (roughness 1°) across the line x − y = 2, from (1.5, −0.5) to (2.5, 0.5), and a
+/// rough wall (10°) along y = 3 from (1, 3) to (3, 3).
+fn mirror_and_wall() -> World {
+    let plan = FloorPlan {
+        walls: vec![
+            wall(1.5, -0.5, 2.5, 0.5, Some(1.0)),
+            wall(1.0, 3.0, 3.0, 3.0, Some(10.0)),
+        ],
+        circles: vec![],
+    };
+    World::new(&plan, 0.0, 0.0254)
+}
+
+#[test]
+fn a_mirrored_ray_echoes_from_the_wall_it_is_sent_to_over_the_whole_path() {
+    let world = mirror_and_wall();
+    // A sonar at the origin looking along +x meets the mirror 45° off its normal at (2, 0): no
+    // echo, and nothing else in the cone echoes (the rough wall's normal is 90° off the axis).
+    assert_eq!(echo(&world, 0.0, 0.0, 0.0, Model::Specular), None);
+    // One bounce: a ray α off the axis is mirrored to 90° − α and meets the rough wall α off
+    // its normal, echoing for |α| ≤ 10°; its path runs from the origin's mirror image (2, −2),
+    // 5 / cos α long. The rays sampled nearest the axis are 0.5° off it (25 rays 1° apart from
+    // −12.5°): 5 / cos 0.5° = 5.00019 m.
+    let r = echo_bounced(&world, 0.0, 0.0, 0.0, Model::Specular, 1).unwrap();
+    let nearest = 5.0 / 0.5f64.to_radians().cos();
+    assert!((r - nearest).abs() < 1e-9, "{r}");
+    // The axis model has no bounces: it reads the mirror where its axis meets it.
+    let r = echo_bounced(&world, 0.0, 0.0, 0.0, Model::Axis, 1).unwrap();
+    assert!((r - 2.0).abs() < 1e-9, "{r}");
+}
+
+#[test]
+fn a_ray_mirrored_into_open_space_or_onto_another_mirror_past_its_bounces_is_no_echo() {
+    // The same mirror alone: the mirrored ray leaves through +y and meets nothing.
+    let plan = FloorPlan {
+        walls: vec![wall(1.5, -0.5, 2.5, 0.5, Some(1.0))],
+        circles: vec![],
+    };
+    let world = World::new(&plan, 0.0, 0.0254);
+    assert_eq!(
+        echo_bounced(&world, 0.0, 0.0, 0.0, Model::Specular, 3),
+        None
+    );
+    // A second mirror across its path, tilted 45° (x + y = 5 from (1.5, 3.5) to (2.5, 2.5)):
+    // the ray is mirrored again, to −x at (2, 3), and leaves: none with one bounce or two.
+    let plan = FloorPlan {
+        walls: vec![
+            wall(1.5, -0.5, 2.5, 0.5, Some(1.0)),
+            wall(1.5, 3.5, 2.5, 2.5, Some(1.0)),
+        ],
+        circles: vec![],
+    };
+    let world = World::new(&plan, 0.0, 0.0254);
+    assert_eq!(
+        echo_bounced(&world, 0.0, 0.0, 0.0, Model::Specular, 1),
+        None
+    );
+    assert_eq!(
+        echo_bounced(&world, 0.0, 0.0, 0.0, Model::Specular, 2),
+        None
+    );
 }
 
 #[test]
@@ -215,6 +290,23 @@ fn bad_plans_name_the_place() {
     .unwrap_err()
     .to_string();
     assert!(e.contains("$.sim.dropout"), "{e}");
+    let with_bounces = |n: &str| {
+        PLAN.replace(
+            "\"ghost\": 0.05",
+            &format!("\"ghost\": 0.05, \"bounces\": {n}"),
+        )
+    };
+    assert_eq!(
+        load_plan(with_bounces("2").as_bytes(), "p.json")
+            .unwrap()
+            .sim
+            .bounces,
+        2
+    );
+    let e = load_plan(with_bounces("5").as_bytes(), "p.json")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("p.json") && e.contains("$.sim.bounces"), "{e}");
     let e = load_plan(PLAN.replace("[20, 30, 0]", "[20, 30]").as_bytes(), "p.json")
         .unwrap_err()
         .to_string();
@@ -255,6 +347,7 @@ fn simulated_ranges_are_quantised_within_accuracy_and_below_max_range() {
                 0.4,
                 0.02,
                 Model::Axis,
+                0,
             );
             let (Some(r), Some(t)) = (r, truth) else {
                 continue;
@@ -369,6 +462,7 @@ fn sonars_fired_in_groups_read_from_the_pose_of_their_own_moment() {
                     plan.sensor.beam_width_rad,
                     plan.sim.ray_step_rad,
                     Model::Axis,
+                    0,
                 )
                 .expect("a reading has an echo");
             let tolerance = truth * plan.sensor.accuracy_pct / 100.0 + plan.sim.resolution_m;
