@@ -54,7 +54,8 @@ pub struct EvalArgs {
     /// maps are scored against the floor plan, in the true frame.
     #[arg(long, value_enum, default_value = "none", requires = "suite")]
     pub drift: super::simulate::DriftArg,
-    /// With --suite: the pace and firing order every scene is simulated at.
+    /// With --suite: the pace and firing order every scene is simulated at, and its echoes'
+    /// bounces.
     #[command(flatten)]
     pub pace: super::simulate::PaceArgs,
     /// Mapping parameters.

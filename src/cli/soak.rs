@@ -35,7 +35,7 @@ pub struct SoakArgs {
     /// gives), drifting on over its laps.
     #[arg(long, value_enum, default_value = "none")]
     pub drift: super::simulate::DriftArg,
-    /// The pace and firing order every lap is simulated at.
+    /// The pace and firing order every lap is simulated at, and its echoes' bounces.
     #[command(flatten)]
     pub pace: super::simulate::PaceArgs,
 }

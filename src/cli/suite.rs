@@ -19,7 +19,7 @@ pub struct SuiteArgs<'a> {
     pub write_plans: Option<&'a Path>,
     /// `--logs-from DIR`.
     pub logs_from: Option<&'a Path>,
-    /// `--drift` and the pace: how every run is driven.
+    /// `--drift`, the pace and the bounces: how every run is driven and echoes.
     pub conditions: sonarmap::suite::Conditions,
     /// `--score-accuracy-pct`: the ξ the maps are judged with, instead of the mapping's own.
     pub score_accuracy_pct: Option<f64>,
@@ -29,7 +29,7 @@ pub struct SuiteArgs<'a> {
 /// ([`sonarmap::suite`]); with `--write-plans DIR`, the scenes' plans too.
 pub fn suite_command(args: &SuiteArgs, params: &Params) -> Result<()> {
     if let Some(dir) = args.write_plans {
-        write_plans(dir, args.scenes, args.seed)?;
+        write_plans(dir, args.scenes, args.seed, &args.conditions)?;
     }
     let elsewhere = match args.logs_from {
         Some(dir) => logs_in(dir, args.scenes, args.seed),
@@ -62,11 +62,18 @@ pub fn suite_command(args: &SuiteArgs, params: &Params) -> Result<()> {
     Ok(())
 }
 
-/// Writes each scene's plan into `dir` as FAMILY-SEED.plan.json.
-fn write_plans(dir: &Path, scenes: usize, seed: u64) -> Result<()> {
+/// Writes each scene's plan, as `conditions` simulate it (their bounces), into `dir` as
+/// FAMILY-SEED.plan.json.
+fn write_plans(
+    dir: &Path,
+    scenes: usize,
+    seed: u64,
+    conditions: &sonarmap::suite::Conditions,
+) -> Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     for (kind, seed, plan) in sonarmap::suite::suite_plans(scenes, seed) {
         let path = dir.join(format!("{}-{seed}.plan.json", kind.name()));
+        let plan = conditions.simulated(plan);
         let text = serde_json::to_string(&sonarmap::sim::plan_to_file(&plan))?;
         write_atomic(&path, text)?;
     }

@@ -7,8 +7,10 @@
 //! roughness, or when it hits within `corner_tolerance` of a concave corner (a corner reflector
 //! returns sound whatever the angle). The range is the nearest echoing distance in the cone, so a
 //! mirror-like wall echoes only when its normal lies within the cone, at the normal distance.
-//! With bounces (`sim.bounces`), a ray a surface does not echo is mirrored on, and the range is
-//! the whole path to the surface that echoes it (multipath).
+//! With bounces (`sim.bounces`), a ray a surface does not echo is mirrored on instead of
+//! stopping, and the range is the whole path to the surface that echoes it (multipath); the
+//! special directions are not taken again through a mirror, so a surface seen through one is
+//! read by the sampling rays alone.
 //! `Axis`: one ray on the beam axis, the first hit whatever the angle.
 
 use crate::geometry::{ray_meets_segment_line, unit, Point, Pose, Vec2};

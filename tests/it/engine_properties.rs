@@ -192,11 +192,13 @@ fn drifting_lap_runs_at_a_crawl_with_multipath_keep_the_map_consistent() {
         },
         bounces: Some(2),
     };
+    // An even seed: the soak's runs take the specular model, the one whose rays bounce.
+    let seed = 8;
     let only = ["paper", "extended"].map(String::from);
     let report = sonarmap::soak::soak_variants_named(
         1,
         LAP_RUN_SNAPSHOTS,
-        7,
+        seed,
         &only,
         &conditions,
         &mut |_| true,
@@ -216,7 +218,7 @@ fn drifting_lap_runs_at_a_crawl_with_multipath_keep_the_map_consistent() {
         ..Params::extended().calibrated_by((0.2, 1.5))
     };
     for kind in sonarmap::sim::SceneKind::ALL {
-        let run = sonarmap::soak::family_run_under(kind, 7, LAP_RUN_SNAPSHOTS, &conditions);
+        let run = sonarmap::soak::family_run_under(kind, seed, LAP_RUN_SNAPSHOTS, &conditions);
         for corrected in [&from_first_step, &from_calibrated] {
             let checked = sonarmap::soak::map_checked(&run, corrected, true);
             assert_eq!(checked.failure, None, "{kind:?} with pose correction");

@@ -57,8 +57,8 @@ fn a_mirrored_ray_echoes_from_the_wall_it_is_sent_to_over_the_whole_path() {
     assert_eq!(echo(&world, 0.0, 0.0, 0.0, Model::Specular), None);
     // One bounce: a ray α off the axis is mirrored to 90° − α and meets the rough wall α off
     // its normal, echoing for |α| ≤ 10°; its path runs from the origin's mirror image (2, −2),
-    // 5 / cos α long. The rays sampled nearest the axis are 0.5° off it (25 rays 1° apart from
-    // −12.5°): 5 / cos 0.5° = 5.00019 m.
+    // 5 / cos α long. The rays sampled nearest the axis are 0.5° off it (26 rays 1° apart from
+    // −12.5° to 12.5°): 5 / cos 0.5° = 5.00019 m.
     let r = echo_bounced(&world, 0.0, 0.0, 0.0, Model::Specular, 1).unwrap();
     let nearest = 5.0 / 0.5f64.to_radians().cos();
     assert!((r - nearest).abs() < 1e-9, "{r}");
@@ -68,7 +68,7 @@ fn a_mirrored_ray_echoes_from_the_wall_it_is_sent_to_over_the_whole_path() {
 }
 
 #[test]
-fn a_ray_mirrored_into_open_space_or_onto_another_mirror_past_its_bounces_is_no_echo() {
+fn a_ray_mirrored_into_open_space_or_past_its_bounces_is_no_echo() {
     // The same mirror alone: the mirrored ray leaves through +y and meets nothing.
     let plan = FloorPlan {
         walls: vec![wall(1.5, -0.5, 2.5, 0.5, Some(1.0))],
@@ -79,12 +79,16 @@ fn a_ray_mirrored_into_open_space_or_onto_another_mirror_past_its_bounces_is_no_
         echo_bounced(&world, 0.0, 0.0, 0.0, Model::Specular, 3),
         None
     );
-    // A second mirror across its path, tilted 45° (x + y = 5 from (1.5, 3.5) to (2.5, 2.5)):
-    // the ray is mirrored again, to −x at (2, 3), and leaves: none with one bounce or two.
+    // A second mirror across its path, tilted 45° (x + y = 5 from (1.5, 3.5) to (2.5, 2.5)),
+    // and a rough wall (10°) along x = 0 from (0, 2) to (0, 4): the ray is mirrored again, to
+    // −x at (2, 3), and meets that wall square-on. One bounce is not enough: none. Two: the
+    // path runs from the origin's image in both mirrors, (7, 3), 7 / cos α long for a ray α
+    // off the axis; the sampled rays nearest it, 0.5° off, give 7.00027 m.
     let plan = FloorPlan {
         walls: vec![
             wall(1.5, -0.5, 2.5, 0.5, Some(1.0)),
             wall(1.5, 3.5, 2.5, 2.5, Some(1.0)),
+            wall(0.0, 2.0, 0.0, 4.0, Some(10.0)),
         ],
         circles: vec![],
     };
@@ -93,9 +97,20 @@ fn a_ray_mirrored_into_open_space_or_onto_another_mirror_past_its_bounces_is_no_
         echo_bounced(&world, 0.0, 0.0, 0.0, Model::Specular, 1),
         None
     );
+    let r = echo_bounced(&world, 0.0, 0.0, 0.0, Model::Specular, 2).unwrap();
+    let nearest = 7.0 / 0.5f64.to_radians().cos();
+    assert!((r - nearest).abs() < 1e-9, "{r}");
+}
+
+#[test]
+fn a_plans_bounces_survive_writing_it_back() {
+    let text = PLAN.replace("\"ghost\": 0.05", "\"ghost\": 0.05, \"bounces\": 4");
+    let plan = load_plan(text.as_bytes(), "p.json").unwrap();
+    assert_eq!(plan.sim.bounces, sonarmap::sim::MAX_BOUNCES);
+    let written = serde_json::to_string(&sonarmap::sim::plan_to_file(&plan)).unwrap();
     assert_eq!(
-        echo_bounced(&world, 0.0, 0.0, 0.0, Model::Specular, 2),
-        None
+        load_plan(written.as_bytes(), "w.json").unwrap().sim.bounces,
+        4
     );
 }
 
@@ -307,6 +322,8 @@ fn bad_plans_name_the_place() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("p.json") && e.contains("$.sim.bounces"), "{e}");
+    let limit = format!("0 to {}", sonarmap::sim::MAX_BOUNCES);
+    assert!(e.contains(&limit), "the refusal names the limit: {e}");
     let e = load_plan(PLAN.replace("[20, 30, 0]", "[20, 30]").as_bytes(), "p.json")
         .unwrap_err()
         .to_string();
