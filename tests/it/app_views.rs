@@ -512,6 +512,9 @@ fn the_inspector_gives_a_refused_short_readings_last_echo() {
     super::support::settle(&mut h);
     h.state_mut().push(Command::Seek(snapshot));
     h.run();
+    // The step's extensions list the refusal too.
+    let listed = format!("echo agreement: sensor {sensor} read 0.500 m after");
+    assert!(h.query_by_label_contains(&listed).is_some(), "{listed}");
     h.state_mut()
         .push(Command::Select(SceneId::Reading { snapshot, sensor }));
     h.run();

@@ -3,7 +3,8 @@
 //! saw past, plane support, the plane gate, echo placement (§8.10), corner diagonals (§8.11),
 //! readings a confirmed wall settled (§8.12), pillars found among the diagonals' echoes
 //! (§8.14), cluster links broken across a right angle (§8.20), where point memory cut a bent
-//! group (§8.1), the stacks it let go (§8.15) and the joints it kept (§8.16).
+//! group (§8.1), the stacks it let go (§8.15), the joints it kept (§8.16) and the readings much
+//! shorter than their sensor's last echo (§8.21).
 
 use super::context::InspectCtx;
 use super::widgets::heading;
@@ -195,6 +196,25 @@ fn explained(ctx: &InspectCtx, out: &mut Vec<RichText>) {
             ctx.len(e.feature_distance_m),
             surface,
             e.off_axis_rad.to_degrees()
+        )));
+    }
+}
+
+/// One line for each of the step's readings set aside as much shorter than their sensor's last
+/// echo (§8.21).
+fn shorter_than_last(ctx: &InspectCtx, out: &mut Vec<RichText>) {
+    for r in &ctx.view.trace.readings {
+        let (Some(s), Some(range_m)) = (r.shorter_than_last, r.range_m) else {
+            continue;
+        };
+        out.push(RichText::new(format!(
+            "echo agreement: sensor {} read {} after {}, {} shorter where {} may be: joins no \
+             cluster (§8.21)",
+            r.sensor,
+            ctx.len(range_m),
+            ctx.len(s.last_m),
+            ctx.len(s.last_m - range_m),
+            ctx.len(s.tolerance_m)
         )));
     }
 }
@@ -435,6 +455,7 @@ fn gated(ctx: &InspectCtx, out: &mut Vec<RichText>) {
 
 /// Each extension's lines, in the order they are shown.
 const EXTENSION_LINES: &[fn(&InspectCtx, &mut Vec<RichText>)] = &[
+    shorter_than_last,
     arcs,
     explained,
     settled,
