@@ -332,8 +332,8 @@ impl SonarApp {
         self.params = params.clone();
         // A calibration `calibrate_first` found belongs to the open run, not to the settings.
         let saved = match &self.auto_calibration {
-            Some((before, after)) if *after == params => before.clone(),
-            _ => params,
+            Some(calibration) => super::loading::without_run_calibration(&params, calibration),
+            None => params,
         };
         self.settings.params = (saved != Params::paper()).then_some(saved);
         // The whole run, even while only its first snapshots are shown.

@@ -320,12 +320,10 @@ impl SonarApp {
     }
 
     /// Another run is opening: the parameters `calibrate_first` set for the run open before
-    /// go back to what they were, unless they were changed since.
+    /// go back to what they were ([`without_run_calibration`]); the user's other changes stay.
     fn forget_auto_calibration(&mut self) {
-        if let Some((before, after)) = self.auto_calibration.take() {
-            if self.params == after {
-                self.params = before;
-            }
+        if let Some(calibration) = self.auto_calibration.take() {
+            self.params = without_run_calibration(&self.params, &calibration);
         }
     }
 
@@ -447,5 +445,41 @@ impl SonarApp {
                 }
             },
         };
+    }
+}
+
+/// `params` without the calibration `calibrate_first` put on the open run (the parameters
+/// `before` and `after` it): each parameter the calibration sets (the drift, the heading track,
+/// pose correction) goes back to its value before, unless the user has changed it since. A
+/// calibration belongs to its run, not to the settings or the next run.
+pub(super) fn without_run_calibration(
+    params: &Params,
+    (before, after): &(Params, Params),
+) -> Params {
+    fn back<T: PartialEq + Clone>(now: &T, before: &T, after: &T) -> T {
+        if now == after { before } else { now }.clone()
+    }
+    Params {
+        drift_deg_per_m: back(
+            &params.drift_deg_per_m,
+            &before.drift_deg_per_m,
+            &after.drift_deg_per_m,
+        ),
+        drift_per_turn_pct: back(
+            &params.drift_per_turn_pct,
+            &before.drift_per_turn_pct,
+            &after.drift_per_turn_pct,
+        ),
+        heading_track: back(
+            &params.heading_track,
+            &before.heading_track,
+            &after.heading_track,
+        ),
+        pose_correction: back(
+            &params.pose_correction,
+            &before.pose_correction,
+            &after.pose_correction,
+        ),
+        ..params.clone()
     }
 }

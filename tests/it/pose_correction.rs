@@ -511,6 +511,34 @@ fn the_app_maps_a_drifting_run_again_from_its_drift_by_itself_and_the_next_run_w
     assert_eq!(h.state().params(), &Params::extended());
 }
 
+#[test]
+fn a_parameter_changed_after_the_apps_calibration_is_saved_without_that_runs_calibration() {
+    let mut h = app_with(drifting_corridor_crawl(), Params::extended());
+    assert_calibrated(h.state().params());
+    // The user sets a flag while the run's calibration is on: the run keeps its calibration
+    // and takes the flag, but the saved settings and the next run take the flag alone.
+    let edited = Params {
+        echo_agreement: true,
+        ..h.state().params().clone()
+    };
+    h.state_mut()
+        .push(sonarmap::app::Command::SetParams(edited));
+    super::support::settle(&mut h);
+    assert_calibrated(h.state().params());
+    assert!(h.state().params().echo_agreement);
+    let flag_alone = Params {
+        echo_agreement: true,
+        ..Params::extended()
+    };
+    assert_eq!(h.state().settings().params, Some(flag_alone.clone()));
+    h.state_mut().push(sonarmap::app::Command::OpenBytes {
+        name: "steady.json".to_owned(),
+        bytes: sonarmap::log::save_run(&pioneer_corridor_crawl(1)).into_bytes(),
+    });
+    super::support::settle(&mut h);
+    assert_eq!(h.state().params(), &flag_alone);
+}
+
 /// Calibrate, then correct (§8.17): with a calibration and a heading track, each step's
 /// odometry is first turned by the tracked heading error, its position following the raw
 /// increment turned by the last step's error; the correction starts from that mended pose, and
