@@ -15,6 +15,15 @@ fn wall(ax: f64, ay: f64, bx: f64, by: f64, roughness_deg: Option<f64>) -> Wall 
     }
 }
 
+/// A world of `walls` alone: no roughness unless a wall has its own, ranges to 1 in.
+fn world_of(walls: Vec<Wall>) -> World {
+    let plan = FloorPlan {
+        walls,
+        circles: vec![],
+    };
+    World::new(&plan, 0.0, 0.0254)
+}
+
 fn echo(world: &World, x: f64, y: f64, heading_deg: f64, model: Model) -> Option<f64> {
     echo_bounced(world, x, y, heading_deg, model, 0)
 }
@@ -39,14 +48,10 @@ fn echo_bounced(
 /// A mirror (roughness 1°) across the line x − y = 2, from (1.5, −0.5) to (2.5, 0.5), and a
 /// rough wall (10°) along y = 3 from (1, 3) to (3, 3).
 fn mirror_and_wall() -> World {
-    let plan = FloorPlan {
-        walls: vec![
-            wall(1.5, -0.5, 2.5, 0.5, Some(1.0)),
-            wall(1.0, 3.0, 3.0, 3.0, Some(10.0)),
-        ],
-        circles: vec![],
-    };
-    World::new(&plan, 0.0, 0.0254)
+    world_of(vec![
+        wall(1.5, -0.5, 2.5, 0.5, Some(1.0)),
+        wall(1.0, 3.0, 3.0, 3.0, Some(10.0)),
+    ])
 }
 
 #[test]
@@ -70,11 +75,7 @@ fn a_mirrored_ray_echoes_from_the_wall_it_is_sent_to_over_the_whole_path() {
 #[test]
 fn a_ray_mirrored_into_open_space_or_past_its_bounces_is_no_echo() {
     // The same mirror alone: the mirrored ray leaves through +y and meets nothing.
-    let plan = FloorPlan {
-        walls: vec![wall(1.5, -0.5, 2.5, 0.5, Some(1.0))],
-        circles: vec![],
-    };
-    let world = World::new(&plan, 0.0, 0.0254);
+    let world = world_of(vec![wall(1.5, -0.5, 2.5, 0.5, Some(1.0))]);
     assert_eq!(
         echo_bounced(&world, 0.0, 0.0, 0.0, Model::Specular, 3),
         None
@@ -84,15 +85,11 @@ fn a_ray_mirrored_into_open_space_or_past_its_bounces_is_no_echo() {
     // −x at (2, 3), and meets that wall square-on. One bounce is not enough: none. Two: the
     // path runs from the origin's image in both mirrors, (7, 3), 7 / cos α long for a ray α
     // off the axis; the sampled rays nearest it, 0.5° off, give 7.00027 m.
-    let plan = FloorPlan {
-        walls: vec![
-            wall(1.5, -0.5, 2.5, 0.5, Some(1.0)),
-            wall(1.5, 3.5, 2.5, 2.5, Some(1.0)),
-            wall(0.0, 2.0, 0.0, 4.0, Some(10.0)),
-        ],
-        circles: vec![],
-    };
-    let world = World::new(&plan, 0.0, 0.0254);
+    let world = world_of(vec![
+        wall(1.5, -0.5, 2.5, 0.5, Some(1.0)),
+        wall(1.5, 3.5, 2.5, 2.5, Some(1.0)),
+        wall(0.0, 2.0, 0.0, 4.0, Some(10.0)),
+    ]);
     assert_eq!(
         echo_bounced(&world, 0.0, 0.0, 0.0, Model::Specular, 1),
         None
@@ -116,11 +113,7 @@ fn a_plans_bounces_survive_writing_it_back() {
 
 #[test]
 fn a_mirror_wall_perpendicular_to_the_beam_echoes_at_the_normal_distance() {
-    let plan = FloorPlan {
-        walls: vec![wall(2.0, -5.0, 2.0, 5.0, Some(1.0))],
-        circles: vec![],
-    };
-    let world = World::new(&plan, 0.0, 0.0254);
+    let world = world_of(vec![wall(2.0, -5.0, 2.0, 5.0, Some(1.0))]);
     // Axis 10° off the normal: the normal is inside the 25° cone → normal distance 2.
     let r = echo(&world, 0.0, 0.0, 10.0, Model::Specular).unwrap();
     assert!((r - 2.0).abs() < 1e-9, "{r}");
@@ -128,11 +121,7 @@ fn a_mirror_wall_perpendicular_to_the_beam_echoes_at_the_normal_distance() {
 
 #[test]
 fn a_mirror_wall_at_grazing_angle_gives_no_echo() {
-    let plan = FloorPlan {
-        walls: vec![wall(2.0, -5.0, 2.0, 5.0, Some(5.0))],
-        circles: vec![],
-    };
-    let world = World::new(&plan, 0.0, 0.0254);
+    let world = world_of(vec![wall(2.0, -5.0, 2.0, 5.0, Some(5.0))]);
     // Axis 60° off the normal: rays 47.5°..72.5° off, all beyond 5° roughness.
     assert_eq!(echo(&world, 0.0, 0.0, 60.0, Model::Specular), None);
     // The axis model sees it anyway: 2 / cos 60° = 4.
@@ -143,11 +132,7 @@ fn a_mirror_wall_at_grazing_angle_gives_no_echo() {
 #[test]
 fn a_rough_wall_echoes_at_the_nearest_ray_within_its_roughness() {
     // Axis 22.5° off the normal, beam edge 10° off: roughness 12° → the edge ray echoes at 2/cos 10°.
-    let plan = FloorPlan {
-        walls: vec![wall(2.0, -5.0, 2.0, 5.0, Some(12.0))],
-        circles: vec![],
-    };
-    let world = World::new(&plan, 0.0, 0.0254);
+    let world = world_of(vec![wall(2.0, -5.0, 2.0, 5.0, Some(12.0))]);
     let r = echo(&world, 0.0, 0.0, 22.5, Model::Specular).unwrap();
     assert!((r - 2.0 / 10f64.to_radians().cos()).abs() < 1e-9, "{r}");
 }
@@ -155,14 +140,10 @@ fn a_rough_wall_echoes_at_the_nearest_ray_within_its_roughness() {
 #[test]
 fn a_concave_corner_returns_whatever_the_angle() {
     // Corner at (2, 2) of two mirror walls; the sonar looks straight at it (45° to both walls).
-    let plan = FloorPlan {
-        walls: vec![
-            wall(2.0, -3.0, 2.0, 2.0, Some(0.0)),
-            wall(2.0, 2.0, -3.0, 2.0, Some(0.0)),
-        ],
-        circles: vec![],
-    };
-    let world = World::new(&plan, 0.0, 0.0254);
+    let world = world_of(vec![
+        wall(2.0, -3.0, 2.0, 2.0, Some(0.0)),
+        wall(2.0, 2.0, -3.0, 2.0, Some(0.0)),
+    ]);
     let r = echo(&world, 0.0, 0.0, 45.0, Model::Specular).unwrap();
     assert!((r - 8f64.sqrt()).abs() < 1e-6, "{r}");
     // Seen from outside (convex), the same corner gives nothing.
