@@ -13,7 +13,9 @@
 use crate::geometry::{Point, Pose, Vec2};
 use crate::mapping::ext::beam_geometry::{feature_tolerance_m, HalfCone};
 use crate::mapping::ext::confirm::supports_along_axis;
-use crate::mapping::ext::odometry_drift::OdometryDrift;
+use crate::mapping::ext::odometry_drift::{
+    OdometryDrift, CALIBRATED_PRIOR_FACTOR, TURN_ERROR_PRIOR,
+};
 use crate::mapping::ext::rectilinear_heading::RectilinearState;
 use crate::mapping::model::beam::Beam;
 use nalgebra::{Matrix3, SymmetricEigen, Vector3};
@@ -75,17 +77,29 @@ impl Default for PoseBelief {
     }
 }
 
-/// The covariance an odometry increment of `distance_m` and `turn_rad` adds.
-pub fn motion_noise(distance_m: f64, turn_rad: f64) -> Matrix3<f64> {
+/// The covariance an odometry increment of `distance_m` and `turn_rad` adds, its heading's
+/// standard deviation scaled by `heading_share`: 1, or [`calibrated_heading_share`] once the
+/// odometry is calibrated.
+pub fn motion_noise(distance_m: f64, turn_rad: f64, heading_share: f64) -> Matrix3<f64> {
     let sigma_xy = NOISE_FLOOR.0 + POSITION_NOISE_PER_M * distance_m;
-    let sigma_heading = NOISE_FLOOR.1
-        + HEADING_NOISE_RAD_PER_M * distance_m
-        + HEADING_NOISE_PER_RAD * turn_rad.abs();
+    let sigma_heading = heading_share
+        * (NOISE_FLOOR.1
+            + HEADING_NOISE_RAD_PER_M * distance_m
+            + HEADING_NOISE_PER_RAD * turn_rad.abs());
     Matrix3::from_diagonal(&Vector3::new(
         sigma_xy * sigma_xy,
         sigma_xy * sigma_xy,
         sigma_heading * sigma_heading,
     ))
+}
+
+/// The share of the heading noise of [`motion_noise`] that odometry calibrated with an error
+/// of `turn_error` per radian turned keeps (docs/algorithm.md §8.17, "Runs that come back"):
+/// that error over the prior's 5 % ([`TURN_ERROR_PRIOR`]), within [`CALIBRATED_PRIOR_FACTOR`]
+/// and 1. The calibration has taken out the drift the noise stands for, and it leaves more of
+/// it, the larger the error per turn it mends.
+pub fn calibrated_heading_share(turn_error: f64) -> f64 {
+    (turn_error.abs() / TURN_ERROR_PRIOR).clamp(CALIBRATED_PRIOR_FACTOR, 1.0)
 }
 
 /// `covariance` with its standard deviations held within [`MAX_SIGMA`].
@@ -465,11 +479,28 @@ mod tests {
 
     #[test]
     fn motion_noise_grows_with_distance_and_turn() {
-        let still = motion_noise(0.0, 0.0);
+        let still = motion_noise(0.0, 0.0, 1.0);
         assert!((still[(0, 0)].sqrt() - 0.001).abs() < 1e-15);
         // 1 m: 1 mm + 3 cm.
-        assert!((motion_noise(1.0, 0.0)[(0, 0)].sqrt() - 0.031).abs() < 1e-12);
-        assert!(motion_noise(0.0, 1.0)[(2, 2)] > still[(2, 2)]);
+        assert!((motion_noise(1.0, 0.0, 1.0)[(0, 0)].sqrt() - 0.031).abs() < 1e-12);
+        assert!(motion_noise(0.0, 1.0, 1.0)[(2, 2)] > still[(2, 2)]);
+        // 1 m and a quarter turn: 0.05° + 0.5° + 5 % of 90° = 5.05°; calibrated with 2 % a
+        // turn, 2/5 of it, 2.02°; the position's noise is the same.
+        let quarter = std::f64::consts::FRAC_PI_2;
+        let heading_deg = |share| {
+            motion_noise(1.0, quarter, share)[(2, 2)]
+                .sqrt()
+                .to_degrees()
+        };
+        assert!((heading_deg(1.0) - 5.05).abs() < 1e-12);
+        let share = calibrated_heading_share(-0.02);
+        assert!((share - 0.4).abs() < 1e-12);
+        assert!((heading_deg(share) - 2.02).abs() < 1e-12);
+        let calibrated = motion_noise(1.0, quarter, share);
+        assert_eq!(calibrated[(0, 0)], motion_noise(1.0, quarter, 1.0)[(0, 0)]);
+        // 0.5 % a turn keeps a tenth (the least), 8 % all of it.
+        assert_eq!(calibrated_heading_share(0.005), 0.1);
+        assert_eq!(calibrated_heading_share(0.08), 1.0);
         let big = capped(Matrix3::identity() * 4.0);
         assert!((big[(0, 0)].sqrt() - 0.5).abs() < 1e-12);
         assert!((big[(2, 2)].sqrt() - MAX_SIGMA.1).abs() < 1e-12);

@@ -6,9 +6,9 @@ use crate::geometry::Pose;
 use crate::mapping::ext::beam_geometry::{feature_tolerance_m, HalfCone};
 use crate::mapping::ext::free_space::cone_box_in;
 use crate::mapping::ext::pose_correction::{
-    capped, difference, feature_observation, gauss_newton_step, motion_noise, moved,
-    observed_directions, wall_observation, RangeObservation, ITERATIONS, MIN_CHI2_GAIN,
-    MIN_MATCHED_READINGS, MIN_WALL_LENGTH_M,
+    calibrated_heading_share, capped, difference, feature_observation, gauss_newton_step,
+    motion_noise, moved, observed_directions, wall_observation, RangeObservation, ITERATIONS,
+    MIN_CHI2_GAIN, MIN_MATCHED_READINGS, MIN_WALL_LENGTH_M,
 };
 use crate::mapping::ext::rectilinear_heading::HeadingLines;
 use crate::mapping::model::beam::Beam;
@@ -73,8 +73,12 @@ impl Mapper {
         let before = belief.odometry_to_map.compose(&odometry_before);
         let (dx, dy) = (predicted.x - before.x, predicted.y - before.y);
         let motion = Matrix3::new(1.0, 0.0, -dy, 0.0, 1.0, dx, 0.0, 0.0, 1.0);
-        let covariance =
-            motion * belief.covariance * motion.transpose() + motion_noise(distance_m, turn_rad);
+        let heading_share = match self.params.drift_calibration() {
+            Some((_, per_turn_pct)) => calibrated_heading_share(per_turn_pct / 100.0),
+            None => 1.0,
+        };
+        let covariance = motion * belief.covariance * motion.transpose()
+            + motion_noise(distance_m, turn_rad, heading_share);
         (predicted, capped(covariance))
     }
 

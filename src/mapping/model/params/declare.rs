@@ -526,7 +526,7 @@ parameters! {
     /// correction follows the walls it has just drawn (docs/algorithm.md §8.17, "runs that
     /// come back"). 0: never. Acts only with `calibrate_first`.
     revisit_laps: usize, file revisit_laps: usize, count,
-        paper 0, extended 3, needs ["calibrate_first"];
+        paper 0, extended 2, needs ["calibrate_first"];
     /// The odometry's known heading drift per metre driven, degrees (a calibration, such as a
     /// first pass's estimate: `calibrate_first`). With it or `drift_per_turn` non-zero, the
     /// heading correction starts from them, taken as known within a tenth of its priors, and

@@ -107,8 +107,8 @@ impl Params {
     ///
     /// ```
     /// use sonarmap::mapping::Params;
-    /// let p = Params::extended(); // revisit_laps 3
-    /// assert!(p.came_back(Some(3.0)) && !p.came_back(Some(2.9)) && !p.came_back(None));
+    /// let p = Params::extended(); // revisit_laps 2
+    /// assert!(p.came_back(Some(2.0)) && !p.came_back(Some(1.9)) && !p.came_back(None));
     /// let never = Params { revisit_laps: 0, ..p };
     /// assert!(!never.came_back(Some(100.0)));
     /// ```
