@@ -687,7 +687,7 @@ fn a_calibrated_correction_seeks_to_the_traces_of_the_straight_run() {
 /// A drifting run that comes back to its walls (a room's lap repeated, the odometry drifting on
 /// over the laps) is mapped again with its pose corrected against the map, which holds its
 /// position where the heading alone lets it drift (docs/algorithm.md §8.17, "runs that come
-/// back"; a room with the bad drift, 1,500 snapshots, 8.7 laps: position RMS 0.11 m against
+/// back"; a room with the bad drift, 1,500 snapshots, 8.7 laps: position RMS 0.15 m against
 /// 0.30 m); the single pass above is not.
 #[test]
 fn a_drifting_run_that_comes_back_to_its_walls_is_mapped_again_with_its_pose_corrected() {

@@ -199,11 +199,16 @@ pub fn supports_along_axis(beam: &Beam, a: &Point, b: &Point, accuracy_pct: f64)
 
 /// [`supports_along_axis`], with where the echo comes from.
 fn axis_echo(beam: &Beam, a: &Point, b: &Point, accuracy_pct: f64) -> Option<PlaneEcho> {
+    axis_meets_wall(beam, a, b).filter(|e| {
+        (e.range_m - beam.range_m).abs() <= feature_tolerance_m(accuracy_pct, beam.range_m)
+    })
+}
+
+/// Where `beam`'s axis meets the wall `a`–`b` ahead of the sensor (10 % slack past its ends),
+/// whatever the range read: the echo an axis sensor would hear from it.
+pub fn axis_meets_wall(beam: &Beam, a: &Point, b: &Point) -> Option<PlaneEcho> {
     let (d, t) = ray_meets_segment_line(&beam.origin, &beam.direction, a, b)?;
-    let heard = d > 0.0
-        && (-0.1..=1.1).contains(&t)
-        && (d - beam.range_m).abs() <= feature_tolerance_m(accuracy_pct, beam.range_m);
-    heard.then_some(PlaneEcho {
+    (d > 0.0 && (-0.1..=1.1).contains(&t)).then_some(PlaneEcho {
         range_m: d,
         along: t,
     })

@@ -12,7 +12,7 @@
 
 use crate::geometry::{Point, Pose, Vec2};
 use crate::mapping::ext::beam_geometry::{feature_tolerance_m, HalfCone};
-use crate::mapping::ext::confirm::supports_along_axis;
+use crate::mapping::ext::confirm::axis_meets_wall;
 use crate::mapping::ext::odometry_drift::{
     OdometryDrift, CALIBRATED_PRIOR_FACTOR, TURN_ERROR_PRIOR,
 };
@@ -45,6 +45,10 @@ pub const MIN_CHI2_GAIN: f64 = 0.0;
 pub const MIN_WALL_LENGTH_M: f64 = 0.5;
 /// Fewest readings the map must explain for a correction.
 pub const MIN_MATCHED_READINGS: usize = 2;
+/// The validation gate's width in standard deviations of the range the pose's uncertainty
+/// predicts ([`RangeGate`]): 1, the innovation's own deviation (0.5, 1.5, 2 and 3 mapped the
+/// drifting laps worse, docs/algorithm.md §8.17).
+pub const GATE_SIGMAS: f64 = 1.0;
 /// The scale of heading in the observability figures: one radian counts as this many metres.
 pub const HEADING_SCALE_M: f64 = 1.0;
 
@@ -119,6 +123,70 @@ pub fn capped(covariance: Matrix3<f64>) -> Matrix3<f64> {
     c
 }
 
+/// How far a range may lie from a target's prediction and still be explained by it: the paper's
+/// tolerance `max(ξ·D/100, 1 in)` (the range's own standard deviation), widened by what the
+/// pose's uncertainty makes of the prediction. This is Leonard and Durrant-Whyte's (1991)
+/// validation gate: a residual ν is kept when `ν² ≤ σ² + g²·σ_pose²`, σ the tolerance,
+/// g [`GATE_SIGMAS`], σ_pose the predicted range's standard deviation from the pose alone. With
+/// a certain pose the gate is the paper's tolerance, bit for bit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RangeGate {
+    /// ξ, percent of the range.
+    pub accuracy_pct: f64,
+    /// The standard deviation of the range the pose's uncertainty predicts, metres.
+    pub pose_sigma_m: f64,
+}
+
+impl RangeGate {
+    /// The paper's tolerance alone (a certain pose).
+    pub fn tolerance(accuracy_pct: f64) -> Self {
+        Self {
+            accuracy_pct,
+            pose_sigma_m: 0.0,
+        }
+    }
+
+    /// The gate for `beam`, from a robot at `robot` whose pose has covariance `covariance` (x,
+    /// y in metres, heading in radians). The range's derivative by position is a unit vector
+    /// and by heading at most the sensor's lever from the robot's centre, so its standard
+    /// deviation is at most √λ (λ the position covariance's larger eigenvalue) plus the lever
+    /// times the heading's: the bound is taken, the same for every target of the beam.
+    pub fn for_pose(
+        accuracy_pct: f64,
+        beam: &Beam,
+        robot: &Point,
+        covariance: &Matrix3<f64>,
+    ) -> Self {
+        let (xx, yy, xy) = (covariance[(0, 0)], covariance[(1, 1)], covariance[(0, 1)]);
+        let larger = 0.5 * (xx + yy) + (0.25 * (xx - yy).powi(2) + xy * xy).sqrt();
+        let lever_m = (beam.origin - robot).norm();
+        Self {
+            accuracy_pct,
+            pose_sigma_m: larger.max(0.0).sqrt() + lever_m * covariance[(2, 2)].max(0.0).sqrt(),
+        }
+    }
+
+    /// The range's own standard deviation: the paper's tolerance at `range_m`.
+    pub fn sigma_m(&self, range_m: f64) -> f64 {
+        feature_tolerance_m(self.accuracy_pct, range_m)
+    }
+
+    /// The largest residual kept for a range `range_m`, metres.
+    pub fn width_m(&self, range_m: f64) -> f64 {
+        let sigma_m = self.sigma_m(range_m);
+        if self.pose_sigma_m > 0.0 {
+            sigma_m.hypot(GATE_SIGMAS * self.pose_sigma_m)
+        } else {
+            sigma_m
+        }
+    }
+
+    /// Whether `predicted_m` explains the range `range_m`.
+    pub fn keeps(&self, range_m: f64, predicted_m: f64) -> bool {
+        (predicted_m - range_m).abs() <= self.width_m(range_m)
+    }
+}
+
 /// One range a confirmed target explains, linearised at the pose it was found at.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RangeObservation {
@@ -148,8 +216,8 @@ fn range_jacobian(origin: &Point, robot: &Point, away: &Vec2) -> Vector3<f64> {
     Vector3::new(away.x, away.y, away.x * -lever.y + away.y * lever.x)
 }
 
-/// The range the wall `a`–`b` predicts for `beam`, when it explains the range within the
-/// paper's tolerance `max(ξ·D/100, 1 in)`; linearised for a robot at `robot`. The plane model
+/// The range the wall `a`–`b` predicts for `beam`, when it explains the range within `gate`;
+/// linearised for a robot at `robot`. The plane model
 /// (§8.7) hears the foot of the perpendicular: its normal must lie inside the cone and the foot
 /// on the wall (10 % slack). With `along_axis` (a sensor whose echo comes from its axis, as in
 /// `confirm::supports_along_axis`) the wall is heard where the axis meets it (10 % slack), at
@@ -158,13 +226,14 @@ fn range_jacobian(origin: &Point, robot: &Point, away: &Vec2) -> Vector3<f64> {
 /// ```
 /// use sonarmap::geometry::{Point, Vec2};
 /// use sonarmap::mapping::ext::beam_geometry::HalfCone;
-/// use sonarmap::mapping::ext::pose_correction::wall_observation;
+/// use sonarmap::mapping::ext::pose_correction::{wall_observation, RangeGate};
 /// use sonarmap::mapping::model::beam::Beam;
 /// // A sensor 0.2 m ahead of the robot at the origin reads 1.82 m towards the wall x = 2:
 /// // predicted 1.8 m; moving the robot +x shortens the range (∂/∂x = −1).
 /// let beam = Beam { origin: Point::new(0.2, 0.0), direction: Vec2::new(1.0, 0.0), range_m: 1.82 };
 /// let half = HalfCone::new(12.5f64.to_radians());
-/// let o = wall_observation(&beam, &Point::new(2.0, -1.0), &Point::new(2.0, 1.0), &Point::origin(), 3.0, half, false).unwrap();
+/// let gate = RangeGate::tolerance(3.0);
+/// let o = wall_observation(&beam, &Point::new(2.0, -1.0), &Point::new(2.0, 1.0), &Point::origin(), gate, half, false).unwrap();
 /// assert!((o.predicted_m - 1.8).abs() < 1e-12 && (o.residual_m() - 0.02).abs() < 1e-12);
 /// assert!((o.jacobian.x + 1.0).abs() < 1e-12 && o.jacobian.z.abs() < 1e-12);
 /// ```
@@ -173,7 +242,7 @@ pub fn wall_observation(
     a: &Point,
     b: &Point,
     robot: &Point,
-    accuracy_pct: f64,
+    gate: RangeGate,
     half: HalfCone,
     along_axis: bool,
 ) -> Option<RangeObservation> {
@@ -193,7 +262,7 @@ pub fn wall_observation(
     let (predicted_m, jacobian) = if along_axis {
         // Heard where the axis meets the wall, at any incidence: h = d / c, c = −n·u; moving
         // the robot moves d, turning it moves d and turns u.
-        let met_m = supports_along_axis(beam, a, b, accuracy_pct)?;
+        let met_m = axis_meets_wall(beam, a, b)?.range_m;
         let lever = beam.origin - robot;
         let turned_u = Vec2::new(-beam.direction.y, beam.direction.x);
         let dd_dtheta = away.x * -lever.y + away.y * lever.x;
@@ -212,31 +281,30 @@ pub fn wall_observation(
         }
         (distance_m, range_jacobian(&beam.origin, robot, &away))
     };
-    let tolerance_m = feature_tolerance_m(accuracy_pct, beam.range_m);
-    ((predicted_m - beam.range_m).abs() <= tolerance_m).then_some(RangeObservation {
-        range_m: beam.range_m,
-        predicted_m,
-        jacobian,
-        sigma_m: tolerance_m,
-    })
+    gate.keeps(beam.range_m, predicted_m)
+        .then_some(RangeObservation {
+            range_m: beam.range_m,
+            predicted_m,
+            jacobian,
+            sigma_m: gate.sigma_m(beam.range_m),
+        })
 }
 
 /// The range a point feature at `at` (a pillar of radius `radius_m`, 0 for a corner or edge)
-/// predicts for `beam`, when it lies inside the cone and explains the range within the
-/// tolerance; linearised for a robot at `robot`.
+/// predicts for `beam`, when it lies inside the cone and explains the range within `gate`;
+/// linearised for a robot at `robot`.
 pub fn feature_observation(
     beam: &Beam,
     at: &Point,
     radius_m: f64,
     robot: &Point,
-    accuracy_pct: f64,
+    gate: RangeGate,
     half: HalfCone,
 ) -> Option<RangeObservation> {
     let away = beam.origin - at;
     let distance_m = away.norm();
     let predicted_m = distance_m - radius_m;
-    let tolerance_m = feature_tolerance_m(accuracy_pct, beam.range_m);
-    if distance_m <= 0.0 || (predicted_m - beam.range_m).abs() > tolerance_m {
+    if distance_m <= 0.0 || !gate.keeps(beam.range_m, predicted_m) {
         return None;
     }
     let away = away / distance_m;
@@ -244,7 +312,7 @@ pub fn feature_observation(
         range_m: beam.range_m,
         predicted_m,
         jacobian: range_jacobian(&beam.origin, robot, &away),
-        sigma_m: tolerance_m,
+        sigma_m: gate.sigma_m(beam.range_m),
     })
 }
 
@@ -329,6 +397,11 @@ mod tests {
         HalfCone::new(12.5f64.to_radians())
     }
 
+    /// The paper's tolerance at ξ = 3 %.
+    fn gate() -> RangeGate {
+        RangeGate::tolerance(3.0)
+    }
+
     /// Beams from a robot at `pose` along its own axes (sensor at the centre) at `headings`
     /// (robot frame), reading the true ranges `true_ranges`.
     fn beams(pose: &Pose, headings_deg: &[f64], true_ranges: &[f64]) -> Vec<Beam> {
@@ -359,7 +432,7 @@ mod tests {
                 .iter()
                 .filter_map(|b| {
                     walls.iter().find_map(|(a, w)| {
-                        wall_observation(b, a, w, &estimate.position(), 3.0, half(), true)
+                        wall_observation(b, a, w, &estimate.position(), gate(), half(), true)
                     })
                 })
                 .collect();
@@ -420,7 +493,7 @@ mod tests {
                 .iter()
                 .filter_map(|b| {
                     walls.iter().find_map(|(a, w)| {
-                        wall_observation(b, a, w, &Point::origin(), 3.0, half(), true)
+                        wall_observation(b, a, w, &Point::origin(), gate(), half(), true)
                     })
                 })
                 .collect();
@@ -449,7 +522,7 @@ mod tests {
         // The robot at `robot` reading the wall `a`–`b`, its echo along the axis or at the foot.
         let observe = |robot: &Pose, b: &Point, along_axis: bool| {
             let at = robot.position();
-            wall_observation(&beam_at(robot), &a, b, &at, 3.0, half(), along_axis)
+            wall_observation(&beam_at(robot), &a, b, &at, gate(), half(), along_axis)
         };
         let robot = Pose::new(0.0, 0.0, 0.0);
         let o = observe(&robot, &w, true).unwrap();
@@ -467,6 +540,39 @@ mod tests {
         assert!(observe(&robot, &w, false).is_none());
         // The axis past the wall's end (10 % slack) observes nothing.
         assert!(observe(&robot, &Point::new(1.2, 2.0), true).is_none());
+    }
+
+    #[test]
+    fn the_gate_widens_by_the_range_deviation_the_pose_covariance_predicts() {
+        // A sensor 0.2 m from the robot's centre reads 1 m (ξ = 3 %: σ = 3 cm). The pose's
+        // position deviations are 3 cm and 2 cm, its heading's 1°: the range's deviation from
+        // the pose is at most 3 cm + 0.2 m · 1° = 3.349 cm, and the gate √(3² + 3.349²) =
+        // 4.496 cm. A wall 4 cm off the range is explained; 5 cm is not; with a certain pose,
+        // neither.
+        let beam = Beam {
+            origin: Point::new(0.2, 0.0),
+            direction: Vec2::new(1.0, 0.0),
+            range_m: 1.0,
+        };
+        let covariance =
+            Matrix3::from_diagonal(&Vector3::new(0.0009, 0.0004, 1f64.to_radians().powi(2)));
+        let gate = RangeGate::for_pose(3.0, &beam, &Point::origin(), &covariance);
+        assert!(
+            (gate.pose_sigma_m - 0.033490658504).abs() < 1e-12,
+            "{gate:?}"
+        );
+        assert!((gate.width_m(1.0) - 0.044962475544).abs() < 1e-12);
+        let wall_at = |x: f64| (Point::new(x, -1.0), Point::new(x, 1.0));
+        let robot = Point::origin();
+        let observe = |x: f64, gate: RangeGate| {
+            let (a, b) = wall_at(x);
+            wall_observation(&beam, &a, &b, &robot, gate, half(), false)
+        };
+        let o = observe(1.16, gate).unwrap();
+        assert!((o.residual_m() - 0.04).abs() < 1e-12 && o.sigma_m == 0.03);
+        assert!(observe(1.15, gate).is_none());
+        assert!(observe(1.16, RangeGate::tolerance(3.0)).is_none());
+        assert!(observe(1.175, RangeGate::tolerance(3.0)).is_some());
     }
 
     #[test]

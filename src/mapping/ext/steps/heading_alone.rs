@@ -53,7 +53,8 @@ impl Mapper {
             let source = std::mem::take(&mut state.pending_source);
             (Vec::new(), lines, source)
         } else {
-            let at_prediction = self.matched_readings(snapshot, previous, &predicted);
+            let at_prediction =
+                self.matched_readings(snapshot, previous, &predicted, &Matrix3::zeros());
             let lines = self.heading_lines(snapshot, previous, &at_prediction);
             (at_prediction, lines, LineSource::Sensors)
         };
@@ -89,7 +90,12 @@ impl Mapper {
         let after = if corrected == predicted || at_prediction.is_empty() {
             at_prediction.iter().map(|m| m.2.residual_m()).collect()
         } else {
-            self.residuals_at(snapshot, previous, &corrected, &at_prediction)
+            self.residuals_at(
+                snapshot,
+                previous,
+                (&corrected, &Matrix3::zeros()),
+                &at_prediction,
+            )
         };
         let (readings, rms_before, rms_after) = readings_trace(&at_prediction, &after);
         let position_sigma = sigmas(&prior);

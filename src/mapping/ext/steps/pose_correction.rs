@@ -3,12 +3,12 @@
 //! corrected against the confirmed walls and point features.
 
 use crate::geometry::Pose;
-use crate::mapping::ext::beam_geometry::{feature_tolerance_m, HalfCone};
+use crate::mapping::ext::beam_geometry::HalfCone;
 use crate::mapping::ext::free_space::cone_box_in;
 use crate::mapping::ext::pose_correction::{
     calibrated_heading_share, capped, difference, feature_observation, gauss_newton_step,
-    motion_noise, moved, observed_directions, wall_observation, RangeObservation, ITERATIONS,
-    MIN_CHI2_GAIN, MIN_MATCHED_READINGS, MIN_WALL_LENGTH_M,
+    motion_noise, moved, observed_directions, wall_observation, RangeGate, RangeObservation,
+    ITERATIONS, MIN_CHI2_GAIN, MIN_MATCHED_READINGS, MIN_WALL_LENGTH_M,
 };
 use crate::mapping::ext::rectilinear_heading::HeadingLines;
 use crate::mapping::model::beam::Beam;
@@ -92,7 +92,7 @@ impl Mapper {
         predicted: Pose,
         prior: Matrix3<f64>,
     ) -> CorrectionTrace {
-        let at_prediction = self.matched_readings(snapshot, previous, &predicted);
+        let at_prediction = self.matched_readings(snapshot, previous, &predicted, &prior);
         let lines = self.heading_lines(snapshot, previous, &at_prediction);
         self.set_axis_if_none(snapshot, &predicted, &lines);
         let (estimate, posterior) = self.solve(
@@ -102,7 +102,7 @@ impl Mapper {
             &at_prediction,
             &lines,
         );
-        let after = self.residuals_at(snapshot, previous, &estimate, &at_prediction);
+        let after = self.residuals_at(snapshot, previous, (&estimate, &prior), &at_prediction);
         let (readings, rms_before, rms_after) = readings_trace(&at_prediction, &after);
         let heading = self.heading_trace(snapshot, &lines, &predicted, &estimate);
         let heading_gain = heading.as_ref().map_or(0.0, |h| {
@@ -176,35 +176,39 @@ impl Mapper {
             };
             estimate = moved(&estimate, &step);
             posterior = covariance;
-            matched = self.matched_readings(snapshot, previous, &estimate);
+            matched = self.matched_readings(snapshot, previous, &estimate, &prior);
         }
         (estimate, posterior)
     }
 
     /// Each kept reading of `snapshot` taken from `pose` that a confirmed wall or point feature
-    /// explains, with the target whose prediction is nearest the range.
+    /// explains, with the target whose prediction is nearest the range. The gate widens with
+    /// the pose's covariance `covariance` ([`RangeGate::for_pose`]; zeros: the paper's
+    /// tolerance).
     pub(super) fn matched_readings(
         &self,
         snapshot: &Snapshot,
         previous: Option<(f64, Pose)>,
         pose: &Pose,
+        covariance: &Matrix3<f64>,
     ) -> Vec<Matched> {
         self.beams_from(snapshot, previous, pose)
             .into_iter()
             .filter_map(|(sensor, beam)| {
-                self.best_target(&beam, pose)
+                self.best_target(&beam, pose, covariance)
                     .map(|(target, o)| (sensor, target, o))
             })
             .collect()
     }
 
-    /// The residuals at `pose` of the readings `matched` matched, each against its own target
-    /// (the residual at the prediction when the target no longer explains it there).
+    /// The residuals at `pose` (gated with its covariance) of the readings `matched` matched,
+    /// each against its own target (the residual at the prediction when the target no longer
+    /// explains it there).
     pub(super) fn residuals_at(
         &self,
         snapshot: &Snapshot,
         previous: Option<(f64, Pose)>,
-        pose: &Pose,
+        (pose, covariance): (&Pose, &Matrix3<f64>),
         matched: &[Matched],
     ) -> Vec<f64> {
         let beams = self.beams_from(snapshot, previous, pose);
@@ -214,7 +218,7 @@ impl Mapper {
                 beams
                     .iter()
                     .find(|(s, _)| *s == sensor)
-                    .and_then(|(_, beam)| self.observe(beam, pose, target))
+                    .and_then(|(_, beam)| self.observe(beam, pose, covariance, target))
                     .map_or(before.residual_m(), |o| o.residual_m())
             })
             .collect()
@@ -266,14 +270,15 @@ impl Mapper {
         &self,
         beam: &Beam,
         pose: &Pose,
+        covariance: &Matrix3<f64>,
     ) -> Option<(CorrectionTarget, RangeObservation)> {
         let (_, half_beam_rad) = self.accuracy_and_half_beam();
-        let tolerance_m = feature_tolerance_m(self.params.accuracy_pct, beam.range_m);
+        let gate_m = self.gate(beam, pose, covariance).width_m(beam.range_m);
         let (low, high, bulge_m) = cone_box_in(
             beam,
             HalfCone::new(half_beam_rad),
-            (beam.range_m - tolerance_m).max(0.0),
-            beam.range_m + tolerance_m,
+            (beam.range_m - gate_m).max(0.0),
+            beam.range_m + gate_m,
         );
         let mut best: Option<(CorrectionTarget, RangeObservation)> = None;
         let mut consider = |target: CorrectionTarget, o: Option<RangeObservation>| {
@@ -288,43 +293,44 @@ impl Mapper {
                 let long_enough = (s.b.point - s.a.point).norm() >= MIN_WALL_LENGTH_M;
                 if s.fitted && long_enough && self.map.is_confirmed(id) {
                     let target = CorrectionTarget::Wall(id);
-                    consider(target, self.observe(beam, pose, target));
+                    consider(target, self.observe(beam, pose, covariance, target));
                 }
             });
         for f in self.map.confirmed_features() {
             let target = CorrectionTarget::Feature(f.id);
-            consider(target, self.observe(beam, pose, target));
+            consider(target, self.observe(beam, pose, covariance, target));
         }
         best
     }
 
-    /// What `target` predicts for `beam` from a robot at `pose`, if it explains the reading.
+    /// The validation gate of `beam` from a robot at `pose` with covariance `covariance`.
+    fn gate(&self, beam: &Beam, pose: &Pose, covariance: &Matrix3<f64>) -> RangeGate {
+        let (accuracy_pct, _) = self.accuracy_and_half_beam();
+        RangeGate::for_pose(accuracy_pct, beam, &pose.position(), covariance)
+    }
+
+    /// What `target` predicts for `beam` from a robot at `pose` with covariance `covariance`,
+    /// if it explains the reading.
     fn observe(
         &self,
         beam: &Beam,
         pose: &Pose,
+        covariance: &Matrix3<f64>,
         target: CorrectionTarget,
     ) -> Option<RangeObservation> {
-        let (accuracy_pct, half_beam_rad) = self.accuracy_and_half_beam();
+        let (_, half_beam_rad) = self.accuracy_and_half_beam();
         let half = HalfCone::new(half_beam_rad);
+        let gate = self.gate(beam, pose, covariance);
         let robot = pose.position();
         match target {
             CorrectionTarget::Wall(id) => {
                 let s = self.map.segment(id)?;
                 let along_axis = self.sensor.echo == EchoModel::Axis;
-                wall_observation(
-                    beam,
-                    &s.a.point,
-                    &s.b.point,
-                    &robot,
-                    accuracy_pct,
-                    half,
-                    along_axis,
-                )
+                wall_observation(beam, &s.a.point, &s.b.point, &robot, gate, half, along_axis)
             }
             CorrectionTarget::Feature(id) => {
                 let f = self.map.feature(id)?;
-                feature_observation(beam, &f.at, f.radius_m, &robot, accuracy_pct, half)
+                feature_observation(beam, &f.at, f.radius_m, &robot, gate, half)
             }
         }
     }
