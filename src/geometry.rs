@@ -79,6 +79,19 @@ impl Pose {
     }
 }
 
+/// A heading `heading_rad` as degrees in `(-180°, 180°]`, as the inspector shows it (a long
+/// run's odometry counts its turns).
+///
+/// ```
+/// use sonarmap::geometry::heading_deg;
+/// // Three quarter turns clockwise and 100 turns anticlockwise then 10° more.
+/// assert!((heading_deg(-1.5 * std::f64::consts::PI) - 90.0).abs() < 1e-9);
+/// assert!((heading_deg((36_000.0f64 + 10.0).to_radians()) - 10.0).abs() < 1e-9);
+/// ```
+pub fn heading_deg(heading_rad: f64) -> f64 {
+    wrap_pi(heading_rad).to_degrees()
+}
+
 /// `a` (radians) in `(-π, π]`.
 ///
 /// An angle already within a turn of it skips the remainder: `x % τ` is `x` exactly for

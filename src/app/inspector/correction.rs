@@ -13,12 +13,12 @@ use crate::mapping::model::ext_trace::{
 use crate::mapping::Params;
 use egui::RichText;
 
-/// `pose` as position and heading.
+/// `pose` as position and heading (within ±180°: a long run's odometry counts its turns).
 fn pose_text(ctx: &InspectCtx, pose: &Pose) -> String {
     format!(
         "{}  {:.2}°",
         ctx.point(&pose.position()),
-        pose.heading_rad.to_degrees()
+        crate::geometry::heading_deg(pose.heading_rad)
     )
 }
 

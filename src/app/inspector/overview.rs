@@ -71,7 +71,7 @@ pub(super) fn robot_ui(ui: &mut egui::Ui, ctx: &InspectCtx, commands: &mut Vec<C
             kv(
                 ui,
                 "heading",
-                format!("{:.1}°", pose.heading_rad.to_degrees()),
+                format!("{:.1}°", crate::geometry::heading_deg(pose.heading_rad)),
             );
         });
     }
@@ -86,6 +86,6 @@ pub(super) fn robot_hover(ctx: &InspectCtx) -> Option<String> {
     Some(format!(
         "robot at {} heading {:.1}°",
         ctx.point(&p.position()),
-        p.heading_rad.to_degrees()
+        crate::geometry::heading_deg(p.heading_rad)
     ))
 }

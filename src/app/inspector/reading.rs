@@ -95,7 +95,7 @@ fn pose_rows(ui: &mut egui::Ui, ctx: &InspectCtx, pose: &Pose, sensor: usize) {
         format!(
             "{}  {:.1}°",
             ctx.point(&pose.position()),
-            pose.heading_rad.to_degrees()
+            crate::geometry::heading_deg(pose.heading_rad)
         ),
     );
     if sensor < ctx.run.layout.len() {
@@ -106,7 +106,7 @@ fn pose_rows(ui: &mut egui::Ui, ctx: &InspectCtx, pose: &Pose, sensor: usize) {
             format!(
                 "{}  {:.1}°",
                 ctx.point(&sp.position()),
-                sp.heading_rad.to_degrees()
+                crate::geometry::heading_deg(sp.heading_rad)
             ),
         );
     }

@@ -2,7 +2,7 @@
 //! converted, its pose is predicted from the last estimate and the odometry's increment, then
 //! corrected against the confirmed walls and point features.
 
-use crate::geometry::Pose;
+use crate::geometry::{wrap_pi, Pose};
 use crate::mapping::ext::beam_geometry::HalfCone;
 use crate::mapping::ext::free_space::cone_box_in;
 use crate::mapping::ext::pose_correction::{
@@ -48,10 +48,16 @@ impl Mapper {
         let corrected = correction.corrected;
         // Exactly the identity while the pose is the odometry's, so that a correction that
         // never moved leaves the map bit for bit as without it.
+        // Its heading within a turn: the odometry's heading counts every turn driven, and the
+        // transform would gain a turn each step past ±180° (bit for bit the same within it).
         self.pose_belief.odometry_to_map = if corrected == snapshot.pose {
             Pose::default()
         } else {
-            corrected.compose(&inverse(&snapshot.pose))
+            let transform = corrected.compose(&inverse(&snapshot.pose));
+            Pose {
+                heading_rad: wrap_pi(transform.heading_rad),
+                ..transform
+            }
         };
         trace.correction = Some(correction);
         corrected
