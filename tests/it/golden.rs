@@ -14,7 +14,11 @@ use sonarmap::log::{load_run, save_map};
 use sonarmap::mapping::{Mapper, Params};
 use sonarmap::replay::Replay;
 use sonarmap::run::Run;
-use sonarmap::sim::{family_plan, load_plan, repeat_laps, simulate, Model, SceneKind};
+use sonarmap::sim::{
+    family_plan, load_plan, repeat_laps, simulate, Model, OdometryError, Pace, SceneKind,
+};
+use sonarmap::soak::family_run_under;
+use sonarmap::suite::Conditions;
 use sonarmap::units::Units;
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -407,4 +411,54 @@ fn golden_runs_map_with_their_odometry_under_the_heading_correction() {
         .map(|(name, _)| name.as_str())
         .collect();
     assert_eq!(changed, Vec::<&str>::new());
+}
+
+/// Drifting runs that come back to their walls: `extended`'s first pass (the heading alone),
+/// its second pass (the pose corrected from calibrated odometry, docs/algorithm.md §8.17,
+/// "runs that come back"), and `pose_correction` from the first step.
+fn drifting_digests() -> BTreeMap<String, String> {
+    let mut out = BTreeMap::new();
+    for (kind, seed, drift) in [
+        (SceneKind::Room, 1, OdometryError::BAD),
+        (SceneKind::CorridorWithDoors, 2, OdometryError::MILD),
+    ] {
+        let conditions = Conditions {
+            drift: Some(drift),
+            pace: Pace::PLAN,
+            bounces: None,
+        };
+        let run = family_run_under(kind, seed, 1500, &conditions);
+        let extended = Params::extended();
+        let mut first = Mapper::new(extended.clone(), run.layout.clone(), run.sensor);
+        for snapshot in &run.snapshots {
+            first.step(snapshot);
+        }
+        let second = first
+            .second_pass_params()
+            .expect("the drift is found and the run comes back");
+        assert!(second.pose_correction, "{}: corrected", kind.name());
+        let from_first_step = Params {
+            pose_correction: true,
+            calibrate_first: false,
+            ..extended.clone()
+        };
+        for (variant, params) in [
+            ("extended", extended),
+            ("extended second pass", second),
+            ("extended+pose_correction", from_first_step),
+        ] {
+            let line = format!(
+                "{:016x} {:016x}",
+                mapped_digest(&run, &params, true),
+                mapped_digest(&run, &params, false)
+            );
+            out.insert(format!("{}:{seed} {variant}", kind.name()), line);
+        }
+    }
+    out
+}
+
+#[test]
+fn golden_drifting_runs_that_come_back_keep_their_maps_and_traces() {
+    check_group("drifting", drifting_digests());
 }

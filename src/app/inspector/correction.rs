@@ -108,11 +108,12 @@ pub(super) fn correction_ui(ui: &mut egui::Ui, ctx: &InspectCtx, commands: &mut 
             CorrectionTarget::Feature(id) => format!("feature {id}"),
         };
         ui.label(format!(
-            "sensor {} on {target}: residual {} before, {} after (σ {})",
+            "sensor {} on {target}: residual {} before, {} after (σ {}, gate {})",
             r.sensor,
             ctx.len(r.residual_before_m),
             ctx.len(r.residual_after_m),
-            ctx.len(r.sigma_m)
+            ctx.len(r.sigma_m),
+            ctx.len(r.gate_m)
         ));
     }
 }

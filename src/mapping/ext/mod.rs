@@ -15,6 +15,7 @@ pub mod odometry_drift;
 pub mod point_features;
 pub mod point_memory;
 pub mod pose_correction;
+pub mod range_gate;
 pub mod rectilinear_heading;
 pub mod right_angle_break;
 pub mod round_reflectors;

@@ -341,6 +341,11 @@ pub struct CorrectionReading {
     pub residual_after_m: f64,
     /// The range's standard deviation (its tolerance), metres.
     pub sigma_m: f64,
+    /// The validation gate the residual was kept within, metres: the tolerance widened by
+    /// the predicted pose's uncertainty (docs/algorithm.md §8.17, *Association*). Traces
+    /// written before it read as 0.
+    #[serde(default)]
+    pub gate_m: f64,
 }
 
 /// A direction of the pose (x, y in metres, heading in radians scaled by 1 m) and how much the

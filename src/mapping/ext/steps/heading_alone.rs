@@ -88,7 +88,10 @@ impl Mapper {
         self.pose_belief.covariance = prior;
         // With no readings matched (the settled windows), there is nothing to re-associate.
         let after = if corrected == predicted || at_prediction.is_empty() {
-            at_prediction.iter().map(|m| m.2.residual_m()).collect()
+            at_prediction
+                .iter()
+                .map(|m| m.observation.residual_m())
+                .collect()
         } else {
             self.residuals_at(
                 snapshot,

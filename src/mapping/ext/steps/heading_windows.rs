@@ -34,7 +34,7 @@ impl Mapper {
         let on_wall = |sensor: usize| {
             matched
                 .iter()
-                .any(|m| m.0 == sensor && matches!(m.1, CorrectionTarget::Wall(_)))
+                .any(|m| m.sensor == sensor && matches!(m.target, CorrectionTarget::Wall(_)))
         };
         let readings: Vec<(usize, Point)> = self
             .beams_from(snapshot, previous, &snapshot.pose)

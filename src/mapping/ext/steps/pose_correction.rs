@@ -24,7 +24,17 @@ use crate::sonar::EchoModel;
 use nalgebra::{Matrix3, Vector3};
 
 /// A reading explained by a confirmed target, linearised.
-pub(super) type Matched = (usize, CorrectionTarget, RangeObservation);
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Matched {
+    /// The sensor that read it.
+    pub sensor: usize,
+    /// The target that explains it.
+    pub target: CorrectionTarget,
+    /// Its range against the target's prediction.
+    pub observation: RangeObservation,
+    /// The validation gate it was kept within, metres.
+    pub gate_m: f64,
+}
 
 impl Mapper {
     /// The step's pose: the snapshot's odometry, or with `pose_correction` or
@@ -131,7 +141,8 @@ impl Mapper {
             estimate
         };
         self.pose_belief.covariance = if refused.is_some() { prior } else { posterior };
-        let observations: Vec<RangeObservation> = at_prediction.iter().map(|m| m.2).collect();
+        let observations: Vec<RangeObservation> =
+            at_prediction.iter().map(|m| m.observation).collect();
         CorrectionTrace {
             odometry: snapshot.pose,
             predicted,
@@ -173,7 +184,8 @@ impl Mapper {
             if matched.len() < MIN_MATCHED_READINGS {
                 break;
             }
-            let mut observations: Vec<RangeObservation> = matched.iter().map(|m| m.2).collect();
+            let mut observations: Vec<RangeObservation> =
+                matched.iter().map(|m| m.observation).collect();
             observations.extend(self.heading_observation(snapshot, lines, &estimate));
             let from_prior = difference(&predicted, &estimate);
             let Some((step, covariance)) = gauss_newton_step(&prior, &from_prior, &observations)
@@ -201,8 +213,14 @@ impl Mapper {
         self.beams_from(snapshot, previous, pose)
             .into_iter()
             .filter_map(|(sensor, beam)| {
-                self.best_target(&beam, pose, covariance)
-                    .map(|(target, o)| (sensor, target, o))
+                let gate = self.gate(&beam, pose, covariance);
+                self.best_target(&beam, pose, gate)
+                    .map(|(target, observation)| Matched {
+                        sensor,
+                        target,
+                        observation,
+                        gate_m: gate.width_m(beam.range_m),
+                    })
             })
             .collect()
     }
@@ -220,12 +238,15 @@ impl Mapper {
         let beams = self.beams_from(snapshot, previous, pose);
         matched
             .iter()
-            .map(|&(sensor, target, before)| {
+            .map(|m| {
                 beams
                     .iter()
-                    .find(|(s, _)| *s == sensor)
-                    .and_then(|(_, beam)| self.observe(beam, pose, covariance, target))
-                    .map_or(before.residual_m(), |o| o.residual_m())
+                    .find(|(s, _)| *s == m.sensor)
+                    .and_then(|(_, beam)| {
+                        let gate = self.gate(beam, pose, covariance);
+                        self.observe(beam, pose, gate, m.target)
+                    })
+                    .map_or(m.observation.residual_m(), |o| o.residual_m())
             })
             .collect()
     }
@@ -276,10 +297,10 @@ impl Mapper {
         &self,
         beam: &Beam,
         pose: &Pose,
-        covariance: &Matrix3<f64>,
+        gate: RangeGate,
     ) -> Option<(CorrectionTarget, RangeObservation)> {
         let (_, half_beam_rad) = self.accuracy_and_half_beam();
-        let gate_m = self.gate(beam, pose, covariance).width_m(beam.range_m);
+        let gate_m = gate.width_m(beam.range_m);
         let (low, high, bulge_m) = cone_box_in(
             beam,
             HalfCone::new(half_beam_rad),
@@ -299,12 +320,12 @@ impl Mapper {
                 let long_enough = (s.b.point - s.a.point).norm() >= MIN_WALL_LENGTH_M;
                 if s.fitted && long_enough && self.map.is_confirmed(id) {
                     let target = CorrectionTarget::Wall(id);
-                    consider(target, self.observe(beam, pose, covariance, target));
+                    consider(target, self.observe(beam, pose, gate, target));
                 }
             });
         for f in self.map.confirmed_features() {
             let target = CorrectionTarget::Feature(f.id);
-            consider(target, self.observe(beam, pose, covariance, target));
+            consider(target, self.observe(beam, pose, gate, target));
         }
         best
     }
@@ -315,18 +336,17 @@ impl Mapper {
         RangeGate::for_pose(accuracy_pct, beam, &pose.position(), covariance)
     }
 
-    /// What `target` predicts for `beam` from a robot at `pose` with covariance `covariance`,
-    /// if it explains the reading.
+    /// What `target` predicts for `beam` from a robot at `pose`, if it explains the reading
+    /// within `gate`.
     fn observe(
         &self,
         beam: &Beam,
         pose: &Pose,
-        covariance: &Matrix3<f64>,
+        gate: RangeGate,
         target: CorrectionTarget,
     ) -> Option<RangeObservation> {
         let (_, half_beam_rad) = self.accuracy_and_half_beam();
         let half = HalfCone::new(half_beam_rad);
-        let gate = self.gate(beam, pose, covariance);
         let robot = pose.position();
         match target {
             CorrectionTarget::Wall(id) => {
@@ -377,20 +397,24 @@ pub(super) fn readings_trace(
     matched: &[Matched],
     after: &[f64],
 ) -> (Vec<CorrectionReading>, f64, f64) {
-    let rms_before = rms(matched.iter().map(|m| m.2.residual_m() / m.2.sigma_m));
-    let rms_after = rms(after.iter().zip(matched).map(|(r, m)| r / m.2.sigma_m));
+    let rms_before = rms(matched
+        .iter()
+        .map(|m| m.observation.residual_m() / m.observation.sigma_m));
+    let rms_after = rms(after
+        .iter()
+        .zip(matched)
+        .map(|(r, m)| r / m.observation.sigma_m));
     let readings = matched
         .iter()
         .zip(after)
-        .map(
-            |(&(sensor, target, o), &residual_after_m)| CorrectionReading {
-                sensor,
-                target,
-                residual_before_m: o.residual_m(),
-                residual_after_m,
-                sigma_m: o.sigma_m,
-            },
-        )
+        .map(|(m, &residual_after_m)| CorrectionReading {
+            sensor: m.sensor,
+            target: m.target,
+            residual_before_m: m.observation.residual_m(),
+            residual_after_m,
+            sigma_m: m.observation.sigma_m,
+            gate_m: m.gate_m,
+        })
         .collect();
     (readings, rms_before, rms_after)
 }
