@@ -283,7 +283,7 @@ fn the_app_plots_a_drifting_runs_correction_and_shows_the_steps_numbers() {
         &OdometryError::BAD,
         3,
     );
-    let mut h = harness(SonarApp::new(run, None));
+    let mut h = harness(SonarApp::new(run.clone(), None));
     settle(&mut h);
     let mapped_without = "this run was mapped without pose correction (§8.17)";
     h.state_mut().push(Command::SetParams(uncorrected_params()));
@@ -304,6 +304,23 @@ fn the_app_plots_a_drifting_runs_correction_and_shows_the_steps_numbers() {
     h.state_mut().push(Command::Seek(60));
     h.run();
     assert!(h.query_by_label("Pose correction (§8.17)").is_some());
+    // A step whose readings the map explained lists each with its σ and its gate.
+    let mut mapper = Mapper::new(corrected_params(), run.layout.clone(), run.sensor);
+    let (step, reading) = run
+        .snapshots
+        .iter()
+        .enumerate()
+        .find_map(|(i, s)| {
+            let c = mapper.step(s).correction?;
+            c.readings.first().map(|r| (i, r.clone()))
+        })
+        .expect("a step with a matched reading");
+    assert!(reading.gate_m >= reading.sigma_m, "{reading:?}");
+    h.state_mut().push(Command::Seek(step));
+    h.run();
+    let sensor_line = format!("sensor {} on ", reading.sensor);
+    assert!(h.query_all_by_label_contains(&sensor_line).count() > 0);
+    assert!(h.query_all_by_label_contains(", gate ").count() > 0);
 }
 
 /// `calibrate_first` (docs/algorithm.md §8.17): the bad drift the first pass over the crawl
