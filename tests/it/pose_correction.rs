@@ -312,7 +312,7 @@ fn the_app_plots_a_drifting_runs_correction_and_shows_the_steps_numbers() {
         .enumerate()
         .find_map(|(i, s)| {
             let c = mapper.step(s).correction?;
-            c.readings.first().map(|r| (i, r.clone()))
+            c.readings.first().map(|r| (i, *r))
         })
         .expect("a step with a matched reading");
     assert!(reading.gate_m >= reading.sigma_m, "{reading:?}");
