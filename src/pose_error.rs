@@ -12,6 +12,12 @@ pub struct PoseError {
     pub snapshots: usize,
     /// Root mean square distance between pose and true pose.
     pub rms_position: f64,
+    /// Root mean square of its part across the true heading (the lateral error).
+    #[serde(default)]
+    pub rms_lateral: f64,
+    /// Root mean square of its part along the true heading.
+    #[serde(default)]
+    pub rms_along: f64,
     /// Largest distance.
     pub max_position: f64,
     /// Distance at the last such snapshot.
@@ -38,6 +44,13 @@ pub struct PoseError {
 /// assert!((e.max_position - 5.0).abs() < 1e-9 && e.final_position.abs() < 1e-9);
 /// assert!((e.rms_position - (25.0f64 / 2.0).sqrt()).abs() < 1e-9);
 /// assert!((e.rms_heading_deg - 0.1f64.to_degrees() / 2f64.sqrt()).abs() < 1e-9);
+/// // Facing +y, the truth 3 in behind in x and 4 in behind in y: 4 in along, 3 in across.
+/// let facing_y = std::f64::consts::FRAC_PI_2;
+/// run.snapshots.truncate(1);
+/// run.snapshots[0].pose = Pose::new(0.0762, 0.1016, facing_y);
+/// run.snapshots[0].true_pose = Some(Pose::new(0.0, 0.0, facing_y));
+/// let e = pose_error(&run).unwrap();
+/// assert!((e.rms_along - 4.0).abs() < 1e-9 && (e.rms_lateral - 3.0).abs() < 1e-9);
 /// ```
 pub fn pose_error(run: &Run) -> Option<PoseError> {
     pose_error_of(run, run.snapshots.iter().map(|s| s.pose))
@@ -46,31 +59,47 @@ pub fn pose_error(run: &Run) -> Option<PoseError> {
 /// [`pose_error`] of `poses` (one per snapshot, in order: the poses the engine used, corrected
 /// or not) against the run's truth.
 pub fn pose_error_of(run: &Run, poses: impl IntoIterator<Item = Pose>) -> Option<PoseError> {
-    let pairs: Vec<(f64, f64)> = run
+    let errors: Vec<StepError> = run
         .snapshots
         .iter()
         .zip(poses)
         .filter_map(|(s, pose)| {
             let truth = s.true_pose?;
-            let turn = wrap_pi(pose.heading_rad - truth.heading_rad);
-            Some((pose.distance_to(&truth), turn.abs()))
+            let in_truth_frame = truth.relative_to(&pose);
+            Some(StepError {
+                distance_m: pose.distance_to(&truth),
+                along_m: in_truth_frame.x,
+                lateral_m: in_truth_frame.y,
+                turn_rad: wrap_pi(pose.heading_rad - truth.heading_rad).abs(),
+            })
         })
         .collect();
-    let n = pairs.len();
+    let n = errors.len();
     if n == 0 {
         return None;
     }
-    let rms = |f: &dyn Fn(&(f64, f64)) -> f64| {
-        (pairs.iter().map(|p| f(p).powi(2)).sum::<f64>() / n as f64).sqrt()
+    let rms = |f: &dyn Fn(&StepError) -> f64| {
+        (errors.iter().map(|e| f(e).powi(2)).sum::<f64>() / n as f64).sqrt()
     };
-    let max = |f: &dyn Fn(&(f64, f64)) -> f64| pairs.iter().map(f).fold(0.0, f64::max);
+    let max = |f: &dyn Fn(&StepError) -> f64| errors.iter().map(f).fold(0.0, f64::max);
     let u = run.units;
     Some(PoseError {
         snapshots: n,
-        rms_position: u.from_m(rms(&|p| p.0)),
-        max_position: u.from_m(max(&|p| p.0)),
-        final_position: u.from_m(pairs[n - 1].0),
-        rms_heading_deg: rms(&|p| p.1).to_degrees(),
-        max_heading_deg: max(&|p| p.1).to_degrees(),
+        rms_position: u.from_m(rms(&|e| e.distance_m)),
+        rms_lateral: u.from_m(rms(&|e| e.lateral_m)),
+        rms_along: u.from_m(rms(&|e| e.along_m)),
+        max_position: u.from_m(max(&|e| e.distance_m)),
+        final_position: u.from_m(errors[n - 1].distance_m),
+        rms_heading_deg: rms(&|e| e.turn_rad).to_degrees(),
+        max_heading_deg: max(&|e| e.turn_rad).to_degrees(),
     })
+}
+
+/// One snapshot's error: the distance, its parts along and across the true heading, and the
+/// turn between the headings.
+struct StepError {
+    distance_m: f64,
+    along_m: f64,
+    lateral_m: f64,
+    turn_rad: f64,
 }
