@@ -9,6 +9,7 @@
 //! ([`Replay::view`], which takes recorded decisions from a checkpoint) is hashed at the run's
 //! middle snapshot for the presets.
 
+use super::support::first_pass;
 use sonarmap::import::{builtin_layout, import_any, ImportOptions};
 use sonarmap::log::{load_run, save_map};
 use sonarmap::mapping::{Mapper, Params};
@@ -429,11 +430,7 @@ fn drifting_digests() -> BTreeMap<String, String> {
         };
         let run = family_run_under(kind, seed, 1500, &conditions);
         let extended = Params::extended();
-        let mut first = Mapper::new(extended.clone(), run.layout.clone(), run.sensor);
-        for snapshot in &run.snapshots {
-            first.step(snapshot);
-        }
-        let second = first
+        let second = first_pass(&run, extended.clone())
             .second_pass_params()
             .expect("the drift is found and the run comes back");
         assert!(second.pose_correction, "{}: corrected", kind.name());

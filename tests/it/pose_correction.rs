@@ -1,7 +1,7 @@
 //! Pose correction (docs/algorithm.md §8.17) on generated families given odometry drift: what
 //! it may and may not do to a step's pose, and the map's invariants with it on.
 
-use super::support::pioneer_corridor_crawl;
+use super::support::{first_pass, pioneer_corridor_crawl};
 use egui_kittest::kittest::Queryable;
 use proptest::prelude::*;
 use sonarmap::geometry::wrap_pi;
@@ -375,10 +375,7 @@ fn the_first_passs_smoothed_heading_errors_map_the_drifting_crawl_straighter_tha
     use sonarmap::alignment::Search;
     use sonarmap::eval::{confirmed_map, evaluate_aligned};
     let run = drifting_corridor_crawl();
-    let mut first = Mapper::new(Params::extended(), run.layout.clone(), run.sensor);
-    for s in &run.snapshots {
-        first.step(s);
-    }
+    let first = first_pass(&run, Params::extended());
     let tracked = first.second_pass_params().expect("the bad drift is found");
     // There and back once: the heading alone, no pose correction against the map.
     assert!(first.map().laps_driven().is_some_and(|laps| laps < 1.0));
@@ -714,10 +711,7 @@ fn a_drifting_run_that_comes_back_to_its_walls_is_mapped_again_with_its_pose_cor
     let (mut corrected_sum, mut heading_alone_sum) = (0.0, 0.0);
     for seed in 1..=4 {
         let laps = drifting_room_laps(seed);
-        let mut first = Mapper::new(Params::extended(), laps.layout.clone(), laps.sensor);
-        for s in &laps.snapshots {
-            first.step(s);
-        }
+        let first = first_pass(&laps, Params::extended());
         let driven = first.map().laps_driven().expect("walls confirmed");
         assert!(driven >= 2.0, "seed {seed}: {driven} laps");
         let second = first.second_pass_params().expect("the bad drift is found");
@@ -728,11 +722,9 @@ fn a_drifting_run_that_comes_back_to_its_walls_is_mapped_again_with_its_pose_cor
                 revisit_laps: 0,
                 ..Params::extended()
             };
-            let mut first_never = Mapper::new(never, laps.layout.clone(), laps.sensor);
-            for s in &laps.snapshots {
-                first_never.step(s);
-            }
-            let heading_only = first_never.second_pass_params().expect("the same drift");
+            let heading_only = first_pass(&laps, never)
+                .second_pass_params()
+                .expect("the same drift");
             assert!(!heading_only.pose_correction);
         }
         let position_rms = |params: Params| {

@@ -1,12 +1,13 @@
 //! What the integration tests share: the app driven in a harness, the paths of the assets and
 //! fixtures, one sensor-layout builder, a snapshot of a robot at the origin, a Pioneer crawl,
-//! and (in `ros2`) ROS 2 recordings built byte by byte.
+//! a whole first pass, and (in `ros2`) ROS 2 recordings built byte by byte.
 
 pub(crate) mod ros2;
 
 use egui_kittest::Harness;
 use sonarmap::app::{Command, SonarApp};
 use sonarmap::geometry::Pose;
+use sonarmap::mapping::{Mapper, Params};
 use sonarmap::run::{Run, Snapshot};
 use sonarmap::sim::{load_plan, simulate_paced, Model, Pace};
 use sonarmap::sonar::{SensorLayout, SensorMount};
@@ -52,6 +53,16 @@ pub(crate) const CRAWL: Pace = Pace {
     firing_groups: 3,
     ..Pace::PLAN
 };
+
+/// A mapper stepped over the whole of `run` with `params`: a first pass, whose map and
+/// calibration (`second_pass_params`) the tests read.
+pub(crate) fn first_pass(run: &Run, params: Params) -> Mapper {
+    let mut mapper = Mapper::new(params, run.layout.clone(), run.sensor);
+    for snapshot in &run.snapshots {
+        mapper.step(snapshot);
+    }
+    mapper
+}
 
 /// The Pioneer corridor stand-in (`assets/pioneer_corridor.plan.json`) simulated at [`CRAWL`]
 /// with the specular model and noise seed `seed`, its odometry the truth.

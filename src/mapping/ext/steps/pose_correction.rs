@@ -58,11 +58,12 @@ impl Mapper {
         let corrected = correction.corrected;
         // Exactly the identity while the pose is the odometry's, so that a correction that
         // never moved leaves the map bit for bit as without it.
-        // Its heading within a turn: the odometry's heading counts every turn driven, and the
-        // transform would gain a turn each step past ±180° (bit for bit the same within it).
         self.pose_belief.odometry_to_map = if corrected == snapshot.pose {
             Pose::default()
         } else {
+            // Its heading within a turn: the odometry's heading counts every turn driven, and
+            // the transform would gain a turn each step past ±180° (bit for bit the same within
+            // it).
             let transform = corrected.compose(&inverse(&snapshot.pose));
             Pose {
                 heading_rad: wrap_pi(transform.heading_rad),
